@@ -1,0 +1,2 @@
+//! Benchmark: lexing and parsing a large plain G-code program.
+fn main() {}

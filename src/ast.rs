@@ -1,0 +1,323 @@
+//! The abstract syntax tree of an extended G-code program, as the parser
+//! builds it. Every node carries a [`Span`]. The tree says what was written,
+//! not what it means: no evaluation, no units, no modal state live here.
+//! Names are interned [`Symbol`]s so that tokens and nodes allocate nothing
+//! per word.
+
+use crate::source::Span;
+use std::collections::HashMap;
+
+/// An interned name or string literal.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub struct Symbol(pub u32);
+
+/// The table behind [`Symbol`]s. Symbols are dense, so the evaluator can
+/// keep variables in a `Vec` indexed by symbol.
+#[derive(Default, Clone, Debug)]
+pub struct Names {
+    texts: Vec<Box<str>>,
+    ids: HashMap<Box<str>, Symbol>,
+}
+
+impl Names {
+    pub fn intern(&mut self, text: &str) -> Symbol {
+        if let Some(&s) = self.ids.get(text) {
+            return s;
+        }
+        let s = Symbol(self.texts.len() as u32);
+        self.texts.push(text.into());
+        self.ids.insert(text.into(), s);
+        s
+    }
+
+    pub fn get(&self, text: &str) -> Option<Symbol> {
+        self.ids.get(text).copied()
+    }
+
+    pub fn text(&self, s: Symbol) -> &str {
+        &self.texts[s.0 as usize]
+    }
+
+    pub fn len(&self) -> usize {
+        self.texts.len()
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.texts.is_empty()
+    }
+
+    pub fn iter(&self) -> impl Iterator<Item = (Symbol, &str)> {
+        self.texts
+            .iter()
+            .enumerate()
+            .map(|(i, t)| (Symbol(i as u32), &**t))
+    }
+}
+
+/// A parsed file: the main program and the `O…`/`M99` subprograms.
+#[derive(Debug)]
+pub struct Program {
+    pub main: Vec<Stmt>,
+    /// The `O` number written on the main program's first line, if any.
+    pub main_number: Option<u32>,
+    pub subprograms: Vec<Subprogram>,
+    pub names: Names,
+}
+
+#[derive(Debug)]
+pub struct Subprogram {
+    pub number: u32,
+    /// The `O` word that opens it.
+    pub span: Span,
+    pub body: Vec<Stmt>,
+}
+
+#[derive(Debug, Clone)]
+pub struct Stmt {
+    pub kind: StmtKind,
+    pub span: Span,
+}
+
+#[derive(Debug, Clone)]
+pub enum StmtKind {
+    /// A line of G-code words. One line may hold several statements; see
+    /// [`Line::statements`] for how it is cut.
+    Line(Line),
+    Assign {
+        name: Symbol,
+        name_span: Span,
+        value: Expr,
+    },
+    /// A wizard or setup-directive call, in either written form.
+    Call {
+        name: Symbol,
+        name_span: Span,
+        args: Vec<Expr>,
+    },
+    If {
+        branches: Vec<(Expr, Vec<Stmt>)>,
+        otherwise: Option<Vec<Stmt>>,
+    },
+    While {
+        cond: Expr,
+        body: Vec<Stmt>,
+    },
+    /// A statement the parser could not read; its error is already reported.
+    Error,
+}
+
+/// The words of one G-code line, in the order written.
+#[derive(Debug, Clone)]
+pub struct Line {
+    pub words: Vec<Word>,
+}
+
+/// One statement of a [`Line`]: a G or M code with the argument words that
+/// follow it, or (for the words before any G/M code) no code at all.
+#[derive(Debug, Clone, Copy)]
+pub struct LineStmt<'a> {
+    pub code: Option<&'a Word>,
+    pub args: &'a [Word],
+}
+
+impl Line {
+    /// Cut the line into statements (SPEC §2.2): every G or M word starts a
+    /// new statement and takes the argument words after it; words before the
+    /// first G/M code form a statement of their own. `N` words are dropped.
+    pub fn statements(&self) -> impl Iterator<Item = LineStmt<'_>> {
+        let words: &[Word] = &self.words;
+        let mut rest = words;
+        std::iter::from_fn(move || loop {
+            if rest.is_empty() {
+                return None;
+            }
+            let starts_code = rest[0].is_code();
+            let (code, from) = if starts_code {
+                (Some(&rest[0]), 1)
+            } else {
+                (None, 0)
+            };
+            let len = rest[from..]
+                .iter()
+                .position(Word::is_code)
+                .unwrap_or(rest.len() - from);
+            let args = &rest[from..from + len];
+            rest = &rest[from + len..];
+            // A line of only N words is no statement at all.
+            if code.is_none() && args.iter().all(|w| w.letter == b'N') {
+                continue;
+            }
+            return Some(LineStmt { code, args });
+        })
+    }
+}
+
+#[derive(Debug, Clone)]
+pub struct Word {
+    /// Upper-case address letter.
+    pub letter: u8,
+    pub value: WordValue,
+    pub span: Span,
+}
+
+impl Word {
+    /// G and M words start statements; every other letter is an argument.
+    pub fn is_code(&self) -> bool {
+        matches!(self.letter, b'G' | b'M')
+    }
+}
+
+#[derive(Debug, Clone)]
+pub enum WordValue {
+    /// A number written in the word: `X-.5`, `G54.1`, `P31000`.
+    Number(Number),
+    /// A symbolic value: `X<CenX + R>`.
+    Expr(Box<Expr>),
+}
+
+/// A literal number with the facts about how it was written that Fanuc
+/// semantics depend on (`M98 P31000`, `G4 P500`).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Number {
+    pub value: f64,
+    /// Digits before the decimal point, leading zeros included.
+    pub int_digits: u8,
+    pub has_point: bool,
+}
+
+#[derive(Debug, Clone)]
+pub struct Expr {
+    pub kind: ExprKind,
+    pub span: Span,
+}
+
+#[derive(Debug, Clone)]
+pub enum ExprKind {
+    Number(f64),
+    Bool(bool),
+    Str(Symbol),
+    Var(Symbol),
+    Unary(UnaryOp, Box<Expr>),
+    Binary(BinaryOp, Box<Expr>, Box<Expr>),
+    Call(Function, Vec<Expr>),
+    /// A call of a name that is no built-in function; reported by the
+    /// evaluator, which knows the wizards.
+    UnknownCall(Symbol, Vec<Expr>),
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum UnaryOp {
+    Neg,
+    Not,
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum BinaryOp {
+    Add,
+    Sub,
+    Mul,
+    Div,
+    Rem,
+    Pow,
+    Eq,
+    Ne,
+    Lt,
+    Le,
+    Gt,
+    Ge,
+    And,
+    Or,
+}
+
+impl BinaryOp {
+    pub fn symbol(self) -> &'static str {
+        use BinaryOp::*;
+        match self {
+            Add => "+",
+            Sub => "-",
+            Mul => "*",
+            Div => "/",
+            Rem => "%",
+            Pow => "^",
+            Eq => "==",
+            Ne => "!=",
+            Lt => "<",
+            Le => "<=",
+            Gt => ">",
+            Ge => ">=",
+            And => "&&",
+            Or => "||",
+        }
+    }
+}
+
+/// The built-in functions of SPEC §2.4. Angles are in degrees.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Function {
+    Abs,
+    Sqrt,
+    Sin,
+    Cos,
+    Tan,
+    Asin,
+    Acos,
+    Atan,
+    Atan2,
+    Floor,
+    Ceil,
+    Round,
+    Min,
+    Max,
+    Hypot,
+    Exp,
+    Ln,
+    Log10,
+}
+
+impl Function {
+    pub const ALL: [(&'static str, Function); 18] = [
+        ("abs", Function::Abs),
+        ("sqrt", Function::Sqrt),
+        ("sin", Function::Sin),
+        ("cos", Function::Cos),
+        ("tan", Function::Tan),
+        ("asin", Function::Asin),
+        ("acos", Function::Acos),
+        ("atan", Function::Atan),
+        ("atan2", Function::Atan2),
+        ("floor", Function::Floor),
+        ("ceil", Function::Ceil),
+        ("round", Function::Round),
+        ("min", Function::Min),
+        ("max", Function::Max),
+        ("hypot", Function::Hypot),
+        ("exp", Function::Exp),
+        ("ln", Function::Ln),
+        ("log10", Function::Log10),
+    ];
+
+    /// Function names match case-insensitively, as G-code does.
+    pub fn from_name(name: &str) -> Option<Function> {
+        Function::ALL
+            .iter()
+            .find(|(n, _)| n.eq_ignore_ascii_case(name))
+            .map(|&(_, f)| f)
+    }
+
+    pub fn name(self) -> &'static str {
+        Function::ALL
+            .iter()
+            .find(|(_, f)| *f == self)
+            .map(|(n, _)| *n)
+            .unwrap_or("?")
+    }
+
+    /// How many arguments it takes: `min` and `max` take two or more.
+    pub fn arity(self) -> (usize, usize) {
+        match self {
+            Function::Atan2 | Function::Hypot => (2, 2),
+            Function::Min | Function::Max => (2, usize::MAX),
+            _ => (1, 1),
+        }
+    }
+}

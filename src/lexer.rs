@@ -1,0 +1,663 @@
+//! Lexer: source text → tokens. logos finds the raw tokens; this module adds
+//! what G-code needs and a regular lexer cannot see: whether `(` opens a
+//! comment or a group, which `>` closes a symbolic word `X<…>`, `%` lines,
+//! and newlines that only continue a statement (before `{` or `else`).
+//! It must not build syntax trees or know what a G code means.
+
+use crate::ast::{Function, Names, Symbol};
+use crate::diagnostic::{error, Diagnostic, DiagnosticExt};
+use crate::source::{FileId, Span};
+use logos::Logos;
+
+#[derive(Logos, Clone, Copy, Debug, PartialEq)]
+#[logos(skip r"[ \t\r\f]+")]
+enum Raw {
+    #[regex(r"[A-Za-z][+-]?([0-9]+\.?[0-9]*|\.[0-9]+)")]
+    Word,
+    #[regex(r"[A-Za-z][+-]?[0-9]*\.[0-9]*\.[0-9.]*")]
+    #[regex(r"[0-9]*\.[0-9]*\.[0-9.]*")]
+    BadNumber,
+    #[regex(r"[A-Za-z]<")]
+    SymOpen,
+    #[regex(r"[A-Za-z][A-Za-z_][A-Za-z0-9_]*")]
+    Ident,
+    #[regex(r"[A-Za-z]")]
+    Letter,
+    #[regex(r"[0-9]+\.?[0-9]*|\.[0-9]+")]
+    Number,
+    #[regex(r#""[^"\n]*""#, allow_greedy = true)]
+    Str,
+    #[regex(r#""[^"\n]*"#, allow_greedy = true)]
+    OpenStr,
+    #[regex(r"//[^\n]*", allow_greedy = true)]
+    LineComment,
+    #[token("\n")]
+    Newline,
+    #[token(";")]
+    Semi,
+    #[token("(")]
+    LParen,
+    #[token(")")]
+    RParen,
+    #[token("{")]
+    LBrace,
+    #[token("}")]
+    RBrace,
+    #[token(",")]
+    Comma,
+    #[token("=")]
+    Assign,
+    #[token("==")]
+    EqEq,
+    #[token("!=")]
+    NotEq,
+    #[token("<")]
+    Lt,
+    #[token("<=")]
+    Le,
+    #[token(">")]
+    Gt,
+    #[token(">=")]
+    Ge,
+    #[token("&&")]
+    AndAnd,
+    #[token("||")]
+    OrOr,
+    #[token("!")]
+    Bang,
+    #[token("+")]
+    Plus,
+    #[token("-")]
+    Minus,
+    #[token("*")]
+    Star,
+    #[token("/")]
+    Slash,
+    #[token("%")]
+    Percent,
+    #[token("^")]
+    Caret,
+}
+
+/// A G-code word as the lexer read it: `X-.5`, `G54.1`, `P31000`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct WordTok {
+    pub letter: u8,
+    pub value: f64,
+    pub int_digits: u8,
+    pub has_point: bool,
+}
+
+/// The tokens the parser sees. `Copy` and allocation-free: names and strings
+/// are interned.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Tok {
+    Word(WordTok),
+    /// `X<`: a symbolic word's letter and opening bracket.
+    SymOpen(u8),
+    /// The `>` that closes a symbolic word.
+    SymClose,
+    Name(Symbol),
+    Number(f64),
+    Str(Symbol),
+    If,
+    Else,
+    While,
+    True,
+    False,
+    /// `(` that opens a group.
+    LParen,
+    /// `(` written directly after a name: a call `name(…)`.
+    CallOpen,
+    RParen,
+    LBrace,
+    RBrace,
+    Comma,
+    /// End of statement: newline or `;` (runs collapse into one).
+    Term,
+    Assign,
+    EqEq,
+    NotEq,
+    Lt,
+    Le,
+    Gt,
+    Ge,
+    AndAnd,
+    OrOr,
+    Bang,
+    Plus,
+    Minus,
+    Star,
+    Slash,
+    Percent,
+    Caret,
+}
+
+impl Tok {
+    /// How the token reads in an error message.
+    pub fn describe(&self, names: &Names) -> String {
+        match self {
+            Tok::Word(w) => format!("word `{}`", w.letter as char),
+            Tok::SymOpen(l) => format!("`{}<`", *l as char),
+            Tok::SymClose => "`>`".into(),
+            Tok::Name(s) => format!("name `{}`", names.text(*s)),
+            Tok::Number(_) => "a number".into(),
+            Tok::Str(_) => "a string".into(),
+            Tok::Term => "end of statement".into(),
+            other => format!("`{}`", other.text()),
+        }
+    }
+
+    fn text(&self) -> &'static str {
+        match self {
+            Tok::If => "if",
+            Tok::Else => "else",
+            Tok::While => "while",
+            Tok::True => "true",
+            Tok::False => "false",
+            Tok::LParen | Tok::CallOpen => "(",
+            Tok::RParen => ")",
+            Tok::LBrace => "{",
+            Tok::RBrace => "}",
+            Tok::Comma => ",",
+            Tok::Assign => "=",
+            Tok::EqEq => "==",
+            Tok::NotEq => "!=",
+            Tok::Lt => "<",
+            Tok::Le => "<=",
+            Tok::Gt | Tok::SymClose => ">",
+            Tok::Ge => ">=",
+            Tok::AndAnd => "&&",
+            Tok::OrOr => "||",
+            Tok::Bang => "!",
+            Tok::Plus => "+",
+            Tok::Minus => "-",
+            Tok::Star => "*",
+            Tok::Slash => "/",
+            Tok::Percent => "%",
+            Tok::Caret => "^",
+            _ => "?",
+        }
+    }
+}
+
+pub type Spanned = (usize, Tok, usize);
+
+/// What the current statement looks like so far; decides what `(` means.
+#[derive(Clone, Copy, PartialEq, Eq, Debug)]
+enum Shape {
+    /// Nothing yet: a `(` here is a comment.
+    Empty,
+    /// Starts with a G-code word: `(` is a comment.
+    Code,
+    /// Starts with a name: a wizard call, `(` groups.
+    NameHead,
+    /// `name =`: `(` groups, except right after a complete value.
+    Assign,
+    /// `if`, `while`, `else`: `(` groups.
+    Keyword,
+}
+
+/// Tokens of one file plus the errors found while lexing.
+pub struct Lexed {
+    pub tokens: Vec<Spanned>,
+    pub errors: Vec<Diagnostic>,
+    /// Spans of `(` groups opened in wizard calls; a parse error inside one
+    /// gets a hint that comments there are written with `//`.
+    pub call_groups: Vec<Span>,
+}
+
+pub fn lex(text: &str, file: FileId, names: &mut Names) -> Lexed {
+    Lexer::new(text, file, names).run()
+}
+
+struct Lexer<'a> {
+    text: &'a str,
+    file: FileId,
+    names: &'a mut Names,
+    out: Vec<Spanned>,
+    errors: Vec<Diagnostic>,
+    call_groups: Vec<Span>,
+    shape: Shape,
+    /// Index in `out` where the current statement starts.
+    stmt_start: usize,
+    /// Open group parentheses, innermost last.
+    groups: Vec<usize>,
+    /// Open symbolic words: the group depth at which each was opened.
+    syms: Vec<(usize, usize)>,
+    braces: Vec<usize>,
+    /// A statement end seen but not yet emitted: dropped if `{` or `else`
+    /// comes next, so braces and `else` may start a new line.
+    pending_term: Option<(usize, usize)>,
+}
+
+impl<'a> Lexer<'a> {
+    fn new(text: &'a str, file: FileId, names: &'a mut Names) -> Lexer<'a> {
+        Lexer {
+            text,
+            file,
+            names,
+            out: Vec::with_capacity(text.len() / 3),
+            errors: Vec::new(),
+            call_groups: Vec::new(),
+            shape: Shape::Empty,
+            stmt_start: 0,
+            groups: Vec::new(),
+            syms: Vec::new(),
+            braces: Vec::new(),
+            pending_term: None,
+        }
+    }
+
+    fn span(&self, start: usize, end: usize) -> Span {
+        Span::new(self.file, start, end)
+    }
+
+    fn run(mut self) -> Lexed {
+        let mut raw = Raw::lexer(self.text);
+        while let Some(result) = raw.next() {
+            let range = raw.span();
+            let (start, end) = (range.start, range.end);
+            let Ok(tok) = result else {
+                let ch = self.text[start..].chars().next().unwrap_or('?');
+                self.errors.push(
+                    error(
+                        format!("unexpected character `{}`", ch.escape_default()),
+                        self.span(start, start + ch.len_utf8()),
+                        "ger does not know this character",
+                    )
+                    .with_help("comments are written `( … )` on G-code lines or `// …` anywhere"),
+                );
+                continue;
+            };
+            match tok {
+                Raw::LParen => {
+                    if let Some(close) = self.lparen(start) {
+                        // A comment: skip past its `)` (or to the end).
+                        raw.bump(close - end);
+                    }
+                }
+                _ => self.token(tok, start, end),
+            }
+        }
+        self.finish()
+    }
+
+    fn finish(mut self) -> Lexed {
+        let eof = self.text.len();
+        if let Some(&(open, _)) = self.syms.first() {
+            self.unclosed_sym(open);
+        }
+        if let Some(&open) = self.groups.first() {
+            self.errors.push(
+                error(
+                    "unclosed `(`",
+                    self.span(open, open + 1),
+                    "this parenthesis is never closed",
+                )
+                .with_help("add the matching `)`"),
+            );
+            self.groups.clear();
+            self.push(eof, Tok::RParen, eof);
+        }
+        let open_braces = std::mem::take(&mut self.braces);
+        for &open in open_braces.iter().rev() {
+            self.errors.push(
+                error(
+                    "unclosed `{`",
+                    self.span(open, open + 1),
+                    "this block is never closed",
+                )
+                .with_help("add the matching `}`"),
+            );
+            self.push(eof, Tok::RBrace, eof);
+        }
+        Lexed {
+            tokens: self.out,
+            errors: self.errors,
+            call_groups: self.call_groups,
+        }
+    }
+
+    /// Decide what `(` at `start` is. Returns the end of a comment to skip.
+    fn lparen(&mut self, start: usize) -> Option<usize> {
+        let grouping = !self.groups.is_empty()
+            || !self.syms.is_empty()
+            || match self.shape {
+                Shape::Empty | Shape::Code => false,
+                Shape::NameHead | Shape::Keyword => true,
+                Shape::Assign => !self.after_value(),
+            };
+        if grouping {
+            let call = matches!(self.out.last(), Some(&(_, Tok::Name(_), e)) if e == start);
+            self.groups.push(start);
+            if self.shape == Shape::NameHead {
+                self.call_groups.push(self.span(start, start + 1));
+            }
+            self.push(
+                start,
+                if call { Tok::CallOpen } else { Tok::LParen },
+                start + 1,
+            );
+            return None;
+        }
+        match self.text[start + 1..].find(')') {
+            Some(i) => Some(start + 1 + i + 1),
+            None => {
+                let end = self.text.len();
+                self.errors.push(
+                    error(
+                        "unclosed comment",
+                        self.span(start, start + 1),
+                        "this comment is never closed",
+                    )
+                    .with_help("a `( … )` comment ends at the next `)`; add one"),
+                );
+                Some(end)
+            }
+        }
+    }
+
+    /// Is the last token the end of a value (so `(` after it is a comment)?
+    fn after_value(&self) -> bool {
+        match self.out.last() {
+            Some((_, Tok::Name(s), _)) => Function::from_name(self.names.text(*s)).is_none(),
+            Some((_, t, _)) => matches!(
+                t,
+                Tok::Number(_) | Tok::Str(_) | Tok::True | Tok::False | Tok::RParen
+            ),
+            None => false,
+        }
+    }
+
+    fn token(&mut self, raw: Raw, start: usize, end: usize) {
+        let text = &self.text[start..end];
+        let tok = match raw {
+            Raw::LineComment | Raw::LParen => return,
+            Raw::Newline if !self.groups.is_empty() => return,
+            Raw::Newline | Raw::Semi => {
+                if let Some(&(open, _)) = self.syms.first() {
+                    self.unclosed_sym(open);
+                }
+                self.pending_term.get_or_insert((start, end));
+                self.shape = Shape::Empty;
+                return;
+            }
+            Raw::Word => Tok::Word(word(text)),
+            Raw::BadNumber => {
+                self.errors.push(
+                    error(
+                        format!("malformed number `{text}`"),
+                        self.span(start, end),
+                        "more than one decimal point",
+                    )
+                    .with_help("a number has at most one `.`: `1.25`, `.5`, `10.`"),
+                );
+                return;
+            }
+            Raw::SymOpen => {
+                self.syms.push((start, self.groups.len()));
+                Tok::SymOpen(text.as_bytes()[0].to_ascii_uppercase())
+            }
+            Raw::Ident => self.ident(text),
+            Raw::Letter => {
+                let in_expression = !self.groups.is_empty()
+                    || !self.syms.is_empty()
+                    || matches!(self.shape, Shape::Assign | Shape::Keyword);
+                let diag = if in_expression {
+                    error(
+                        format!("`{text}` is not a variable name"),
+                        self.span(start, end),
+                        "a single letter is a G-code address, not a name",
+                    )
+                    .with_help(format!(
+                        "a variable name needs at least two characters: `{text}{text}`, `{text}_`"
+                    ))
+                } else {
+                    error(
+                        format!("`{text}` without a number"),
+                        self.span(start, end),
+                        "a word needs a number directly after its letter",
+                    )
+                    .with_help(format!(
+                        "write `{u}10` or `{u}<expression>`, with no space after `{u}`",
+                        u = text.to_ascii_uppercase()
+                    ))
+                };
+                self.errors.push(diag);
+                return;
+            }
+            Raw::Number => Tok::Number(text.parse().unwrap_or(f64::NAN)),
+            Raw::Str => Tok::Str(self.names.intern(&text[1..text.len() - 1])),
+            Raw::OpenStr => {
+                self.errors.push(
+                    error(
+                        "unterminated string",
+                        self.span(start, end),
+                        "this string has no closing `\"`",
+                    )
+                    .with_help("strings end on the line they start on"),
+                );
+                return;
+            }
+            Raw::RParen => {
+                if self.groups.pop().is_none() {
+                    self.errors.push(error(
+                        "unmatched `)`",
+                        self.span(start, end),
+                        "no `(` is open here",
+                    ));
+                    return;
+                }
+                Tok::RParen
+            }
+            Raw::LBrace => {
+                self.braces.push(start);
+                Tok::LBrace
+            }
+            Raw::RBrace => {
+                if self.braces.pop().is_none() {
+                    self.errors.push(
+                        error(
+                            "unmatched `}`",
+                            self.span(start, end),
+                            "no block is open here",
+                        )
+                        .with_help("remove it, or add the `{` that opens the block"),
+                    );
+                    return;
+                }
+                Tok::RBrace
+            }
+            Raw::Gt => match self.syms.last() {
+                Some(&(_, depth)) if depth == self.groups.len() => {
+                    self.syms.pop();
+                    Tok::SymClose
+                }
+                _ => Tok::Gt,
+            },
+            Raw::Percent if self.alone_on_line(start, end) => return,
+            Raw::Assign => {
+                if self.shape == Shape::Code {
+                    self.invalid_name(start);
+                }
+                Tok::Assign
+            }
+            Raw::Comma => Tok::Comma,
+            Raw::EqEq => Tok::EqEq,
+            Raw::NotEq => Tok::NotEq,
+            Raw::Lt => Tok::Lt,
+            Raw::Le => Tok::Le,
+            Raw::Ge => Tok::Ge,
+            Raw::AndAnd => Tok::AndAnd,
+            Raw::OrOr => Tok::OrOr,
+            Raw::Bang => Tok::Bang,
+            Raw::Plus => Tok::Plus,
+            Raw::Minus => Tok::Minus,
+            Raw::Star => Tok::Star,
+            Raw::Slash => Tok::Slash,
+            Raw::Percent => Tok::Percent,
+            Raw::Caret => Tok::Caret,
+        };
+        self.push(start, tok, end);
+    }
+
+    fn ident(&mut self, text: &str) -> Tok {
+        const KEYWORDS: [(&str, Tok); 5] = [
+            ("if", Tok::If),
+            ("else", Tok::Else),
+            ("while", Tok::While),
+            ("true", Tok::True),
+            ("false", Tok::False),
+        ];
+        KEYWORDS
+            .iter()
+            .find(|(k, _)| k.eq_ignore_ascii_case(text))
+            .map(|&(_, t)| t)
+            .unwrap_or_else(|| Tok::Name(self.names.intern(text)))
+    }
+
+    fn push(&mut self, start: usize, tok: Tok, end: usize) {
+        if let Some((ts, te)) = self.pending_term.take() {
+            let continues = matches!(tok, Tok::LBrace | Tok::Else);
+            let after_term = matches!(self.out.last(), None | Some((_, Tok::Term, _)));
+            if !continues && !after_term {
+                self.out.push((ts, Tok::Term, te));
+            }
+            self.stmt_start = self.out.len();
+        }
+        self.shape = match (self.shape, &tok) {
+            (_, Tok::LBrace | Tok::RBrace) => Shape::Empty,
+            (Shape::Empty, Tok::Name(_)) => Shape::NameHead,
+            (Shape::Empty, Tok::If | Tok::While | Tok::Else) => Shape::Keyword,
+            (Shape::Empty, _) => Shape::Code,
+            (Shape::NameHead, Tok::Assign) if self.out.len() == self.stmt_start + 1 => {
+                Shape::Assign
+            }
+            (shape, _) => shape,
+        };
+        self.out.push((start, tok, end));
+        if matches!(tok, Tok::LBrace | Tok::RBrace) {
+            self.stmt_start = self.out.len();
+        }
+    }
+
+    fn alone_on_line(&self, start: usize, end: usize) -> bool {
+        let line_start = self.text[..start].rfind('\n').map_or(0, |i| i + 1);
+        let line_end = self.text[end..]
+            .find('\n')
+            .map_or(self.text.len(), |i| end + i);
+        self.text[line_start..start].trim().is_empty() && self.text[end..line_end].trim().is_empty()
+    }
+
+    fn unclosed_sym(&mut self, open: usize) {
+        self.errors.push(
+            error(
+                "unclosed `<` in a symbolic word",
+                self.span(open, open + 2),
+                "this `<` is never closed",
+            )
+            .with_help("a symbolic word is written `X<expression>`, all on one line"),
+        );
+        self.syms.clear();
+    }
+
+    /// `P0X = 5`: the user meant a variable, but a letter and a digit make a
+    /// word. Report it and read the statement as an assignment to that name.
+    fn invalid_name(&mut self, assign_at: usize) {
+        let from = self.out.get(self.stmt_start).map_or(assign_at, |t| t.0);
+        let written = self.text[from..assign_at].trim_end();
+        if written.is_empty()
+            || !written
+                .bytes()
+                .all(|b| b.is_ascii_alphanumeric() || b == b'_')
+        {
+            return;
+        }
+        let letters: String = written.chars().filter(|c| !c.is_ascii_digit()).collect();
+        let digits: String = written.chars().filter(|c| c.is_ascii_digit()).collect();
+        let mut diag = error(
+            format!("`{written}` is not a valid variable name"),
+            self.span(from, from + written.len()),
+            "a letter followed by a number is a G-code word",
+        )
+        .with_note("a name starts with two letters, or a letter and `_`");
+        if letters.len() >= 2 {
+            diag = diag.with_help(format!("try `{letters}{digits}`"));
+        }
+        // The letters of the name were reported one by one; this says it all.
+        let (from32, to32) = (from as u32, assign_at as u32);
+        self.errors.retain(|e| {
+            e.labels
+                .first()
+                .is_none_or(|l| (l.range.start as u32) < from32 || (l.range.start as u32) >= to32)
+        });
+        self.errors.push(diag);
+        self.out.truncate(self.stmt_start);
+        let name = self.names.intern(written);
+        self.out.push((from, Tok::Name(name), from + written.len()));
+        self.shape = Shape::NameHead;
+    }
+}
+
+fn word(text: &str) -> WordTok {
+    let bytes = text.as_bytes();
+    let number = &text[1..];
+    let unsigned = number.trim_start_matches(['+', '-']);
+    WordTok {
+        letter: bytes[0].to_ascii_uppercase(),
+        value: number.parse().unwrap_or(f64::NAN),
+        int_digits: unsigned.bytes().take_while(u8::is_ascii_digit).count() as u8,
+        has_point: unsigned.contains('.'),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn kinds(src: &str) -> Vec<Tok> {
+        let mut names = Names::default();
+        lex(src, 0, &mut names)
+            .tokens
+            .into_iter()
+            .map(|t| t.1)
+            .collect()
+    }
+
+    #[test]
+    fn compact_words_split() {
+        let toks = kinds("N10G01X1.5Y-.5F100");
+        assert_eq!(toks.len(), 5);
+        match toks[3] {
+            Tok::Word(w) => assert_eq!((w.letter, w.value), (b'Y', -0.5)),
+            other => panic!("{other:?}"),
+        }
+    }
+
+    #[test]
+    fn paren_is_comment_on_code_lines_and_group_in_expressions() {
+        assert_eq!(kinds("G1 X1 (cut)").len(), 2);
+        assert!(kinds("A_ = (1 + 2)").contains(&Tok::LParen));
+        assert_eq!(kinds("Depth = 5 (mm)").len(), 3);
+        assert!(kinds("holesLine(1, 2)").contains(&Tok::CallOpen));
+    }
+
+    #[test]
+    fn newline_before_brace_or_else_continues() {
+        let toks = kinds("if (Ab)\n{\nG1 X1\n}\nelse\n{ G1 X2 }\n");
+        assert!(!toks
+            .windows(2)
+            .any(|w| w[0] == Tok::Term && w[1] == Tok::LBrace));
+        assert!(!toks
+            .windows(2)
+            .any(|w| w[0] == Tok::Term && w[1] == Tok::Else));
+    }
+
+    #[test]
+    fn sym_close_only_at_its_depth() {
+        let toks = kinds("G0 X<(Ab > 1) + 2>");
+        assert!(toks.contains(&Tok::Gt));
+        assert_eq!(toks.last(), Some(&Tok::SymClose));
+    }
+}

@@ -1,0 +1,14 @@
+//! ger: a compiler from extended G-code (`.egc`) to plain ISO G-code.
+//!
+//! The library is the whole compiler and does no I/O: it takes source text
+//! and returns G-code text and diagnostics. Files, terminals and exit codes
+//! belong to the binary (`src/main.rs`). See ARCHITECTURE.md for the map.
+
+// Support: spans, sources, diagnostics.
+pub mod diagnostic;
+pub mod source;
+
+// The source language: tokens, syntax tree, parser.
+pub mod ast;
+pub mod lexer;
+pub mod parser;

@@ -1,0 +1,334 @@
+//! Parser: tokens → AST. The only module that knows LALRPOP; the grammar
+//! (`grammar/ger.lalrpop`) could be replaced by touching this file alone.
+//! Besides running the grammar it turns parse errors into diagnostics and
+//! splits the top level into the main program and `O…`/`M99` subprograms.
+//! It must not evaluate anything.
+
+use crate::ast::*;
+use crate::diagnostic::{error, Diagnostic, DiagnosticExt};
+use crate::lexer::{self, Lexed, Tok};
+use crate::source::{FileId, Span};
+use lalrpop_util::{lalrpop_mod, ParseError};
+
+lalrpop_mod!(
+    #[allow(clippy::all, clippy::pedantic, unused_parens, dead_code)]
+    grammar,
+    "/ger.rs"
+);
+
+/// Parse one source file. The program is returned even when there are
+/// errors (with `StmtKind::Error` where a statement could not be read), so
+/// that callers can decide how far to go.
+pub fn parse_program(text: &str, file: FileId) -> (Program, Vec<Diagnostic>) {
+    let mut names = Names::default();
+    let Lexed {
+        tokens,
+        errors: mut diagnostics,
+        call_groups,
+    } = lexer::lex(text, file, &mut names);
+    let brace_errors = diagnostics.iter().any(|d| d.message.contains('{'));
+
+    let mut recovered = Vec::new();
+    let result = grammar::ProgramParser::new().parse(
+        file,
+        &names,
+        &mut recovered,
+        tokens.iter().copied().map(Ok::<_, &'static str>),
+    );
+    let context = ErrorContext {
+        file,
+        text,
+        names: &names,
+        call_groups: &call_groups,
+    };
+    let at_eof = |e: &ParseError<usize, Tok, &'static str>| match e {
+        ParseError::UnrecognizedToken { token, .. } => token.0 >= text.len(),
+        ParseError::UnrecognizedEof { .. } => true,
+        _ => false,
+    };
+    for r in recovered {
+        // The `}` the lexer adds for an unclosed block may not fit after a
+        // broken statement; the unclosed-brace error already covers it.
+        if !(brace_errors && at_eof(&r.error)) {
+            diagnostics.push(context.describe(r.error));
+        }
+    }
+    let top = match result {
+        Ok(stmts) => stmts,
+        Err(e) => {
+            // The unclosed-brace error already says what is missing at the end.
+            if !(brace_errors && at_eof(&e)) {
+                diagnostics.push(context.describe(e));
+            }
+            Vec::new()
+        }
+    };
+    let mut program = split_subprograms(top, &mut diagnostics);
+    program.names = names;
+    diagnostics.sort_by_key(|d| d.labels.first().map_or(0, |l| l.range.start));
+    (program, diagnostics)
+}
+
+/// Parse a single expression (used for wizard arguments built from text).
+pub fn parse_expr(text: &str, file: FileId, names: &mut Names) -> Result<Expr, Diagnostic> {
+    let Lexed { tokens, errors, .. } = lexer::lex(text, file, names);
+    if let Some(e) = errors.into_iter().next() {
+        return Err(e);
+    }
+    let mut recovered = Vec::new();
+    grammar::ExprParser::new()
+        .parse(
+            file,
+            names,
+            &mut recovered,
+            tokens.into_iter().map(Ok::<_, &'static str>),
+        )
+        .map_err(|e| {
+            ErrorContext {
+                file,
+                text,
+                names,
+                call_groups: &[],
+            }
+            .describe(e)
+        })
+}
+
+struct ErrorContext<'a> {
+    file: FileId,
+    text: &'a str,
+    names: &'a Names,
+    call_groups: &'a [Span],
+}
+
+impl ErrorContext<'_> {
+    fn describe(&self, e: ParseError<usize, Tok, &'static str>) -> Diagnostic {
+        match e {
+            ParseError::UnrecognizedToken {
+                token: (l, tok, r),
+                expected,
+            } => {
+                let (what, span) = if tok == Tok::Term {
+                    ("end of statement".to_string(), Span::new(self.file, l, l))
+                } else {
+                    (tok.describe(self.names), Span::new(self.file, l, r))
+                };
+                let mut d = error(
+                    format!("unexpected {what}"),
+                    span,
+                    format!("expected {}", expected_list(&expected)),
+                );
+                if expected.iter().any(|e| e == "\"(\"")
+                    && !expected.iter().any(|e| e == "\"name\"")
+                {
+                    d = d.with_help("conditions are written in parentheses: `while (i < 3) { … }`");
+                }
+                if self.in_call_group(l) {
+                    d = d.with_help(
+                        "in a wizard call `( … )` groups an expression; write comments with `//`",
+                    );
+                }
+                d
+            }
+            ParseError::UnrecognizedEof { location, expected } => error(
+                "unexpected end of file",
+                Span::new(self.file, location, location),
+                format!("expected {}", expected_list(&expected)),
+            ),
+            ParseError::ExtraToken { token: (l, tok, r) } => error(
+                format!("unexpected {}", tok.describe(self.names)),
+                Span::new(self.file, l, r),
+                "nothing more was expected here",
+            ),
+            ParseError::InvalidToken { location } => error(
+                "invalid token",
+                Span::new(self.file, location, location + 1),
+                "not understood",
+            ),
+            ParseError::User { error: message } => error(message, Span::new(self.file, 0, 0), ""),
+        }
+    }
+
+    fn in_call_group(&self, at: usize) -> bool {
+        self.call_groups.iter().any(|g| {
+            let open = g.start as usize;
+            open <= at && !self.text[open..at].contains('\n')
+        })
+    }
+}
+
+fn expected_list(expected: &[String]) -> String {
+    let mut items: Vec<String> = expected
+        .iter()
+        .map(|e| {
+            let e = e.trim_matches('"');
+            match e {
+                "word" => "a G-code word".to_string(),
+                "name" | "name(" => "a name".to_string(),
+                "number" => "a number".to_string(),
+                "string" => "a string".to_string(),
+                "X<" => "a symbolic word".to_string(),
+                ">)" => "`>`".to_string(),
+                "end of statement" => "end of statement".to_string(),
+                other => format!("`{other}`"),
+            }
+        })
+        .collect();
+    items.dedup();
+    if items.len() > 8 {
+        return "an expression or statement".to_string();
+    }
+    match items.len() {
+        0 => "nothing".to_string(),
+        1 => items.remove(0),
+        _ => {
+            let last = items.pop().unwrap_or_default();
+            format!("{} or {}", items.join(", "), last)
+        }
+    }
+}
+
+/// The `O` number of a line that holds only an `O` word.
+fn program_number(stmt: &Stmt) -> Option<(f64, Span)> {
+    match &stmt.kind {
+        StmtKind::Line(line) => match line.words.as_slice() {
+            [w] if w.letter == b'O' => match w.value {
+                WordValue::Number(n) => Some((n.value, w.span)),
+                WordValue::Expr(_) => None,
+            },
+            _ => None,
+        },
+        _ => None,
+    }
+}
+
+fn has_m99(stmt: &Stmt) -> bool {
+    match &stmt.kind {
+        StmtKind::Line(line) => line.words.iter().any(|w| {
+            w.letter == b'M' && matches!(w.value, WordValue::Number(n) if n.value == 99.0)
+        }),
+        _ => false,
+    }
+}
+
+/// Split the top level into the main program and subprograms (SPEC §2.6):
+/// an `O` line opens a subprogram that ends with its `M99`; an `O` line at
+/// the very top whose block has no `M99` numbers the main program instead.
+fn split_subprograms(top: Vec<Stmt>, diagnostics: &mut Vec<Diagnostic>) -> Program {
+    let mut program = Program {
+        main: Vec::new(),
+        main_number: None,
+        subprograms: Vec::new(),
+        names: Names::default(),
+    };
+    let numbers_main =
+        top.first().and_then(program_number).is_some() && !block_has_m99(top[1..].iter());
+    let mut open: Option<Subprogram> = None;
+    for (index, stmt) in top.into_iter().enumerate() {
+        if let Some((value, span)) = program_number(&stmt) {
+            if value < 0.0 || value.fract() != 0.0 || value > 99_999_999.0 {
+                diagnostics.push(error(
+                    "invalid program number",
+                    span,
+                    "an O number is a whole number from 0 to 99999999",
+                ));
+                continue;
+            }
+            let number = value as u32;
+            if let Some(sub) = open.take() {
+                diagnostics.push(
+                    error(
+                        format!("subprogram O{} has no M99", sub.number),
+                        sub.span,
+                        "this subprogram is not closed",
+                    )
+                    .with_secondary(span, "the next program starts here")
+                    .with_help("end every subprogram with `M99`"),
+                );
+                program.subprograms.push(sub);
+            }
+            if index == 0 && numbers_main {
+                program.main_number = Some(number);
+                continue;
+            }
+            if let Some(other) = program.subprograms.iter().find(|s| s.number == number) {
+                diagnostics.push(
+                    error(
+                        format!("O{number} is defined twice"),
+                        span,
+                        "second definition",
+                    )
+                    .with_secondary(other.span, "first definition"),
+                );
+            }
+            open = Some(Subprogram {
+                number,
+                span,
+                body: Vec::new(),
+            });
+            continue;
+        }
+        match open.as_mut() {
+            Some(sub) => {
+                let ends = has_m99(&stmt);
+                sub.body.push(stmt);
+                if ends {
+                    program.subprograms.extend(open.take());
+                }
+            }
+            None => program.main.push(stmt),
+        }
+    }
+    if let Some(sub) = open {
+        diagnostics.push(
+            error(
+                format!("subprogram O{} has no M99", sub.number),
+                sub.span,
+                "this subprogram is never closed",
+            )
+            .with_help("end every subprogram with `M99`"),
+        );
+        program.subprograms.push(sub);
+    }
+    program
+}
+
+/// Does the block that starts here (up to the next `O` line) contain `M99`?
+fn block_has_m99<'a>(mut rest: impl Iterator<Item = &'a Stmt>) -> bool {
+    rest.try_fold(false, |_, s| {
+        if program_number(s).is_some() {
+            Err(false)
+        } else if has_m99(s) {
+            Err(true)
+        } else {
+            Ok(false)
+        }
+    })
+    .unwrap_or_else(|found| found)
+}
+
+// Grammar actions: kept here so the grammar file stays declarative.
+
+pub(crate) fn binary(file: FileId, l: usize, r: usize, op: BinaryOp, a: Expr, b: Expr) -> Expr {
+    Expr {
+        kind: ExprKind::Binary(op, Box::new(a), Box::new(b)),
+        span: Span::new(file, l, r),
+    }
+}
+
+pub(crate) fn variable(names: &Names, s: Symbol, span: Span) -> Expr {
+    let kind = if names.text(s) == "PI" {
+        ExprKind::Number(std::f64::consts::PI)
+    } else {
+        ExprKind::Var(s)
+    };
+    Expr { kind, span }
+}
+
+pub(crate) fn call(names: &Names, name: Symbol, args: Vec<Expr>, span: Span) -> Expr {
+    let kind = match Function::from_name(names.text(name)) {
+        Some(f) => ExprKind::Call(f, args),
+        None => ExprKind::UnknownCall(name, args),
+    };
+    Expr { kind, span }
+}

@@ -1,0 +1,2 @@
+//! Golden tests.
+fn main() {}
