@@ -12,3 +12,10 @@ pub mod source;
 pub mod ast;
 pub mod lexer;
 pub mod parser;
+
+// The compiler: evaluation to IR, lowering, G-code output.
+pub mod compile;
+pub mod eval;
+pub mod emit;
+pub mod geometry;
+pub mod ir;

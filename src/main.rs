@@ -1,11 +1,221 @@
-//! The `ger` command line: reads files, calls the library, writes output
-//! atomically and maps results to exit codes. No compiler logic lives here.
+//! The `ger` command line: reads files, calls the library, prints
+//! diagnostics, writes output atomically and maps results to exit codes
+//! (0 success, 1 the program has errors, 2 usage or I/O). No compiler logic
+//! lives here.
 
-fn main() {
-    let text = std::fs::read_to_string(std::env::args().nth(1).unwrap()).unwrap();
-    let (p, d) = ger::parser::parse_program(&text, 0);
-    let mut s = ger::source::Sources::new();
-    s.add("x", text.clone());
-    eprint!("{}", ger::diagnostic::render(&s, &d));
-    println!("{:#?}", p.main.len());
+use clap::{Parser, Subcommand, ValueEnum};
+use ger::compile::{compile, CompileOptions, Stage};
+use ger::diagnostic::{is_error, render};
+use ger::emit::{ArcFormat, Dialect, Numbering};
+use ger::source::Sources;
+use std::io::{Read, Write};
+use std::path::{Path, PathBuf};
+use std::process::ExitCode;
+
+#[derive(Parser)]
+#[command(name = "ger", version, about = "Compile extended G-code (.egc) to plain ISO G-code")]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Subcommand)]
+enum Command {
+    /// Compile a program to plain G-code.
+    Compile {
+        /// The .egc file, or `-` for standard input.
+        input: String,
+        /// Output file (standard output when absent).
+        #[arg(short, long)]
+        output: Option<PathBuf>,
+        #[command(flatten)]
+        options: Options,
+        /// Print the program after this stage (expand, units, offsets, polar, absolute).
+        #[arg(long)]
+        stage: Option<String>,
+    },
+    /// Check a program and print its diagnostics; write nothing.
+    Check {
+        input: String,
+        #[command(flatten)]
+        options: Options,
+    },
+}
+
+#[derive(clap::Args)]
+struct Options {
+    /// Line numbers: the source line (default), a sequence, or none.
+    #[arg(long, value_enum, default_value_t = NumbersArg::Source)]
+    numbers: NumbersArg,
+    /// Output dialect.
+    #[arg(long, value_enum, default_value_t = DialectArg::Generic)]
+    dialect: DialectArg,
+    /// How arcs are written.
+    #[arg(long, value_enum, default_value_t = ArcsArg::Ij)]
+    arcs: ArcsArg,
+    /// Chord tolerance for `--arcs lines`, in output units.
+    #[arg(long, default_value_t = 0.001)]
+    tolerance: f64,
+    /// Decimals in the output (default 3 for mm, 4 for inch).
+    #[arg(long)]
+    decimals: Option<usize>,
+    /// A `while` loop that runs more often is an error.
+    #[arg(long, default_value_t = 10_000_000)]
+    max_iterations: u64,
+}
+
+#[derive(Clone, Copy, ValueEnum)]
+enum NumbersArg {
+    Source,
+    Seq,
+    None,
+}
+
+#[derive(Clone, Copy, ValueEnum)]
+enum DialectArg {
+    Generic,
+    Fanuc,
+    Grbl,
+    Linuxcnc,
+}
+
+#[derive(Clone, Copy, ValueEnum)]
+enum ArcsArg {
+    Ij,
+    R,
+    Lines,
+}
+
+fn main() -> ExitCode {
+    let cli = Cli::parse();
+    match cli.command {
+        Command::Compile {
+            input,
+            output,
+            options,
+            stage,
+        } => {
+            let stage = match stage.as_deref().map(|s| (s, Stage::from_name(s))) {
+                None => None,
+                Some((_, Some(stage))) => Some(stage),
+                Some((name, None)) => {
+                    let names: Vec<&str> = Stage::ALL.iter().map(|(n, _)| *n).collect();
+                    eprintln!("error: unknown stage `{name}`; the stages are {}", names.join(", "));
+                    return ExitCode::from(2);
+                }
+            };
+            run(&input, output.as_deref(), &options, stage, true)
+        }
+        Command::Check { input, options } => run(&input, None, &options, None, false),
+    }
+}
+
+fn run(input: &str, output: Option<&Path>, options: &Options, stage: Option<Stage>, write: bool) -> ExitCode {
+    if let Some(out) = output {
+        if input != "-" && same_file(Path::new(input), out) {
+            eprintln!("error: the output file is the input file; refusing to overwrite it");
+            return ExitCode::from(2);
+        }
+    }
+    let text = match read_input(input) {
+        Ok(text) => text,
+        Err(e) => {
+            eprintln!("error: cannot read `{input}`: {e}");
+            return ExitCode::from(2);
+        }
+    };
+    let mut sources = Sources::new();
+    let name = if input == "-" { "<stdin>" } else { input };
+    let file = sources.add(name, text);
+    let compile_options = CompileOptions {
+        eval: ger::eval::EvalOptions {
+            max_iterations: options.max_iterations,
+            ..Default::default()
+        },
+        emit: ger::emit::EmitOptions {
+            numbering: match options.numbers {
+                NumbersArg::Source => Numbering::Source,
+                NumbersArg::Seq => Numbering::Seq,
+                NumbersArg::None => Numbering::None,
+            },
+            dialect: match options.dialect {
+                DialectArg::Generic => Dialect::Generic,
+                DialectArg::Fanuc => Dialect::Fanuc,
+                DialectArg::Grbl => Dialect::Grbl,
+                DialectArg::Linuxcnc => Dialect::LinuxCnc,
+            },
+            arcs: match options.arcs {
+                ArcsArg::Ij => ArcFormat::Ij,
+                ArcsArg::R => ArcFormat::R,
+                ArcsArg::Lines => ArcFormat::Lines,
+            },
+            decimals: options.decimals,
+            tolerance: options.tolerance,
+            ..Default::default()
+        },
+        stage,
+    };
+    if !(options.tolerance > 0.0) || options.decimals.is_some_and(|d| d > 9) {
+        eprintln!("error: --tolerance must be positive and --decimals at most 9");
+        return ExitCode::from(2);
+    }
+    let compiled = compile(&mut sources, file, &compile_options, None);
+    eprint!("{}", render(&sources, &compiled.diagnostics));
+    if compiled.diagnostics.iter().any(is_error) {
+        return ExitCode::from(1);
+    }
+    let Some(text) = compiled.output else {
+        return ExitCode::from(1);
+    };
+    if !write {
+        return ExitCode::SUCCESS;
+    }
+    let result = match output {
+        Some(path) => write_atomically(path, text.as_bytes()),
+        None => std::io::stdout().lock().write_all(text.as_bytes()),
+    };
+    match result {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(e) => {
+            eprintln!("error: cannot write output: {e}");
+            ExitCode::from(2)
+        }
+    }
+}
+
+fn read_input(input: &str) -> std::io::Result<String> {
+    if input == "-" {
+        let mut text = String::new();
+        std::io::stdin().read_to_string(&mut text)?;
+        Ok(text)
+    } else {
+        let bytes = std::fs::read(input)?;
+        // G-code files from old controllers are not always UTF-8.
+        Ok(String::from_utf8(bytes).unwrap_or_else(|e| String::from_utf8_lossy(e.as_bytes()).into_owned()))
+    }
+}
+
+fn same_file(a: &Path, b: &Path) -> bool {
+    match (a.canonicalize(), b.canonicalize()) {
+        (Ok(x), Ok(y)) => x == y,
+        _ => false,
+    }
+}
+
+/// Write to a temporary file beside the target, then rename: a reader never
+/// sees half a program, and on failure the old file stays.
+fn write_atomically(path: &Path, bytes: &[u8]) -> std::io::Result<()> {
+    let dir = path.parent().filter(|p| !p.as_os_str().is_empty()).unwrap_or(Path::new("."));
+    let file_name = path.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
+    let tmp = dir.join(format!(".{file_name}.{}.tmp", std::process::id()));
+    let result = (|| {
+        let mut f = std::fs::File::create(&tmp)?;
+        f.write_all(bytes)?;
+        f.sync_all()?;
+        std::fs::rename(&tmp, path)
+    })();
+    if result.is_err() {
+        let _ = std::fs::remove_file(&tmp);
+    }
+    result
 }

@@ -1,0 +1,90 @@
+//! The driver: source text → G-code text, through the stages in order
+//! (parse, expand, lowering passes, emit). It is the library's one entry
+//! point for a whole compile and does no I/O.
+
+use crate::diagnostic::{is_error, Diagnostic};
+use crate::emit::{self, EmitOptions};
+use crate::eval::{self, EvalOptions, WizardHost};
+use crate::ir::{self, Units};
+use crate::source::{FileId, Sources};
+
+/// The stages of SPEC §4, in order; `--stage NAME` stops after one.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord)]
+pub enum Stage {
+    Expand,
+}
+
+impl Stage {
+    pub const ALL: [(&'static str, Stage); 1] = [("expand", Stage::Expand)];
+
+    pub fn from_name(name: &str) -> Option<Stage> {
+        Stage::ALL
+            .iter()
+            .find(|(n, _)| n.eq_ignore_ascii_case(name))
+            .map(|&(_, s)| s)
+    }
+}
+
+#[derive(Clone, Debug, Default)]
+pub struct CompileOptions {
+    pub eval: EvalOptions,
+    pub emit: EmitOptions,
+    /// Print the program after this stage instead of the final output.
+    pub stage: Option<Stage>,
+}
+
+/// The result of a compile: the text (absent when there are errors) and
+/// every diagnostic, warnings included.
+pub struct Compiled {
+    pub output: Option<String>,
+    pub diagnostics: Vec<Diagnostic>,
+}
+
+/// Compile the file `file` of `sources`.
+pub fn compile(
+    sources: &mut Sources,
+    file: FileId,
+    options: &CompileOptions,
+    wizards: Option<&mut dyn WizardHost>,
+) -> Compiled {
+    let text = sources.text(file).to_string();
+    let (program, mut diagnostics) = crate::parser::parse_program(&text, file);
+    if diagnostics.iter().any(is_error) {
+        return Compiled {
+            output: None,
+            diagnostics,
+        };
+    }
+    let (ir, eval_diagnostics) = match wizards {
+        Some(host) => eval::eval_program(&program, &options.eval, Some(&mut *host as &mut dyn WizardHost)),
+        None => eval::eval_program(&program, &options.eval, None),
+    };
+    diagnostics.extend(eval_diagnostics);
+    if diagnostics.iter().any(is_error) {
+        return Compiled {
+            output: None,
+            diagnostics,
+        };
+    }
+    let units = output_units(&ir);
+    let output = emit::emit_stage(&ir, units, &text, file);
+    Compiled {
+        output: Some(output),
+        diagnostics,
+    }
+}
+
+/// The output units (SPEC §3): `SetUnits`, else the program's first
+/// G20/G21, else inch.
+pub fn output_units(program: &ir::Program) -> Units {
+    program.setup.units.unwrap_or_else(|| {
+        program
+            .stmts
+            .iter()
+            .find_map(|s| match s.op {
+                ir::Op::Units(u) => Some(u),
+                _ => None,
+            })
+            .unwrap_or(Units::Inch)
+    })
+}

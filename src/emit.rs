@@ -1,0 +1,502 @@
+//! Codegen: IR → G-code text (SPEC §6). Prints the program after any stage
+//! (`--stage`), and the final output with its dialect, numbering, decimals
+//! and arc format. It must not change what the program does: every choice
+//! here is about spelling, except the final rounding, which it makes
+//! consistent (arc centres are printed relative to the start as printed).
+
+use crate::ir::{self, ArcGeometry, Motion, Op, Units};
+use crate::source::{LineIndex, Span};
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum Numbering {
+    /// N = the source line that produced the output line.
+    #[default]
+    Source,
+    /// N10, N20, …
+    Seq,
+    None,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum Dialect {
+    #[default]
+    Generic,
+    Fanuc,
+    Grbl,
+    LinuxCnc,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum ArcFormat {
+    #[default]
+    Ij,
+    R,
+    Lines,
+}
+
+#[derive(Clone, Debug)]
+pub struct EmitOptions {
+    pub numbering: Numbering,
+    pub dialect: Dialect,
+    pub arcs: ArcFormat,
+    /// Decimals; `None`: 3 for mm, 4 for inch.
+    pub decimals: Option<usize>,
+    /// Chord tolerance for `--arcs lines`, in output units.
+    pub tolerance: f64,
+    /// Program number for dialects that want one.
+    pub program_number: u32,
+}
+
+impl Default for EmitOptions {
+    fn default() -> Self {
+        EmitOptions {
+            numbering: Numbering::Source,
+            dialect: Dialect::Generic,
+            arcs: ArcFormat::Ij,
+            decimals: None,
+            tolerance: 0.001,
+            program_number: 1,
+        }
+    }
+}
+
+/// Print the program as it stands after some stage: every statement as
+/// written, modal codes included.
+pub fn emit_stage(program: &ir::Program, units: Units, source: &str, main_file: usize) -> String {
+    let options = EmitOptions::default();
+    let mut p = Printer::new(&options, units, source, main_file);
+    for stmt in &program.stmts {
+        p.begin(stmt.span);
+        p.op_as_written(&stmt.op);
+        p.end();
+    }
+    p.out
+}
+
+/// Print the final program: absolute, one unit, only the codes of SPEC §6.
+pub fn emit_program(
+    program: &ir::Program,
+    units: Units,
+    source: &str,
+    main_file: usize,
+    options: &EmitOptions,
+) -> String {
+    let mut p = Printer::new(options, units, source, main_file);
+    p.header();
+    let mut position = [0.0f64; 3];
+    for stmt in &program.stmts {
+        match &stmt.op {
+            Op::Move(m) => {
+                let end = [
+                    m.to.x.unwrap_or(position[0]),
+                    m.to.y.unwrap_or(position[1]),
+                    m.to.z.unwrap_or(position[2]),
+                ];
+                p.final_move(stmt.span, m, position, end);
+                position = end;
+            }
+            op => {
+                p.begin(stmt.span);
+                p.op_as_written(op);
+                p.end();
+            }
+        }
+    }
+    if p.dialect == Dialect::Fanuc {
+        p.out.push_str("%\n");
+    }
+    p.out
+}
+
+struct Printer<'o> {
+    out: String,
+    line: String,
+    options: &'o EmitOptions,
+    dialect: Dialect,
+    decimals: usize,
+    lines: LineIndex,
+    main_file: usize,
+    seq: u64,
+    /// Last printed value of each axis (in units of 10^-decimals).
+    printed: [Option<i64>; 3],
+    plane: ir::Plane,
+    units: Units,
+}
+
+impl<'o> Printer<'o> {
+    fn new(options: &'o EmitOptions, units: Units, source: &str, main_file: usize) -> Printer<'o> {
+        Printer {
+            out: String::with_capacity(source.len() * 2),
+            line: String::with_capacity(80),
+            options,
+            dialect: options.dialect,
+            decimals: options.decimals.unwrap_or(match units {
+                Units::Mm => 3,
+                Units::Inch => 4,
+            }),
+            lines: LineIndex::new(source),
+            main_file,
+            seq: 0,
+            printed: [None; 3],
+            plane: ir::Plane::XY,
+            units,
+        }
+    }
+
+    fn header(&mut self) {
+        if self.dialect == Dialect::Fanuc {
+            self.out.push_str("%\n");
+            self.out
+                .push_str(&format!("O{:04}\n", self.options.program_number % 10_000));
+        }
+        let units = match self.units {
+            Units::Inch => "G20",
+            Units::Mm => "G21",
+        };
+        self.raw_line(&format!("{units} G90 G17"));
+    }
+
+    fn numbered(&self) -> Numbering {
+        if self.dialect == Dialect::Grbl {
+            Numbering::None
+        } else {
+            self.options.numbering
+        }
+    }
+
+    fn raw_line(&mut self, text: &str) {
+        if self.numbered() == Numbering::Seq {
+            self.seq += 10;
+            self.out.push_str(&format!("N{} ", self.seq));
+        }
+        self.out.push_str(text);
+        self.out.push('\n');
+    }
+
+    fn begin(&mut self, span: Span) {
+        self.line.clear();
+        match self.numbered() {
+            Numbering::Source if span.file == self.main_file => {
+                self.line.push('N');
+                push_int(&mut self.line, self.lines.line(span.start) as i64);
+                self.line.push(' ');
+            }
+            Numbering::Seq => {
+                self.seq += 10;
+                self.line.push('N');
+                push_int(&mut self.line, self.seq as i64);
+                self.line.push(' ');
+            }
+            _ => {}
+        }
+    }
+
+    fn end(&mut self) {
+        if self.line.ends_with(' ') {
+            self.line.pop();
+        }
+        self.out.push_str(&self.line);
+        self.out.push('\n');
+    }
+
+    fn word(&mut self, letter: char, v: f64) {
+        if !self.line.is_empty() && !self.line.ends_with(' ') {
+            self.line.push(' ');
+        }
+        self.line.push(letter);
+        push_fixed(&mut self.line, v, self.decimals);
+    }
+
+    fn code(&mut self, text: &str) {
+        if !self.line.is_empty() && !self.line.ends_with(' ') {
+            self.line.push(' ');
+        }
+        self.line.push_str(text);
+    }
+
+    fn axes(&mut self, a: &ir::Axes) {
+        for (letter, v) in [('X', a.x), ('Y', a.y), ('Z', a.z)] {
+            if let Some(v) = v {
+                self.word(letter, v);
+            }
+        }
+    }
+
+    fn op_as_written(&mut self, op: &Op) {
+        match op {
+            Op::Move(m) => {
+                self.code(motion_code(m.motion));
+                self.axes(&m.to);
+                if let Some(arc) = &m.arc {
+                    match arc.geometry {
+                        ArcGeometry::Center(c) => {
+                            for (letter, v) in [('I', c.x), ('J', c.y), ('K', c.z)] {
+                                if let Some(v) = v {
+                                    self.word(letter, v);
+                                }
+                            }
+                        }
+                        ArcGeometry::Radius(r) => self.word('R', r),
+                    }
+                    if arc.turns > 1 {
+                        self.code(&format!("P{}", arc.turns));
+                    }
+                }
+            }
+            Op::Feed(f) => self.word('F', *f),
+            Op::Speed(s) => self.word('S', *s),
+            Op::SelectTool(t) => self.code(&format!("T{t}")),
+            Op::ChangeTool => {
+                if self.dialect == Dialect::Grbl {
+                    self.code("M0 (tool change: load the selected tool)");
+                } else {
+                    self.code("M6");
+                }
+            }
+            Op::Spindle(s) => self.code(match s {
+                ir::Spindle::Clockwise => "M3",
+                ir::Spindle::CounterClockwise => "M4",
+                ir::Spindle::Off => "M5",
+            }),
+            Op::Coolant(c) => self.code(match c {
+                ir::Coolant::Mist => "M7",
+                ir::Coolant::Flood => "M8",
+                ir::Coolant::Off => "M9",
+            }),
+            Op::Dwell(seconds) => {
+                self.code("G4");
+                self.word(if self.dialect == Dialect::Fanuc { 'X' } else { 'P' }, *seconds);
+            }
+            Op::Stop(ir::Stop::Program) => self.code("M0"),
+            Op::Stop(ir::Stop::Optional) => self.code("M1"),
+            Op::End => self.code(if self.dialect == Dialect::Grbl { "M2" } else { "M30" }),
+            Op::Units(Units::Inch) => self.code("G20"),
+            Op::Units(Units::Mm) => self.code("G21"),
+            Op::Distance(ir::Distance::Absolute) => self.code("G90"),
+            Op::Distance(ir::Distance::Incremental) => self.code("G91"),
+            Op::Plane(plane) => {
+                self.plane = *plane;
+                self.code(match plane {
+                    ir::Plane::XY => "G17",
+                    ir::Plane::ZX => "G18",
+                    ir::Plane::YZ => "G19",
+                })
+            }
+            Op::SelectWorkOffset(i) => self.code(&format!("G{}", 53 + *i as u32)),
+            Op::SetWorkOffset { index, origin } => {
+                self.code(&format!("G10 L2 P{index}"));
+                self.axes(origin);
+            }
+            Op::SetWorkOffsetHere { index, at } => {
+                self.code(&format!("G10 L20 P{index}"));
+                self.axes(at);
+            }
+            Op::LocalOffset(a) => {
+                self.code("G52");
+                self.axes(a);
+            }
+            Op::SetPosition(a) => {
+                self.code("G92");
+                self.axes(a);
+            }
+            Op::CancelPosition => self.code("G92.1"),
+            Op::ToolLength { tool, negative } => {
+                self.code(&format!("{} H{tool}", if *negative { "G44" } else { "G43" }))
+            }
+            Op::CancelToolLength => self.code("G49"),
+            Op::Polar(true) => self.code("G16"),
+            Op::Polar(false) => self.code("G15"),
+            Op::CompOff => self.code("G40"),
+            Op::CycleOff => self.code("G80"),
+            Op::Comment(text) => {
+                let clean: String = text
+                    .chars()
+                    .map(|c| if c == '(' || c == ')' || c == '\n' { ' ' } else { c })
+                    .collect();
+                self.code(&format!("({clean})"));
+            }
+        }
+    }
+
+    fn scaled(&self, v: f64) -> i64 {
+        (v * 10f64.powi(self.decimals as i32)).round() as i64
+    }
+
+    fn unscaled(&self, n: i64) -> f64 {
+        n as f64 / 10f64.powi(self.decimals as i32)
+    }
+
+    /// A move in the final output: absolute, unchanged axes left out, arc
+    /// centres relative to the start point as printed.
+    fn final_move(&mut self, span: Span, m: &ir::Move, start: [f64; 3], end: [f64; 3]) {
+        let end_q = end.map(|v| self.scaled(v));
+        let start_q: [i64; 3] = std::array::from_fn(|i| self.printed[i].unwrap_or(self.scaled(start[i])));
+        match (m.motion.is_arc(), self.options.arcs, m.arc) {
+            (true, ArcFormat::Lines, Some(arc)) => {
+                let ArcGeometry::Center(c) = arc.geometry else {
+                    return self.linear_fallback(span, m, end_q);
+                };
+                let center = [
+                    start[0] + c.x.unwrap_or(0.0),
+                    start[1] + c.y.unwrap_or(0.0),
+                    start[2] + c.z.unwrap_or(0.0),
+                ];
+                let points = crate::geometry::arc_points(
+                    start,
+                    end,
+                    center,
+                    self.plane,
+                    m.motion == Motion::ArcCw,
+                    arc.turns,
+                    self.options.tolerance,
+                );
+                for p in points {
+                    let q = p.map(|v| self.scaled(v));
+                    let lm = ir::Move {
+                        motion: Motion::Linear,
+                        to: ir::Axes::full(p),
+                        arc: None,
+                    };
+                    self.linear_fallback(span, &lm, q);
+                }
+            }
+            (true, _, Some(arc)) => {
+                self.begin(span);
+                self.code(motion_code(m.motion));
+                let (a, b, _) = self.plane.axes();
+                for axis in 0..3 {
+                    // Both in-plane axes always, so a full circle has an end.
+                    if axis == a || axis == b || Some(end_q[axis]) != self.printed[axis] {
+                        self.word(AXES[axis], self.unscaled(end_q[axis]));
+                        self.printed[axis] = Some(end_q[axis]);
+                    }
+                }
+                match (self.options.arcs, arc.geometry) {
+                    (ArcFormat::R, ArcGeometry::Center(c)) if arc.turns == 1 && !full_circle(&start_q, &end_q, self.plane) => {
+                        let r = (c.get(a).unwrap_or(0.0)).hypot(c.get(b).unwrap_or(0.0));
+                        let center = [
+                            start[0] + c.x.unwrap_or(0.0),
+                            start[1] + c.y.unwrap_or(0.0),
+                            start[2] + c.z.unwrap_or(0.0),
+                        ];
+                        let long = crate::geometry::is_long_arc(start, end, center, self.plane, m.motion == Motion::ArcCw);
+                        self.word('R', if long { -r } else { r });
+                    }
+                    (_, ArcGeometry::Center(c)) => {
+                        for axis in [a, b] {
+                            let center = self.scaled(start[axis] + c.get(axis).unwrap_or(0.0));
+                            self.word(CENTER[axis], self.unscaled(center - start_q[axis]));
+                        }
+                    }
+                    (_, ArcGeometry::Radius(r)) => self.word('R', r),
+                }
+                if arc.turns > 1 {
+                    self.code(&format!("P{}", arc.turns));
+                }
+                self.end();
+            }
+            _ => self.linear_fallback(span, m, end_q),
+        }
+    }
+
+    fn linear_fallback(&mut self, span: Span, m: &ir::Move, end_q: [i64; 3]) {
+        if (0..3).all(|i| self.printed[i] == Some(end_q[i])) {
+            return;
+        }
+        self.begin(span);
+        self.code(motion_code(if m.motion.is_arc() { Motion::Linear } else { m.motion }));
+        for (axis, &q) in end_q.iter().enumerate() {
+            if self.printed[axis] != Some(q) {
+                self.word(AXES[axis], self.unscaled(q));
+                self.printed[axis] = Some(q);
+            }
+        }
+        self.end();
+    }
+}
+
+const AXES: [char; 3] = ['X', 'Y', 'Z'];
+const CENTER: [char; 3] = ['I', 'J', 'K'];
+
+fn full_circle(start: &[i64; 3], end: &[i64; 3], plane: ir::Plane) -> bool {
+    let (a, b, _) = plane.axes();
+    start[a] == end[a] && start[b] == end[b]
+}
+
+fn motion_code(m: Motion) -> &'static str {
+    match m {
+        Motion::Rapid => "G0",
+        Motion::Linear => "G1",
+        Motion::ArcCw => "G2",
+        Motion::ArcCcw => "G3",
+    }
+}
+
+fn push_int(out: &mut String, mut n: i64) {
+    if n < 0 {
+        out.push('-');
+        n = -n;
+    }
+    let mut buf = [0u8; 20];
+    let mut i = buf.len();
+    loop {
+        i -= 1;
+        buf[i] = b'0' + (n % 10) as u8;
+        n /= 10;
+        if n == 0 {
+            break;
+        }
+    }
+    out.push_str(std::str::from_utf8(&buf[i..]).unwrap_or("0"));
+}
+
+/// A number with a decimal point and at most `decimals` decimals, trailing
+/// zeros removed: `1.`, `-0.25`, `12.5`.
+pub fn push_fixed(out: &mut String, v: f64, decimals: usize) {
+    let scale = 10i64.pow(decimals as u32);
+    if !(v.abs() < 1e12) {
+        out.push_str(&format!("{v:.decimals$}"));
+        return;
+    }
+    let n = (v * scale as f64).round() as i64;
+    if n < 0 {
+        out.push('-');
+    }
+    let n = n.unsigned_abs() as i64;
+    push_int(out, n / scale);
+    out.push('.');
+    let mut frac = n % scale;
+    if frac != 0 {
+        let mut digits = decimals;
+        while frac % 10 == 0 {
+            frac /= 10;
+            digits -= 1;
+        }
+        let s = frac.to_string();
+        for _ in s.len()..digits {
+            out.push('0');
+        }
+        out.push_str(&s);
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::push_fixed;
+
+    fn fixed(v: f64, d: usize) -> String {
+        let mut s = String::new();
+        push_fixed(&mut s, v, d);
+        s
+    }
+
+    #[test]
+    fn numbers_always_have_a_point() {
+        assert_eq!(fixed(1.0, 3), "1.");
+        assert_eq!(fixed(-0.25, 3), "-0.25");
+        assert_eq!(fixed(12.0005, 3), "12.001");
+        assert_eq!(fixed(-0.0001, 3), "0.");
+        assert_eq!(fixed(0.05, 4), "0.05");
+        assert_eq!(fixed(1234.5678, 4), "1234.5678");
+    }
+}

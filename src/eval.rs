@@ -1,0 +1,477 @@
+//! Stage 0, expand: AST → IR (SPEC §4.0). Runs the program: variables,
+//! expressions, `if`/`while`, subprogram calls (`M98`/`M99`, inlined),
+//! setup directives and wizard calls, and turns every G-code statement into
+//! IR statements that carry the span of the source that produced them.
+//! The result is still modal (G91, G20, G16 stay); lowering is not done
+//! here. This module must not know how IR is printed or lowered.
+
+mod codes;
+mod setup;
+pub mod value;
+
+use crate::ast::{self, Names, StmtKind, Symbol};
+use crate::diagnostic::{error, Diagnostic, DiagnosticExt};
+use crate::ir;
+use crate::source::Span;
+use value::{ExprError, Slot, Value};
+
+/// Limits that keep evaluation bounded whatever the input.
+#[derive(Clone, Debug)]
+pub struct EvalOptions {
+    /// A `while` that runs more often is an error naming the loop.
+    pub max_iterations: u64,
+    /// More IR statements than this is an error (memory bound).
+    pub max_statements: usize,
+    /// Subprogram nesting depth.
+    pub max_call_depth: usize,
+}
+
+impl Default for EvalOptions {
+    fn default() -> Self {
+        EvalOptions {
+            max_iterations: 10_000_000,
+            max_statements: 20_000_000,
+            max_call_depth: 64,
+        }
+    }
+}
+
+/// What a wizard call is handed to; implemented by the wizard engine. The
+/// evaluator only knows this interface.
+pub trait WizardHost {
+    /// Run wizard `name` (already known not to be a directive). Returns
+    /// `None` if no wizard has that name.
+    fn call(
+        &mut self,
+        name: &str,
+        args: &[Value],
+        call: &WizardCall<'_>,
+        ctx: &mut dyn WizardContext,
+    ) -> Option<Result<(), Vec<Diagnostic>>>;
+
+    /// Names of every wizard known, for "did you mean".
+    fn names(&self) -> Vec<String>;
+}
+
+/// Where a wizard was called, for its diagnostics.
+pub struct WizardCall<'a> {
+    pub span: Span,
+    pub arg_spans: &'a [Span],
+    pub names: &'a Names,
+}
+
+/// What a wizard may do to the program being built.
+pub trait WizardContext {
+    /// Run one line of extended G-code as if written at the call.
+    fn run_source(&mut self, text: &str) -> Result<(), Vec<Diagnostic>>;
+    fn emit(&mut self, op: ir::Op) -> Result<(), Diagnostic>;
+    fn state(&self) -> MachineState;
+}
+
+/// The machine state a wizard can read.
+#[derive(Clone, Copy, Debug)]
+pub struct MachineState {
+    /// Last commanded position in program coordinates (`None` before the
+    /// first move that sets the axis).
+    pub position: [Option<f64>; 3],
+    pub units: Option<ir::Units>,
+    pub tool: u32,
+    pub tool_diameter: f64,
+}
+
+/// Stage 0: evaluate a parsed program into IR.
+pub fn eval_program<'a>(
+    program: &'a ast::Program,
+    options: &'a EvalOptions,
+    wizards: Option<&'a mut (dyn WizardHost + 'a)>,
+) -> (ir::Program, Vec<Diagnostic>) {
+    let mut ev = Evaluator::new(program, options, wizards);
+    ev.run();
+    let setup = ev.finish_setup();
+    (
+        ir::Program {
+            stmts: ev.out,
+            setup,
+        },
+        ev.diagnostics,
+    )
+}
+
+/// How a block finished.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Flow {
+    Next,
+    /// M99: back to the caller.
+    Return,
+    /// M2/M30: the program is over.
+    End,
+    /// An error made it impossible to go on (a limit, a broken condition).
+    Abort,
+}
+
+struct Evaluator<'a> {
+    program: &'a ast::Program,
+    names: &'a Names,
+    options: &'a EvalOptions,
+    wizards: Option<&'a mut dyn WizardHost>,
+    vars: Vec<Slot>,
+    out: Vec<ir::Stmt>,
+    diagnostics: Vec<Diagnostic>,
+    errors: usize,
+    /// Current motion mode, for words written without a G code.
+    motion: Option<ir::Motion>,
+    /// Subprograms being run, innermost last: (number, call span).
+    calls: Vec<(u32, Span)>,
+    setup: setup::SetupBuilder,
+    /// Tool loaded by the last M6, and tool selected by the last T.
+    tool: u32,
+    selected: Option<u32>,
+    units: Option<ir::Units>,
+    position: [Option<f64>; 3],
+    distance: ir::Distance,
+}
+
+const MAX_REPORTED_ERRORS: usize = 50;
+
+impl<'a> Evaluator<'a> {
+    fn new(
+        program: &'a ast::Program,
+        options: &'a EvalOptions,
+        wizards: Option<&'a mut dyn WizardHost>,
+    ) -> Self {
+        Evaluator {
+            program,
+            names: &program.names,
+            options,
+            wizards,
+            vars: vec![Slot::Unset; program.names.len()],
+            out: Vec::new(),
+            diagnostics: Vec::new(),
+            errors: 0,
+            motion: None,
+            calls: Vec::new(),
+            setup: setup::SetupBuilder::default(),
+            tool: 1,
+            selected: None,
+            units: None,
+            position: [None; 3],
+            distance: ir::Distance::Absolute,
+        }
+    }
+
+    fn run(&mut self) {
+        let main = &self.program.main;
+        self.exec_block(main);
+    }
+
+    fn report(&mut self, d: Diagnostic) {
+        if crate::diagnostic::is_error(&d) {
+            self.errors += 1;
+        }
+        if self.errors <= MAX_REPORTED_ERRORS {
+            self.diagnostics.push(d);
+        }
+    }
+
+    fn report_expr(&mut self, e: ExprError) {
+        if let Some(d) = e.to_diagnostic(self.names, &self.vars) {
+            self.report(d);
+        }
+    }
+
+    fn too_many_errors(&self) -> bool {
+        self.errors >= MAX_REPORTED_ERRORS
+    }
+
+    fn emit(&mut self, op: ir::Op, span: Span) -> Result<(), Diagnostic> {
+        if self.out.len() >= self.options.max_statements {
+            return Err(error(
+                format!(
+                    "the program makes more than {} statements",
+                    self.options.max_statements
+                ),
+                span,
+                "the limit was reached here",
+            )
+            .with_help("check the loops and subprogram repeats"));
+        }
+        self.track(&op);
+        self.out.push(ir::Stmt { op, span });
+        Ok(())
+    }
+
+    /// Keep the little state wizards can read (SPEC §5).
+    fn track(&mut self, op: &ir::Op) {
+        match op {
+            ir::Op::Move(m) => {
+                for axis in 0..3 {
+                    if let Some(v) = m.to.get(axis) {
+                        self.position[axis] = match self.distance {
+                            ir::Distance::Absolute => Some(v),
+                            ir::Distance::Incremental => self.position[axis].map(|p| p + v),
+                        };
+                    }
+                }
+            }
+            ir::Op::Units(u) => self.units = Some(*u),
+            ir::Op::Distance(d) => self.distance = *d,
+            ir::Op::SetPosition(a) => {
+                for axis in 0..3 {
+                    if let Some(v) = a.get(axis) {
+                        self.position[axis] = Some(v);
+                    }
+                }
+            }
+            _ => {}
+        }
+    }
+
+    fn exec_block(&mut self, stmts: &[ast::Stmt]) -> Flow {
+        for stmt in stmts {
+            let flow = self.exec(stmt);
+            if flow != Flow::Next {
+                return flow;
+            }
+            if self.too_many_errors() {
+                return Flow::Abort;
+            }
+        }
+        Flow::Next
+    }
+
+    fn exec(&mut self, stmt: &ast::Stmt) -> Flow {
+        match &stmt.kind {
+            StmtKind::Line(line) => {
+                for s in line.statements() {
+                    let flow = self.exec_line_stmt(s);
+                    if flow != Flow::Next {
+                        return flow;
+                    }
+                }
+                Flow::Next
+            }
+            StmtKind::Assign {
+                name,
+                name_span,
+                value,
+            } => {
+                self.assign(*name, *name_span, value);
+                Flow::Next
+            }
+            StmtKind::Call {
+                name,
+                name_span,
+                args,
+            } => self.call(*name, *name_span, args, stmt.span),
+            StmtKind::If {
+                branches,
+                otherwise,
+            } => {
+                for (cond, body) in branches {
+                    match value::boolean(cond, &self.vars, "the `if` condition") {
+                        Ok(true) => return self.exec_block(body),
+                        Ok(false) => {}
+                        Err(e) => {
+                            self.report_expr(e);
+                            return Flow::Abort;
+                        }
+                    }
+                }
+                match otherwise {
+                    Some(body) => self.exec_block(body),
+                    None => Flow::Next,
+                }
+            }
+            StmtKind::While { cond, body } => self.exec_while(cond, body, stmt.span),
+            StmtKind::Error => Flow::Next,
+        }
+    }
+
+    fn exec_while(&mut self, cond: &ast::Expr, body: &[ast::Stmt], span: Span) -> Flow {
+        let mut count: u64 = 0;
+        loop {
+            match value::boolean(cond, &self.vars, "the `while` condition") {
+                Ok(true) => {}
+                Ok(false) => return Flow::Next,
+                Err(e) => {
+                    self.report_expr(e);
+                    return Flow::Abort;
+                }
+            }
+            count += 1;
+            if count > self.options.max_iterations {
+                let head = Span {
+                    end: cond.span.end + 1,
+                    ..span
+                };
+                self.report(
+                    error(
+                        format!(
+                            "this loop ran more than {} times",
+                            self.options.max_iterations
+                        ),
+                        head,
+                        "loop stopped here",
+                    )
+                    .with_help(
+                        "check that the condition becomes false, or raise --max-iterations",
+                    ),
+                );
+                return Flow::Abort;
+            }
+            match self.exec_block(body) {
+                Flow::Next => {}
+                other => return other,
+            }
+        }
+    }
+
+    fn assign(&mut self, name: Symbol, name_span: Span, value: &ast::Expr) {
+        if self.names.text(name) == "PI" {
+            self.report(error(
+                "`PI` is a constant",
+                name_span,
+                "cannot assign to it",
+            ));
+            return;
+        }
+        let slot = match value::eval(value, &self.vars) {
+            Ok(v) => Slot::Set(v),
+            Err(e) => {
+                self.report_expr(e);
+                Slot::Poisoned
+            }
+        };
+        self.vars[name.0 as usize] = slot;
+    }
+
+    fn call(&mut self, name: Symbol, name_span: Span, args: &[ast::Expr], span: Span) -> Flow {
+        let mut values = Vec::with_capacity(args.len());
+        for a in args {
+            match value::eval(a, &self.vars) {
+                Ok(v) => values.push(v),
+                Err(e) => {
+                    self.report_expr(e);
+                    return Flow::Next;
+                }
+            }
+        }
+        let text = self.names.text(name);
+        let arg_spans: Vec<Span> = args.iter().map(|a| a.span).collect();
+        if let Some(directive) = setup::Directive::from_name(text) {
+            if let Err(d) = self.setup.apply(directive, &values, name_span, &arg_spans, self.names)
+            {
+                self.report(d);
+            }
+            return Flow::Next;
+        }
+        let Some(host) = self.wizards.take() else {
+            self.unknown_wizard(text, name_span, &[]);
+            return Flow::Next;
+        };
+        let call = WizardCall {
+            span,
+            arg_spans: &arg_spans,
+            names: self.names,
+        };
+        let result = {
+            let mut ctx = Context { ev: self, span };
+            host.call(text, &values, &call, &mut ctx)
+        };
+        let known = host.names();
+        self.wizards = Some(host);
+        match result {
+            None => self.unknown_wizard(text, name_span, &known),
+            Some(Ok(())) => {}
+            Some(Err(ds)) => {
+                for d in ds {
+                    self.report(d);
+                }
+            }
+        }
+        Flow::Next
+    }
+
+    fn unknown_wizard(&mut self, text: &str, span: Span, known: &[String]) {
+        let mut d = error(
+            format!("unknown wizard `{text}`"),
+            span,
+            "no wizard or directive has this name",
+        );
+        let mut candidates: Vec<&str> = setup::Directive::NAMES.to_vec();
+        candidates.extend(known.iter().map(String::as_str));
+        if let Some(close) = candidates
+            .iter()
+            .map(|c| (value::edit_distance(&text.to_lowercase(), &c.to_lowercase()), c))
+            .filter(|(d, _)| *d <= 2)
+            .min_by_key(|(d, _)| *d)
+        {
+            d = d.with_help(format!("did you mean `{}`?", close.1));
+        } else {
+            d = d.with_note(
+                "a statement that starts with a name is an assignment (`Name = …`) or a wizard call; `;` ends a statement, so comments are written `( … )` or `//`",
+            );
+        }
+        self.report(d);
+    }
+
+    fn finish_setup(&mut self) -> ir::Setup {
+        std::mem::take(&mut self.setup).finish()
+    }
+}
+
+/// The evaluator as a wizard sees it: emitted statements get the call's
+/// span.
+struct Context<'e, 'a> {
+    ev: &'e mut Evaluator<'a>,
+    span: Span,
+}
+
+impl WizardContext for Context<'_, '_> {
+    fn run_source(&mut self, text: &str) -> Result<(), Vec<Diagnostic>> {
+        codes::run_wizard_line(self.ev, text, self.span)
+    }
+
+    fn emit(&mut self, op: ir::Op) -> Result<(), Diagnostic> {
+        self.ev.emit(op, self.span)
+    }
+
+    fn state(&self) -> MachineState {
+        let tool = self.ev.tool;
+        MachineState {
+            position: self.ev.position,
+            units: self.ev.units,
+            tool,
+            tool_diameter: self.ev.setup.tool_diameter(tool, self.ev.units),
+        }
+    }
+}
+
+/// Values of the words of one statement, by letter.
+#[derive(Default)]
+struct WordValues {
+    slots: [Option<(f64, Span, ast::Number)>; 26],
+}
+
+impl WordValues {
+    fn take(&mut self, letter: u8) -> Option<(f64, Span)> {
+        self.slots[(letter - b'A') as usize]
+            .take()
+            .map(|(v, s, _)| (v, s))
+    }
+
+    fn take_number(&mut self, letter: u8) -> Option<(f64, Span, ast::Number)> {
+        self.slots[(letter - b'A') as usize].take()
+    }
+
+    fn has(&self, letter: u8) -> bool {
+        self.slots[(letter - b'A') as usize].is_some()
+    }
+
+    fn remaining(&self) -> impl Iterator<Item = (u8, Span)> + '_ {
+        self.slots
+            .iter()
+            .enumerate()
+            .filter_map(|(i, s)| s.map(|(_, span, _)| (b'A' + i as u8, span)))
+    }
+}

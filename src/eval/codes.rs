@@ -1,0 +1,581 @@
+//! G and M codes: one statement of a line (a code and its argument words)
+//! becomes IR. This is where the meaning of each code is decided — which
+//! words it takes, what is modal, what is refused. Subprogram calls
+//! (`M98`/`M99`) are run here too.
+
+use super::{Evaluator, Flow, WordValues};
+use crate::ast::{self, LineStmt, WordValue};
+use crate::diagnostic::{error, warning, Diagnostic, DiagnosticExt};
+use crate::ir::{self, Arc, ArcGeometry, Axes, Motion, Op};
+use crate::source::Span;
+
+/// A G code in tenths: G1 is 10, G54.1 is 541.
+fn tenths(value: f64) -> Option<u32> {
+    let t = (value * 10.0).round();
+    ((value * 10.0 - t).abs() < 1e-6 && (0.0..100_000.0).contains(&t)).then_some(t as u32)
+}
+
+fn code_name(letter: u8, t: u32) -> String {
+    if t % 10 == 0 {
+        format!("{}{}", letter as char, t / 10)
+    } else {
+        format!("{}{}.{}", letter as char, t / 10, t % 10)
+    }
+}
+
+impl Evaluator<'_> {
+    pub(super) fn exec_line_stmt(&mut self, stmt: LineStmt<'_>) -> Flow {
+        let mut words = WordValues::default();
+        let mut span = stmt
+            .code
+            .map(|c| c.span)
+            .or_else(|| stmt.args.first().map(|w| w.span))
+            .unwrap_or_default();
+        for w in stmt.args {
+            span = span.to(w.span);
+            if w.letter == b'N' {
+                continue;
+            }
+            let Some(value) = self.word_value(w) else {
+                return Flow::Next;
+            };
+            let slot = &mut words.slots[(w.letter - b'A') as usize];
+            if let Some((_, first, _)) = slot {
+                let first = *first;
+                self.report(
+                    error(
+                        format!("`{}` appears twice in one statement", w.letter as char),
+                        w.span,
+                        "second one",
+                    )
+                    .with_secondary(first, "first one"),
+                );
+                return Flow::Next;
+            }
+            let number = match &w.value {
+                WordValue::Number(n) => *n,
+                WordValue::Expr(_) => ast::Number {
+                    value,
+                    int_digits: 0,
+                    has_point: true,
+                },
+            };
+            *slot = Some((value, w.span, number));
+        }
+        let result = match stmt.code {
+            None => self.plain_words(&mut words, span),
+            Some(code) => {
+                let Some(value) = self.word_value(code) else {
+                    return Flow::Next;
+                };
+                match tenths(value) {
+                    Some(t) if code.letter == b'G' => self.g_code(t, code.span, &mut words, span),
+                    Some(t) => self.m_code(t, code.span, &mut words, span),
+                    None => Err(error(
+                        format!("`{}{}` is not a code", code.letter as char, value),
+                        code.span,
+                        "codes are whole numbers, or with one decimal (G54.1)",
+                    )),
+                }
+            }
+        };
+        match result {
+            Ok(flow) => flow,
+            Err(d) => {
+                self.report(d);
+                Flow::Next
+            }
+        }
+    }
+
+    /// The number a word stands for; symbolic words are evaluated.
+    fn word_value(&mut self, w: &ast::Word) -> Option<f64> {
+        match &w.value {
+            WordValue::Number(n) => Some(n.value),
+            WordValue::Expr(e) => {
+                let what = format!("the `{}` word", w.letter as char);
+                match super::value::number(e, &self.vars, &what) {
+                    Ok(v) => Some(v),
+                    Err(err) => {
+                        self.report_expr(err);
+                        None
+                    }
+                }
+            }
+        }
+    }
+
+    /// F, S and T come first in any statement: `G1 X10 F100` feeds at 100.
+    fn feed_speed_tool(&mut self, w: &mut WordValues, span: Span) -> Result<(), Diagnostic> {
+        if let Some((f, fspan)) = w.take(b'F') {
+            if f < 0.0 {
+                return Err(error("negative feed rate", fspan, "F must be positive"));
+            }
+            self.emit(Op::Feed(f), span)?;
+        }
+        if let Some((s, sspan)) = w.take(b'S') {
+            if s < 0.0 {
+                return Err(error("negative spindle speed", sspan, "S must be positive"));
+            }
+            self.emit(Op::Speed(s), span)?;
+        }
+        if let Some((t, tspan)) = w.take(b'T') {
+            let tool = whole(t, tspan, "a tool number")?;
+            self.selected = Some(tool);
+            self.emit(Op::SelectTool(tool), span)?;
+        }
+        Ok(())
+    }
+
+    /// Words with no G/M code before them: F, S, T, and a move in the
+    /// current motion mode.
+    fn plain_words(&mut self, w: &mut WordValues, span: Span) -> Result<Flow, Diagnostic> {
+        self.feed_speed_tool(w, span)?;
+        self.leftover_move(w, span, "")?;
+        Ok(Flow::Next)
+    }
+
+    /// Axis words left after a code took its own: a move in the current
+    /// motion mode. Any other word left over is an error.
+    fn leftover_move(&mut self, w: &mut WordValues, span: Span, code: &str) -> Result<(), Diagnostic> {
+        let has_axes = [b'X', b'Y', b'Z'].iter().any(|&l| w.has(l));
+        let arc_words = [b'I', b'J', b'K', b'R'].iter().any(|&l| w.has(l));
+        if has_axes || (arc_words && self.motion.is_some_and(Motion::is_arc)) {
+            let Some(motion) = self.motion else {
+                let (_, at) = w.remaining().next().unwrap_or((b'X', span));
+                return Err(error(
+                    "a move without a motion mode",
+                    at,
+                    "no G0, G1, G2 or G3 is active yet",
+                )
+                .with_help("start the move with `G0` or `G1`"));
+            };
+            let m = self.motion_move(motion, w, span)?;
+            self.emit(Op::Move(m), span)?;
+        }
+        if let Some((letter, at)) = w.remaining().next() {
+            let label = if code.is_empty() {
+                "no code on this line uses it".to_string()
+            } else {
+                format!("{code} does not use `{}`", letter as char)
+            };
+            return Err(error(
+                format!("unexpected `{}` word", letter as char),
+                at,
+                label,
+            ));
+        }
+        Ok(())
+    }
+
+    fn motion_move(&mut self, motion: Motion, w: &mut WordValues, span: Span) -> Result<ir::Move, Diagnostic> {
+        let to = Axes {
+            x: w.take(b'X').map(|v| v.0),
+            y: w.take(b'Y').map(|v| v.0),
+            z: w.take(b'Z').map(|v| v.0),
+        };
+        let arc = if motion.is_arc() {
+            let center = Axes {
+                x: w.take(b'I').map(|v| v.0),
+                y: w.take(b'J').map(|v| v.0),
+                z: w.take(b'K').map(|v| v.0),
+            };
+            let radius = w.take(b'R');
+            let turns = match w.take(b'P') {
+                Some((p, pspan)) => {
+                    let n = whole(p, pspan, "a number of turns")?;
+                    if n == 0 {
+                        return Err(error("zero turns", pspan, "P counts turns, from 1"));
+                    }
+                    n
+                }
+                None => 1,
+            };
+            let geometry = match (radius, center.is_empty()) {
+                (Some((_, rspan)), false) => {
+                    return Err(error(
+                        "an arc with both R and I/J/K",
+                        rspan,
+                        "give the radius or the centre, not both",
+                    ))
+                }
+                (Some((r, rspan)), true) => {
+                    if r == 0.0 {
+                        return Err(error("zero arc radius", rspan, "R must not be 0"));
+                    }
+                    ArcGeometry::Radius(r)
+                }
+                (None, false) => ArcGeometry::Center(center),
+                (None, true) => {
+                    return Err(error(
+                        "an arc needs its centre or radius",
+                        span,
+                        "no I, J, K or R here",
+                    )
+                    .with_help("give the centre with I/J/K (relative to the start) or the radius with R"))
+                }
+            };
+            Some(Arc { geometry, turns })
+        } else {
+            None
+        };
+        Ok(ir::Move { motion, to, arc })
+    }
+
+    fn g_code(&mut self, t: u32, at: Span, w: &mut WordValues, span: Span) -> Result<Flow, Diagnostic> {
+        let name = code_name(b'G', t);
+        self.feed_speed_tool(w, span)?;
+        let op = match t {
+            0 | 10 | 20 | 30 => {
+                let motion = match t {
+                    0 => Motion::Rapid,
+                    10 => Motion::Linear,
+                    20 => Motion::ArcCw,
+                    _ => Motion::ArcCcw,
+                };
+                self.motion = Some(motion);
+                return self.leftover_move(w, span, &name).map(|_| Flow::Next);
+            }
+            40 => self.dwell(w, at)?,
+            100 => self.g10(w, at)?,
+            150 => Op::Polar(false),
+            160 => Op::Polar(true),
+            170 => Op::Plane(ir::Plane::XY),
+            180 => Op::Plane(ir::Plane::ZX),
+            190 => Op::Plane(ir::Plane::YZ),
+            200 => Op::Units(ir::Units::Inch),
+            210 => Op::Units(ir::Units::Mm),
+            280 | 300 => {
+                for l in [b'X', b'Y', b'Z'] {
+                    w.take(l);
+                }
+                self.report(
+                    warning(
+                        format!("{name} dropped"),
+                        at,
+                        "a return to the machine's home depends on the machine",
+                    )
+                    .with_note("ger writes no move for it, nor for its intermediate point"),
+                );
+                return self.leftover_move(w, span, &name).map(|_| Flow::Next);
+            }
+            400 => Op::CompOff,
+            410 | 420 | 411 | 421 => {
+                return Err(error(
+                    format!("cutter compensation ({name}) is not supported yet"),
+                    at,
+                    "ger cannot lower this code yet",
+                )
+                .with_help("program the tool-centre path, or wait for ger's cutter compensation"))
+            }
+            430 | 440 => {
+                let tool = match w.take(b'H') {
+                    Some((h, hspan)) => whole(h, hspan, "a tool number")?,
+                    None => self.tool,
+                };
+                Op::ToolLength {
+                    tool,
+                    negative: t == 440,
+                }
+            }
+            490 => Op::CancelToolLength,
+            520 => Op::LocalOffset(self.take_axes(w, at, &name, false)?),
+            530 => {
+                return Err(error(
+                    "G53 (machine coordinates) cannot be expressed",
+                    at,
+                    "the output's coordinates are relative to the program zero",
+                )
+                .with_help("write the move in work coordinates"))
+            }
+            540..=590 if t % 10 == 0 => Op::SelectWorkOffset((t / 10 - 53) as u8),
+            610 | 611 | 640 => {
+                w.take(b'P');
+                w.take(b'Q');
+                self.report(warning(
+                    format!("{name} dropped"),
+                    at,
+                    "path blending is a setting of the controller",
+                ));
+                return self.leftover_move(w, span, &name).map(|_| Flow::Next);
+            }
+            730 | 740 | 760 | 810..=890 if t % 10 == 0 => {
+                return Err(error(
+                    format!("canned cycles ({name}) are not supported yet"),
+                    at,
+                    "ger cannot lower this code yet",
+                )
+                .with_help("write the drilling moves out with G0/G1, or use a wizard such as `holesLine`"))
+            }
+            800 => Op::CycleOff,
+            900 => Op::Distance(ir::Distance::Absolute),
+            910 => Op::Distance(ir::Distance::Incremental),
+            911 => return self.leftover_move(w, span, &name).map(|_| Flow::Next),
+            920 => {
+                let axes = self.take_axes(w, at, &name, true)?;
+                Op::SetPosition(if axes.is_empty() {
+                    Axes::full([0.0; 3])
+                } else {
+                    axes
+                })
+            }
+            921 | 922 => Op::CancelPosition,
+            940 => return self.leftover_move(w, span, &name).map(|_| Flow::Next),
+            980 | 990 => return self.leftover_move(w, span, &name).map(|_| Flow::Next),
+            _ => {
+                let why = match t {
+                    120 | 130 => "circle milling (G12/G13) is a Fanuc option; use G2/G3 or a CirclePocket wizard",
+                    541 => "extended work offsets (G54.1 P…) are not supported; use G54–G59",
+                    680 | 690 => "coordinate rotation is not supported",
+                    500 | 510 => "scaling is not supported",
+                    650 => "macro calls (G65) are not supported; use a wizard or M98",
+                    901 => "absolute arc centres (G90.1) are not supported; I/J/K are relative to the start",
+                    930 | 950 => "only feed per minute (G94) is supported",
+                    _ => "ger does not know this code",
+                };
+                return Err(error(format!("unsupported code {name}"), at, why));
+            }
+        };
+        self.emit(op, span)?;
+        self.leftover_move(w, span, &name)?;
+        Ok(Flow::Next)
+    }
+
+    fn m_code(&mut self, t: u32, at: Span, w: &mut WordValues, span: Span) -> Result<Flow, Diagnostic> {
+        let name = code_name(b'M', t);
+        if t == 980 {
+            return self.subprogram_call(w, at, span);
+        }
+        self.feed_speed_tool(w, span)?;
+        let (op, flow) = match t {
+            0 => (Op::Stop(ir::Stop::Program), Flow::Next),
+            10 => (Op::Stop(ir::Stop::Optional), Flow::Next),
+            20 | 300 => (Op::End, Flow::End),
+            30 => (Op::Spindle(ir::Spindle::Clockwise), Flow::Next),
+            40 => (Op::Spindle(ir::Spindle::CounterClockwise), Flow::Next),
+            50 => (Op::Spindle(ir::Spindle::Off), Flow::Next),
+            60 => {
+                if let Some(tool) = self.selected {
+                    self.tool = tool;
+                }
+                (Op::ChangeTool, Flow::Next)
+            }
+            70 => (Op::Coolant(ir::Coolant::Mist), Flow::Next),
+            80 => (Op::Coolant(ir::Coolant::Flood), Flow::Next),
+            90 => (Op::Coolant(ir::Coolant::Off), Flow::Next),
+            990 => {
+                self.leftover_move(w, span, &name)?;
+                return Ok(Flow::Return);
+            }
+            _ => {
+                let why = match t {
+                    470 => "M47 repeats the program from the top; the output cannot express it",
+                    _ => "the output cannot express this code",
+                };
+                return Err(error(format!("unsupported code {name}"), at, why));
+            }
+        };
+        self.emit(op, span)?;
+        self.leftover_move(w, span, &name)?;
+        Ok(flow)
+    }
+
+    fn dwell(&mut self, w: &mut WordValues, at: Span) -> Result<Op, Diagnostic> {
+        let seconds = match (w.take_number(b'P'), w.take(b'X')) {
+            (Some((p, _, n)), None) if !n.has_point => p / 1000.0,
+            (Some((p, _, _)), None) => p,
+            (None, Some((x, _))) => x,
+            (Some(_), Some((_, xspan))) => {
+                return Err(error("G4 with both P and X", xspan, "give the dwell once"))
+            }
+            (None, None) => {
+                return Err(error("G4 without a time", at, "no P or X here")
+                    .with_help("`G4 P500` dwells 500 ms, `G4 P0.5` or `G4 X0.5` half a second"))
+            }
+        };
+        if seconds < 0.0 {
+            return Err(error("negative dwell", at, "a dwell time is positive"));
+        }
+        Ok(Op::Dwell(seconds))
+    }
+
+    fn g10(&mut self, w: &mut WordValues, at: Span) -> Result<Op, Diagnostic> {
+        let Some((l, lspan)) = w.take(b'L') else {
+            return Err(error("G10 without L", at, "ger knows G10 L2 and G10 L20")
+                .with_help("`G10 L2 P2 X… Y… Z…` sets the origin of G55"));
+        };
+        let Some((p, pspan)) = w.take(b'P') else {
+            return Err(error("G10 without P", at, "P names the work offset: P1 = G54 … P6 = G59"));
+        };
+        let index = whole(p, pspan, "a work offset number")?;
+        if !(1..=6).contains(&index) {
+            return Err(error(
+                "unsupported work offset number",
+                pspan,
+                "P1 (G54) to P6 (G59) are supported",
+            ));
+        }
+        if let Some((_, rspan)) = w.take(b'R') {
+            return Err(error(
+                "rotated work offsets are not supported",
+                rspan,
+                "G10 R rotates the coordinate system",
+            ));
+        }
+        let axes = self.take_axes(w, at, "G10", true)?;
+        match l as i64 {
+            2 if l == 2.0 => Ok(Op::SetWorkOffset {
+                index: index as u8,
+                origin: axes,
+            }),
+            20 if l == 20.0 => Ok(Op::SetWorkOffsetHere {
+                index: index as u8,
+                at: axes,
+            }),
+            _ => Err(error(
+                "unsupported G10 form",
+                lspan,
+                "ger knows G10 L2 and G10 L20",
+            )),
+        }
+    }
+
+    /// X/Y/Z of a code that takes axes itself (G52, G92, G10).
+    fn take_axes(&mut self, w: &mut WordValues, at: Span, name: &str, may_be_empty: bool) -> Result<Axes, Diagnostic> {
+        let axes = Axes {
+            x: w.take(b'X').map(|v| v.0),
+            y: w.take(b'Y').map(|v| v.0),
+            z: w.take(b'Z').map(|v| v.0),
+        };
+        if axes.is_empty() && !may_be_empty {
+            return Err(error(format!("{name} without axes"), at, "give X, Y or Z"));
+        }
+        Ok(axes)
+    }
+
+    /// `M98 P… L…`: run a subprogram inline, L times (or the Fanuc form
+    /// `P31000`: the digits before the last four are the count).
+    fn subprogram_call(&mut self, w: &mut WordValues, at: Span, span: Span) -> Result<Flow, Diagnostic> {
+        let Some((p, pspan, written)) = w.take_number(b'P') else {
+            return Err(error("M98 without P", at, "P names the subprogram: `M98 P1000`"));
+        };
+        let p = whole(p, pspan, "a program number")?;
+        let (mut number, mut count) = (p, 1);
+        if written.int_digits > 4 && !written.has_point {
+            number = p % 10_000;
+            count = p / 10_000;
+        }
+        if let Some((l, lspan)) = w.take(b'L') {
+            if count != 1 {
+                return Err(error(
+                    "M98 with both L and a repeat count in P",
+                    lspan,
+                    "the P word already holds the count",
+                ));
+            }
+            count = whole(l, lspan, "a repeat count")?;
+        }
+        self.feed_speed_tool(w, span)?;
+        self.leftover_move(w, span, "M98")?;
+        let program = self.program;
+        let Some(sub) = program.subprograms.iter().find(|s| s.number == number) else {
+            let mut d = error(
+                format!("no subprogram O{number}"),
+                pspan,
+                "called here",
+            );
+            let known: Vec<String> = program
+                .subprograms
+                .iter()
+                .map(|s| format!("O{}", s.number))
+                .collect();
+            if !known.is_empty() {
+                d = d.with_note(format!("this file has {}", known.join(", ")));
+            }
+            return Err(d);
+        };
+        if self.calls.len() >= self.options.max_call_depth {
+            let mut d = error(
+                format!(
+                    "subprograms nested more than {} deep",
+                    self.options.max_call_depth
+                ),
+                at,
+                "this call is too deep",
+            );
+            // Runaway recursion is the usual cause: say where it started.
+            if let Some(&(_, first)) = self.calls.iter().find(|(n, _)| *n == number) {
+                d = d
+                    .with_secondary(first, format!("O{number} was first called here"))
+                    .with_help(format!(
+                        "O{number} calls itself; make sure a condition stops the recursion"
+                    ));
+            }
+            return Err(d);
+        }
+        self.calls.push((number, at));
+        let mut flow = Flow::Next;
+        for _ in 0..count {
+            flow = match self.exec_block(&sub.body) {
+                Flow::Return | Flow::Next => Flow::Next,
+                other => other,
+            };
+            if flow != Flow::Next {
+                break;
+            }
+        }
+        self.calls.pop();
+        Ok(flow)
+    }
+}
+
+/// A word that must hold a whole, non-negative number.
+fn whole(value: f64, span: Span, what: &str) -> Result<u32, Diagnostic> {
+    if value < 0.0 || value.fract() != 0.0 || value > u32::MAX as f64 {
+        return Err(error(
+            format!("expected {what}"),
+            span,
+            "a whole number from 0 is needed here",
+        ));
+    }
+    Ok(value as u32)
+}
+
+/// Run one line of extended G-code that a wizard produced; its statements
+/// take the wizard call's span.
+pub(super) fn run_wizard_line(ev: &mut Evaluator<'_>, text: &str, span: Span) -> Result<(), Vec<Diagnostic>> {
+    let (program, diagnostics) = crate::parser::parse_program(text, span.file);
+    if !diagnostics.is_empty() {
+        return Err(diagnostics);
+    }
+    for stmt in &program.main {
+        let ast::StmtKind::Line(line) = &stmt.kind else {
+            return Err(vec![error(
+                "a wizard's raw line must be plain G-code",
+                span,
+                "from this call",
+            )]);
+        };
+        let mut line = line.clone();
+        for w in &mut line.words {
+            if matches!(w.value, WordValue::Expr(_)) {
+                return Err(vec![error(
+                    "a wizard's raw line cannot use variables",
+                    span,
+                    "from this call",
+                )]);
+            }
+            w.span = span;
+        }
+        let before = ev.errors;
+        for s in line.statements() {
+            if ev.exec_line_stmt(s) != Flow::Next {
+                break;
+            }
+        }
+        if ev.errors > before {
+            return Err(Vec::new());
+        }
+    }
+    Ok(())
+}

@@ -1,0 +1,283 @@
+//! Values and expression evaluation (SPEC §2.3–2.4): numbers, booleans and
+//! strings; every operator and built-in function, angles in degrees. Errors
+//! are returned as [`ExprError`] with the span of the failing expression;
+//! the caller reports them.
+
+use crate::ast::{BinaryOp, Expr, ExprKind, Function, Names, Symbol, UnaryOp};
+use crate::diagnostic::{error, Diagnostic, DiagnosticExt};
+use crate::source::Span;
+
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Value {
+    Number(f64),
+    Bool(bool),
+    Str(Symbol),
+}
+
+impl Value {
+    pub fn type_name(self) -> &'static str {
+        match self {
+            Value::Number(_) => "a number",
+            Value::Bool(_) => "a boolean",
+            Value::Str(_) => "a string",
+        }
+    }
+}
+
+/// Variables, indexed by symbol. `Poisoned` marks a variable whose
+/// assignment failed: its uses stay silent, the error is already reported.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Slot {
+    Unset,
+    Poisoned,
+    Set(Value),
+}
+
+#[derive(Debug)]
+pub enum ExprError {
+    Undefined { name: Symbol, span: Span },
+    TypeMismatch { expected: &'static str, found: &'static str, span: Span, what: String },
+    DivisionByZero { span: Span },
+    NotFinite { span: Span, what: String },
+    Arity { function: Function, given: usize, span: Span },
+    UnknownFunction { name: Symbol, span: Span },
+    /// Depends on a variable whose own error was already reported.
+    Poisoned,
+}
+
+impl ExprError {
+    pub fn to_diagnostic(&self, names: &Names, vars: &[Slot]) -> Option<Diagnostic> {
+        Some(match self {
+            ExprError::Undefined { name, span } => {
+                let text = names.text(*name);
+                let mut d = error(
+                    format!("undefined variable `{text}`"),
+                    *span,
+                    "no value has been assigned to this name",
+                );
+                if let Some(close) = closest_name(text, names, vars) {
+                    d = d.with_help(format!("did you mean `{close}`?"));
+                } else {
+                    d = d.with_help(format!("assign it first: `{text} = …`"));
+                }
+                d
+            }
+            ExprError::TypeMismatch {
+                expected,
+                found,
+                span,
+                what,
+            } => error(
+                format!("type mismatch: {what} needs {expected}, found {found}"),
+                *span,
+                format!("this is {found}"),
+            ),
+            ExprError::DivisionByZero { span } => {
+                error("division by zero", *span, "the divisor is zero here")
+            }
+            ExprError::NotFinite { span, what } => error(
+                format!("{what} has no finite value"),
+                *span,
+                "the result is infinite or not a number",
+            ),
+            ExprError::Arity {
+                function,
+                given,
+                span,
+            } => {
+                let (lo, hi) = function.arity();
+                let wanted = if lo == hi {
+                    format!("{lo}")
+                } else {
+                    format!("{lo} or more")
+                };
+                error(
+                    format!("`{}` takes {wanted} argument(s), {given} given", function.name()),
+                    *span,
+                    "wrong number of arguments",
+                )
+            }
+            ExprError::UnknownFunction { name, span } => {
+                let known: Vec<&str> = Function::ALL.iter().map(|(n, _)| *n).collect();
+                error(
+                    format!("unknown function `{}`", names.text(*name)),
+                    *span,
+                    "not a built-in function",
+                )
+                .with_note(format!("the functions are: {}", known.join(" ")))
+            }
+            ExprError::Poisoned => return None,
+        })
+    }
+}
+
+/// The closest assigned name, for "did you mean".
+fn closest_name<'a>(wanted: &str, names: &'a Names, vars: &[Slot]) -> Option<&'a str> {
+    names
+        .iter()
+        .filter(|(s, _)| matches!(vars.get(s.0 as usize), Some(Slot::Set(_))))
+        .map(|(_, text)| (edit_distance(&wanted.to_lowercase(), &text.to_lowercase()), text))
+        .filter(|&(d, text)| d <= 2.max(wanted.len() / 3) && text != wanted)
+        .min_by_key(|&(d, _)| d)
+        .map(|(_, text)| text)
+}
+
+pub fn edit_distance(a: &str, b: &str) -> usize {
+    let b: Vec<char> = b.chars().collect();
+    let mut row: Vec<usize> = (0..=b.len()).collect();
+    for (i, ca) in a.chars().enumerate() {
+        let mut prev = row[0];
+        row[0] = i + 1;
+        for (j, &cb) in b.iter().enumerate() {
+            let cur = row[j + 1];
+            row[j + 1] = (prev + usize::from(ca != cb)).min(row[j] + 1).min(cur + 1);
+            prev = cur;
+        }
+    }
+    row[b.len()]
+}
+
+pub fn eval(expr: &Expr, vars: &[Slot]) -> Result<Value, ExprError> {
+    match &expr.kind {
+        ExprKind::Number(n) => Ok(Value::Number(*n)),
+        ExprKind::Bool(b) => Ok(Value::Bool(*b)),
+        ExprKind::Str(s) => Ok(Value::Str(*s)),
+        ExprKind::Var(s) => match vars.get(s.0 as usize) {
+            Some(Slot::Set(v)) => Ok(*v),
+            Some(Slot::Poisoned) => Err(ExprError::Poisoned),
+            _ => Err(ExprError::Undefined {
+                name: *s,
+                span: expr.span,
+            }),
+        },
+        ExprKind::Unary(UnaryOp::Neg, e) => Ok(Value::Number(-number(e, vars, "`-`")?)),
+        ExprKind::Unary(UnaryOp::Not, e) => Ok(Value::Bool(!boolean(e, vars, "`!`")?)),
+        ExprKind::Binary(op, a, b) => binary(*op, a, b, expr.span, vars),
+        ExprKind::Call(f, args) => call(*f, args, expr.span, vars),
+        ExprKind::UnknownCall(name, _) => Err(ExprError::UnknownFunction {
+            name: *name,
+            span: expr.span,
+        }),
+    }
+}
+
+pub fn number(expr: &Expr, vars: &[Slot], what: &str) -> Result<f64, ExprError> {
+    match eval(expr, vars)? {
+        Value::Number(n) => Ok(n),
+        other => Err(ExprError::TypeMismatch {
+            expected: "a number",
+            found: other.type_name(),
+            span: expr.span,
+            what: what.to_string(),
+        }),
+    }
+}
+
+pub fn boolean(expr: &Expr, vars: &[Slot], what: &str) -> Result<bool, ExprError> {
+    match eval(expr, vars)? {
+        Value::Bool(b) => Ok(b),
+        other => Err(ExprError::TypeMismatch {
+            expected: "true or false",
+            found: other.type_name(),
+            span: expr.span,
+            what: what.to_string(),
+        }),
+    }
+}
+
+fn finite(value: f64, span: Span, what: impl FnOnce() -> String) -> Result<f64, ExprError> {
+    if value.is_finite() {
+        Ok(value)
+    } else {
+        Err(ExprError::NotFinite { span, what: what() })
+    }
+}
+
+fn binary(op: BinaryOp, a: &Expr, b: &Expr, span: Span, vars: &[Slot]) -> Result<Value, ExprError> {
+    let what = || format!("`{}`", op.symbol());
+    match op {
+        BinaryOp::And => {
+            Ok(Value::Bool(boolean(a, vars, "`&&`")? && boolean(b, vars, "`&&`")?))
+        }
+        BinaryOp::Or => Ok(Value::Bool(boolean(a, vars, "`||`")? || boolean(b, vars, "`||`")?)),
+        BinaryOp::Eq | BinaryOp::Ne => {
+            let (x, y) = (eval(a, vars)?, eval(b, vars)?);
+            let same = match (x, y) {
+                (Value::Number(p), Value::Number(q)) => p == q,
+                (Value::Bool(p), Value::Bool(q)) => p == q,
+                (Value::Str(p), Value::Str(q)) => p == q,
+                _ => {
+                    return Err(ExprError::TypeMismatch {
+                        expected: x.type_name(),
+                        found: y.type_name(),
+                        span: b.span,
+                        what: what(),
+                    })
+                }
+            };
+            Ok(Value::Bool(same == (op == BinaryOp::Eq)))
+        }
+        _ => {
+            let x = number(a, vars, &what())?;
+            let y = number(b, vars, &what())?;
+            let v = match op {
+                BinaryOp::Add => x + y,
+                BinaryOp::Sub => x - y,
+                BinaryOp::Mul => x * y,
+                BinaryOp::Div | BinaryOp::Rem if y == 0.0 => {
+                    return Err(ExprError::DivisionByZero { span })
+                }
+                BinaryOp::Div => x / y,
+                BinaryOp::Rem => x % y,
+                BinaryOp::Pow => x.powf(y),
+                BinaryOp::Lt => return Ok(Value::Bool(x < y)),
+                BinaryOp::Le => return Ok(Value::Bool(x <= y)),
+                BinaryOp::Gt => return Ok(Value::Bool(x > y)),
+                BinaryOp::Ge => return Ok(Value::Bool(x >= y)),
+                BinaryOp::And | BinaryOp::Or | BinaryOp::Eq | BinaryOp::Ne => unreachable!(),
+            };
+            Ok(Value::Number(finite(v, span, what)?))
+        }
+    }
+}
+
+fn call(f: Function, args: &[Expr], span: Span, vars: &[Slot]) -> Result<Value, ExprError> {
+    let (lo, hi) = f.arity();
+    if args.len() < lo || args.len() > hi {
+        return Err(ExprError::Arity {
+            function: f,
+            given: args.len(),
+            span,
+        });
+    }
+    let what = format!("`{}`", f.name());
+    let arg = |i: usize| number(&args[i], vars, &what);
+    let x = arg(0)?;
+    let v = match f {
+        Function::Abs => x.abs(),
+        Function::Sqrt => x.sqrt(),
+        Function::Sin => x.to_radians().sin(),
+        Function::Cos => x.to_radians().cos(),
+        Function::Tan => x.to_radians().tan(),
+        Function::Asin => x.asin().to_degrees(),
+        Function::Acos => x.acos().to_degrees(),
+        Function::Atan => x.atan().to_degrees(),
+        Function::Atan2 => x.atan2(arg(1)?).to_degrees(),
+        Function::Floor => x.floor(),
+        Function::Ceil => x.ceil(),
+        Function::Round => x.round(),
+        Function::Min | Function::Max => {
+            let mut acc = x;
+            for i in 1..args.len() {
+                let y = arg(i)?;
+                acc = if f == Function::Min { acc.min(y) } else { acc.max(y) };
+            }
+            acc
+        }
+        Function::Hypot => x.hypot(arg(1)?),
+        Function::Exp => x.exp(),
+        Function::Ln => x.ln(),
+        Function::Log10 => x.log10(),
+    };
+    Ok(Value::Number(finite(v, span, || format!("`{}(…)`", f.name()))?))
+}
