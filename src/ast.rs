@@ -4,6 +4,8 @@
 //! Names are interned [`Symbol`]s so that tokens and nodes allocate nothing
 //! per word.
 
+mod print;
+
 use crate::source::Span;
 use std::collections::HashMap;
 

@@ -6,16 +6,27 @@ use crate::diagnostic::{is_error, Diagnostic};
 use crate::emit::{self, EmitOptions};
 use crate::eval::{self, EvalOptions, WizardHost};
 use crate::ir::{self, Units};
+use crate::lower::{self, Pass};
 use crate::source::{FileId, Sources};
 
 /// The stages of SPEC §4, in order; `--stage NAME` stops after one.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord)]
 pub enum Stage {
+    /// The parsed program, normalised (no evaluation).
+    Parse,
     Expand,
+    Lower(Pass),
 }
 
 impl Stage {
-    pub const ALL: [(&'static str, Stage); 1] = [("expand", Stage::Expand)];
+    pub const ALL: [(&'static str, Stage); 6] = [
+        ("parse", Stage::Parse),
+        ("expand", Stage::Expand),
+        ("units", Stage::Lower(Pass::Units)),
+        ("polar", Stage::Lower(Pass::Polar)),
+        ("offsets", Stage::Lower(Pass::Offsets)),
+        ("absolute", Stage::Lower(Pass::Absolute)),
+    ];
 
     pub fn from_name(name: &str) -> Option<Stage> {
         Stage::ALL
@@ -49,14 +60,19 @@ pub fn compile(
 ) -> Compiled {
     let text = sources.text(file).to_string();
     let (program, mut diagnostics) = crate::parser::parse_program(&text, file);
-    if diagnostics.iter().any(is_error) {
+    if diagnostics.iter().any(is_error) || options.stage == Some(Stage::Parse) {
+        let output = (!diagnostics.iter().any(is_error)).then(|| program.to_text());
         return Compiled {
-            output: None,
+            output,
             diagnostics,
         };
     }
     let (ir, eval_diagnostics) = match wizards {
-        Some(host) => eval::eval_program(&program, &options.eval, Some(&mut *host as &mut dyn WizardHost)),
+        Some(host) => eval::eval_program(
+            &program,
+            &options.eval,
+            Some(&mut *host as &mut dyn WizardHost),
+        ),
         None => eval::eval_program(&program, &options.eval, None),
     };
     diagnostics.extend(eval_diagnostics);
@@ -67,7 +83,31 @@ pub fn compile(
         };
     }
     let units = output_units(&ir);
-    let output = emit::emit_stage(&ir, units, &text, file);
+    if options.stage == Some(Stage::Expand) {
+        return Compiled {
+            output: Some(emit::emit_stage(&ir, units, &text, file)),
+            diagnostics,
+        };
+    }
+    let last = match options.stage {
+        Some(Stage::Lower(pass)) => pass,
+        _ => *Pass::ALL.last().unwrap_or(&Pass::Absolute),
+    };
+    let lowered = match lower::run_until(ir, units, last) {
+        Ok(program) => program,
+        Err(errors) => {
+            diagnostics.extend(errors);
+            return Compiled {
+                output: None,
+                diagnostics,
+            };
+        }
+    };
+    let output = if options.stage.is_some() {
+        emit::emit_stage(&lowered, units, &text, file)
+    } else {
+        emit::emit_program(&lowered, units, &text, file, &options.emit)
+    };
     Compiled {
         output: Some(output),
         diagnostics,

@@ -83,17 +83,18 @@ pub fn emit_program(
 ) -> String {
     let mut p = Printer::new(options, units, source, main_file);
     p.header();
-    let mut position = [0.0f64; 3];
+    // Machine position per axis; `None` until the program sets it.
+    let mut position: [Option<f64>; 3] = [None; 3];
     for stmt in &program.stmts {
         match &stmt.op {
             Op::Move(m) => {
-                let end = [
-                    m.to.x.unwrap_or(position[0]),
-                    m.to.y.unwrap_or(position[1]),
-                    m.to.z.unwrap_or(position[2]),
-                ];
+                let end = [m.to.x, m.to.y, m.to.z];
                 p.final_move(stmt.span, m, position, end);
-                position = end;
+                for (pos, e) in position.iter_mut().zip(end) {
+                    if e.is_some() {
+                        *pos = e;
+                    }
+                }
             }
             op => {
                 p.begin(stmt.span);
@@ -265,11 +266,22 @@ impl<'o> Printer<'o> {
             }),
             Op::Dwell(seconds) => {
                 self.code("G4");
-                self.word(if self.dialect == Dialect::Fanuc { 'X' } else { 'P' }, *seconds);
+                self.word(
+                    if self.dialect == Dialect::Fanuc {
+                        'X'
+                    } else {
+                        'P'
+                    },
+                    *seconds,
+                );
             }
             Op::Stop(ir::Stop::Program) => self.code("M0"),
             Op::Stop(ir::Stop::Optional) => self.code("M1"),
-            Op::End => self.code(if self.dialect == Dialect::Grbl { "M2" } else { "M30" }),
+            Op::End => self.code(if self.dialect == Dialect::Grbl {
+                "M2"
+            } else {
+                "M30"
+            }),
             Op::Units(Units::Inch) => self.code("G20"),
             Op::Units(Units::Mm) => self.code("G21"),
             Op::Distance(ir::Distance::Absolute) => self.code("G90"),
@@ -300,9 +312,10 @@ impl<'o> Printer<'o> {
                 self.axes(a);
             }
             Op::CancelPosition => self.code("G92.1"),
-            Op::ToolLength { tool, negative } => {
-                self.code(&format!("{} H{tool}", if *negative { "G44" } else { "G43" }))
-            }
+            Op::ToolLength { tool, negative } => self.code(&format!(
+                "{} H{tool}",
+                if *negative { "G44" } else { "G43" }
+            )),
             Op::CancelToolLength => self.code("G49"),
             Op::Polar(true) => self.code("G16"),
             Op::Polar(false) => self.code("G15"),
@@ -311,7 +324,13 @@ impl<'o> Printer<'o> {
             Op::Comment(text) => {
                 let clean: String = text
                     .chars()
-                    .map(|c| if c == '(' || c == ')' || c == '\n' { ' ' } else { c })
+                    .map(|c| {
+                        if c == '(' || c == ')' || c == '\n' {
+                            ' '
+                        } else {
+                            c
+                        }
+                    })
                     .collect();
                 self.code(&format!("({clean})"));
             }
@@ -327,86 +346,138 @@ impl<'o> Printer<'o> {
     }
 
     /// A move in the final output: absolute, unchanged axes left out, arc
-    /// centres relative to the start point as printed.
-    fn final_move(&mut self, span: Span, m: &ir::Move, start: [f64; 3], end: [f64; 3]) {
-        let end_q = end.map(|v| self.scaled(v));
-        let start_q: [i64; 3] = std::array::from_fn(|i| self.printed[i].unwrap_or(self.scaled(start[i])));
-        match (m.motion.is_arc(), self.options.arcs, m.arc) {
-            (true, ArcFormat::Lines, Some(arc)) => {
-                let ArcGeometry::Center(c) = arc.geometry else {
-                    return self.linear_fallback(span, m, end_q);
-                };
-                let center = [
-                    start[0] + c.x.unwrap_or(0.0),
-                    start[1] + c.y.unwrap_or(0.0),
-                    start[2] + c.z.unwrap_or(0.0),
-                ];
-                let points = crate::geometry::arc_points(
-                    start,
-                    end,
-                    center,
-                    self.plane,
-                    m.motion == Motion::ArcCw,
-                    arc.turns,
-                    self.options.tolerance,
-                );
-                for p in points {
-                    let q = p.map(|v| self.scaled(v));
-                    let lm = ir::Move {
-                        motion: Motion::Linear,
-                        to: ir::Axes::full(p),
-                        arc: None,
-                    };
-                    self.linear_fallback(span, &lm, q);
-                }
+    /// centres relative to the start point as printed. The absolute pass
+    /// guarantees that an arc's plane axes are known.
+    fn final_move(
+        &mut self,
+        span: Span,
+        m: &ir::Move,
+        start: [Option<f64>; 3],
+        end: [Option<f64>; 3],
+    ) {
+        let end_q = end.map(|v| v.map(|v| self.scaled(v)));
+        let start = start.map(|v| v.unwrap_or(0.0));
+        let end = std::array::from_fn(|i| end[i].unwrap_or(start[i]));
+        let start_q: [i64; 3] =
+            std::array::from_fn(|i| self.printed[i].unwrap_or(self.scaled(start[i])));
+        let Some(arc) = m.arc.filter(|_| m.motion.is_arc()) else {
+            return self.linear(span, m.motion, end_q);
+        };
+        let ArcGeometry::Center(c) = arc.geometry else {
+            return self.linear(span, ir::Motion::Linear, end_q);
+        };
+        let center = [
+            start[0] + c.x.unwrap_or(0.0),
+            start[1] + c.y.unwrap_or(0.0),
+            start[2] + c.z.unwrap_or(0.0),
+        ];
+        let clockwise = m.motion == Motion::ArcCw;
+        if self.options.arcs == ArcFormat::Lines {
+            let points = crate::geometry::arc_points(
+                start,
+                end,
+                center,
+                self.plane,
+                clockwise,
+                arc.turns,
+                self.options.tolerance,
+            );
+            for point in points {
+                let q = point.map(|v| Some(self.scaled(v)));
+                self.linear(span, Motion::Linear, q);
             }
-            (true, _, Some(arc)) => {
-                self.begin(span);
-                self.code(motion_code(m.motion));
-                let (a, b, _) = self.plane.axes();
-                for axis in 0..3 {
-                    // Both in-plane axes always, so a full circle has an end.
-                    if axis == a || axis == b || Some(end_q[axis]) != self.printed[axis] {
-                        self.word(AXES[axis], self.unscaled(end_q[axis]));
-                        self.printed[axis] = Some(end_q[axis]);
-                    }
-                }
-                match (self.options.arcs, arc.geometry) {
-                    (ArcFormat::R, ArcGeometry::Center(c)) if arc.turns == 1 && !full_circle(&start_q, &end_q, self.plane) => {
-                        let r = (c.get(a).unwrap_or(0.0)).hypot(c.get(b).unwrap_or(0.0));
-                        let center = [
-                            start[0] + c.x.unwrap_or(0.0),
-                            start[1] + c.y.unwrap_or(0.0),
-                            start[2] + c.z.unwrap_or(0.0),
-                        ];
-                        let long = crate::geometry::is_long_arc(start, end, center, self.plane, m.motion == Motion::ArcCw);
-                        self.word('R', if long { -r } else { r });
-                    }
-                    (_, ArcGeometry::Center(c)) => {
-                        for axis in [a, b] {
-                            let center = self.scaled(start[axis] + c.get(axis).unwrap_or(0.0));
-                            self.word(CENTER[axis], self.unscaled(center - start_q[axis]));
-                        }
-                    }
-                    (_, ArcGeometry::Radius(r)) => self.word('R', r),
-                }
-                if arc.turns > 1 {
-                    self.code(&format!("P{}", arc.turns));
-                }
-                self.end();
-            }
-            _ => self.linear_fallback(span, m, end_q),
+            return;
         }
+        let end_q: [i64; 3] = std::array::from_fn(|i| end_q[i].unwrap_or(start_q[i]));
+        self.begin(span);
+        self.code(motion_code(m.motion));
+        let (a, b, _) = self.plane.axes();
+        for axis in 0..3 {
+            // Both in-plane axes always, so a full circle has an end.
+            if axis == a || axis == b || Some(end_q[axis]) != self.printed[axis] {
+                self.word(AXES[axis], self.unscaled(end_q[axis]));
+                self.printed[axis] = Some(end_q[axis]);
+            }
+        }
+        let full = start_q[a] == end_q[a] && start_q[b] == end_q[b];
+        if self.options.arcs == ArcFormat::R && arc.turns == 1 && !full {
+            // SPEC §4: of the start and end radii, the larger is used.
+            let r = (center[a] - start[a])
+                .hypot(center[b] - start[b])
+                .max((center[a] - end[a]).hypot(center[b] - end[b]));
+            let long = crate::geometry::is_long_arc(start, end, center, self.plane, clockwise);
+            self.word('R', if long { -r } else { r });
+        } else {
+            let printed_center =
+                self.round_center(start, end, center, start_q, end_q, clockwise, arc.turns);
+            for axis in [a, b] {
+                self.word(
+                    CENTER[axis],
+                    self.unscaled(printed_center[axis] - start_q[axis]),
+                );
+            }
+        }
+        if arc.turns > 1 {
+            self.code(&format!("P{}", arc.turns));
+        }
+        self.end();
     }
 
-    fn linear_fallback(&mut self, span: Span, m: &ir::Move, end_q: [i64; 3]) {
-        if (0..3).all(|i| self.printed[i] == Some(end_q[i])) {
+    /// The centre to print, on the output grid. Rounding start, end and
+    /// centre independently can turn a half circle by more than the
+    /// rounding itself; of the grid points around the exact centre, take
+    /// the one that keeps centre, sweep and radius closest to the exact arc.
+    #[allow(clippy::too_many_arguments)]
+    fn round_center(
+        &self,
+        start: [f64; 3],
+        end: [f64; 3],
+        center: [f64; 3],
+        start_q: [i64; 3],
+        end_q: [i64; 3],
+        clockwise: bool,
+        turns: u32,
+    ) -> [i64; 3] {
+        use crate::geometry::sweep;
+        let (a, b, _) = self.plane.axes();
+        let exact_sweep = sweep(start, end, center, self.plane, clockwise, turns);
+        let radius = (start[a] - center[a]).hypot(start[b] - center[b]);
+        let s = start_q.map(|q| self.unscaled(q));
+        let e = end_q.map(|q| self.unscaled(q));
+        let base = center.map(|v| self.scaled(v));
+        let mut best = (f64::INFINITY, base);
+        for da in -1..=1 {
+            for db in -1..=1 {
+                let mut q = base;
+                q[a] += da;
+                q[b] += db;
+                let c = q.map(|v| self.unscaled(v));
+                let moved = (c[a] - center[a]).hypot(c[b] - center[b]);
+                let turned =
+                    (sweep(s, e, c, self.plane, clockwise, turns) - exact_sweep).abs() * radius;
+                let rs = (s[a] - c[a]).hypot(s[b] - c[b]);
+                let re = (e[a] - c[a]).hypot(e[b] - c[b]);
+                let error = moved.max(turned).max((rs - re).abs());
+                if error < best.0 {
+                    best = (error, q);
+                }
+            }
+        }
+        best.1
+    }
+
+    /// A straight move to the known axes of `end_q`; nothing if none changed.
+    fn linear(&mut self, span: Span, motion: Motion, end_q: [Option<i64>; 3]) {
+        let changed: [bool; 3] =
+            std::array::from_fn(|i| end_q[i].is_some() && end_q[i] != self.printed[i]);
+        if !changed.iter().any(|&c| c) {
             return;
         }
         self.begin(span);
-        self.code(motion_code(if m.motion.is_arc() { Motion::Linear } else { m.motion }));
-        for (axis, &q) in end_q.iter().enumerate() {
-            if self.printed[axis] != Some(q) {
+        self.code(motion_code(motion));
+        for axis in 0..3 {
+            if changed[axis] {
+                let q = end_q[axis].unwrap_or_default();
                 self.word(AXES[axis], self.unscaled(q));
                 self.printed[axis] = Some(q);
             }
@@ -417,11 +488,6 @@ impl<'o> Printer<'o> {
 
 const AXES: [char; 3] = ['X', 'Y', 'Z'];
 const CENTER: [char; 3] = ['I', 'J', 'K'];
-
-fn full_circle(start: &[i64; 3], end: &[i64; 3], plane: ir::Plane) -> bool {
-    let (a, b, _) = plane.axes();
-    start[a] == end[a] && start[b] == end[b]
-}
 
 fn motion_code(m: Motion) -> &'static str {
     match m {

@@ -313,9 +313,7 @@ impl<'a> Evaluator<'a> {
                         head,
                         "loop stopped here",
                     )
-                    .with_help(
-                        "check that the condition becomes false, or raise --max-iterations",
-                    ),
+                    .with_help("check that the condition becomes false, or raise --max-iterations"),
                 );
                 return Flow::Abort;
             }
@@ -359,7 +357,9 @@ impl<'a> Evaluator<'a> {
         let text = self.names.text(name);
         let arg_spans: Vec<Span> = args.iter().map(|a| a.span).collect();
         if let Some(directive) = setup::Directive::from_name(text) {
-            if let Err(d) = self.setup.apply(directive, &values, name_span, &arg_spans, self.names)
+            if let Err(d) = self
+                .setup
+                .apply(directive, &values, name_span, &arg_spans, self.names)
             {
                 self.report(d);
             }
@@ -402,7 +402,12 @@ impl<'a> Evaluator<'a> {
         candidates.extend(known.iter().map(String::as_str));
         if let Some(close) = candidates
             .iter()
-            .map(|c| (value::edit_distance(&text.to_lowercase(), &c.to_lowercase()), c))
+            .map(|c| {
+                (
+                    value::edit_distance(&text.to_lowercase(), &c.to_lowercase()),
+                    c,
+                )
+            })
             .filter(|(d, _)| *d <= 2)
             .min_by_key(|(d, _)| *d)
         {

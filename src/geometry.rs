@@ -65,7 +65,12 @@ pub fn center_from_radius(
 
 /// Check an I/J/K arc: radii at start and end within 1 % (SPEC §4). Returns
 /// the radius to use (the larger).
-pub fn check_center(start: Point, end: Point, center: Point, plane: Plane) -> Result<f64, ArcError> {
+pub fn check_center(
+    start: Point,
+    end: Point,
+    center: Point,
+    plane: Plane,
+) -> Result<f64, ArcError> {
     let c = project(center, plane);
     let rs = (project(start, plane) - c).norm();
     let re = (project(end, plane) - c).norm();
@@ -81,7 +86,14 @@ pub fn check_center(start: Point, end: Point, center: Point, plane: Plane) -> Re
 
 /// Signed sweep in radians (positive counter-clockwise about the plane
 /// normal), including extra full turns. End == start is a full circle.
-pub fn sweep(start: Point, end: Point, center: Point, plane: Plane, clockwise: bool, turns: u32) -> f64 {
+pub fn sweep(
+    start: Point,
+    end: Point,
+    center: Point,
+    plane: Plane,
+    clockwise: bool,
+    turns: u32,
+) -> f64 {
     let c = project(center, plane);
     let vs = project(start, plane) - c;
     let ve = project(end, plane) - c;
@@ -158,9 +170,11 @@ mod tests {
     fn radius_arcs_pick_the_right_side() {
         // CCW short arc from (0,0) to (2,0) with R1 has its centre at (1,0)
         // (a half circle); with R2 the centre is above for CCW-short.
-        let c = center_from_radius([0.0, 0.0, 0.0], [2.0, 0.0, 0.0], 2.0, Plane::XY, false).unwrap();
+        let c =
+            center_from_radius([0.0, 0.0, 0.0], [2.0, 0.0, 0.0], 2.0, Plane::XY, false).unwrap();
         assert!(c[1] > 0.0);
-        let c = center_from_radius([0.0, 0.0, 0.0], [2.0, 0.0, 0.0], -2.0, Plane::XY, false).unwrap();
+        let c =
+            center_from_radius([0.0, 0.0, 0.0], [2.0, 0.0, 0.0], -2.0, Plane::XY, false).unwrap();
         assert!(c[1] < 0.0);
         let c = center_from_radius([0.0, 0.0, 0.0], [2.0, 0.0, 0.0], 2.0, Plane::XY, true).unwrap();
         assert!(c[1] < 0.0);
@@ -169,15 +183,37 @@ mod tests {
 
     #[test]
     fn full_circle_sweeps_a_turn() {
-        let s = sweep([1.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0; 3], Plane::XY, false, 1);
+        let s = sweep(
+            [1.0, 0.0, 0.0],
+            [1.0, 0.0, 0.0],
+            [0.0; 3],
+            Plane::XY,
+            false,
+            1,
+        );
         assert!((s - TAU).abs() < 1e-12);
-        let s = sweep([1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0; 3], Plane::XY, true, 2);
+        let s = sweep(
+            [1.0, 0.0, 0.0],
+            [0.0, 1.0, 0.0],
+            [0.0; 3],
+            Plane::XY,
+            true,
+            2,
+        );
         assert!((s + TAU + 1.5 * std::f64::consts::PI).abs() < 1e-12);
     }
 
     #[test]
     fn linearized_points_stay_within_tolerance() {
-        let pts = arc_points([10.0, 0.0, 0.0], [-10.0, 0.0, -1.0], [0.0; 3], Plane::XY, false, 1, 0.01);
+        let pts = arc_points(
+            [10.0, 0.0, 0.0],
+            [-10.0, 0.0, -1.0],
+            [0.0; 3],
+            Plane::XY,
+            false,
+            1,
+            0.01,
+        );
         let mut prev = [10.0, 0.0, 0.0];
         for p in &pts {
             let mid = [(prev[0] + p[0]) / 2.0, (prev[1] + p[1]) / 2.0];

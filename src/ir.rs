@@ -194,10 +194,16 @@ pub enum Op {
     /// G54..G59 as 1..=6.
     SelectWorkOffset(u8),
     /// G10 L2 P`index` (1 = G54): the origin of that system.
-    SetWorkOffset { index: u8, origin: Axes },
+    SetWorkOffset {
+        index: u8,
+        origin: Axes,
+    },
     /// G10 L20 P`index`: that system is moved so the current point has
     /// these coordinates.
-    SetWorkOffsetHere { index: u8, at: Axes },
+    SetWorkOffsetHere {
+        index: u8,
+        at: Axes,
+    },
     /// G52: shift of the program zero; `G52 X0 Y0 Z0` cancels it.
     LocalOffset(Axes),
     /// G92: the current point takes these coordinates.
@@ -205,7 +211,10 @@ pub enum Op {
     /// G92.1: cancel G92.
     CancelPosition,
     /// G43 H`tool` (positive) / G44 (negative).
-    ToolLength { tool: u32, negative: bool },
+    ToolLength {
+        tool: u32,
+        negative: bool,
+    },
     /// G49
     CancelToolLength,
     /// G16 (true) / G15 (false).

@@ -15,7 +15,8 @@ pub mod parser;
 
 // The compiler: evaluation to IR, lowering, G-code output.
 pub mod compile;
-pub mod eval;
 pub mod emit;
+pub mod eval;
 pub mod geometry;
 pub mod ir;
+pub mod lower;

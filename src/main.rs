@@ -13,7 +13,11 @@ use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
 #[derive(Parser)]
-#[command(name = "ger", version, about = "Compile extended G-code (.egc) to plain ISO G-code")]
+#[command(
+    name = "ger",
+    version,
+    about = "Compile extended G-code (.egc) to plain ISO G-code"
+)]
 struct Cli {
     #[command(subcommand)]
     command: Command,
@@ -100,7 +104,10 @@ fn main() -> ExitCode {
                 Some((_, Some(stage))) => Some(stage),
                 Some((name, None)) => {
                     let names: Vec<&str> = Stage::ALL.iter().map(|(n, _)| *n).collect();
-                    eprintln!("error: unknown stage `{name}`; the stages are {}", names.join(", "));
+                    eprintln!(
+                        "error: unknown stage `{name}`; the stages are {}",
+                        names.join(", ")
+                    );
                     return ExitCode::from(2);
                 }
             };
@@ -110,7 +117,13 @@ fn main() -> ExitCode {
     }
 }
 
-fn run(input: &str, output: Option<&Path>, options: &Options, stage: Option<Stage>, write: bool) -> ExitCode {
+fn run(
+    input: &str,
+    output: Option<&Path>,
+    options: &Options,
+    stage: Option<Stage>,
+    write: bool,
+) -> ExitCode {
     if let Some(out) = output {
         if input != "-" && same_file(Path::new(input), out) {
             eprintln!("error: the output file is the input file; refusing to overwrite it");
@@ -191,7 +204,8 @@ fn read_input(input: &str) -> std::io::Result<String> {
     } else {
         let bytes = std::fs::read(input)?;
         // G-code files from old controllers are not always UTF-8.
-        Ok(String::from_utf8(bytes).unwrap_or_else(|e| String::from_utf8_lossy(e.as_bytes()).into_owned()))
+        Ok(String::from_utf8(bytes)
+            .unwrap_or_else(|e| String::from_utf8_lossy(e.as_bytes()).into_owned()))
     }
 }
 
@@ -205,8 +219,14 @@ fn same_file(a: &Path, b: &Path) -> bool {
 /// Write to a temporary file beside the target, then rename: a reader never
 /// sees half a program, and on failure the old file stays.
 fn write_atomically(path: &Path, bytes: &[u8]) -> std::io::Result<()> {
-    let dir = path.parent().filter(|p| !p.as_os_str().is_empty()).unwrap_or(Path::new("."));
-    let file_name = path.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
+    let dir = path
+        .parent()
+        .filter(|p| !p.as_os_str().is_empty())
+        .unwrap_or(Path::new("."));
+    let file_name = path
+        .file_name()
+        .map(|n| n.to_string_lossy().into_owned())
+        .unwrap_or_default();
     let tmp = dir.join(format!(".{file_name}.{}.tmp", std::process::id()));
     let result = (|| {
         let mut f = std::fs::File::create(&tmp)?;

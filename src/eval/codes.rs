@@ -137,7 +137,12 @@ impl Evaluator<'_> {
 
     /// Axis words left after a code took its own: a move in the current
     /// motion mode. Any other word left over is an error.
-    fn leftover_move(&mut self, w: &mut WordValues, span: Span, code: &str) -> Result<(), Diagnostic> {
+    fn leftover_move(
+        &mut self,
+        w: &mut WordValues,
+        span: Span,
+        code: &str,
+    ) -> Result<(), Diagnostic> {
         let has_axes = [b'X', b'Y', b'Z'].iter().any(|&l| w.has(l));
         let arc_words = [b'I', b'J', b'K', b'R'].iter().any(|&l| w.has(l));
         if has_axes || (arc_words && self.motion.is_some_and(Motion::is_arc)) {
@@ -168,7 +173,12 @@ impl Evaluator<'_> {
         Ok(())
     }
 
-    fn motion_move(&mut self, motion: Motion, w: &mut WordValues, span: Span) -> Result<ir::Move, Diagnostic> {
+    fn motion_move(
+        &mut self,
+        motion: Motion,
+        w: &mut WordValues,
+        span: Span,
+    ) -> Result<ir::Move, Diagnostic> {
         let to = Axes {
             x: w.take(b'X').map(|v| v.0),
             y: w.take(b'Y').map(|v| v.0),
@@ -191,30 +201,31 @@ impl Evaluator<'_> {
                 }
                 None => 1,
             };
-            let geometry = match (radius, center.is_empty()) {
-                (Some((_, rspan)), false) => {
-                    return Err(error(
-                        "an arc with both R and I/J/K",
-                        rspan,
-                        "give the radius or the centre, not both",
-                    ))
-                }
-                (Some((r, rspan)), true) => {
-                    if r == 0.0 {
-                        return Err(error("zero arc radius", rspan, "R must not be 0"));
+            let geometry =
+                match (radius, center.is_empty()) {
+                    (Some((_, rspan)), false) => {
+                        return Err(error(
+                            "an arc with both R and I/J/K",
+                            rspan,
+                            "give the radius or the centre, not both",
+                        ))
                     }
-                    ArcGeometry::Radius(r)
-                }
-                (None, false) => ArcGeometry::Center(center),
-                (None, true) => {
-                    return Err(error(
+                    (Some((r, rspan)), true) => {
+                        if r == 0.0 {
+                            return Err(error("zero arc radius", rspan, "R must not be 0"));
+                        }
+                        ArcGeometry::Radius(r)
+                    }
+                    (None, false) => ArcGeometry::Center(center),
+                    (None, true) => return Err(error(
                         "an arc needs its centre or radius",
                         span,
                         "no I, J, K or R here",
                     )
-                    .with_help("give the centre with I/J/K (relative to the start) or the radius with R"))
-                }
-            };
+                    .with_help(
+                        "give the centre with I/J/K (relative to the start) or the radius with R",
+                    )),
+                };
             Some(Arc { geometry, turns })
         } else {
             None
@@ -222,7 +233,13 @@ impl Evaluator<'_> {
         Ok(ir::Move { motion, to, arc })
     }
 
-    fn g_code(&mut self, t: u32, at: Span, w: &mut WordValues, span: Span) -> Result<Flow, Diagnostic> {
+    fn g_code(
+        &mut self,
+        t: u32,
+        at: Span,
+        w: &mut WordValues,
+        span: Span,
+    ) -> Result<Flow, Diagnostic> {
         let name = code_name(b'G', t);
         self.feed_speed_tool(w, span)?;
         let op = match t {
@@ -305,7 +322,9 @@ impl Evaluator<'_> {
                     at,
                     "ger cannot lower this code yet",
                 )
-                .with_help("write the drilling moves out with G0/G1, or use a wizard such as `holesLine`"))
+                .with_help(
+                    "write the drilling moves out with G0/G1, or use a wizard such as `holesLine`",
+                ))
             }
             800 => Op::CycleOff,
             900 => Op::Distance(ir::Distance::Absolute),
@@ -341,7 +360,13 @@ impl Evaluator<'_> {
         Ok(Flow::Next)
     }
 
-    fn m_code(&mut self, t: u32, at: Span, w: &mut WordValues, span: Span) -> Result<Flow, Diagnostic> {
+    fn m_code(
+        &mut self,
+        t: u32,
+        at: Span,
+        w: &mut WordValues,
+        span: Span,
+    ) -> Result<Flow, Diagnostic> {
         let name = code_name(b'M', t);
         if t == 980 {
             return self.subprogram_call(w, at, span);
@@ -405,7 +430,11 @@ impl Evaluator<'_> {
                 .with_help("`G10 L2 P2 X… Y… Z…` sets the origin of G55"));
         };
         let Some((p, pspan)) = w.take(b'P') else {
-            return Err(error("G10 without P", at, "P names the work offset: P1 = G54 … P6 = G59"));
+            return Err(error(
+                "G10 without P",
+                at,
+                "P names the work offset: P1 = G54 … P6 = G59",
+            ));
         };
         let index = whole(p, pspan, "a work offset number")?;
         if !(1..=6).contains(&index) {
@@ -441,7 +470,13 @@ impl Evaluator<'_> {
     }
 
     /// X/Y/Z of a code that takes axes itself (G52, G92, G10).
-    fn take_axes(&mut self, w: &mut WordValues, at: Span, name: &str, may_be_empty: bool) -> Result<Axes, Diagnostic> {
+    fn take_axes(
+        &mut self,
+        w: &mut WordValues,
+        at: Span,
+        name: &str,
+        may_be_empty: bool,
+    ) -> Result<Axes, Diagnostic> {
         let axes = Axes {
             x: w.take(b'X').map(|v| v.0),
             y: w.take(b'Y').map(|v| v.0),
@@ -455,9 +490,18 @@ impl Evaluator<'_> {
 
     /// `M98 P… L…`: run a subprogram inline, L times (or the Fanuc form
     /// `P31000`: the digits before the last four are the count).
-    fn subprogram_call(&mut self, w: &mut WordValues, at: Span, span: Span) -> Result<Flow, Diagnostic> {
+    fn subprogram_call(
+        &mut self,
+        w: &mut WordValues,
+        at: Span,
+        span: Span,
+    ) -> Result<Flow, Diagnostic> {
         let Some((p, pspan, written)) = w.take_number(b'P') else {
-            return Err(error("M98 without P", at, "P names the subprogram: `M98 P1000`"));
+            return Err(error(
+                "M98 without P",
+                at,
+                "P names the subprogram: `M98 P1000`",
+            ));
         };
         let p = whole(p, pspan, "a program number")?;
         let (mut number, mut count) = (p, 1);
@@ -479,11 +523,7 @@ impl Evaluator<'_> {
         self.leftover_move(w, span, "M98")?;
         let program = self.program;
         let Some(sub) = program.subprograms.iter().find(|s| s.number == number) else {
-            let mut d = error(
-                format!("no subprogram O{number}"),
-                pspan,
-                "called here",
-            );
+            let mut d = error(format!("no subprogram O{number}"), pspan, "called here");
             let known: Vec<String> = program
                 .subprograms
                 .iter()
@@ -543,7 +583,11 @@ fn whole(value: f64, span: Span, what: &str) -> Result<u32, Diagnostic> {
 
 /// Run one line of extended G-code that a wizard produced; its statements
 /// take the wizard call's span.
-pub(super) fn run_wizard_line(ev: &mut Evaluator<'_>, text: &str, span: Span) -> Result<(), Vec<Diagnostic>> {
+pub(super) fn run_wizard_line(
+    ev: &mut Evaluator<'_>,
+    text: &str,
+    span: Span,
+) -> Result<(), Vec<Diagnostic>> {
     let (program, diagnostics) = crate::parser::parse_program(text, span.file);
     if !diagnostics.is_empty() {
         return Err(diagnostics);

@@ -50,7 +50,9 @@ impl Directive {
             Directive::Margin => "SetMargin margin",
             Directive::Part => "SetPart x y z",
             Directive::Zero => "SetZero x y z",
-            Directive::Tool => "SetTool number diameter [length] [\"flat\"|\"ball\"|\"drill\"|\"vee\"]",
+            Directive::Tool => {
+                "SetTool number diameter [length] [\"flat\"|\"ball\"|\"drill\"|\"vee\"]"
+            }
             Directive::Offset => "SetOffset 55..59 x y z",
         }
     }
@@ -91,7 +93,10 @@ impl SetupBuilder {
     ) -> Result<(), Diagnostic> {
         let arity_error = |wanted: &str| {
             error(
-                format!("wrong arguments for {}", Directive::NAMES[directive as usize]),
+                format!(
+                    "wrong arguments for {}",
+                    Directive::NAMES[directive as usize]
+                ),
                 arg_spans
                     .first()
                     .map_or(span, |first| first.to(*arg_spans.last().unwrap_or(first))),
@@ -126,7 +131,11 @@ impl SetupBuilder {
             if v > 0.0 {
                 Ok(v)
             } else {
-                Err(error(format!("{what} must be positive"), arg_spans[i], "not > 0"))
+                Err(error(
+                    format!("{what} must be positive"),
+                    arg_spans[i],
+                    "not > 0",
+                ))
             }
         };
         let key = match directive {
@@ -186,7 +195,11 @@ impl SetupBuilder {
                 }
                 let n = number(0)?;
                 if n < 0.0 || n.fract() != 0.0 || n > 99_999.0 {
-                    return Err(error("invalid tool number", arg_spans[0], "a whole number from 0"));
+                    return Err(error(
+                        "invalid tool number",
+                        arg_spans[0],
+                        "a whole number from 0",
+                    ));
                 }
                 let diameter = positive(1, "the tool diameter")?;
                 let mut length = 0.0;

@@ -35,12 +35,32 @@ pub enum Slot {
 
 #[derive(Debug)]
 pub enum ExprError {
-    Undefined { name: Symbol, span: Span },
-    TypeMismatch { expected: &'static str, found: &'static str, span: Span, what: String },
-    DivisionByZero { span: Span },
-    NotFinite { span: Span, what: String },
-    Arity { function: Function, given: usize, span: Span },
-    UnknownFunction { name: Symbol, span: Span },
+    Undefined {
+        name: Symbol,
+        span: Span,
+    },
+    TypeMismatch {
+        expected: &'static str,
+        found: &'static str,
+        span: Span,
+        what: String,
+    },
+    DivisionByZero {
+        span: Span,
+    },
+    NotFinite {
+        span: Span,
+        what: String,
+    },
+    Arity {
+        function: Function,
+        given: usize,
+        span: Span,
+    },
+    UnknownFunction {
+        name: Symbol,
+        span: Span,
+    },
     /// Depends on a variable whose own error was already reported.
     Poisoned,
 }
@@ -92,7 +112,10 @@ impl ExprError {
                     format!("{lo} or more")
                 };
                 error(
-                    format!("`{}` takes {wanted} argument(s), {given} given", function.name()),
+                    format!(
+                        "`{}` takes {wanted} argument(s), {given} given",
+                        function.name()
+                    ),
                     *span,
                     "wrong number of arguments",
                 )
@@ -116,7 +139,12 @@ fn closest_name<'a>(wanted: &str, names: &'a Names, vars: &[Slot]) -> Option<&'a
     names
         .iter()
         .filter(|(s, _)| matches!(vars.get(s.0 as usize), Some(Slot::Set(_))))
-        .map(|(_, text)| (edit_distance(&wanted.to_lowercase(), &text.to_lowercase()), text))
+        .map(|(_, text)| {
+            (
+                edit_distance(&wanted.to_lowercase(), &text.to_lowercase()),
+                text,
+            )
+        })
         .filter(|&(d, text)| d <= 2.max(wanted.len() / 3) && text != wanted)
         .min_by_key(|&(d, _)| d)
         .map(|(_, text)| text)
@@ -196,10 +224,12 @@ fn finite(value: f64, span: Span, what: impl FnOnce() -> String) -> Result<f64, 
 fn binary(op: BinaryOp, a: &Expr, b: &Expr, span: Span, vars: &[Slot]) -> Result<Value, ExprError> {
     let what = || format!("`{}`", op.symbol());
     match op {
-        BinaryOp::And => {
-            Ok(Value::Bool(boolean(a, vars, "`&&`")? && boolean(b, vars, "`&&`")?))
-        }
-        BinaryOp::Or => Ok(Value::Bool(boolean(a, vars, "`||`")? || boolean(b, vars, "`||`")?)),
+        BinaryOp::And => Ok(Value::Bool(
+            boolean(a, vars, "`&&`")? && boolean(b, vars, "`&&`")?,
+        )),
+        BinaryOp::Or => Ok(Value::Bool(
+            boolean(a, vars, "`||`")? || boolean(b, vars, "`||`")?,
+        )),
         BinaryOp::Eq | BinaryOp::Ne => {
             let (x, y) = (eval(a, vars)?, eval(b, vars)?);
             let same = match (x, y) {
@@ -270,7 +300,11 @@ fn call(f: Function, args: &[Expr], span: Span, vars: &[Slot]) -> Result<Value, 
             let mut acc = x;
             for i in 1..args.len() {
                 let y = arg(i)?;
-                acc = if f == Function::Min { acc.min(y) } else { acc.max(y) };
+                acc = if f == Function::Min {
+                    acc.min(y)
+                } else {
+                    acc.max(y)
+                };
             }
             acc
         }
@@ -279,5 +313,7 @@ fn call(f: Function, args: &[Expr], span: Span, vars: &[Slot]) -> Result<Value, 
         Function::Ln => x.ln(),
         Function::Log10 => x.log10(),
     };
-    Ok(Value::Number(finite(v, span, || format!("`{}(…)`", f.name()))?))
+    Ok(Value::Number(finite(v, span, || {
+        format!("`{}(…)`", f.name())
+    })?))
 }

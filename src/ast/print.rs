@@ -1,0 +1,161 @@
+//! The AST printed back as normalised source (`ger compile --stage parse`):
+//! one statement per line as the parser cut them, expressions fully
+//! parenthesised so precedence is visible. A teaching aid and the parser's
+//! golden-test format; it must not evaluate anything.
+
+use super::*;
+use std::fmt::Write;
+
+impl Program {
+    pub fn to_text(&self) -> String {
+        let mut p = AstPrinter {
+            names: &self.names,
+            out: String::new(),
+            depth: 0,
+        };
+        if let Some(n) = self.main_number {
+            p.line(&format!("O{n} (main)"));
+        }
+        p.block(&self.main);
+        for sub in &self.subprograms {
+            p.line(&format!("O{}", sub.number));
+            p.depth += 1;
+            p.block(&sub.body);
+            p.depth -= 1;
+        }
+        p.out
+    }
+}
+
+struct AstPrinter<'a> {
+    names: &'a Names,
+    out: String,
+    depth: usize,
+}
+
+impl AstPrinter<'_> {
+    fn line(&mut self, text: &str) {
+        for _ in 0..self.depth {
+            self.out.push_str("    ");
+        }
+        self.out.push_str(text);
+        self.out.push('\n');
+    }
+
+    fn block(&mut self, stmts: &[Stmt]) {
+        for s in stmts {
+            self.stmt(s);
+        }
+    }
+
+    fn stmt(&mut self, stmt: &Stmt) {
+        match &stmt.kind {
+            StmtKind::Line(line) => {
+                for s in line.statements() {
+                    let words: Vec<String> = s
+                        .code
+                        .into_iter()
+                        .chain(s.args)
+                        .map(|w| self.word(w))
+                        .collect();
+                    self.line(&words.join(" "));
+                }
+            }
+            StmtKind::Assign { name, value, .. } => {
+                let text = format!("{} = {}", self.names.text(*name), self.expr(value));
+                self.line(&text);
+            }
+            StmtKind::Call { name, args, .. } => {
+                let args: Vec<String> = args.iter().map(|a| self.expr(a)).collect();
+                let text = format!("{}({})", self.names.text(*name), args.join(", "));
+                self.line(&text);
+            }
+            StmtKind::If {
+                branches,
+                otherwise,
+            } => {
+                for (i, (cond, body)) in branches.iter().enumerate() {
+                    let head = if i == 0 { "if" } else { "} else if" };
+                    let text = format!("{head} {} {{", self.expr(cond));
+                    self.line(&text);
+                    self.nested(body);
+                }
+                if let Some(body) = otherwise {
+                    self.line("} else {");
+                    self.nested(body);
+                }
+                self.line("}");
+            }
+            StmtKind::While { cond, body } => {
+                let text = format!("while {} {{", self.expr(cond));
+                self.line(&text);
+                self.nested(body);
+                self.line("}");
+            }
+            StmtKind::Error => self.line("<error>"),
+        }
+    }
+
+    fn nested(&mut self, body: &[Stmt]) {
+        self.depth += 1;
+        self.block(body);
+        self.depth -= 1;
+    }
+
+    fn word(&self, w: &Word) -> String {
+        match &w.value {
+            WordValue::Number(n) => format!("{}{}", w.letter as char, n.value),
+            WordValue::Expr(e) => format!("{}<{}>", w.letter as char, self.expr(e)),
+        }
+    }
+
+    fn expr(&self, e: &Expr) -> String {
+        let mut s = String::new();
+        self.write_expr(&mut s, e);
+        s
+    }
+
+    fn write_expr(&self, s: &mut String, e: &Expr) {
+        match &e.kind {
+            ExprKind::Number(n) => {
+                let _ = write!(s, "{n}");
+            }
+            ExprKind::Bool(b) => {
+                let _ = write!(s, "{b}");
+            }
+            ExprKind::Str(sym) => {
+                let _ = write!(s, "\"{}\"", self.names.text(*sym));
+            }
+            ExprKind::Var(sym) => s.push_str(self.names.text(*sym)),
+            ExprKind::Unary(op, inner) => {
+                s.push_str(match op {
+                    UnaryOp::Neg => "(-",
+                    UnaryOp::Not => "(!",
+                });
+                self.write_expr(s, inner);
+                s.push(')');
+            }
+            ExprKind::Binary(op, a, b) => {
+                s.push('(');
+                self.write_expr(s, a);
+                let _ = write!(s, " {} ", op.symbol());
+                self.write_expr(s, b);
+                s.push(')');
+            }
+            ExprKind::Call(f, args) => self.write_call(s, f.name(), args),
+            ExprKind::UnknownCall(name, args) => self.write_call(s, self.names.text(*name), args),
+        }
+    }
+
+    fn write_call(&self, s: &mut String, name: &str, args: &[Expr]) {
+        s.push_str(name);
+        s.push('(');
+        for (i, a) in args.iter().enumerate() {
+            if i > 0 {
+                s.push_str(", ");
+            }
+            self.write_expr(s, a);
+        }
+        s.push(')');
+    }
+}

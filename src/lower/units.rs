@@ -1,0 +1,53 @@
+//! Pass units (SPEC §4.1): every length in the output units; G20/G21 are
+//! removed. Feeds are converted when they are given, so a feed set before a
+//! unit switch keeps its machine value, as on LinuxCNC. The program starts
+//! in the output units. Tool and offset tables are already in them (§3).
+//! Under G16 the angle word is left alone: it is in degrees.
+
+use super::Errors;
+use crate::diagnostic::Diagnostic;
+use crate::ir::{self, ArcGeometry, Op, Units};
+
+pub fn run(mut program: ir::Program, output: Units) -> Result<ir::Program, Vec<Diagnostic>> {
+    let mut current = output;
+    // Under G16 the plane's second axis word is an angle, not a length.
+    let mut polar = false;
+    let mut plane = ir::Plane::XY;
+    let mut stmts = Vec::with_capacity(program.stmts.len());
+    for mut stmt in std::mem::take(&mut program.stmts) {
+        let k = current.factor(output);
+        match &mut stmt.op {
+            Op::Units(u) => {
+                current = *u;
+                continue;
+            }
+            Op::Polar(on) => polar = *on,
+            Op::Plane(p) => plane = *p,
+            _ if k == 1.0 => {}
+            Op::Move(m) => {
+                let angle = polar
+                    .then(|| plane.axes().1)
+                    .and_then(|b| m.to.get(b).map(|v| (b, v)));
+                m.to = m.to.map(|v| v * k);
+                if let Some((axis, degrees)) = angle {
+                    m.to.set(axis, Some(degrees));
+                }
+                if let Some(arc) = &mut m.arc {
+                    arc.geometry = match arc.geometry {
+                        ArcGeometry::Center(c) => ArcGeometry::Center(c.map(|v| v * k)),
+                        ArcGeometry::Radius(r) => ArcGeometry::Radius(r * k),
+                    };
+                }
+            }
+            Op::Feed(f) => *f *= k,
+            Op::SetWorkOffset { origin: a, .. }
+            | Op::SetWorkOffsetHere { at: a, .. }
+            | Op::LocalOffset(a)
+            | Op::SetPosition(a) => *a = a.map(|v| v * k),
+            _ => {}
+        }
+        stmts.push(stmt);
+    }
+    program.stmts = stmts;
+    Errors::default().finish(program)
+}

@@ -1,0 +1,184 @@
+//! Differential tests against LinuxCNC's `rs274` (`../shared/oracle`). For
+//! each `tests/oracle/<area>/<name>.egc`, ger's output must move the tool as
+//! the reference does: `<name>.ngc` when present, else the `.egc` itself
+//! (a program both ger and rs274 read). `<name>.tbl` is a LinuxCNC tool
+//! table (mm) given to rs274 and, as `SetTool` lines, to ger.
+//! Every output is also checked to use only the codes of SPEC §6.
+//!
+//! Without rs274 these tests are ignored, unless `GER_REQUIRE_ORACLE=1`
+//! (set by `.ci/run`), which makes a missing oracle a failure.
+
+use libtest_mimic::{Arguments, Failed, Trial};
+use std::path::{Path, PathBuf};
+use std::process::Command;
+use std::sync::Mutex;
+
+/// rs274 crashes (SIGBUS) when two instances run at once: one at a time.
+static RS274: Mutex<()> = Mutex::new(());
+
+fn main() {
+    let args = Arguments::from_args();
+    let manifest = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let oracle = manifest.join("../shared/oracle/compare.py");
+    let have_oracle = oracle.exists()
+        && Command::new("rs274").arg("--help").output().is_ok()
+        && Command::new("python3").arg("--version").output().is_ok();
+    let required = std::env::var_os("GER_REQUIRE_ORACLE").is_some();
+    let mut trials = Vec::new();
+    for area in ["eval", "lower"] {
+        let dir = manifest.join("tests/oracle").join(area);
+        let mut cases: Vec<PathBuf> = std::fs::read_dir(&dir)
+            .map(|d| {
+                d.filter_map(|e| e.ok())
+                    .map(|e| e.path())
+                    .filter(|p| p.extension().is_some_and(|x| x == "egc"))
+                    .collect()
+            })
+            .unwrap_or_default();
+        cases.sort();
+        for case in cases {
+            let name = format!("{area}/{}", case.file_stem().unwrap().to_string_lossy());
+            let oracle = oracle.clone();
+            let trial = Trial::test(name, move || {
+                if !have_oracle {
+                    return Err("rs274 or python3 or ../shared/oracle is missing".into());
+                }
+                run_case(&case, &oracle)
+            });
+            trials.push(trial.with_ignored_flag(!have_oracle && !required));
+        }
+    }
+    libtest_mimic::run(&args, trials).exit();
+}
+
+fn run_case(case: &Path, oracle: &Path) -> Result<(), Failed> {
+    let stem = case.file_stem().unwrap().to_string_lossy().into_owned();
+    let work = std::env::temp_dir().join(format!("ger-oracle-{}-{stem}", std::process::id()));
+    std::fs::create_dir_all(&work).map_err(|e| e.to_string())?;
+    let table = case.with_extension("tbl");
+    let mut input = case.to_path_buf();
+    if table.exists() {
+        // ger reads its tool table from SetTool directives (in mm here).
+        let tbl = std::fs::read_to_string(&table).map_err(|e| e.to_string())?;
+        let mut text = String::from("SetUnits \"mm\"\n");
+        for line in tbl.lines() {
+            let fields = line.split(';').next().unwrap_or("");
+            let get = |k: char| {
+                fields
+                    .split_whitespace()
+                    .find(|f| f.starts_with(k))
+                    .map(|f| f[1..].to_string())
+            };
+            if let (Some(t), Some(d)) = (get('T'), get('D')) {
+                text.push_str(&format!(
+                    "SetTool {t} {d} {}\n",
+                    get('Z').unwrap_or("0".into())
+                ));
+            }
+        }
+        text.push_str(&std::fs::read_to_string(case).map_err(|e| e.to_string())?);
+        input = work.join(format!("{stem}.egc"));
+        std::fs::write(&input, text).map_err(|e| e.to_string())?;
+    }
+    let out = work.join(format!("{stem}.nc"));
+    let ger = Command::new(env!("CARGO_BIN_EXE_ger"))
+        .arg("compile")
+        .arg(&input)
+        .arg("-o")
+        .arg(&out)
+        .output()
+        .map_err(|e| e.to_string())?;
+    if !ger.status.success() {
+        return Err(format!("ger failed:\n{}", String::from_utf8_lossy(&ger.stderr)).into());
+    }
+    let text = std::fs::read_to_string(&out).map_err(|e| e.to_string())?;
+    check_allowed_codes(&text)?;
+    let reference = match case.with_extension("ngc") {
+        r if r.exists() => r,
+        _ => case.to_path_buf(),
+    };
+    let mut compare = Command::new("python3");
+    compare.arg(oracle).arg(&reference).arg(&out);
+    if table.exists() {
+        compare.arg("--tool-table").arg(&table);
+    }
+    let result = {
+        let _one_at_a_time = RS274.lock().unwrap_or_else(|e| e.into_inner());
+        compare.output().map_err(|e| e.to_string())?
+    };
+    let _ = std::fs::remove_dir_all(&work);
+    if result.status.success() {
+        Ok(())
+    } else {
+        Err(format!(
+            "compare.py {} <ger output> says:\n{}{}\n--- ger output (first 40 lines) ---\n{}",
+            reference.display(),
+            String::from_utf8_lossy(&result.stdout),
+            String::from_utf8_lossy(&result.stderr),
+            text.lines().take(40).collect::<Vec<_>>().join("\n")
+        )
+        .into())
+    }
+}
+
+/// SPEC §6: only these codes may appear in the output.
+fn check_allowed_codes(text: &str) -> Result<(), Failed> {
+    const G: [&str; 13] = [
+        "0", "1", "2", "3", "4", "17", "18", "19", "20", "21", "90", "00", "01",
+    ];
+    const M: [&str; 13] = [
+        "0", "1", "3", "4", "5", "6", "7", "8", "9", "30", "2", "00", "01",
+    ];
+    for (n, line) in text.lines().enumerate() {
+        let code = strip_comments(line);
+        let bytes = code.as_bytes();
+        let mut i = 0;
+        while i < bytes.len() {
+            let c = bytes[i].to_ascii_uppercase();
+            if c.is_ascii_alphabetic() {
+                let start = i + 1;
+                let mut end = start;
+                while end < bytes.len()
+                    && (bytes[end].is_ascii_digit() || b".+-".contains(&bytes[end]))
+                {
+                    end += 1;
+                }
+                let num = &code[start..end];
+                let ok = match c {
+                    b'G' => G.contains(&num),
+                    b'M' => M.contains(&num),
+                    b'X' | b'Y' | b'Z' | b'I' | b'J' | b'K' | b'R' | b'F' | b'S' | b'T' | b'P'
+                    | b'N' | b'O' => true,
+                    _ => false,
+                };
+                if !ok {
+                    return Err(format!(
+                        "output line {} uses `{}{}`, which SPEC §6 does not allow: {line}",
+                        n + 1,
+                        c as char,
+                        num
+                    )
+                    .into());
+                }
+                i = end;
+            } else {
+                i += 1;
+            }
+        }
+    }
+    Ok(())
+}
+
+fn strip_comments(line: &str) -> String {
+    let mut out = String::new();
+    let mut depth = 0;
+    for ch in line.chars() {
+        match ch {
+            '(' => depth += 1,
+            ')' if depth > 0 => depth -= 1,
+            _ if depth == 0 => out.push(ch),
+            _ => {}
+        }
+    }
+    out
+}
