@@ -39,7 +39,6 @@ pub fn warning(
 pub trait DiagnosticExt {
     fn with_secondary(self, span: Span, label: impl std::fmt::Display) -> Self;
     fn with_help(self, help: impl std::fmt::Display) -> Self;
-    fn with_note(self, note: impl std::fmt::Display) -> Self;
 }
 
 impl DiagnosticExt for Diagnostic {
@@ -51,11 +50,6 @@ impl DiagnosticExt for Diagnostic {
 
     fn with_help(mut self, help: impl std::fmt::Display) -> Self {
         self.notes.push(format!("help: {}", help));
-        self
-    }
-
-    fn with_note(mut self, note: impl std::fmt::Display) -> Self {
-        self.notes.push(format!("note: {}", note));
         self
     }
 }

@@ -96,6 +96,8 @@ pub fn emit_program(
                     }
                 }
             }
+            // The header selected G17; repeat a plane only when it changes.
+            Op::Plane(plane) if *plane == p.plane => {}
             op => {
                 p.begin(stmt.span);
                 p.op_as_written(op);
@@ -122,6 +124,8 @@ struct Printer<'o> {
     printed: [Option<i64>; 3],
     plane: ir::Plane,
     units: Units,
+    /// The tool of the last T word, for dialects that name it at M6.
+    selected_tool: Option<u32>,
 }
 
 impl<'o> Printer<'o> {
@@ -141,6 +145,7 @@ impl<'o> Printer<'o> {
             printed: [None; 3],
             plane: ir::Plane::XY,
             units,
+            selected_tool: None,
         }
     }
 
@@ -246,10 +251,18 @@ impl<'o> Printer<'o> {
             }
             Op::Feed(f) => self.word('F', *f),
             Op::Speed(s) => self.word('S', *s),
-            Op::SelectTool(t) => self.code(&format!("T{t}")),
+            Op::SelectTool(t) => {
+                self.selected_tool = Some(*t);
+                self.code(&format!("T{t}"));
+            }
             Op::ChangeTool => {
                 if self.dialect == Dialect::Grbl {
-                    self.code("M0 (tool change: load the selected tool)");
+                    // GRBL has no tool changer: stop and tell the operator.
+                    let text = match self.selected_tool {
+                        Some(t) => format!("M0 (change to tool {t})"),
+                        None => "M0 (tool change)".to_string(),
+                    };
+                    self.code(&text);
                 } else {
                     self.code("M6");
                 }
@@ -520,7 +533,7 @@ fn push_int(out: &mut String, mut n: i64) {
 /// zeros removed: `1.`, `-0.25`, `12.5`.
 pub fn push_fixed(out: &mut String, v: f64, decimals: usize) {
     let scale = 10i64.pow(decimals as u32);
-    if !(v.abs() < 1e12) {
+    if !v.is_finite() || v.abs() >= 1e12 {
         out.push_str(&format!("{v:.decimals$}"));
         return;
     }

@@ -30,7 +30,7 @@ impl Default for EvalOptions {
     fn default() -> Self {
         EvalOptions {
             max_iterations: 10_000_000,
-            max_statements: 20_000_000,
+            max_statements: 5_000_000,
             max_call_depth: 64,
         }
     }
@@ -344,6 +344,13 @@ impl<'a> Evaluator<'a> {
     }
 
     fn call(&mut self, name: Symbol, name_span: Span, args: &[ast::Expr], span: Span) -> Flow {
+        let text = self.names.text(name);
+        let directive = setup::Directive::from_name(text);
+        let known = self.wizards.as_ref().map(|h| h.names()).unwrap_or_default();
+        if directive.is_none() && !known.iter().any(|k| k.eq_ignore_ascii_case(text)) {
+            self.unknown_wizard(text, name_span, &known);
+            return Flow::Next;
+        }
         let mut values = Vec::with_capacity(args.len());
         for a in args {
             match value::eval(a, &self.vars) {
@@ -354,9 +361,8 @@ impl<'a> Evaluator<'a> {
                 }
             }
         }
-        let text = self.names.text(name);
         let arg_spans: Vec<Span> = args.iter().map(|a| a.span).collect();
-        if let Some(directive) = setup::Directive::from_name(text) {
+        if let Some(directive) = directive {
             if let Err(d) = self
                 .setup
                 .apply(directive, &values, name_span, &arg_spans, self.names)
@@ -366,7 +372,6 @@ impl<'a> Evaluator<'a> {
             return Flow::Next;
         }
         let Some(host) = self.wizards.take() else {
-            self.unknown_wizard(text, name_span, &[]);
             return Flow::Next;
         };
         let call = WizardCall {
@@ -378,7 +383,6 @@ impl<'a> Evaluator<'a> {
             let mut ctx = Context { ev: self, span };
             host.call(text, &values, &call, &mut ctx)
         };
-        let known = host.names();
         self.wizards = Some(host);
         match result {
             None => self.unknown_wizard(text, name_span, &known),

@@ -374,7 +374,52 @@ impl<'a> Lexer<'a> {
         let text = &self.text[start..end];
         let tok = match raw {
             Raw::LineComment | Raw::LParen => return,
-            Raw::Newline if !self.groups.is_empty() => return,
+            Raw::Newline if !self.groups.is_empty() => {
+                // A line may go on inside parentheses after `,`, `(` or an
+                // operator; otherwise the `(` was never closed.
+                let continues = matches!(
+                    self.out.last(),
+                    Some((
+                        _,
+                        Tok::Comma
+                            | Tok::LParen
+                            | Tok::CallOpen
+                            | Tok::Plus
+                            | Tok::Minus
+                            | Tok::Star
+                            | Tok::Slash
+                            | Tok::Percent
+                            | Tok::Caret
+                            | Tok::AndAnd
+                            | Tok::OrOr
+                            | Tok::EqEq
+                            | Tok::NotEq
+                            | Tok::Lt
+                            | Tok::Le
+                            | Tok::Gt
+                            | Tok::Ge
+                            | Tok::Bang,
+                        _
+                    ))
+                );
+                if continues {
+                    return;
+                }
+                let open = self.groups[0];
+                self.errors.push(
+                    error(
+                        "unclosed `(`",
+                        self.span(open, open + 1),
+                        "this parenthesis is not closed on its line",
+                    )
+                    .with_help("add the matching `)`"),
+                );
+                self.groups.clear();
+                self.syms.clear();
+                self.pending_term.get_or_insert((start, end));
+                self.shape = Shape::Empty;
+                return;
+            }
             Raw::Newline | Raw::Semi => {
                 if let Some(&(open, _)) = self.syms.first() {
                     self.unclosed_sym(open);

@@ -168,7 +168,10 @@ fn run(
         },
         stage,
     };
-    if !(options.tolerance > 0.0) || options.decimals.is_some_and(|d| d > 9) {
+    if !options.tolerance.is_finite()
+        || options.tolerance <= 0.0
+        || options.decimals.is_some_and(|d| d > 9)
+    {
         eprintln!("error: --tolerance must be positive and --decimals at most 9");
         return ExitCode::from(2);
     }

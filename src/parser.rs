@@ -40,6 +40,7 @@ pub fn parse_program(text: &str, file: FileId) -> (Program, Vec<Diagnostic>) {
         text,
         names: &names,
         call_groups: &call_groups,
+        tokens: &tokens,
     };
     let at_eof = |e: &ParseError<usize, Tok, &'static str>| match e {
         ParseError::UnrecognizedToken { token, .. } => token.0 >= text.len(),
@@ -66,7 +67,43 @@ pub fn parse_program(text: &str, file: FileId) -> (Program, Vec<Diagnostic>) {
     let mut program = split_subprograms(top, &mut diagnostics);
     program.names = names;
     diagnostics.sort_by_key(|d| d.labels.first().map_or(0, |l| l.range.start));
-    (program, diagnostics)
+    (program, drop_cascades(diagnostics, text))
+}
+
+/// Keep the errors that say something new: a parse error on a line the
+/// lexer already reported, or at a `}` after an earlier error (its `{` was
+/// skipped while recovering), only repeats an error the user has.
+fn drop_cascades(diagnostics: Vec<Diagnostic>, text: &str) -> Vec<Diagnostic> {
+    let line_of = |d: &Diagnostic| {
+        let at = d
+            .labels
+            .first()
+            .map_or(0, |l| l.range.start)
+            .min(text.len());
+        text[..at].bytes().filter(|&b| b == b'\n').count()
+    };
+    let lexer_lines: Vec<usize> = diagnostics
+        .iter()
+        .filter(|d| is_lexer_error(d))
+        .map(line_of)
+        .collect();
+    let mut kept: Vec<Diagnostic> = Vec::with_capacity(diagnostics.len());
+    for d in diagnostics {
+        let parse_error = !is_lexer_error(&d);
+        if parse_error && lexer_lines.contains(&line_of(&d)) {
+            continue;
+        }
+        if parse_error && d.message == "unexpected `}`" && !kept.is_empty() {
+            continue;
+        }
+        kept.push(d);
+    }
+    kept
+}
+
+/// Parse errors all start with "unexpected" (see [`ErrorContext`]).
+fn is_lexer_error(d: &Diagnostic) -> bool {
+    !d.message.starts_with("unexpected ") || d.message.starts_with("unexpected character")
 }
 
 /// Parse a single expression (used for wizard arguments built from text).
@@ -89,6 +126,7 @@ pub fn parse_expr(text: &str, file: FileId, names: &mut Names) -> Result<Expr, D
                 text,
                 names,
                 call_groups: &[],
+                tokens: &[],
             }
             .describe(e)
         })
@@ -99,6 +137,7 @@ struct ErrorContext<'a> {
     text: &'a str,
     names: &'a Names,
     call_groups: &'a [Span],
+    tokens: &'a [lexer::Spanned],
 }
 
 impl ErrorContext<'_> {
@@ -118,10 +157,16 @@ impl ErrorContext<'_> {
                     span,
                     format!("expected {}", expected_list(&expected)),
                 );
-                if expected.iter().any(|e| e == "\"(\"")
-                    && !expected.iter().any(|e| e == "\"name\"")
-                {
+                let before = self.tokens.iter().rev().find(|t| t.0 < l).map(|t| t.1);
+                let wants = |t: &str| expected.iter().any(|e| e.trim_matches('"') == t);
+                if matches!(before, Some(Tok::If | Tok::While)) {
                     d = d.with_help("conditions are written in parentheses: `while (i < 3) { … }`");
+                } else if tok == Tok::Assign && wants("==") {
+                    d = d.with_help("to compare two values write `==`; `=` assigns");
+                } else if tok == Tok::Else {
+                    d = d.with_help("`else` must follow the `}` of an `if` block");
+                } else if matches!(tok, Tok::Name(_)) && wants("word") {
+                    d = d.with_help("comments are written `( … )` or `// …`");
                 }
                 if self.in_call_group(l) {
                     d = d.with_help(

@@ -16,7 +16,7 @@ fn tenths(value: f64) -> Option<u32> {
 }
 
 fn code_name(letter: u8, t: u32) -> String {
-    if t % 10 == 0 {
+    if t.is_multiple_of(10) {
         format!("{}{}", letter as char, t / 10)
     } else {
         format!("{}{}.{}", letter as char, t / 10, t % 10)
@@ -305,7 +305,7 @@ impl Evaluator<'_> {
                 )
                 .with_help("write the move in work coordinates"))
             }
-            540..=590 if t % 10 == 0 => Op::SelectWorkOffset((t / 10 - 53) as u8),
+            540..=590 if t.is_multiple_of(10) => Op::SelectWorkOffset((t / 10 - 53) as u8),
             610 | 611 | 640 => {
                 w.take(b'P');
                 w.take(b'Q');
@@ -316,7 +316,7 @@ impl Evaluator<'_> {
                 ));
                 return self.leftover_move(w, span, &name).map(|_| Flow::Next);
             }
-            730 | 740 | 760 | 810..=890 if t % 10 == 0 => {
+            730 | 740 | 760 | 810..=890 if t.is_multiple_of(10) => {
                 return Err(error(
                     format!("canned cycles ({name}) are not supported yet"),
                     at,

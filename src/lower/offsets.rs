@@ -6,6 +6,9 @@
 //! machine position, as on LinuxCNC. Changing an offset under G91 is an
 //! error. Lengths are in the output units (the units pass ran first).
 
+// `axis` indexes several per-axis arrays at once in this pass.
+#![allow(clippy::needless_range_loop)]
+
 use super::Errors;
 use crate::diagnostic::{error, Diagnostic, DiagnosticExt};
 use crate::ir::{self, Distance, Op};
