@@ -98,7 +98,14 @@ pub fn emit_program(
             }
             // The header selected G17; repeat a plane only when it changes.
             Op::Plane(plane) if *plane == p.plane => {}
+            // F goes on the next cutting move's line (and only if it changed).
+            Op::Feed(f) => p.pending_feed = Some(*f),
             op => {
+                if matches!(op, Op::ChangeTool | Op::Stop(_)) {
+                    // The operator may move the machine at a tool change or
+                    // stop: write every axis of the next move again.
+                    p.printed = [None; 3];
+                }
                 p.begin(stmt.span);
                 p.op_as_written(op);
                 p.end();
@@ -126,6 +133,10 @@ struct Printer<'o> {
     units: Units,
     /// The tool of the last T word, for dialects that name it at M6.
     selected_tool: Option<u32>,
+    /// Final output: a feed waiting for the next cutting move, and the last
+    /// feed written.
+    pending_feed: Option<f64>,
+    printed_feed: Option<i64>,
 }
 
 impl<'o> Printer<'o> {
@@ -146,6 +157,8 @@ impl<'o> Printer<'o> {
             plane: ir::Plane::XY,
             units,
             selected_tool: None,
+            pending_feed: None,
+            printed_feed: None,
         }
     }
 
@@ -433,7 +446,19 @@ impl<'o> Printer<'o> {
         if arc.turns > 1 {
             self.code(&format!("P{}", arc.turns));
         }
+        self.feed_word();
         self.end();
+    }
+
+    /// Write the pending feed on a cutting move's line, if it changed.
+    fn feed_word(&mut self) {
+        if let Some(f) = self.pending_feed.take() {
+            let q = self.scaled(f);
+            if self.printed_feed != Some(q) {
+                self.word('F', f);
+                self.printed_feed = Some(q);
+            }
+        }
     }
 
     /// The centre to print, on the output grid. Rounding start, end and
@@ -494,6 +519,9 @@ impl<'o> Printer<'o> {
                 self.word(AXES[axis], self.unscaled(q));
                 self.printed[axis] = Some(q);
             }
+        }
+        if motion != Motion::Rapid {
+            self.feed_word();
         }
         self.end();
     }

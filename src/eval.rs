@@ -165,6 +165,12 @@ impl<'a> Evaluator<'a> {
     }
 
     fn report(&mut self, d: Diagnostic) {
+        // A statement in a loop or a repeated subprogram fails every time;
+        // say it once.
+        let same = |e: &Diagnostic| e.message == d.message && e.labels == d.labels;
+        if self.diagnostics.iter().rev().take(8).any(same) {
+            return;
+        }
         if crate::diagnostic::is_error(&d) {
             self.errors += 1;
         }

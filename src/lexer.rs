@@ -88,11 +88,21 @@ pub struct WordTok {
     pub has_point: bool,
 }
 
+/// A plain word with its byte range, kept in [`Lexed::words`].
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct LexedWord {
+    pub word: WordTok,
+    pub start: u32,
+    pub end: u32,
+}
+
 /// The tokens the parser sees. `Copy` and allocation-free: names and strings
-/// are interned.
+/// are interned, and a run of plain words is one token.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Tok {
-    Word(WordTok),
+    /// Consecutive plain words of one statement: `words[first..first+len]`.
+    /// One token per run keeps the parser's work per line small.
+    Words(u32, u32),
     /// `X<`: a symbolic word's letter and opening bracket.
     SymOpen(u8),
     /// The `>` that closes a symbolic word.
@@ -137,7 +147,7 @@ impl Tok {
     /// How the token reads in an error message.
     pub fn describe(&self, names: &Names) -> String {
         match self {
-            Tok::Word(w) => format!("word `{}`", w.letter as char),
+            Tok::Words(_, _) => "a G-code word".into(),
             Tok::SymOpen(l) => format!("`{}<`", *l as char),
             Tok::SymClose => "`>`".into(),
             Tok::Name(s) => format!("name `{}`", names.text(*s)),
@@ -201,6 +211,7 @@ enum Shape {
 /// Tokens of one file plus the errors found while lexing.
 pub struct Lexed {
     pub tokens: Vec<Spanned>,
+    pub words: Vec<LexedWord>,
     pub errors: Vec<Diagnostic>,
     /// Spans of `(` groups opened in wizard calls; a parse error inside one
     /// gets a hint that comments there are written with `//`.
@@ -216,6 +227,7 @@ struct Lexer<'a> {
     file: FileId,
     names: &'a mut Names,
     out: Vec<Spanned>,
+    words: Vec<LexedWord>,
     errors: Vec<Diagnostic>,
     call_groups: Vec<Span>,
     shape: Shape,
@@ -237,7 +249,8 @@ impl<'a> Lexer<'a> {
             text,
             file,
             names,
-            out: Vec::with_capacity(text.len() / 3),
+            out: Vec::with_capacity(text.len() / 8),
+            words: Vec::with_capacity(text.len() / 6),
             errors: Vec::new(),
             call_groups: Vec::new(),
             shape: Shape::Empty,
@@ -314,6 +327,7 @@ impl<'a> Lexer<'a> {
         }
         Lexed {
             tokens: self.out,
+            words: self.words,
             errors: self.errors,
             call_groups: self.call_groups,
         }
@@ -428,7 +442,25 @@ impl<'a> Lexer<'a> {
                 self.shape = Shape::Empty;
                 return;
             }
-            Raw::Word => Tok::Word(word(text)),
+            Raw::Word => {
+                let lexed = LexedWord {
+                    word: word(text),
+                    start: start as u32,
+                    end: end as u32,
+                };
+                let index = self.words.len() as u32;
+                self.words.push(lexed);
+                if self.pending_term.is_none() {
+                    if let Some((_, Tok::Words(first, len), run_end)) = self.out.last_mut() {
+                        if *first + *len == index {
+                            *len += 1;
+                            *run_end = end;
+                            return;
+                        }
+                    }
+                }
+                Tok::Words(index, 1)
+            }
             Raw::BadNumber => {
                 self.errors.push(
                     error(
@@ -672,17 +704,18 @@ mod tests {
 
     #[test]
     fn compact_words_split() {
-        let toks = kinds("N10G01X1.5Y-.5F100");
-        assert_eq!(toks.len(), 5);
-        match toks[3] {
-            Tok::Word(w) => assert_eq!((w.letter, w.value), (b'Y', -0.5)),
-            other => panic!("{other:?}"),
-        }
+        let mut names = Names::default();
+        let lexed = lex("N10G01X1.5Y-.5F100", 0, &mut names);
+        assert_eq!(lexed.tokens.len(), 1);
+        assert_eq!(lexed.words.len(), 5);
+        let y = lexed.words[3];
+        assert_eq!((y.word.letter, y.word.value), (b'Y', -0.5));
+        assert_eq!((y.start, y.end), (10, 14));
     }
 
     #[test]
     fn paren_is_comment_on_code_lines_and_group_in_expressions() {
-        assert_eq!(kinds("G1 X1 (cut)").len(), 2);
+        assert_eq!(kinds("G1 X1 (cut)").len(), 1);
         assert!(kinds("A_ = (1 + 2)").contains(&Tok::LParen));
         assert_eq!(kinds("Depth = 5 (mm)").len(), 3);
         assert!(kinds("holesLine(1, 2)").contains(&Tok::CallOpen));

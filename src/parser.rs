@@ -23,6 +23,7 @@ pub fn parse_program(text: &str, file: FileId) -> (Program, Vec<Diagnostic>) {
     let mut names = Names::default();
     let Lexed {
         tokens,
+        words,
         errors: mut diagnostics,
         call_groups,
     } = lexer::lex(text, file, &mut names);
@@ -32,6 +33,7 @@ pub fn parse_program(text: &str, file: FileId) -> (Program, Vec<Diagnostic>) {
     let result = grammar::ProgramParser::new().parse(
         file,
         &names,
+        &words,
         &mut recovered,
         tokens.iter().copied().map(Ok::<_, &'static str>),
     );
@@ -41,6 +43,7 @@ pub fn parse_program(text: &str, file: FileId) -> (Program, Vec<Diagnostic>) {
         names: &names,
         call_groups: &call_groups,
         tokens: &tokens,
+        words: &words,
     };
     let at_eof = |e: &ParseError<usize, Tok, &'static str>| match e {
         ParseError::UnrecognizedToken { token, .. } => token.0 >= text.len(),
@@ -108,7 +111,12 @@ fn is_lexer_error(d: &Diagnostic) -> bool {
 
 /// Parse a single expression (used for wizard arguments built from text).
 pub fn parse_expr(text: &str, file: FileId, names: &mut Names) -> Result<Expr, Diagnostic> {
-    let Lexed { tokens, errors, .. } = lexer::lex(text, file, names);
+    let Lexed {
+        tokens,
+        words,
+        errors,
+        ..
+    } = lexer::lex(text, file, names);
     if let Some(e) = errors.into_iter().next() {
         return Err(e);
     }
@@ -117,6 +125,7 @@ pub fn parse_expr(text: &str, file: FileId, names: &mut Names) -> Result<Expr, D
         .parse(
             file,
             names,
+            &words,
             &mut recovered,
             tokens.into_iter().map(Ok::<_, &'static str>),
         )
@@ -127,6 +136,7 @@ pub fn parse_expr(text: &str, file: FileId, names: &mut Names) -> Result<Expr, D
                 names,
                 call_groups: &[],
                 tokens: &[],
+                words: &words,
             }
             .describe(e)
         })
@@ -138,6 +148,7 @@ struct ErrorContext<'a> {
     names: &'a Names,
     call_groups: &'a [Span],
     tokens: &'a [lexer::Spanned],
+    words: &'a [lexer::LexedWord],
 }
 
 impl ErrorContext<'_> {
@@ -149,6 +160,13 @@ impl ErrorContext<'_> {
             } => {
                 let (what, span) = if tok == Tok::Term {
                     ("end of statement".to_string(), Span::new(self.file, l, l))
+                } else if let Tok::Words(first, _) = tok {
+                    let w = self.words[first as usize];
+                    let (start, end) = (w.start as usize, w.end as usize);
+                    (
+                        format!("word `{}`", &self.text[start..end]),
+                        Span::new(self.file, start, end),
+                    )
                 } else {
                     (tok.describe(self.names), Span::new(self.file, l, r))
                 };
@@ -353,6 +371,25 @@ fn block_has_m99<'a>(mut rest: impl Iterator<Item = &'a Stmt>) -> bool {
 }
 
 // Grammar actions: kept here so the grammar file stays declarative.
+
+/// Append the words of a run token (`Tok::Words`) to a line.
+pub(crate) fn push_words(
+    line: &mut Vec<Word>,
+    words: &[lexer::LexedWord],
+    run: (u32, u32),
+    file: FileId,
+) {
+    let (first, len) = (run.0 as usize, run.1 as usize);
+    line.extend(words[first..first + len].iter().map(|w| Word {
+        letter: w.word.letter,
+        value: WordValue::Number(Number {
+            value: w.word.value,
+            int_digits: w.word.int_digits,
+            has_point: w.word.has_point,
+        }),
+        span: Span::new(file, w.start as usize, w.end as usize),
+    }));
+}
 
 pub(crate) fn binary(file: FileId, l: usize, r: usize, op: BinaryOp, a: Expr, b: Expr) -> Expr {
     Expr {

@@ -1,5 +1,6 @@
 //! Pass absolute (SPEC §4.5, and the arc rules of §4): G91 → G90, every
-//! move's end an absolute machine point, and every arc checked and given as
+//! move's written axes absolute machine coordinates (axes it did not
+//! write stay out, so the emitter knows what the source commanded), and every arc checked and given as
 //! a centre relative to its start in the active plane (R arcs resolved,
 //! I/J/K arcs checked: radii within 1 %). The given centre is kept, as
 //! LinuxCNC keeps it (a small radius difference is a slight spiral); the
@@ -60,10 +61,11 @@ pub fn run(mut program: ir::Program) -> Result<ir::Program, Vec<Diagnostic>> {
                     }
                 }
             }
+            // Only the axes the statement wrote: a Z retract stays a Z move.
             m.to = Axes {
-                x: end[0],
-                y: end[1],
-                z: end[2],
+                x: m.to.x.and(end[0]),
+                y: m.to.y.and(end[1]),
+                z: m.to.z.and(end[2]),
             };
             position = end;
             true

@@ -4,8 +4,7 @@ M0 (change to tool 2)
 S12000.
 M3
 G0 X0. Y0. Z5.
-F200.
-G1 Z-1.
+G1 Z-1. F200.
 G2 X20. Y0. I10. J0.
 G3 X0. Y0. I-10. J0.
 G2 X0. Y0. I10. J0.

@@ -1,0 +1,213 @@
+//! Property tests: no input makes ger panic, and the lowering preserves the
+//! tool path whatever the input's distance mode and units.
+
+use ger::compile::{compile, CompileOptions, Compiled};
+use ger::eval::EvalOptions;
+use ger::source::Sources;
+use proptest::prelude::*;
+
+fn run(text: &str) -> Compiled {
+    let mut sources = Sources::new();
+    let file = sources.add("prop.egc", text.to_string());
+    let options = CompileOptions {
+        eval: EvalOptions {
+            max_iterations: 1000,
+            max_statements: 100_000,
+            ..Default::default()
+        },
+        ..Default::default()
+    };
+    compile(&mut sources, file, &options, None)
+}
+
+/// Pieces of the language, glued at random: most soups are wrong, and every
+/// one must give diagnostics or output, never a panic or a hang.
+const PIECES: &[&str] = &[
+    "G0", "G1", "G2", "G3", "G90", "G91", "G20", "G21", "G16", "G15", "G52", "G92", "G43", "G54",
+    "G55", "M98", "M99", "M30", "O100", "X1", "Y-2.5", "Z.5", "I1", "J-1", "R2", "F100", "P100",
+    "L2", "H1", "X<", ">", "Aa", "Bb", "=", "==", "<", "(", ")", "{", "}", "if", "else", "while",
+    ";", "\n", "+", "-", "*", "/", "%", "^", "sin", "(c)", "//x", "\"mm\"", "SetTool", "1", "0",
+    "true", "&&", "!", ",", "%\n", "N10", "X", "@", "P0X", "1.2.3",
+];
+
+proptest! {
+    #![proptest_config(ProptestConfig { cases: 400, ..ProptestConfig::default() })]
+
+    #[test]
+    fn random_bytes_never_panic(bytes in proptest::collection::vec(any::<u8>(), 0..300)) {
+        let text = String::from_utf8_lossy(&bytes);
+        let _ = run(&text);
+    }
+
+    #[test]
+    fn random_token_soups_never_panic(picks in proptest::collection::vec((0..PIECES.len(), 0..3usize), 0..60)) {
+        let text: String = picks
+            .iter()
+            .map(|&(i, sep)| format!("{}{}", PIECES[i], [" ", "", "\n"][sep]))
+            .collect();
+        let _ = run(&text);
+    }
+}
+
+/// One random move: a straight move or an arc that ends on its circle.
+#[derive(Clone, Debug)]
+enum Step {
+    Line {
+        rapid: bool,
+        to: [f64; 3],
+    },
+    Arc {
+        cw: bool,
+        center: [f64; 2],
+        sweep_deg: f64,
+        z: f64,
+    },
+}
+
+fn step() -> impl Strategy<Value = Step> {
+    let coord = -100.0..100.0f64;
+    prop_oneof![
+        (any::<bool>(), [coord.clone(), coord.clone(), -20.0..5.0f64])
+            .prop_map(|(rapid, to)| Step::Line { rapid, to }),
+        (
+            any::<bool>(),
+            [-30.0..30.0f64, -30.0..30.0f64],
+            10.0..350.0f64,
+            -20.0..5.0f64
+        )
+            .prop_map(|(cw, center, sweep_deg, z)| Step::Arc {
+                cw,
+                center,
+                sweep_deg,
+                z
+            }),
+    ]
+}
+
+/// Absolute end points (mm) and the arc centre offsets of each step.
+fn resolve(steps: &[Step]) -> Vec<(String, [f64; 3], Option<[f64; 2]>)> {
+    let mut pos = [0.0, 0.0, 10.0];
+    let mut out = Vec::new();
+    for s in steps {
+        match s {
+            Step::Line { rapid, to } => {
+                pos = *to;
+                out.push((if *rapid { "G0" } else { "G1" }.to_string(), pos, None));
+            }
+            Step::Arc {
+                cw,
+                center,
+                sweep_deg,
+                z,
+            } => {
+                let c = [pos[0] + center[0], pos[1] + center[1]];
+                let r = center[0].hypot(center[1]);
+                if r < 1.0 {
+                    continue;
+                }
+                let a0 = (pos[1] - c[1]).atan2(pos[0] - c[0]);
+                let a1 = a0 + sweep_deg.to_radians() * if *cw { -1.0 } else { 1.0 };
+                let end = [c[0] + r * a1.cos(), c[1] + r * a1.sin(), *z];
+                out.push((
+                    if *cw { "G2" } else { "G3" }.to_string(),
+                    end,
+                    Some(*center),
+                ));
+                pos = end;
+            }
+        }
+    }
+    out
+}
+
+/// The same path written absolute or incremental, in mm or inch.
+fn program(
+    moves: &[(String, [f64; 3], Option<[f64; 2]>)],
+    incremental: bool,
+    inch: bool,
+) -> String {
+    let k = if inch { 1.0 / 25.4 } else { 1.0 };
+    let mut text = format!(
+        "SetUnits \"mm\"\n{} G17 G90\nG0 X0 Y0 Z<{}>\nF500\n",
+        if inch { "G20" } else { "G21" },
+        10.0 * k
+    );
+    if incremental {
+        text.push_str("G91\n");
+    }
+    let mut pos = [0.0, 0.0, 10.0];
+    for (code, end, center) in moves {
+        let v: Vec<f64> = (0..3)
+            .map(|i| if incremental { end[i] - pos[i] } else { end[i] } * k)
+            .collect();
+        // Symbolic words carry 12 decimals: no visible input rounding.
+        text.push_str(&format!(
+            "{code} X<{:.12}> Y<{:.12}> Z<{:.12}>",
+            v[0], v[1], v[2]
+        ));
+        if let Some(c) = center {
+            text.push_str(&format!(" I<{:.12}> J<{:.12}>", c[0] * k, c[1] * k));
+        }
+        text.push('\n');
+        pos = *end;
+    }
+    text
+}
+
+/// End points of the moves in ger's output.
+fn end_points(output: &str) -> Vec<[f64; 3]> {
+    let mut pos = [0.0; 3];
+    let mut points = Vec::new();
+    for line in output.lines() {
+        let words: Vec<&str> = line.split_whitespace().collect();
+        if !words
+            .iter()
+            .any(|w| matches!(*w, "G0" | "G1" | "G2" | "G3"))
+        {
+            continue;
+        }
+        for w in &words {
+            let axis = match w.as_bytes()[0] {
+                b'X' => 0,
+                b'Y' => 1,
+                b'Z' => 2,
+                _ => continue,
+            };
+            pos[axis] = w[1..].parse().unwrap();
+        }
+        points.push(pos);
+    }
+    points
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig { cases: 200, ..ProptestConfig::default() })]
+
+    #[test]
+    fn absolute_incremental_inch_mm_agree(steps in proptest::collection::vec(step(), 1..25)) {
+        let moves = resolve(&steps);
+        let expected: Vec<[f64; 3]> = moves.iter().map(|m| m.1).collect();
+        for (incremental, inch) in [(false, false), (true, false), (false, true), (true, true)] {
+            let text = program(&moves, incremental, inch);
+            let compiled = run(&text);
+            let output = compiled.output.unwrap_or_else(|| {
+                panic!("no output for\n{text}\n{:?}", compiled.diagnostics)
+            });
+            let got = end_points(&output);
+            // Moves shorter than the output resolution print nothing.
+            let mut it = got.iter().skip(1); // the setup rapid
+            let mut last = [0.0, 0.0, 10.0];
+            for e in &expected {
+                if (0..3).all(|i| (e[i] - last[i]).abs() < 0.0006) {
+                    continue;
+                }
+                let g = it.next().unwrap_or_else(|| panic!("missing move to {e:?}\n{output}"));
+                for i in 0..3 {
+                    prop_assert!((g[i] - e[i]).abs() <= 0.0006,
+                        "axis {} expected {} got {} (incremental={}, inch={})\n{}", i, e[i], g[i], incremental, inch, output);
+                }
+                last = *g;
+            }
+        }
+    }
+}
