@@ -84,8 +84,11 @@ fn step() -> impl Strategy<Value = Step> {
     ]
 }
 
+/// A resolved move: its G code, absolute end (mm), arc centre offset.
+type Resolved = (String, [f64; 3], Option<[f64; 2]>);
+
 /// Absolute end points (mm) and the arc centre offsets of each step.
-fn resolve(steps: &[Step]) -> Vec<(String, [f64; 3], Option<[f64; 2]>)> {
+fn resolve(steps: &[Step]) -> Vec<Resolved> {
     let mut pos = [0.0, 0.0, 10.0];
     let mut out = Vec::new();
     for s in steps {
