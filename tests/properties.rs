@@ -124,11 +124,7 @@ fn resolve(steps: &[Step]) -> Vec<Resolved> {
 }
 
 /// The same path written absolute or incremental, in mm or inch.
-fn program(
-    moves: &[(String, [f64; 3], Option<[f64; 2]>)],
-    incremental: bool,
-    inch: bool,
-) -> String {
+fn program(moves: &[Resolved], incremental: bool, inch: bool) -> String {
     let k = if inch { 1.0 / 25.4 } else { 1.0 };
     let mut text = format!(
         "SetUnits \"mm\"\n{} G17 G90\nG0 X0 Y0 Z<{}>\nF500\n",
