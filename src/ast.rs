@@ -88,7 +88,7 @@ pub enum StmtKind {
     Assign {
         name: Symbol,
         name_span: Span,
-        value: Expr,
+        value: Box<Expr>,
     },
     /// A wizard or setup-directive call, in either written form.
     Call {
@@ -96,16 +96,22 @@ pub enum StmtKind {
         name_span: Span,
         args: Vec<Expr>,
     },
-    If {
-        branches: Vec<(Expr, Vec<Stmt>)>,
-        otherwise: Option<Vec<Stmt>>,
-    },
-    While {
-        cond: Expr,
-        body: Vec<Stmt>,
-    },
+    If(Box<If>),
+    While(Box<While>),
     /// A statement the parser could not read; its error is already reported.
     Error,
+}
+
+#[derive(Debug, Clone)]
+pub struct If {
+    pub branches: Vec<(Expr, Vec<Stmt>)>,
+    pub otherwise: Option<Vec<Stmt>>,
+}
+
+#[derive(Debug, Clone)]
+pub struct While {
+    pub cond: Expr,
+    pub body: Vec<Stmt>,
 }
 
 /// The words of one G-code line, in the order written.

@@ -269,10 +269,11 @@ impl<'a> Evaluator<'a> {
                 name_span,
                 args,
             } => self.call(*name, *name_span, args, stmt.span),
-            StmtKind::If {
-                branches,
-                otherwise,
-            } => {
+            StmtKind::If(if_) => {
+                let ast::If {
+                    branches,
+                    otherwise,
+                } = &**if_;
                 for (cond, body) in branches {
                     match value::boolean(cond, &self.vars, "the `if` condition") {
                         Ok(true) => return self.exec_block(body),
@@ -288,7 +289,7 @@ impl<'a> Evaluator<'a> {
                     None => Flow::Next,
                 }
             }
-            StmtKind::While { cond, body } => self.exec_while(cond, body, stmt.span),
+            StmtKind::While(w) => self.exec_while(&w.cond, &w.body, stmt.span),
             StmtKind::Error => Flow::Next,
         }
     }

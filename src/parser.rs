@@ -29,14 +29,6 @@ pub fn parse_program(text: &str, file: FileId) -> (Program, Vec<Diagnostic>) {
     } = lexer::lex(text, file, &mut names);
     let brace_errors = diagnostics.iter().any(|d| d.message.contains('{'));
 
-    let mut recovered = Vec::new();
-    let result = grammar::ProgramParser::new().parse(
-        file,
-        &names,
-        &words,
-        &mut recovered,
-        tokens.iter().copied().map(Ok::<_, &'static str>),
-    );
     let context = ErrorContext {
         file,
         text,
@@ -50,23 +42,47 @@ pub fn parse_program(text: &str, file: FileId) -> (Program, Vec<Diagnostic>) {
         ParseError::UnrecognizedEof { .. } => true,
         _ => false,
     };
-    for r in recovered {
-        // The `}` the lexer adds for an unclosed block may not fit after a
-        // broken statement; the unclosed-brace error already covers it.
-        if !(brace_errors && at_eof(&r.error)) {
-            diagnostics.push(context.describe(r.error));
+    let mut top = Vec::with_capacity(tokens.len() / 2 + 1);
+    for piece in pieces(&tokens, FAST_PATH.with(|f| f.get())) {
+        match piece {
+            Piece::Line(start, run, end) => top.push(Stmt {
+                kind: StmtKind::Line(Line {
+                    words: {
+                        let mut v = Vec::with_capacity(run.1 as usize);
+                        push_words(&mut v, &words, run, file);
+                        v
+                    },
+                }),
+                span: Span::new(file, start, end),
+            }),
+            Piece::Grammar(slice) => {
+                let mut recovered = Vec::new();
+                let result = grammar::ProgramParser::new().parse(
+                    file,
+                    &names,
+                    &words,
+                    &mut recovered,
+                    slice.iter().copied().map(Ok::<_, &'static str>),
+                );
+                for r in recovered {
+                    // The `}` the lexer adds for an unclosed block may not fit
+                    // after a broken statement; the unclosed-brace error
+                    // already covers it.
+                    if !(brace_errors && at_eof(&r.error)) {
+                        diagnostics.push(context.describe(r.error));
+                    }
+                }
+                match result {
+                    Ok(stmts) => top.extend(stmts),
+                    Err(e) => {
+                        if !(brace_errors && at_eof(&e)) {
+                            diagnostics.push(context.describe(e));
+                        }
+                    }
+                }
+            }
         }
     }
-    let top = match result {
-        Ok(stmts) => stmts,
-        Err(e) => {
-            // The unclosed-brace error already says what is missing at the end.
-            if !(brace_errors && at_eof(&e)) {
-                diagnostics.push(context.describe(e));
-            }
-            Vec::new()
-        }
-    };
     let mut program = split_subprograms(top, &mut diagnostics);
     program.names = names;
     diagnostics.sort_by_key(|d| d.labels.first().map_or(0, |l| l.range.start));
@@ -107,6 +123,75 @@ fn drop_cascades(diagnostics: Vec<Diagnostic>, text: &str) -> Vec<Diagnostic> {
 /// Parse errors all start with "unexpected" (see [`ErrorContext`]).
 fn is_lexer_error(d: &Diagnostic) -> bool {
     !d.message.starts_with("unexpected ") || d.message.starts_with("unexpected character")
+}
+
+thread_local! {
+    /// Tests turn the fast path off to check it builds the grammar's tree.
+    static FAST_PATH: std::cell::Cell<bool> = const { std::cell::Cell::new(true) };
+}
+
+/// Parse with or without the fast path for plain lines (for tests).
+pub fn parse_program_with_fast_path(
+    text: &str,
+    file: FileId,
+    fast: bool,
+) -> (Program, Vec<Diagnostic>) {
+    let old = FAST_PATH.with(|f| f.replace(fast));
+    let result = parse_program(text, file);
+    FAST_PATH.with(|f| f.set(old));
+    result
+}
+
+/// A top-level statement that is one run of plain words, or a stretch of
+/// tokens for the grammar.
+enum Piece<'t> {
+    Line(usize, (u32, u32), usize),
+    Grammar(&'t [lexer::Spanned]),
+}
+
+/// Cut the tokens at top-level statement ends. Most lines of a CAM program
+/// are one run of plain words: those are built directly, which is what the
+/// grammar's `Words` rule would build, without the parser's per-token
+/// work. Everything else goes to the grammar, in stretches.
+fn pieces(tokens: &[lexer::Spanned], fast: bool) -> Vec<Piece<'_>> {
+    let mut out = Vec::new();
+    let mut depth = 0usize;
+    let mut stmt_start = 0;
+    let mut stretch_start = 0;
+    for (i, &(start, tok, end)) in tokens.iter().enumerate() {
+        match tok {
+            Tok::LBrace => depth += 1,
+            Tok::RBrace => depth = depth.saturating_sub(1),
+            _ => {}
+        }
+        let last = i + 1 == tokens.len() || (depth == 0 && tokens[i + 1].1 == Tok::Term);
+        if depth != 0 || !last || tok == Tok::Term {
+            if tok == Tok::Term && depth == 0 {
+                stmt_start = i + 1;
+            }
+            continue;
+        }
+        if let (true, true, Tok::Words(first, len)) = (fast, stmt_start == i, tok) {
+            push_stretch(&mut out, &tokens[stretch_start..i]);
+            out.push(Piece::Line(start, (first, len), end));
+            stretch_start = i + 1;
+        }
+    }
+    push_stretch(&mut out, &tokens[stretch_start..]);
+    out
+}
+
+/// A stretch for the grammar, without the statement ends around it.
+fn push_stretch<'t>(out: &mut Vec<Piece<'t>>, mut stretch: &'t [lexer::Spanned]) {
+    while let [(_, Tok::Term, _), rest @ ..] = stretch {
+        stretch = rest;
+    }
+    while let [rest @ .., (_, Tok::Term, _)] = stretch {
+        stretch = rest;
+    }
+    if !stretch.is_empty() {
+        out.push(Piece::Grammar(stretch));
+    }
 }
 
 /// Parse a single expression (used for wizard arguments built from text).
@@ -279,7 +364,7 @@ fn has_m99(stmt: &Stmt) -> bool {
 /// the very top whose block has no `M99` numbers the main program instead.
 fn split_subprograms(top: Vec<Stmt>, diagnostics: &mut Vec<Diagnostic>) -> Program {
     let mut program = Program {
-        main: Vec::new(),
+        main: Vec::with_capacity(top.len()),
         main_number: None,
         subprograms: Vec::new(),
         names: Names::default(),

@@ -70,10 +70,11 @@ impl AstPrinter<'_> {
                 let text = format!("{}({})", self.names.text(*name), args.join(", "));
                 self.line(&text);
             }
-            StmtKind::If {
-                branches,
-                otherwise,
-            } => {
+            StmtKind::If(if_) => {
+                let If {
+                    branches,
+                    otherwise,
+                } = &**if_;
                 for (i, (cond, body)) in branches.iter().enumerate() {
                     let head = if i == 0 { "if" } else { "} else if" };
                     let text = format!("{head} {} {{", self.expr(cond));
@@ -86,7 +87,8 @@ impl AstPrinter<'_> {
                 }
                 self.line("}");
             }
-            StmtKind::While { cond, body } => {
+            StmtKind::While(w) => {
+                let While { cond, body } = &**w;
                 let text = format!("while {} {{", self.expr(cond));
                 self.line(&text);
                 self.nested(body);
