@@ -11,14 +11,15 @@ use std::hint::black_box;
 pub fn plain_program(lines: usize) -> String {
     let mut text = String::with_capacity(lines * 32);
     text.push_str("G21 G90 G17\nG0 X0 Y0 Z5\nG1 Z-1 F800\n");
-    let mut x = 0.0f64;
+    let (mut x, mut y) = (0.0f64, 0.0f64);
     for i in 0..lines {
-        let y = (i % 100) as f64 * 0.5;
         if i % 5 == 4 {
+            // A half circle to the right, at the same Y.
             text.push_str(&format!("G2 X{:.3} Y{:.3} I2.5 J0\n", x + 5.0, y));
             x += 5.0;
         } else {
             x = (x + 0.731) % 400.0;
+            y = (i % 100) as f64 * 0.5;
             text.push_str(&format!("G1 X{x:.3} Y{y:.3}\n"));
         }
     }

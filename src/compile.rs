@@ -49,6 +49,29 @@ pub struct CompileOptions {
 pub struct Compiled {
     pub output: Option<String>,
     pub diagnostics: Vec<Diagnostic>,
+    /// Time spent in each stage, in order (`ger compile --timings`).
+    pub timings: Vec<(&'static str, std::time::Duration)>,
+}
+
+/// Times the stages of one compile.
+struct Clock {
+    last: std::time::Instant,
+    timings: Vec<(&'static str, std::time::Duration)>,
+}
+
+impl Clock {
+    fn new() -> Clock {
+        Clock {
+            last: std::time::Instant::now(),
+            timings: Vec::new(),
+        }
+    }
+
+    fn lap(&mut self, stage: &'static str) {
+        let now = std::time::Instant::now();
+        self.timings.push((stage, now - self.last));
+        self.last = now;
+    }
 }
 
 /// Compile the file `file` of `sources`.
@@ -58,13 +81,16 @@ pub fn compile(
     options: &CompileOptions,
     wizards: Option<&mut dyn WizardHost>,
 ) -> Compiled {
+    let mut clock = Clock::new();
     let text = sources.text(file).to_string();
     let (program, mut diagnostics) = crate::parser::parse_program(&text, file);
+    clock.lap("parse");
     if diagnostics.iter().any(is_error) || options.stage == Some(Stage::Parse) {
         let output = (!diagnostics.iter().any(is_error)).then(|| program.to_text());
         return Compiled {
             output,
             diagnostics,
+            timings: clock.timings,
         };
     }
     let (ir, eval_diagnostics) = match wizards {
@@ -76,10 +102,12 @@ pub fn compile(
         None => eval::eval_program(&program, &options.eval, None),
     };
     diagnostics.extend(eval_diagnostics);
+    clock.lap("expand");
     if diagnostics.iter().any(is_error) {
         return Compiled {
             output: None,
             diagnostics,
+            timings: clock.timings,
         };
     }
     let units = output_units(&ir);
@@ -87,6 +115,7 @@ pub fn compile(
         return Compiled {
             output: Some(emit::emit_stage(&ir, units, &text, file)),
             diagnostics,
+            timings: clock.timings,
         };
     }
     let last = match options.stage {
@@ -100,17 +129,21 @@ pub fn compile(
             return Compiled {
                 output: None,
                 diagnostics,
+                timings: clock.timings,
             };
         }
     };
+    clock.lap("lower");
     let output = if options.stage.is_some() {
         emit::emit_stage(&lowered, units, &text, file)
     } else {
         emit::emit_program(&lowered, units, &text, file, &options.emit)
     };
+    clock.lap("emit");
     Compiled {
         output: Some(output),
         diagnostics,
+        timings: clock.timings,
     }
 }
 

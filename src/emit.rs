@@ -124,6 +124,8 @@ struct Printer<'o> {
     options: &'o EmitOptions,
     dialect: Dialect,
     decimals: usize,
+    /// 10^decimals.
+    scale: f64,
     lines: LineIndex,
     main_file: usize,
     seq: u64,
@@ -141,15 +143,17 @@ struct Printer<'o> {
 
 impl<'o> Printer<'o> {
     fn new(options: &'o EmitOptions, units: Units, source: &str, main_file: usize) -> Printer<'o> {
+        let decimals = options.decimals.unwrap_or(match units {
+            Units::Mm => 3,
+            Units::Inch => 4,
+        });
         Printer {
             out: String::with_capacity(source.len() * 2),
             line: String::with_capacity(80),
             options,
             dialect: options.dialect,
-            decimals: options.decimals.unwrap_or(match units {
-                Units::Mm => 3,
-                Units::Inch => 4,
-            }),
+            decimals,
+            scale: 10f64.powi(decimals as i32),
             lines: LineIndex::new(source),
             main_file,
             seq: 0,
@@ -364,11 +368,11 @@ impl<'o> Printer<'o> {
     }
 
     fn scaled(&self, v: f64) -> i64 {
-        (v * 10f64.powi(self.decimals as i32)).round() as i64
+        (v * self.scale).round() as i64
     }
 
     fn unscaled(&self, n: i64) -> f64 {
-        n as f64 / 10f64.powi(self.decimals as i32)
+        n as f64 / self.scale
     }
 
     /// A move in the final output: absolute, unchanged axes left out, arc
@@ -539,38 +543,41 @@ fn motion_code(m: Motion) -> &'static str {
     }
 }
 
-fn push_int(out: &mut String, mut n: i64) {
+fn push_int(out: &mut String, n: i64) {
     if n < 0 {
         out.push('-');
-        n = -n;
     }
-    let mut buf = [0u8; 20];
+    push_digits(out, n.unsigned_abs(), 1);
+}
+
+/// Decimal digits of `n`, at least `width` of them (zero-padded).
+fn push_digits(out: &mut String, mut n: u64, width: usize) {
+    let mut buf = [b'0'; 20];
     let mut i = buf.len();
-    loop {
+    while n > 0 || buf.len() - i < width {
         i -= 1;
         buf[i] = b'0' + (n % 10) as u8;
         n /= 10;
-        if n == 0 {
-            break;
-        }
     }
+    // Only ASCII digits were written.
     out.push_str(std::str::from_utf8(&buf[i..]).unwrap_or("0"));
 }
 
 /// A number with a decimal point and at most `decimals` decimals, trailing
 /// zeros removed: `1.`, `-0.25`, `12.5`.
 pub fn push_fixed(out: &mut String, v: f64, decimals: usize) {
-    let scale = 10i64.pow(decimals as u32);
+    let decimals = decimals.min(9);
     if !v.is_finite() || v.abs() >= 1e12 {
         out.push_str(&format!("{v:.decimals$}"));
         return;
     }
+    let scale = 10u64.pow(decimals as u32);
     let n = (v * scale as f64).round() as i64;
     if n < 0 {
         out.push('-');
     }
-    let n = n.unsigned_abs() as i64;
-    push_int(out, n / scale);
+    let n = n.unsigned_abs();
+    push_digits(out, n / scale, 1);
     out.push('.');
     let mut frac = n % scale;
     if frac != 0 {
@@ -579,11 +586,7 @@ pub fn push_fixed(out: &mut String, v: f64, decimals: usize) {
             frac /= 10;
             digits -= 1;
         }
-        let s = frac.to_string();
-        for _ in s.len()..digits {
-            out.push('0');
-        }
-        out.push_str(&s);
+        push_digits(out, frac, digits);
     }
 }
 

@@ -275,7 +275,7 @@ impl<'a> Evaluator<'a> {
                     otherwise,
                 } = &**if_;
                 for (cond, body) in branches {
-                    match value::boolean(cond, &self.vars, "the `if` condition") {
+                    match value::boolean(cond, &self.vars, &|| "the `if` condition".into()) {
                         Ok(true) => return self.exec_block(body),
                         Ok(false) => {}
                         Err(e) => {
@@ -297,7 +297,7 @@ impl<'a> Evaluator<'a> {
     fn exec_while(&mut self, cond: &ast::Expr, body: &[ast::Stmt], span: Span) -> Flow {
         let mut count: u64 = 0;
         loop {
-            match value::boolean(cond, &self.vars, "the `while` condition") {
+            match value::boolean(cond, &self.vars, &|| "the `while` condition".into()) {
                 Ok(true) => {}
                 Ok(false) => return Flow::Next,
                 Err(e) => {

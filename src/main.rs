@@ -66,6 +66,9 @@ struct Options {
     /// A `while` loop that runs more often is an error.
     #[arg(long, default_value_t = 10_000_000)]
     max_iterations: u64,
+    /// Print the time each stage took to stderr.
+    #[arg(long)]
+    timings: bool,
 }
 
 #[derive(Clone, Copy, ValueEnum)]
@@ -175,8 +178,15 @@ fn run(
         eprintln!("error: --tolerance must be positive and --decimals at most 9");
         return ExitCode::from(2);
     }
+    let started = std::time::Instant::now();
     let compiled = compile(&mut sources, file, &compile_options, None);
     eprint!("{}", render(&sources, &compiled.diagnostics));
+    if options.timings {
+        for (stage, took) in &compiled.timings {
+            eprintln!("{stage:>8}: {:8.2} ms", took.as_secs_f64() * 1e3);
+        }
+        eprintln!("   total: {:8.2} ms", started.elapsed().as_secs_f64() * 1e3);
+    }
     if compiled.diagnostics.iter().any(is_error) {
         return ExitCode::from(1);
     }

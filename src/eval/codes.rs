@@ -9,6 +9,9 @@ use crate::diagnostic::{error, warning, Diagnostic, DiagnosticExt};
 use crate::ir::{self, Arc, ArcGeometry, Axes, Motion, Op};
 use crate::source::Span;
 
+/// A code for messages: its letter and number in tenths.
+type Code = Option<(u8, u32)>;
+
 /// A G code in tenths: G1 is 10, G54.1 is 541.
 fn tenths(value: f64) -> Option<u32> {
     let t = (value * 10.0).round();
@@ -93,7 +96,7 @@ impl Evaluator<'_> {
         match &w.value {
             WordValue::Number(n) => Some(n.value),
             WordValue::Expr(e) => {
-                let what = format!("the `{}` word", w.letter as char);
+                let what = || format!("the `{}` word", w.letter as char);
                 match super::value::number(e, &self.vars, &what) {
                     Ok(v) => Some(v),
                     Err(err) => {
@@ -131,7 +134,7 @@ impl Evaluator<'_> {
     /// current motion mode.
     fn plain_words(&mut self, w: &mut WordValues, span: Span) -> Result<Flow, Diagnostic> {
         self.feed_speed_tool(w, span)?;
-        self.leftover_move(w, span, "")?;
+        self.leftover_move(w, span, None)?;
         Ok(Flow::Next)
     }
 
@@ -141,7 +144,7 @@ impl Evaluator<'_> {
         &mut self,
         w: &mut WordValues,
         span: Span,
-        code: &str,
+        code: Code,
     ) -> Result<(), Diagnostic> {
         let has_axes = [b'X', b'Y', b'Z'].iter().any(|&l| w.has(l));
         let arc_words = [b'I', b'J', b'K', b'R'].iter().any(|&l| w.has(l));
@@ -159,10 +162,9 @@ impl Evaluator<'_> {
             self.emit(Op::Move(m), span)?;
         }
         if let Some((letter, at)) = w.remaining().next() {
-            let label = if code.is_empty() {
-                "no code on this line uses it".to_string()
-            } else {
-                format!("{code} does not use `{}`", letter as char)
+            let label = match code {
+                None => "no code on this line uses it".to_string(),
+                Some((l, t)) => format!("{} does not use `{}`", code_name(l, t), letter as char),
             };
             return Err(error(
                 format!("unexpected `{}` word", letter as char),
@@ -240,7 +242,9 @@ impl Evaluator<'_> {
         w: &mut WordValues,
         span: Span,
     ) -> Result<Flow, Diagnostic> {
-        let name = code_name(b'G', t);
+        let code = Some((b'G', t));
+        // Only for messages: built when one is needed.
+        let name = || code_name(b'G', t);
         self.feed_speed_tool(w, span)?;
         let op = match t {
             0 | 10 | 20 | 30 => {
@@ -251,7 +255,7 @@ impl Evaluator<'_> {
                     _ => Motion::ArcCcw,
                 };
                 self.motion = Some(motion);
-                return self.leftover_move(w, span, &name).map(|_| Flow::Next);
+                return self.leftover_move(w, span, code).map(|_| Flow::Next);
             }
             40 => self.dwell(w, at)?,
             100 => self.g10(w, at)?,
@@ -268,18 +272,18 @@ impl Evaluator<'_> {
                 }
                 self.report(
                     warning(
-                        format!("{name} dropped"),
+                        format!("{} dropped", name()),
                         at,
                         "a return to the machine's home depends on the machine",
                     )
                     .with_note("ger writes no move for it, nor for its intermediate point"),
                 );
-                return self.leftover_move(w, span, &name).map(|_| Flow::Next);
+                return self.leftover_move(w, span, code).map(|_| Flow::Next);
             }
             400 => Op::CompOff,
             410 | 420 | 411 | 421 => {
                 return Err(error(
-                    format!("cutter compensation ({name}) is not supported yet"),
+                    format!("cutter compensation ({}) is not supported yet", name()),
                     at,
                     "ger cannot lower this code yet",
                 )
@@ -296,7 +300,7 @@ impl Evaluator<'_> {
                 }
             }
             490 => Op::CancelToolLength,
-            520 => Op::LocalOffset(self.take_axes(w, at, &name, false)?),
+            520 => Op::LocalOffset(self.take_axes(w, at, "G52", false)?),
             530 => {
                 return Err(error(
                     "G53 (machine coordinates) cannot be expressed",
@@ -310,15 +314,15 @@ impl Evaluator<'_> {
                 w.take(b'P');
                 w.take(b'Q');
                 self.report(warning(
-                    format!("{name} dropped"),
+                    format!("{} dropped", name()),
                     at,
                     "path blending is a setting of the controller",
                 ));
-                return self.leftover_move(w, span, &name).map(|_| Flow::Next);
+                return self.leftover_move(w, span, code).map(|_| Flow::Next);
             }
             730 | 740 | 760 | 810..=890 if t.is_multiple_of(10) => {
                 return Err(error(
-                    format!("canned cycles ({name}) are not supported yet"),
+                    format!("canned cycles ({}) are not supported yet", name()),
                     at,
                     "ger cannot lower this code yet",
                 )
@@ -329,9 +333,9 @@ impl Evaluator<'_> {
             800 => Op::CycleOff,
             900 => Op::Distance(ir::Distance::Absolute),
             910 => Op::Distance(ir::Distance::Incremental),
-            911 => return self.leftover_move(w, span, &name).map(|_| Flow::Next),
+            911 => return self.leftover_move(w, span, code).map(|_| Flow::Next),
             920 => {
-                let axes = self.take_axes(w, at, &name, true)?;
+                let axes = self.take_axes(w, at, "G92", true)?;
                 Op::SetPosition(if axes.is_empty() {
                     Axes::full([0.0; 3])
                 } else {
@@ -339,8 +343,8 @@ impl Evaluator<'_> {
                 })
             }
             921 | 922 => Op::CancelPosition,
-            940 => return self.leftover_move(w, span, &name).map(|_| Flow::Next),
-            980 | 990 => return self.leftover_move(w, span, &name).map(|_| Flow::Next),
+            940 => return self.leftover_move(w, span, code).map(|_| Flow::Next),
+            980 | 990 => return self.leftover_move(w, span, code).map(|_| Flow::Next),
             _ => {
                 let why = match t {
                     120 | 130 => "circle milling (G12/G13) is a Fanuc option; use G2/G3 or a CirclePocket wizard",
@@ -352,11 +356,11 @@ impl Evaluator<'_> {
                     930 | 950 => "only feed per minute (G94) is supported",
                     _ => "ger does not know this code",
                 };
-                return Err(error(format!("unsupported code {name}"), at, why));
+                return Err(error(format!("unsupported code {}", name()), at, why));
             }
         };
         self.emit(op, span)?;
-        self.leftover_move(w, span, &name)?;
+        self.leftover_move(w, span, code)?;
         Ok(Flow::Next)
     }
 
@@ -367,7 +371,8 @@ impl Evaluator<'_> {
         w: &mut WordValues,
         span: Span,
     ) -> Result<Flow, Diagnostic> {
-        let name = code_name(b'M', t);
+        let code = Some((b'M', t));
+        let name = || code_name(b'M', t);
         if t == 980 {
             return self.subprogram_call(w, at, span);
         }
@@ -389,7 +394,7 @@ impl Evaluator<'_> {
             80 => (Op::Coolant(ir::Coolant::Flood), Flow::Next),
             90 => (Op::Coolant(ir::Coolant::Off), Flow::Next),
             990 => {
-                self.leftover_move(w, span, &name)?;
+                self.leftover_move(w, span, code)?;
                 return Ok(Flow::Return);
             }
             _ => {
@@ -397,11 +402,11 @@ impl Evaluator<'_> {
                     470 => "M47 repeats the program from the top; the output cannot express it",
                     _ => "the output cannot express this code",
                 };
-                return Err(error(format!("unsupported code {name}"), at, why));
+                return Err(error(format!("unsupported code {}", name()), at, why));
             }
         };
         self.emit(op, span)?;
-        self.leftover_move(w, span, &name)?;
+        self.leftover_move(w, span, code)?;
         Ok(flow)
     }
 
@@ -520,7 +525,7 @@ impl Evaluator<'_> {
             count = whole(l, lspan, "a repeat count")?;
         }
         self.feed_speed_tool(w, span)?;
-        self.leftover_move(w, span, "M98")?;
+        self.leftover_move(w, span, Some((b'M', 980)))?;
         let program = self.program;
         let Some(sub) = program.subprograms.iter().find(|s| s.number == number) else {
             let mut d = error(format!("no subprogram O{number}"), pspan, "called here");

@@ -178,8 +178,8 @@ pub fn eval(expr: &Expr, vars: &[Slot]) -> Result<Value, ExprError> {
                 span: expr.span,
             }),
         },
-        ExprKind::Unary(UnaryOp::Neg, e) => Ok(Value::Number(-number(e, vars, "`-`")?)),
-        ExprKind::Unary(UnaryOp::Not, e) => Ok(Value::Bool(!boolean(e, vars, "`!`")?)),
+        ExprKind::Unary(UnaryOp::Neg, e) => Ok(Value::Number(-number(e, vars, &|| "`-`".into())?)),
+        ExprKind::Unary(UnaryOp::Not, e) => Ok(Value::Bool(!boolean(e, vars, &|| "`!`".into())?)),
         ExprKind::Binary(op, a, b) => binary(*op, a, b, expr.span, vars),
         ExprKind::Call(f, args) => call(*f, args, expr.span, vars),
         ExprKind::UnknownCall(name, _) => Err(ExprError::UnknownFunction {
@@ -189,26 +189,30 @@ pub fn eval(expr: &Expr, vars: &[Slot]) -> Result<Value, ExprError> {
     }
 }
 
-pub fn number(expr: &Expr, vars: &[Slot], what: &str) -> Result<f64, ExprError> {
+/// What is being evaluated, for a type error's message; only built when
+/// there is an error.
+pub type What<'a> = &'a dyn Fn() -> String;
+
+pub fn number(expr: &Expr, vars: &[Slot], what: What<'_>) -> Result<f64, ExprError> {
     match eval(expr, vars)? {
         Value::Number(n) => Ok(n),
         other => Err(ExprError::TypeMismatch {
             expected: "a number",
             found: other.type_name(),
             span: expr.span,
-            what: what.to_string(),
+            what: what(),
         }),
     }
 }
 
-pub fn boolean(expr: &Expr, vars: &[Slot], what: &str) -> Result<bool, ExprError> {
+pub fn boolean(expr: &Expr, vars: &[Slot], what: What<'_>) -> Result<bool, ExprError> {
     match eval(expr, vars)? {
         Value::Bool(b) => Ok(b),
         other => Err(ExprError::TypeMismatch {
             expected: "true or false",
             found: other.type_name(),
             span: expr.span,
-            what: what.to_string(),
+            what: what(),
         }),
     }
 }
@@ -225,10 +229,10 @@ fn binary(op: BinaryOp, a: &Expr, b: &Expr, span: Span, vars: &[Slot]) -> Result
     let what = || format!("`{}`", op.symbol());
     match op {
         BinaryOp::And => Ok(Value::Bool(
-            boolean(a, vars, "`&&`")? && boolean(b, vars, "`&&`")?,
+            boolean(a, vars, &what)? && boolean(b, vars, &what)?,
         )),
         BinaryOp::Or => Ok(Value::Bool(
-            boolean(a, vars, "`||`")? || boolean(b, vars, "`||`")?,
+            boolean(a, vars, &what)? || boolean(b, vars, &what)?,
         )),
         BinaryOp::Eq | BinaryOp::Ne => {
             let (x, y) = (eval(a, vars)?, eval(b, vars)?);
@@ -248,8 +252,8 @@ fn binary(op: BinaryOp, a: &Expr, b: &Expr, span: Span, vars: &[Slot]) -> Result
             Ok(Value::Bool(same == (op == BinaryOp::Eq)))
         }
         _ => {
-            let x = number(a, vars, &what())?;
-            let y = number(b, vars, &what())?;
+            let x = number(a, vars, &what)?;
+            let y = number(b, vars, &what)?;
             let v = match op {
                 BinaryOp::Add => x + y,
                 BinaryOp::Sub => x - y,
@@ -280,7 +284,7 @@ fn call(f: Function, args: &[Expr], span: Span, vars: &[Slot]) -> Result<Value, 
             span,
         });
     }
-    let what = format!("`{}`", f.name());
+    let what = || format!("`{}`", f.name());
     let arg = |i: usize| number(&args[i], vars, &what);
     let x = arg(0)?;
     let v = match f {
