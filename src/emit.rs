@@ -582,7 +582,7 @@ pub fn push_fixed(out: &mut String, v: f64, decimals: usize) {
     let mut frac = n % scale;
     if frac != 0 {
         let mut digits = decimals;
-        while frac % 10 == 0 {
+        while frac.is_multiple_of(10) {
             frac /= 10;
             digits -= 1;
         }
