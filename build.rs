@@ -1,11 +1,37 @@
-//! Build script: generates the LALRPOP parser from `grammar/*.lalrpop` into
-//! `$OUT_DIR`. It must not do anything else (no code generation of our own).
+//! Build script: generates the LALRPOP parser from `grammar/*.lalrpop`, and
+//! the list of standard-library wizards (`stdlib/*.rhai`, embedded with
+//! `include_str!`) into `$OUT_DIR`. Nothing else.
+
+use std::path::Path;
 
 fn main() {
+    let out = std::env::var("OUT_DIR").expect("cargo sets OUT_DIR");
     lalrpop::Configuration::new()
         .set_in_dir("grammar")
-        .set_out_dir(std::env::var("OUT_DIR").expect("cargo sets OUT_DIR"))
+        .set_out_dir(&out)
         .emit_rerun_directives(true)
         .process()
         .expect("grammar/ger.lalrpop must generate");
+
+    println!("cargo:rerun-if-changed=stdlib");
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("stdlib");
+    let mut entries: Vec<_> = std::fs::read_dir(&dir)
+        .expect("stdlib/ exists")
+        .filter_map(|e| e.ok().map(|e| e.path()))
+        .filter(|p| p.extension().is_some_and(|x| x == "rhai"))
+        .collect();
+    entries.sort();
+    let mut list = String::from(
+        "/// The standard library: (name, script).\npub const STDLIB: &[(&str, &str)] = &[\n",
+    );
+    for path in entries {
+        println!("cargo:rerun-if-changed={}", path.display());
+        let name = path.file_stem().unwrap().to_string_lossy();
+        list.push_str(&format!(
+            "    ({name:?}, include_str!({:?})),\n",
+            path.display().to_string()
+        ));
+    }
+    list.push_str("];\n");
+    std::fs::write(Path::new(&out).join("stdlib.rs"), list).expect("write stdlib.rs");
 }

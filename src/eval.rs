@@ -74,6 +74,10 @@ pub struct MachineState {
     /// Last commanded position in program coordinates (`None` before the
     /// first move that sets the axis).
     pub position: [Option<f64>; 3],
+    /// G91 is on at the call.
+    pub incremental: bool,
+    /// G16 is on at the call.
+    pub polar: bool,
     pub units: Option<ir::Units>,
     pub tool: u32,
     pub tool_diameter: f64,
@@ -129,6 +133,7 @@ struct Evaluator<'a> {
     units: Option<ir::Units>,
     position: [Option<f64>; 3],
     distance: ir::Distance,
+    polar: bool,
 }
 
 const MAX_REPORTED_ERRORS: usize = 50;
@@ -156,6 +161,7 @@ impl<'a> Evaluator<'a> {
             units: None,
             position: [None; 3],
             distance: ir::Distance::Absolute,
+            polar: false,
         }
     }
 
@@ -210,6 +216,7 @@ impl<'a> Evaluator<'a> {
     fn track(&mut self, op: &ir::Op) {
         match op {
             ir::Op::Move(m) => {
+                self.motion = Some(m.motion);
                 for axis in 0..3 {
                     if let Some(v) = m.to.get(axis) {
                         self.position[axis] = match self.distance {
@@ -221,6 +228,7 @@ impl<'a> Evaluator<'a> {
             }
             ir::Op::Units(u) => self.units = Some(*u),
             ir::Op::Distance(d) => self.distance = *d,
+            ir::Op::Polar(on) => self.polar = *on,
             ir::Op::SetPosition(a) => {
                 for axis in 0..3 {
                     if let Some(v) = a.get(axis) {
@@ -456,6 +464,8 @@ impl WizardContext for Context<'_, '_> {
         let tool = self.ev.tool;
         MachineState {
             position: self.ev.position,
+            incremental: self.ev.distance == ir::Distance::Incremental,
+            polar: self.ev.polar,
             units: self.ev.units,
             tool,
             tool_diameter: self.ev.setup.tool_diameter(tool, self.ev.units),

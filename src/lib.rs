@@ -20,3 +20,4 @@ pub mod eval;
 pub mod geometry;
 pub mod ir;
 pub mod lower;
+pub mod wizard;

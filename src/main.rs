@@ -8,6 +8,7 @@ use ger::compile::{compile, CompileOptions, Stage};
 use ger::diagnostic::{is_error, render};
 use ger::emit::{ArcFormat, Dialect, Numbering};
 use ger::source::Sources;
+use ger::wizard::{standard_library, Library, WizardEngine, WizardSource};
 use std::io::{Read, Write};
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
@@ -44,6 +45,16 @@ enum Command {
         #[command(flatten)]
         options: Options,
     },
+    /// List the wizards found, or show one wizard's signature and doc.
+    Wizards {
+        name: Option<String>,
+        /// A folder of wizards (`<Name>.rhai`), searched first; repeatable.
+        #[arg(long = "wizards", value_name = "DIR")]
+        dirs: Vec<PathBuf>,
+        /// Also search the `wizards/` folder beside this part program.
+        #[arg(long)]
+        part: Option<PathBuf>,
+    },
 }
 
 #[derive(clap::Args)]
@@ -69,6 +80,9 @@ struct Options {
     /// Print the time each stage took to stderr.
     #[arg(long)]
     timings: bool,
+    /// A folder of wizards (`<Name>.rhai`), searched first; repeatable.
+    #[arg(long = "wizards", value_name = "DIR")]
+    wizard_dirs: Vec<PathBuf>,
 }
 
 #[derive(Clone, Copy, ValueEnum)]
@@ -117,6 +131,107 @@ fn main() -> ExitCode {
             run(&input, output.as_deref(), &options, stage, true)
         }
         Command::Check { input, options } => run(&input, None, &options, None, false),
+        Command::Wizards { name, dirs, part } => {
+            list_wizards(name.as_deref(), &dirs, part.as_deref())
+        }
+    }
+}
+
+/// Wizard scripts in search order (SPEC §5): `--wizards` folders, `wizards/`
+/// beside the part, `GER_WIZARDS`, then the standard library.
+fn discover_wizards(dirs: &[PathBuf], part: Option<&Path>) -> Result<Vec<WizardSource>, String> {
+    let mut folders: Vec<(PathBuf, bool)> = dirs.iter().map(|d| (d.clone(), true)).collect();
+    if let Some(part) = part {
+        let beside = part.parent().unwrap_or(Path::new(".")).join("wizards");
+        folders.push((beside, false));
+    }
+    if let Some(env) = std::env::var_os("GER_WIZARDS") {
+        folders.extend(std::env::split_paths(&env).map(|d| (d, false)));
+    }
+    let mut found = Vec::new();
+    for (dir, required) in folders {
+        let entries = match std::fs::read_dir(&dir) {
+            Ok(entries) => entries,
+            Err(e) if required => {
+                return Err(format!(
+                    "cannot read wizard folder `{}`: {e}",
+                    dir.display()
+                ))
+            }
+            Err(_) => continue,
+        };
+        let mut paths: Vec<PathBuf> = entries
+            .filter_map(|e| e.ok().map(|e| e.path()))
+            .filter(|p| p.extension().is_some_and(|x| x == "rhai"))
+            .collect();
+        paths.sort();
+        for path in paths {
+            let text = std::fs::read_to_string(&path)
+                .map_err(|e| format!("cannot read `{}`: {e}", path.display()))?;
+            found.push(WizardSource {
+                name: path
+                    .file_stem()
+                    .unwrap_or_default()
+                    .to_string_lossy()
+                    .into_owned(),
+                text,
+                origin: path.display().to_string(),
+            });
+        }
+    }
+    found.extend(standard_library());
+    Ok(found)
+}
+
+fn list_wizards(name: Option<&str>, dirs: &[PathBuf], part: Option<&Path>) -> ExitCode {
+    let found = match discover_wizards(dirs, part) {
+        Ok(found) => found,
+        Err(e) => {
+            eprintln!("error: {e}");
+            return ExitCode::from(2);
+        }
+    };
+    let mut sources = Sources::new();
+    let library = Library::new(found, &mut sources);
+    let describe = |w: &ger::wizard::Wizard| match &w.declaration {
+        Ok(d) => (d.signature(&w.name), d.summary().to_string()),
+        Err(e) => (
+            w.name.clone(),
+            format!("(bad declaration, line {}: {})", e.line, e.message),
+        ),
+    };
+    match name {
+        None => {
+            for w in library.iter() {
+                let (signature, summary) = describe(w);
+                println!("{signature}\n    {summary}  [{}]", w.origin);
+            }
+            ExitCode::SUCCESS
+        }
+        Some(name) => {
+            let Some(w) = library.get(name) else {
+                eprintln!("error: no wizard named `{name}`; `ger wizards` lists them");
+                return ExitCode::from(2);
+            };
+            let (signature, _) = describe(w);
+            println!("{signature}    [{}]\n", w.origin);
+            if let Ok(d) = &w.declaration {
+                for line in &d.doc {
+                    println!("{line}");
+                }
+                if !d.params.is_empty() {
+                    println!();
+                }
+                for p in &d.params {
+                    let default = p
+                        .default
+                        .as_ref()
+                        .map_or(String::new(), |d| format!(" (default {d})"));
+                    println!("  {:<12} {}{default}", p.name, p.doc);
+                }
+            }
+            ExitCode::SUCCESS
+        }
     }
 }
 
@@ -179,7 +294,16 @@ fn run(
         return ExitCode::from(2);
     }
     let started = std::time::Instant::now();
-    let compiled = compile(&mut sources, file, &compile_options, None);
+    let part = (input != "-").then(|| Path::new(input));
+    let found = match discover_wizards(&options.wizard_dirs, part) {
+        Ok(found) => found,
+        Err(e) => {
+            eprintln!("error: {e}");
+            return ExitCode::from(2);
+        }
+    };
+    let mut engine = WizardEngine::new(Library::new(found, &mut sources));
+    let compiled = compile(&mut sources, file, &compile_options, Some(&mut engine));
     eprint!("{}", render(&sources, &compiled.diagnostics));
     if options.timings {
         for (stage, took) in &compiled.timings {
