@@ -487,19 +487,26 @@ impl<'o> Printer<'o> {
         let s = start_q.map(|q| self.unscaled(q));
         let e = end_q.map(|q| self.unscaled(q));
         let base = center.map(|v| self.scaled(v));
-        let mut best = (f64::INFINITY, base);
+        let error_of = |q: [i64; 3]| {
+            let c = q.map(|v| self.unscaled(v));
+            let moved = (c[a] - center[a]).hypot(c[b] - center[b]);
+            let turned =
+                (sweep(s, e, c, self.plane, clockwise, turns) - exact_sweep).abs() * radius;
+            let rs = (s[a] - c[a]).hypot(s[b] - c[b]);
+            let re = (e[a] - c[a]).hypot(e[b] - c[b]);
+            moved.max(turned).max((rs - re).abs())
+        };
+        // Plain rounding is usually as good as the grid allows.
+        let mut best = (error_of(base), base);
+        if best.0 <= 0.75 / self.scale {
+            return base;
+        }
         for da in -1..=1 {
             for db in -1..=1 {
                 let mut q = base;
                 q[a] += da;
                 q[b] += db;
-                let c = q.map(|v| self.unscaled(v));
-                let moved = (c[a] - center[a]).hypot(c[b] - center[b]);
-                let turned =
-                    (sweep(s, e, c, self.plane, clockwise, turns) - exact_sweep).abs() * radius;
-                let rs = (s[a] - c[a]).hypot(s[b] - c[b]);
-                let re = (e[a] - c[a]).hypot(e[b] - c[b]);
-                let error = moved.max(turned).max((rs - re).abs());
+                let error = error_of(q);
                 if error < best.0 {
                     best = (error, q);
                 }

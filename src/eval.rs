@@ -150,7 +150,8 @@ impl<'a> Evaluator<'a> {
             options,
             wizards,
             vars: vec![Slot::Unset; program.names.len()],
-            out: Vec::new(),
+            // Most programs make about one statement per source statement.
+            out: Vec::with_capacity(program.main.len() + 16),
             diagnostics: Vec::new(),
             errors: 0,
             motion: None,
@@ -473,31 +474,71 @@ impl WizardContext for Context<'_, '_> {
     }
 }
 
-/// Values of the words of one statement, by letter.
-#[derive(Default)]
-struct WordValues {
-    slots: [Option<(f64, Span, ast::Number)>; 26],
+/// Values of the words of one statement, by letter: a presence mask and
+/// the values, with the index of each word for its span and spelling.
+/// Small and cheap to start empty: one is made per statement.
+struct WordValues<'w> {
+    present: u32,
+    values: [f64; 26],
+    index: [u16; 26],
+    words: &'w [ast::Word],
 }
 
-impl WordValues {
-    fn take(&mut self, letter: u8) -> Option<(f64, Span)> {
-        self.slots[(letter - b'A') as usize]
-            .take()
-            .map(|(v, s, _)| (v, s))
+impl<'w> WordValues<'w> {
+    fn new(words: &'w [ast::Word]) -> Self {
+        WordValues {
+            present: 0,
+            values: [0.0; 26],
+            index: [0; 26],
+            words,
+        }
     }
 
+    fn bit(letter: u8) -> u32 {
+        1 << (letter - b'A')
+    }
+
+    /// The span of the word already given for `letter`, if any.
+    fn given(&self, letter: u8) -> Option<Span> {
+        self.has(letter)
+            .then(|| self.words[self.index[(letter - b'A') as usize] as usize].span)
+    }
+
+    fn set(&mut self, letter: u8, value: f64, word_index: usize) {
+        let i = (letter - b'A') as usize;
+        self.present |= Self::bit(letter);
+        self.values[i] = value;
+        self.index[i] = word_index.min(u16::MAX as usize) as u16;
+    }
+
+    fn take(&mut self, letter: u8) -> Option<(f64, Span)> {
+        self.take_number(letter).map(|(v, s, _)| (v, s))
+    }
+
+    /// The value, its span, and how it was written (`P31000`, `P0.5`).
     fn take_number(&mut self, letter: u8) -> Option<(f64, Span, ast::Number)> {
-        self.slots[(letter - b'A') as usize].take()
+        if !self.has(letter) {
+            return None;
+        }
+        self.present &= !Self::bit(letter);
+        let i = (letter - b'A') as usize;
+        let word = &self.words[self.index[i] as usize];
+        let written = match &word.value {
+            ast::WordValue::Number(n) => *n,
+            ast::WordValue::Expr(_) => ast::Number {
+                value: self.values[i],
+                int_digits: 0,
+                has_point: true,
+            },
+        };
+        Some((self.values[i], word.span, written))
     }
 
     fn has(&self, letter: u8) -> bool {
-        self.slots[(letter - b'A') as usize].is_some()
+        self.present & Self::bit(letter) != 0
     }
 
     fn remaining(&self) -> impl Iterator<Item = (u8, Span)> + '_ {
-        self.slots
-            .iter()
-            .enumerate()
-            .filter_map(|(i, s)| s.map(|(_, span, _)| (b'A' + i as u8, span)))
+        (b'A'..=b'Z').filter_map(move |l| self.given(l).map(|s| (l, s)))
     }
 }

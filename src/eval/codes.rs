@@ -28,13 +28,13 @@ fn code_name(letter: u8, t: u32) -> String {
 
 impl Evaluator<'_> {
     pub(super) fn exec_line_stmt(&mut self, stmt: LineStmt<'_>) -> Flow {
-        let mut words = WordValues::default();
+        let mut words = WordValues::new(stmt.args);
         let mut span = stmt
             .code
             .map(|c| c.span)
             .or_else(|| stmt.args.first().map(|w| w.span))
             .unwrap_or_default();
-        for w in stmt.args {
+        for (i, w) in stmt.args.iter().enumerate() {
             span = span.to(w.span);
             if w.letter == b'N' {
                 continue;
@@ -42,9 +42,7 @@ impl Evaluator<'_> {
             let Some(value) = self.word_value(w) else {
                 return Flow::Next;
             };
-            let slot = &mut words.slots[(w.letter - b'A') as usize];
-            if let Some((_, first, _)) = slot {
-                let first = *first;
+            if let Some(first) = words.given(w.letter) {
                 self.report(
                     error(
                         format!("`{}` appears twice in one statement", w.letter as char),
@@ -55,15 +53,7 @@ impl Evaluator<'_> {
                 );
                 return Flow::Next;
             }
-            let number = match &w.value {
-                WordValue::Number(n) => *n,
-                WordValue::Expr(_) => ast::Number {
-                    value,
-                    int_digits: 0,
-                    has_point: true,
-                },
-            };
-            *slot = Some((value, w.span, number));
+            words.set(w.letter, value, i);
         }
         let result = match stmt.code {
             None => self.plain_words(&mut words, span),

@@ -13,13 +13,12 @@ pub fn run(mut program: ir::Program, output: Units) -> Result<ir::Program, Vec<D
     // Under G16 the plane's second axis word is an angle, not a length.
     let mut polar = false;
     let mut plane = ir::Plane::XY;
-    let mut stmts = Vec::with_capacity(program.stmts.len());
-    for mut stmt in std::mem::take(&mut program.stmts) {
+    program.stmts.retain_mut(|stmt| {
         let k = current.factor(output);
         match &mut stmt.op {
             Op::Units(u) => {
                 current = *u;
-                continue;
+                return false;
             }
             Op::Polar(on) => polar = *on,
             Op::Plane(p) => plane = *p,
@@ -46,8 +45,7 @@ pub fn run(mut program: ir::Program, output: Units) -> Result<ir::Program, Vec<D
             | Op::SetPosition(a) => *a = a.map(|v| v * k),
             _ => {}
         }
-        stmts.push(stmt);
-    }
-    program.stmts = stmts;
+        true
+    });
     Errors::default().finish(program)
 }
