@@ -102,6 +102,8 @@ pub fn compile(
         None => eval::eval_program(&program, &options.eval, None),
     };
     diagnostics.extend(eval_diagnostics);
+    // The tree is done with: free it before the IR passes allocate.
+    drop(program);
     clock.lap("expand");
     if diagnostics.iter().any(is_error) {
         return Compiled {

@@ -249,8 +249,9 @@ impl<'a> Lexer<'a> {
             text,
             file,
             names,
-            out: Vec::with_capacity(text.len() / 8),
-            words: Vec::with_capacity(text.len() / 6),
+            // Generous: untouched capacity costs no memory, regrowing copies.
+            out: Vec::with_capacity(text.len() / 4),
+            words: Vec::with_capacity(text.len() / 3),
             errors: Vec::new(),
             call_groups: Vec::new(),
             shape: Shape::Empty,
