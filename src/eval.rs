@@ -134,6 +134,8 @@ struct Evaluator<'a> {
     position: [Option<f64>; 3],
     distance: ir::Distance,
     polar: bool,
+    /// An F word has been given: a feed move without one is an error.
+    feed_set: bool,
 }
 
 const MAX_REPORTED_ERRORS: usize = 50;
@@ -163,6 +165,7 @@ impl<'a> Evaluator<'a> {
             position: [None; 3],
             distance: ir::Distance::Absolute,
             polar: false,
+            feed_set: false,
         }
     }
 
@@ -207,6 +210,18 @@ impl<'a> Evaluator<'a> {
                 "the limit was reached here",
             )
             .with_help("check the loops and subprogram repeats"));
+        }
+        match &op {
+            ir::Op::Feed(_) => self.feed_set = true,
+            ir::Op::Move(m) if m.motion != ir::Motion::Rapid && !self.feed_set => {
+                return Err(error(
+                    "a feed move before any feed rate",
+                    span,
+                    "no F word has been given yet",
+                )
+                .with_help("set the feed on this line or before it: `G1 X10 F300`"));
+            }
+            _ => {}
         }
         self.track(&op);
         self.out.push(ir::Stmt { op, span });
@@ -539,6 +554,14 @@ impl<'w> WordValues<'w> {
     }
 
     fn remaining(&self) -> impl Iterator<Item = (u8, Span)> + '_ {
-        (b'A'..=b'Z').filter_map(move |l| self.given(l).map(|s| (l, s)))
+        let mut left = self.present;
+        std::iter::from_fn(move || {
+            if left == 0 {
+                return None;
+            }
+            let letter = b'A' + left.trailing_zeros() as u8;
+            left &= left - 1;
+            self.given(letter).map(|s| (letter, s))
+        })
     }
 }

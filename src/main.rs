@@ -169,6 +169,11 @@ fn discover_wizards(dirs: &[PathBuf], part: Option<&Path>) -> Result<Vec<WizardS
         let mut paths: Vec<PathBuf> = entries
             .filter_map(|e| e.ok().map(|e| e.path()))
             .filter(|p| p.extension().is_some_and(|x| x == "rhai"))
+            // `_name.rhai` files are helpers, not wizards.
+            .filter(|p| {
+                !p.file_name()
+                    .is_some_and(|n| n.to_string_lossy().starts_with('_'))
+            })
             .collect();
         paths.sort();
         for path in paths {

@@ -38,10 +38,12 @@ pub struct WizardSource {
     pub origin: String,
 }
 
-/// The standard library, compiled into the binary.
+/// The standard library, compiled into the binary. Files whose name starts
+/// with `_` are not wizards (`_prelude.rhai`).
 pub fn standard_library() -> Vec<WizardSource> {
     stdlib::STDLIB
         .iter()
+        .filter(|(name, _)| !name.starts_with('_'))
         .map(|(name, text)| WizardSource {
             name: name.to_string(),
             text: text.to_string(),
@@ -205,6 +207,7 @@ impl WizardEngine {
         engine.on_print(|_| {});
         engine.on_debug(|_, _, _| {});
         register_api(&mut engine, &session, &library);
+        register_prelude(&mut engine);
         WizardEngine {
             engine,
             library,
@@ -418,6 +421,26 @@ fn register_api(engine: &mut Engine, session: &Rc<RefCell<Session>>, library: &R
     engine.register_fn("wizard", move |ctx: NativeCallContext, name: &str| {
         nested(ctx, name, Array::new())
     });
+}
+
+/// `stdlib/_prelude.rhai`: functions every wizard can call. It is part of
+/// the binary and tested with it, so a failure here is a bug in ger.
+fn register_prelude(engine: &mut Engine) {
+    let Some((_, text)) = stdlib::STDLIB.iter().find(|(name, _)| *name == "_prelude") else {
+        return;
+    };
+    let module = engine
+        .compile(text)
+        .map_err(|e| e.to_string())
+        .and_then(|ast| {
+            rhai::Module::eval_ast_as_new(Scope::new(), &ast, engine).map_err(|e| e.to_string())
+        });
+    match module {
+        Ok(module) => {
+            engine.register_global_module(module.into());
+        }
+        Err(e) => debug_assert!(false, "stdlib/_prelude.rhai: {e}"),
+    }
 }
 
 /// Bind call arguments to the declared parameters.
