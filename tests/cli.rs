@@ -1,0 +1,165 @@
+//! The command line's contract (SPEC §1): exit codes, atomic output that
+//! leaves an existing file alone on error, `-o` equal to the input refused,
+//! `-` for stdin, deterministic bytes, wizard discovery.
+
+use std::io::Write;
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output, Stdio};
+
+fn ger(args: &[&str], cwd: &Path) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_ger"))
+        .args(args)
+        .current_dir(cwd)
+        .env_remove("GER_WIZARDS")
+        .output()
+        .expect("run ger")
+}
+
+fn scratch(name: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("ger-cli-{}-{name}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
+const GOOD: &str = "G21 G90\nG0 X0 Y0 Z5\nG1 Z-1 F100\nG1 X10\nM30\n";
+const BAD: &str = "G21 G90\nG0 X<Undefined>\n";
+
+#[test]
+fn exit_codes() {
+    let dir = scratch("exit");
+    std::fs::write(dir.join("good.egc"), GOOD).unwrap();
+    std::fs::write(dir.join("bad.egc"), BAD).unwrap();
+    assert_eq!(ger(&["check", "good.egc"], &dir).status.code(), Some(0));
+    assert_eq!(ger(&["check", "bad.egc"], &dir).status.code(), Some(1));
+    assert_eq!(ger(&["check", "missing.egc"], &dir).status.code(), Some(2));
+    assert_eq!(
+        ger(&["compile", "--stage", "nonsense", "good.egc"], &dir)
+            .status
+            .code(),
+        Some(2)
+    );
+    assert_eq!(
+        ger(&["compile", "--frobnicate", "good.egc"], &dir)
+            .status
+            .code(),
+        Some(2)
+    );
+}
+
+#[test]
+fn output_is_atomic_and_untouched_on_error() {
+    let dir = scratch("atomic");
+    std::fs::write(dir.join("good.egc"), GOOD).unwrap();
+    std::fs::write(dir.join("bad.egc"), BAD).unwrap();
+    std::fs::write(dir.join("out.nc"), "previous\n").unwrap();
+    let r = ger(&["compile", "bad.egc", "-o", "out.nc"], &dir);
+    assert_eq!(r.status.code(), Some(1));
+    assert_eq!(
+        std::fs::read_to_string(dir.join("out.nc")).unwrap(),
+        "previous\n"
+    );
+    let r = ger(&["compile", "good.egc", "-o", "out.nc"], &dir);
+    assert_eq!(
+        r.status.code(),
+        Some(0),
+        "{}",
+        String::from_utf8_lossy(&r.stderr)
+    );
+    let written = std::fs::read_to_string(dir.join("out.nc")).unwrap();
+    assert!(written.contains("G1 X10."), "{written}");
+    // No temporary file is left behind.
+    let leftovers: Vec<_> = std::fs::read_dir(&dir)
+        .unwrap()
+        .filter_map(|e| e.ok())
+        .filter(|e| e.file_name().to_string_lossy().ends_with(".tmp"))
+        .collect();
+    assert!(leftovers.is_empty());
+}
+
+#[test]
+fn output_equal_to_input_is_refused() {
+    let dir = scratch("same");
+    std::fs::write(dir.join("part.egc"), GOOD).unwrap();
+    let r = ger(&["compile", "part.egc", "-o", "./part.egc"], &dir);
+    assert_eq!(r.status.code(), Some(2));
+    assert_eq!(std::fs::read_to_string(dir.join("part.egc")).unwrap(), GOOD);
+}
+
+#[test]
+fn stdin_and_determinism() {
+    let dir = scratch("stdin");
+    let run = || {
+        let mut child = Command::new(env!("CARGO_BIN_EXE_ger"))
+            .args(["compile", "-"])
+            .current_dir(&dir)
+            .stdin(Stdio::piped())
+            .stdout(Stdio::piped())
+            .spawn()
+            .unwrap();
+        child
+            .stdin
+            .take()
+            .unwrap()
+            .write_all(GOOD.as_bytes())
+            .unwrap();
+        child.wait_with_output().unwrap()
+    };
+    let (a, b) = (run(), run());
+    assert_eq!(a.status.code(), Some(0));
+    assert!(String::from_utf8_lossy(&a.stdout).contains("G1 X10."));
+    assert_eq!(a.stdout, b.stdout, "same input, same bytes");
+}
+
+#[test]
+fn wizard_search_order() {
+    let dir = scratch("wizards");
+    let beside = dir.join("wizards");
+    let flag = dir.join("flagged");
+    std::fs::create_dir_all(&beside).unwrap();
+    std::fs::create_dir_all(&flag).unwrap();
+    // The same name in two places: `--wizards` wins over `wizards/`, which
+    // wins over the standard library's `Pocket`.
+    std::fs::write(beside.join("Mark.rhai"), "//! beside\nline_z(-1.0);\n").unwrap();
+    std::fs::write(flag.join("Mark.rhai"), "//! flagged\nline_z(-2.0);\n").unwrap();
+    std::fs::write(beside.join("Pocket.rhai"), "//! my pocket\nline_z(-3.0);\n").unwrap();
+    std::fs::write(beside.join("_helper.rhai"), "fn x() {}\n").unwrap();
+    let part = "G21 G90 G0 X0 Y0 Z1\nF100\nMark\nPOCKET\nM30\n";
+    std::fs::write(dir.join("part.egc"), part).unwrap();
+    let r = ger(&["compile", "--numbers", "none", "part.egc"], &dir);
+    let out = String::from_utf8_lossy(&r.stdout);
+    assert!(out.contains("G1 Z-1.") && out.contains("G1 Z-3."), "{out}");
+    let r = ger(
+        &[
+            "compile",
+            "--numbers",
+            "none",
+            "--wizards",
+            "flagged",
+            "part.egc",
+        ],
+        &dir,
+    );
+    let out = String::from_utf8_lossy(&r.stdout);
+    assert!(out.contains("G1 Z-2.") && !out.contains("Z-1."), "{out}");
+    // GER_WIZARDS comes after `wizards/` beside the part.
+    let r = Command::new(env!("CARGO_BIN_EXE_ger"))
+        .args(["wizards", "mark", "--part", "part.egc"])
+        .env("GER_WIZARDS", &flag)
+        .current_dir(&dir)
+        .output()
+        .unwrap();
+    assert!(String::from_utf8_lossy(&r.stdout).contains("beside"));
+    let list = ger(&["wizards", "--part", "part.egc"], &dir);
+    let list = String::from_utf8_lossy(&list.stdout);
+    assert!(
+        list.contains("my pocket") && list.contains("holesLine") && !list.contains("_helper"),
+        "{list}"
+    );
+    assert_eq!(
+        ger(&["wizards", "--wizards", "no-such-dir"], &dir)
+            .status
+            .code(),
+        Some(2)
+    );
+}
