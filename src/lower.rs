@@ -14,8 +14,9 @@ mod offsets;
 mod polar;
 mod units;
 
-use crate::diagnostic::Diagnostic;
+use crate::diagnostic::{error, Diagnostic, DiagnosticExt};
 use crate::ir;
+use crate::source::Span;
 
 /// The lowering passes, in the order they run.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord)]
@@ -86,4 +87,15 @@ impl Errors {
             Err(self.0)
         }
     }
+}
+
+/// `what` (a move, G92, …) needs the position of an axis no move has set.
+fn unknown_position(span: Span, axis: usize, what: &str) -> Diagnostic {
+    let letter = ['X', 'Y', 'Z'][axis];
+    error(
+        format!("{what} needs the current {letter} position, which is not known"),
+        span,
+        format!("no move has set {letter} yet"),
+    )
+    .with_help(format!("move to an absolute {letter} position first"))
 }

@@ -10,6 +10,8 @@ use libtest_mimic::{Arguments, Failed, Trial};
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
+mod support;
+
 fn main() {
     let args = Arguments::from_args();
     let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/cases");
@@ -24,15 +26,7 @@ fn main() {
         .unwrap_or_default();
     areas.sort();
     for area in areas {
-        let mut cases: Vec<PathBuf> = std::fs::read_dir(&area)
-            .map(|d| {
-                d.filter_map(|e| e.ok())
-                    .map(|e| e.path())
-                    .filter(|p| p.extension().is_some_and(|x| x == "egc"))
-                    .collect()
-            })
-            .unwrap_or_default();
-        cases.sort();
+        let cases = support::egc_files(&area);
         for case in cases {
             let name = format!(
                 "{}/{}",

@@ -9,41 +9,24 @@
 //! (set by `.ci/run`), which makes a missing oracle a failure.
 
 use libtest_mimic::{Arguments, Failed, Trial};
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::process::Command;
-use std::sync::Mutex;
 
-/// rs274 crashes (SIGBUS) when two instances run at once: one at a time.
-static RS274: Mutex<()> = Mutex::new(());
+mod support;
 
 fn main() {
     let args = Arguments::from_args();
-    let manifest = Path::new(env!("CARGO_MANIFEST_DIR"));
-    let oracle = manifest.join("../shared/oracle/compare.py");
-    let have_oracle = oracle.exists()
-        && Command::new("rs274").arg("--help").output().is_ok()
-        && Command::new("python3").arg("--version").output().is_ok();
-    let required = std::env::var_os("GER_REQUIRE_ORACLE").is_some();
+    let (have_oracle, required) = support::oracle();
     let mut trials = Vec::new();
     for area in ["eval", "lower"] {
-        let dir = manifest.join("tests/oracle").join(area);
-        let mut cases: Vec<PathBuf> = std::fs::read_dir(&dir)
-            .map(|d| {
-                d.filter_map(|e| e.ok())
-                    .map(|e| e.path())
-                    .filter(|p| p.extension().is_some_and(|x| x == "egc"))
-                    .collect()
-            })
-            .unwrap_or_default();
-        cases.sort();
+        let cases = support::egc_files(&support::manifest().join("tests/oracle").join(area));
         for case in cases {
             let name = format!("{area}/{}", case.file_stem().unwrap().to_string_lossy());
-            let oracle = oracle.clone();
             let trial = Trial::test(name, move || {
                 if !have_oracle {
                     return Err("rs274 or python3 or ../shared/oracle is missing".into());
                 }
-                run_case(&case, &oracle)
+                run_case(&case)
             });
             trials.push(trial.with_ignored_flag(!have_oracle && !required));
         }
@@ -51,7 +34,7 @@ fn main() {
     libtest_mimic::run(&args, trials).exit();
 }
 
-fn run_case(case: &Path, oracle: &Path) -> Result<(), Failed> {
+fn run_case(case: &Path) -> Result<(), Failed> {
     let stem = case.file_stem().unwrap().to_string_lossy().into_owned();
     let work = std::env::temp_dir().join(format!("ger-oracle-{}-{stem}", std::process::id()));
     std::fs::create_dir_all(&work).map_err(|e| e.to_string())?;
@@ -97,15 +80,11 @@ fn run_case(case: &Path, oracle: &Path) -> Result<(), Failed> {
         r if r.exists() => r,
         _ => case.to_path_buf(),
     };
-    let mut compare = Command::new("python3");
-    compare.arg(oracle).arg(&reference).arg(&out);
+    let mut args = vec![reference.as_os_str(), out.as_os_str()];
     if table.exists() {
-        compare.arg("--tool-table").arg(&table);
+        args.extend([std::ffi::OsStr::new("--tool-table"), table.as_os_str()]);
     }
-    let result = {
-        let _one_at_a_time = RS274.lock().unwrap_or_else(|e| e.into_inner());
-        compare.output().map_err(|e| e.to_string())?
-    };
+    let result = support::run_oracle("compare.py", &args).map_err(|e| e.to_string())?;
     let _ = std::fs::remove_dir_all(&work);
     if result.status.success() {
         Ok(())

@@ -8,11 +8,11 @@
 
 use libtest_mimic::{Arguments, Failed, Trial};
 use serde_json::Value;
-use std::path::Path;
-use std::process::Command;
-use std::sync::Mutex;
 
-static RS274: Mutex<()> = Mutex::new(());
+use std::process::Command;
+
+mod support;
+use support::manifest;
 
 type Point = [f64; 3];
 
@@ -29,10 +29,6 @@ impl Move {
     fn cuts(&self) -> bool {
         self.kind != "rapid"
     }
-}
-
-fn manifest() -> &'static Path {
-    Path::new(env!("CARGO_MANIFEST_DIR"))
 }
 
 /// Compile `program` (with the repository's `wizards/` beside it) and
@@ -61,15 +57,8 @@ fn tool_path(name: &str, program: &str) -> Result<Vec<Move>, Failed> {
     if !ger.status.success() {
         return Err(format!("ger failed:\n{}", String::from_utf8_lossy(&ger.stderr)).into());
     }
-    let json = {
-        let _one = RS274.lock().unwrap_or_else(|e| e.into_inner());
-        Command::new("python3")
-            .arg(manifest().join("../shared/oracle/toolpath.py"))
-            .arg(&out)
-            .arg("--json")
-            .output()
-            .map_err(|e| e.to_string())?
-    };
+    let json = support::run_oracle("toolpath.py", &[out.as_os_str(), "--json".as_ref()])
+        .map_err(|e| e.to_string())?;
     let _ = std::fs::remove_dir_all(&work);
     if !json.status.success() {
         return Err(format!(
@@ -447,9 +436,7 @@ fn cases() -> Vec<Case> {
 
 fn main() {
     let args = Arguments::from_args();
-    let have = manifest().join("../shared/oracle/toolpath.py").exists()
-        && Command::new("rs274").arg("--help").output().is_ok();
-    let required = std::env::var_os("GER_REQUIRE_ORACLE").is_some();
+    let (have, required) = support::oracle();
     let trials = cases()
         .into_iter()
         .map(|(name, f)| {

@@ -9,7 +9,7 @@
 //! Until cycles and cutter compensation have passes, G80 and G40 (no-ops:
 //! G8x and G41/G42 are refused earlier) are dropped here.
 
-use super::Errors;
+use super::{unknown_position, Errors};
 use crate::diagnostic::{error, Diagnostic, DiagnosticExt};
 use crate::geometry::{self, ArcError, Point};
 use crate::ir::{self, ArcGeometry, Axes, Distance, Op, Plane};
@@ -39,7 +39,7 @@ pub fn run(mut program: ir::Program) -> Result<ir::Program, Vec<Diagnostic>> {
                     Distance::Incremental => match position[axis] {
                         Some(p) => Some(p + v),
                         None => {
-                            errors.push(unknown(stmt.span, axis, "an incremental move"));
+                            errors.push(unknown_position(stmt.span, axis, "an incremental move"));
                             return true;
                         }
                     },
@@ -75,16 +75,6 @@ pub fn run(mut program: ir::Program) -> Result<ir::Program, Vec<Diagnostic>> {
     errors.finish(program)
 }
 
-fn unknown(span: Span, axis: usize, what: &str) -> Diagnostic {
-    let letter = ['X', 'Y', 'Z'][axis];
-    error(
-        format!("{what} needs the current {letter} position, which is not known"),
-        span,
-        format!("no move has set {letter} yet"),
-    )
-    .with_help(format!("move to an absolute {letter} position first"))
-}
-
 /// The centre of an arc, relative to its start, in the plane's two axes.
 fn resolve_arc(
     start: [Option<f64>; 3],
@@ -97,7 +87,7 @@ fn resolve_arc(
     let (a, b, n) = plane.axes();
     for axis in [a, b, n] {
         if start[axis].is_none() && (axis != n || end[axis].is_some()) {
-            return Err(unknown(span, axis, "an arc"));
+            return Err(unknown_position(span, axis, "an arc"));
         }
     }
     let s: Point = start.map(|v| v.unwrap_or(0.0));

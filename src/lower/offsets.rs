@@ -9,7 +9,7 @@
 // `axis` indexes several per-axis arrays at once in this pass.
 #![allow(clippy::needless_range_loop)]
 
-use super::Errors;
+use super::{unknown_position, Errors};
 use crate::diagnostic::{error, Diagnostic, DiagnosticExt};
 use crate::ir::{self, Distance, Op};
 use crate::source::Span;
@@ -171,14 +171,4 @@ pub fn run(mut program: ir::Program) -> Result<ir::Program, Vec<Diagnostic>> {
         }
     });
     errors.finish(program)
-}
-
-fn unknown_position(span: Span, axis: usize, code: &str) -> Diagnostic {
-    let letter = ['X', 'Y', 'Z'][axis];
-    error(
-        format!("{code} needs the current {letter} position, which is not known"),
-        span,
-        format!("no move has set {letter} yet"),
-    )
-    .with_help(format!("move to an absolute {letter} position first"))
 }
