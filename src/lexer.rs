@@ -193,6 +193,13 @@ impl Tok {
 
 pub type Spanned = (usize, Tok, usize);
 
+/// Tokens in one statement. Expressions are trees the evaluator walks
+/// recursively, so their size is bounded where they are read; real
+/// statements are far shorter.
+pub const MAX_STATEMENT_TOKENS: usize = 1000;
+/// `{` blocks nested inside each other.
+pub const MAX_BLOCK_DEPTH: usize = 64;
+
 /// What the current statement looks like so far; decides what `(` means.
 #[derive(Clone, Copy, PartialEq, Eq, Debug)]
 enum Shape {
@@ -241,6 +248,11 @@ struct Lexer<'a> {
     /// A statement end seen but not yet emitted: dropped if `{` or `else`
     /// comes next, so braces and `else` may start a new line.
     pending_term: Option<(usize, usize)>,
+    /// The current statement passed `MAX_STATEMENT_TOKENS`: its remaining
+    /// tokens are dropped.
+    too_long: bool,
+    /// Blocks nested too deep: the rest of the file is not read.
+    stopped: bool,
 }
 
 impl<'a> Lexer<'a> {
@@ -260,6 +272,8 @@ impl<'a> Lexer<'a> {
             syms: Vec::new(),
             braces: Vec::new(),
             pending_term: None,
+            too_long: false,
+            stopped: false,
         }
     }
 
@@ -284,6 +298,9 @@ impl<'a> Lexer<'a> {
                 );
                 continue;
             };
+            if self.stopped {
+                break;
+            }
             match tok {
                 Raw::LParen => {
                     if let Some(close) = self.lparen(start) {
@@ -316,6 +333,11 @@ impl<'a> Lexer<'a> {
         }
         let open_braces = std::mem::take(&mut self.braces);
         for &open in open_braces.iter().rev() {
+            // After a too-deep block the rest was not read: not unclosed.
+            if self.stopped {
+                self.push(eof, Tok::RBrace, eof);
+                continue;
+            }
             self.errors.push(
                 error(
                     "unclosed `{`",
@@ -530,6 +552,18 @@ impl<'a> Lexer<'a> {
                 Tok::RParen
             }
             Raw::LBrace => {
+                if self.braces.len() >= MAX_BLOCK_DEPTH {
+                    self.errors.push(
+                        error(
+                            format!("blocks nested more than {MAX_BLOCK_DEPTH} deep"),
+                            self.span(start, end),
+                            "this block is too deep",
+                        )
+                        .with_help("the rest of the file was not read; flatten the nesting"),
+                    );
+                    self.stopped = true;
+                    return;
+                }
                 self.braces.push(start);
                 Tok::LBrace
             }
@@ -596,6 +630,22 @@ impl<'a> Lexer<'a> {
     }
 
     fn push(&mut self, start: usize, tok: Tok, end: usize) {
+        if self.pending_term.is_some() || matches!(tok, Tok::LBrace | Tok::RBrace) {
+            self.too_long = false;
+        } else if self.out.len() - self.stmt_start >= MAX_STATEMENT_TOKENS {
+            if !self.too_long {
+                self.errors.push(
+                    error(
+                        format!("statement longer than {MAX_STATEMENT_TOKENS} tokens"),
+                        self.span(start, end),
+                        "the statement is cut here",
+                    )
+                    .with_help("split the expression with intermediate variables"),
+                );
+                self.too_long = true;
+            }
+            return;
+        }
         if let Some((ts, te)) = self.pending_term.take() {
             let continues = matches!(tok, Tok::LBrace | Tok::Else);
             let after_term = matches!(self.out.last(), None | Some((_, Tok::Term, _)));

@@ -114,6 +114,17 @@ enum ArcsArg {
 }
 
 fn main() -> ExitCode {
+    // The evaluator and the grammar's trees recurse; the lexer bounds the
+    // nesting, and a big stack gives the bounded recursion ample room.
+    std::thread::Builder::new()
+        .stack_size(64 << 20)
+        .spawn(real_main)
+        .ok()
+        .and_then(|t| t.join().ok())
+        .unwrap_or(ExitCode::from(2))
+}
+
+fn real_main() -> ExitCode {
     let cli = Cli::parse();
     match cli.command {
         Command::Compile {

@@ -210,3 +210,26 @@ proptest! {
         }
     }
 }
+
+/// Deep nesting is bounded with an error, never a stack overflow: long
+/// operator chains, nested parentheses and unary signs, nested blocks.
+#[test]
+fn deep_nesting_is_an_error_not_a_crash() {
+    let n = 50_000;
+    let programs = [
+        format!("Aa = {}\n", vec!["1"; n].join("+")),
+        format!("Aa = {}1{}\n", "(".repeat(n), ")".repeat(n)),
+        format!("Aa = {}1\n", "-".repeat(n)),
+        format!(
+            "Aa = true\n{}G0 X1\n{}",
+            "if (Aa) {\n".repeat(n),
+            "}\n".repeat(n)
+        ),
+        format!("G0 X<{}1>\n", "-".repeat(n)),
+    ];
+    for text in programs {
+        let compiled = run(&text);
+        assert!(compiled.output.is_none());
+        assert!(!compiled.diagnostics.is_empty());
+    }
+}

@@ -194,6 +194,9 @@ pub fn eval(expr: &Expr, vars: &[Slot]) -> Result<Value, ExprError> {
 pub type What<'a> = &'a dyn Fn() -> String;
 
 pub fn number(expr: &Expr, vars: &[Slot], what: What<'_>) -> Result<f64, ExprError> {
+    if let Some(v) = fast_number(expr, vars) {
+        return Ok(v);
+    }
     match eval(expr, vars)? {
         Value::Number(n) => Ok(n),
         other => Err(ExprError::TypeMismatch {
@@ -254,23 +257,16 @@ fn binary(op: BinaryOp, a: &Expr, b: &Expr, span: Span, vars: &[Slot]) -> Result
         _ => {
             let x = number(a, vars, &what)?;
             let y = number(b, vars, &what)?;
-            let v = match op {
-                BinaryOp::Add => x + y,
-                BinaryOp::Sub => x - y,
-                BinaryOp::Mul => x * y,
+            match op {
+                BinaryOp::Lt => Ok(Value::Bool(x < y)),
+                BinaryOp::Le => Ok(Value::Bool(x <= y)),
+                BinaryOp::Gt => Ok(Value::Bool(x > y)),
+                BinaryOp::Ge => Ok(Value::Bool(x >= y)),
                 BinaryOp::Div | BinaryOp::Rem if y == 0.0 => {
-                    return Err(ExprError::DivisionByZero { span })
+                    Err(ExprError::DivisionByZero { span })
                 }
-                BinaryOp::Div => x / y,
-                BinaryOp::Rem => x % y,
-                BinaryOp::Pow => x.powf(y),
-                BinaryOp::Lt => return Ok(Value::Bool(x < y)),
-                BinaryOp::Le => return Ok(Value::Bool(x <= y)),
-                BinaryOp::Gt => return Ok(Value::Bool(x > y)),
-                BinaryOp::Ge => return Ok(Value::Bool(x >= y)),
-                BinaryOp::And | BinaryOp::Or | BinaryOp::Eq | BinaryOp::Ne => unreachable!(),
-            };
-            Ok(Value::Number(finite(v, span, what)?))
+                _ => Ok(Value::Number(finite(arithmetic(op, x, y), span, what)?)),
+            }
         }
     }
 }
@@ -285,9 +281,41 @@ fn call(f: Function, args: &[Expr], span: Span, vars: &[Slot]) -> Result<Value, 
         });
     }
     let what = || format!("`{}`", f.name());
-    let arg = |i: usize| number(&args[i], vars, &what);
-    let x = arg(0)?;
-    let v = match f {
+    let mut values = [0.0; 8];
+    let mut rest = Vec::new();
+    for (i, a) in args.iter().enumerate() {
+        let v = number(a, vars, &what)?;
+        match values.get_mut(i) {
+            Some(slot) => *slot = v,
+            None => rest.push(v),
+        }
+    }
+    let v = apply(f, &values[..args.len().min(8)], &rest);
+    Ok(Value::Number(finite(v, span, || {
+        format!("`{}(…)`", f.name())
+    })?))
+}
+
+/// An arithmetic operator on two numbers (`+ - * / % ^`). The callers check
+/// division by zero and finiteness.
+fn arithmetic(op: BinaryOp, x: f64, y: f64) -> f64 {
+    match op {
+        BinaryOp::Add => x + y,
+        BinaryOp::Sub => x - y,
+        BinaryOp::Mul => x * y,
+        BinaryOp::Div => x / y,
+        BinaryOp::Rem => x % y,
+        BinaryOp::Pow => x.powf(y),
+        _ => f64::NAN,
+    }
+}
+
+/// A built-in function on its arguments (`args`, then `more` past eight),
+/// angles in degrees. The arity is checked by the callers.
+fn apply(f: Function, args: &[f64], more: &[f64]) -> f64 {
+    let x = args[0];
+    let y = || args.get(1).copied().unwrap_or(f64::NAN);
+    match f {
         Function::Abs => x.abs(),
         Function::Sqrt => x.sqrt(),
         Function::Sin => x.to_radians().sin(),
@@ -296,28 +324,68 @@ fn call(f: Function, args: &[Expr], span: Span, vars: &[Slot]) -> Result<Value, 
         Function::Asin => x.asin().to_degrees(),
         Function::Acos => x.acos().to_degrees(),
         Function::Atan => x.atan().to_degrees(),
-        Function::Atan2 => x.atan2(arg(1)?).to_degrees(),
+        Function::Atan2 => x.atan2(y()).to_degrees(),
         Function::Floor => x.floor(),
         Function::Ceil => x.ceil(),
         Function::Round => x.round(),
-        Function::Min | Function::Max => {
-            let mut acc = x;
-            for i in 1..args.len() {
-                let y = arg(i)?;
-                acc = if f == Function::Min {
-                    acc.min(y)
-                } else {
-                    acc.max(y)
-                };
-            }
-            acc
-        }
-        Function::Hypot => x.hypot(arg(1)?),
+        Function::Min => args
+            .iter()
+            .chain(more)
+            .copied()
+            .fold(f64::INFINITY, f64::min),
+        Function::Max => args
+            .iter()
+            .chain(more)
+            .copied()
+            .fold(f64::NEG_INFINITY, f64::max),
+        Function::Hypot => x.hypot(y()),
         Function::Exp => x.exp(),
         Function::Ln => x.ln(),
         Function::Log10 => x.log10(),
+    }
+}
+
+/// The value of a purely numeric expression, or `None` when it is not one
+/// or would fail (then [`eval`] runs and says why). The hot path of loops:
+/// no `Value`, no error values, the same arithmetic as [`eval`].
+pub fn fast_number(expr: &Expr, vars: &[Slot]) -> Option<f64> {
+    let v = match &expr.kind {
+        ExprKind::Number(n) => *n,
+        ExprKind::Var(s) => match vars.get(s.0 as usize) {
+            Some(Slot::Set(Value::Number(n))) => *n,
+            _ => return None,
+        },
+        ExprKind::Unary(UnaryOp::Neg, e) => -fast_number(e, vars)?,
+        ExprKind::Binary(op, a, b) => {
+            if !matches!(
+                op,
+                BinaryOp::Add
+                    | BinaryOp::Sub
+                    | BinaryOp::Mul
+                    | BinaryOp::Div
+                    | BinaryOp::Rem
+                    | BinaryOp::Pow
+            ) {
+                return None;
+            }
+            let (x, y) = (fast_number(a, vars)?, fast_number(b, vars)?);
+            if y == 0.0 && matches!(op, BinaryOp::Div | BinaryOp::Rem) {
+                return None;
+            }
+            arithmetic(*op, x, y)
+        }
+        ExprKind::Call(f, args) => {
+            let (lo, hi) = f.arity();
+            if args.len() < lo || args.len() > hi || args.len() > 8 {
+                return None;
+            }
+            let mut values = [0.0; 8];
+            for (slot, a) in values.iter_mut().zip(args) {
+                *slot = fast_number(a, vars)?;
+            }
+            apply(*f, &values[..args.len()], &[])
+        }
+        _ => return None,
     };
-    Ok(Value::Number(finite(v, span, || {
-        format!("`{}(…)`", f.name())
-    })?))
+    v.is_finite().then_some(v)
 }
