@@ -70,7 +70,7 @@ pub fn emit_stage(program: &ir::Program, units: Units, source: &str, main_file: 
         p.op_as_written(&stmt.op);
         p.end();
     }
-    p.out
+    p.finish()
 }
 
 /// Print the final program: absolute, one unit, only the codes of SPEC §6.
@@ -113,14 +113,16 @@ pub fn emit_program(
         }
     }
     if p.dialect == Dialect::Fanuc {
-        p.out.push_str("%\n");
+        p.out.extend_from_slice(b"%\n");
     }
-    p.out
+    p.finish()
 }
 
 struct Printer<'o> {
-    out: String,
-    line: String,
+    /// Bytes, not chars: everything written is ASCII but comments, which
+    /// come from `&str`; `finish` makes the `String`.
+    out: Vec<u8>,
+    line: Vec<u8>,
     options: &'o EmitOptions,
     dialect: Dialect,
     decimals: usize,
@@ -148,8 +150,8 @@ impl<'o> Printer<'o> {
             Units::Inch => 4,
         });
         Printer {
-            out: String::with_capacity(source.len() * 2),
-            line: String::with_capacity(80),
+            out: Vec::with_capacity(source.len() * 2),
+            line: Vec::with_capacity(80),
             options,
             dialect: options.dialect,
             decimals,
@@ -168,15 +170,20 @@ impl<'o> Printer<'o> {
 
     fn header(&mut self) {
         if self.dialect == Dialect::Fanuc {
-            self.out.push_str("%\n");
-            self.out
-                .push_str(&format!("O{:04}\n", self.options.program_number % 10_000));
+            self.out.extend_from_slice(b"%\n");
+            let number = format!("O{:04}\n", self.options.program_number % 10_000);
+            self.out.extend_from_slice(number.as_bytes());
         }
         let units = match self.units {
             Units::Inch => "G20",
             Units::Mm => "G21",
         };
         self.raw_line(&format!("{units} G90 G17"));
+    }
+
+    fn finish(self) -> String {
+        String::from_utf8(self.out)
+            .unwrap_or_else(|e| String::from_utf8_lossy(e.as_bytes()).into_owned())
     }
 
     fn numbered(&self) -> Numbering {
@@ -190,51 +197,52 @@ impl<'o> Printer<'o> {
     fn raw_line(&mut self, text: &str) {
         if self.numbered() == Numbering::Seq {
             self.seq += 10;
-            self.out.push_str(&format!("N{} ", self.seq));
+            self.out
+                .extend_from_slice(format!("N{} ", self.seq).as_bytes());
         }
-        self.out.push_str(text);
-        self.out.push('\n');
+        self.out.extend_from_slice(text.as_bytes());
+        self.out.push(b'\n');
     }
 
     fn begin(&mut self, span: Span) {
         self.line.clear();
         match self.numbered() {
             Numbering::Source if span.file == self.main_file => {
-                self.line.push('N');
+                self.line.push(b'N');
                 push_int(&mut self.line, self.lines.line(span.start) as i64);
-                self.line.push(' ');
+                self.line.push(b' ');
             }
             Numbering::Seq => {
                 self.seq += 10;
-                self.line.push('N');
+                self.line.push(b'N');
                 push_int(&mut self.line, self.seq as i64);
-                self.line.push(' ');
+                self.line.push(b' ');
             }
             _ => {}
         }
     }
 
     fn end(&mut self) {
-        if self.line.ends_with(' ') {
+        if self.line.last() == Some(&b' ') {
             self.line.pop();
         }
-        self.out.push_str(&self.line);
-        self.out.push('\n');
+        self.out.extend_from_slice(&self.line);
+        self.out.push(b'\n');
     }
 
     fn word(&mut self, letter: char, v: f64) {
-        if !self.line.is_empty() && !self.line.ends_with(' ') {
-            self.line.push(' ');
+        if !self.line.is_empty() && self.line.last() != Some(&b' ') {
+            self.line.push(b' ');
         }
-        self.line.push(letter);
-        push_fixed(&mut self.line, v, self.decimals);
+        self.line.push(letter as u8);
+        push_fixed_bytes(&mut self.line, v, self.decimals);
     }
 
     fn code(&mut self, text: &str) {
-        if !self.line.is_empty() && !self.line.ends_with(' ') {
-            self.line.push(' ');
+        if !self.line.is_empty() && self.line.last() != Some(&b' ') {
+            self.line.push(b' ');
         }
-        self.line.push_str(text);
+        self.line.extend_from_slice(text.as_bytes());
     }
 
     fn axes(&mut self, a: &ir::Axes) {
@@ -550,15 +558,15 @@ fn motion_code(m: Motion) -> &'static str {
     }
 }
 
-fn push_int(out: &mut String, n: i64) {
+fn push_int(out: &mut Vec<u8>, n: i64) {
     if n < 0 {
-        out.push('-');
+        out.push(b'-');
     }
     push_digits(out, n.unsigned_abs(), 1);
 }
 
 /// Decimal digits of `n`, at least `width` of them (zero-padded).
-fn push_digits(out: &mut String, mut n: u64, width: usize) {
+fn push_digits(out: &mut Vec<u8>, mut n: u64, width: usize) {
     let mut buf = [b'0'; 20];
     let mut i = buf.len();
     while n > 0 || buf.len() - i < width {
@@ -566,25 +574,25 @@ fn push_digits(out: &mut String, mut n: u64, width: usize) {
         buf[i] = b'0' + (n % 10) as u8;
         n /= 10;
     }
-    out.extend(buf[i..].iter().map(|&b| b as char));
+    out.extend_from_slice(&buf[i..]);
 }
 
 /// A number with a decimal point and at most `decimals` decimals, trailing
 /// zeros removed: `1.`, `-0.25`, `12.5`.
-pub fn push_fixed(out: &mut String, v: f64, decimals: usize) {
+pub fn push_fixed_bytes(out: &mut Vec<u8>, v: f64, decimals: usize) {
     let decimals = decimals.min(9);
     if !v.is_finite() || v.abs() >= 1e12 {
-        out.push_str(&format!("{v:.decimals$}"));
+        out.extend_from_slice(format!("{v:.decimals$}").as_bytes());
         return;
     }
     let scale = 10u64.pow(decimals as u32);
     let n = (v * scale as f64).round() as i64;
     if n < 0 {
-        out.push('-');
+        out.push(b'-');
     }
     let n = n.unsigned_abs();
     push_digits(out, n / scale, 1);
-    out.push('.');
+    out.push(b'.');
     let mut frac = n % scale;
     if frac != 0 {
         let mut digits = decimals;
@@ -594,6 +602,13 @@ pub fn push_fixed(out: &mut String, v: f64, decimals: usize) {
         }
         push_digits(out, frac, digits);
     }
+}
+
+/// [`push_fixed_bytes`] onto a `String`.
+pub fn push_fixed(out: &mut String, v: f64, decimals: usize) {
+    let mut bytes = Vec::with_capacity(24);
+    push_fixed_bytes(&mut bytes, v, decimals);
+    out.push_str(&String::from_utf8_lossy(&bytes));
 }
 
 #[cfg(test)]
