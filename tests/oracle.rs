@@ -31,6 +31,18 @@ fn main() {
             trials.push(trial.with_ignored_flag(!have_oracle && !required));
         }
     }
+    // The shipped examples have no reference: their output must use only
+    // the allowed codes and be a program rs274 runs.
+    for case in support::egc_files(&support::manifest().join("examples")) {
+        let name = format!("examples/{}", case.file_stem().unwrap().to_string_lossy());
+        let trial = Trial::test(name, move || {
+            if !have_oracle {
+                return Err("rs274 or python3 or ../shared/oracle is missing".into());
+            }
+            run_example(&case)
+        });
+        trials.push(trial.with_ignored_flag(!have_oracle && !required));
+    }
     libtest_mimic::run(&args, trials).exit();
 }
 
@@ -95,6 +107,35 @@ fn run_case(case: &Path) -> Result<(), Failed> {
             String::from_utf8_lossy(&result.stdout),
             String::from_utf8_lossy(&result.stderr),
             text.lines().take(40).collect::<Vec<_>>().join("\n")
+        )
+        .into())
+    }
+}
+
+fn run_example(case: &Path) -> Result<(), Failed> {
+    let stem = case.file_stem().unwrap().to_string_lossy().into_owned();
+    let out = std::env::temp_dir().join(format!("ger-example-{}-{stem}.nc", std::process::id()));
+    let ger = Command::new(env!("CARGO_BIN_EXE_ger"))
+        .arg("compile")
+        .arg(case)
+        .arg("-o")
+        .arg(&out)
+        .output()
+        .map_err(|e| e.to_string())?;
+    if !ger.status.success() || !ger.stderr.is_empty() {
+        return Err(format!("ger:\n{}", String::from_utf8_lossy(&ger.stderr)).into());
+    }
+    let text = std::fs::read_to_string(&out).map_err(|e| e.to_string())?;
+    check_allowed_codes(&text)?;
+    let result =
+        support::run_oracle("toolpath.py", &[out.as_os_str()]).map_err(|e| e.to_string())?;
+    let _ = std::fs::remove_file(&out);
+    if result.status.success() {
+        Ok(())
+    } else {
+        Err(format!(
+            "rs274 rejects the output:\n{}",
+            String::from_utf8_lossy(&result.stdout)
         )
         .into())
     }
