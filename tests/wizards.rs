@@ -23,6 +23,8 @@ struct Move {
     start: Point,
     end: Point,
     center: Option<Point>,
+    /// Arcs: degrees swept, positive counter-clockwise about the normal.
+    sweep: f64,
 }
 
 impl Move {
@@ -82,8 +84,21 @@ fn tool_path(name: &str, program: &str) -> Result<Vec<Move>, Failed> {
             start: point(&m["start"]),
             end: point(&m["end"]),
             center: m.get("center").filter(|c| !c.is_null()).map(point),
+            sweep: m["sweep"].as_f64().unwrap_or(0.0) * if m["dir"] == "cw" { -1.0 } else { 1.0 },
         })
         .collect())
+}
+
+/// Distance from `p` to the segment `a`–`b` in XY.
+fn segment_distance(p: [f64; 2], a: [f64; 2], b: [f64; 2]) -> f64 {
+    let (dx, dy) = (b[0] - a[0], b[1] - a[1]);
+    let len2 = dx * dx + dy * dy;
+    let t = if len2 == 0.0 {
+        0.0
+    } else {
+        (((p[0] - a[0]) * dx + (p[1] - a[1]) * dy) / len2).clamp(0.0, 1.0)
+    };
+    (p[0] - a[0] - t * dx).hypot(p[1] - a[1] - t * dy)
 }
 
 fn near(a: f64, b: f64, tol: f64) -> bool {
@@ -127,17 +142,12 @@ fn floor_points(path: &[Move], z: f64, step: f64) -> Vec<[f64; 2]> {
         match (m.kind.as_str(), m.center) {
             ("arc", Some(c)) => {
                 let r = (m.start[0] - c[0]).hypot(m.start[1] - c[1]);
-                let n = ((2.0 * std::f64::consts::PI * r / step).ceil() as usize).max(8);
-                // Full circles and partial arcs alike: sample the whole circle
-                // only for closed arcs, else the chord between the ends.
-                if near(m.start[0], m.end[0], 1e-6) && near(m.start[1], m.end[1], 1e-6) {
-                    for i in 0..n {
-                        let a = i as f64 / n as f64 * std::f64::consts::TAU;
-                        pts.push([c[0] + r * a.cos(), c[1] + r * a.sin()]);
-                    }
-                } else {
-                    pts.push([m.start[0], m.start[1]]);
-                    pts.push([m.end[0], m.end[1]]);
+                let a0 = (m.start[1] - c[1]).atan2(m.start[0] - c[0]);
+                let sweep = m.sweep.to_radians();
+                let n = ((sweep.abs() * r / step).ceil() as usize).max(8);
+                for i in 0..=n {
+                    let a = a0 + sweep * i as f64 / n as f64;
+                    pts.push([c[0] + r * a.cos(), c[1] + r * a.sin()]);
                 }
             }
             _ => {
@@ -404,6 +414,93 @@ fn cases() -> Vec<Case> {
                 .any(|m| m.kind == "arc" && m.start[2] > m.end[2] + 0.1)
             {
                 return Err("no helical arcs".into());
+            }
+            Ok(())
+        }),
+        ("Slot", || {
+            let p = tool_path(
+                "slot",
+                "SetTool 1 6\nG21 G90 G17\nG0 X20 Y30 Z10\nF300\nSlot 40 10 3 30\nM30\n",
+            )?;
+            let (a, b) = (
+                [20.0, 30.0],
+                [
+                    20.0 + 40.0 * 30f64.to_radians().cos(),
+                    30.0 + 40.0 * 30f64.to_radians().sin(),
+                ],
+            );
+            let to_axis = |x: f64, y: f64| segment_distance([x, y], a, b);
+            let min_z = p.iter().map(|m| m.end[2]).fold(f64::INFINITY, f64::min);
+            if !near(min_z, -3.0, 1e-3) {
+                return Err(format!("bottom at Z{min_z}, expected -3").into());
+            }
+            for m in p.iter().filter(|m| m.end[2] < -1e-6) {
+                let d = to_axis(m.end[0], m.end[1]);
+                if d > 5.0 - 3.0 + 1e-3 {
+                    return Err(format!(
+                        "tool centre {:?} is {d} from the slot's axis (limit 2)",
+                        m.end
+                    )
+                    .into());
+                }
+            }
+            covered(&p, -3.0, 3.0, [10.0, 20.0, 60.0, 55.0], |x, y| {
+                to_axis(x, y) <= 5.0
+            })
+        }),
+        ("Facing", || {
+            let p = tool_path(
+                "facing",
+                "SetTool 1 10\nG21 G90 G17\nG0 X0 Y0 Z10\nF600\nFacing 50 30 0.5\nM30\n",
+            )?;
+            // Every plunge happens off the face.
+            for m in p.iter().filter(|m| m.cuts() && m.end[2] < m.start[2]) {
+                if (0.0..=50.0).contains(&m.end[0]) && (0.0..=30.0).contains(&m.end[1]) {
+                    return Err(format!("plunge onto the face at {:?}", m.end).into());
+                }
+            }
+            covered(&p, -0.5, 5.0, [0.0, 0.0, 50.0, 30.0], |_, _| true)
+        }),
+        ("EngraveGrid (user wizard beside the part)", || {
+            let p = tool_path(
+                "engravegrid",
+                "G21 G90 G17\nG0 X5 Y5 Z10\nF200\nEngraveGrid 3 2 10 0.2\nM30\n",
+            )?;
+            let cuts: Vec<&Move> = p
+                .iter()
+                .filter(|m| m.cuts() && near(m.start[2], -0.2, 1e-3) && near(m.end[2], -0.2, 1e-3))
+                .collect();
+            let on_cut = |x: f64, y: f64| {
+                cuts.iter().any(|m| {
+                    segment_distance([x, y], [m.start[0], m.start[1]], [m.end[0], m.end[1]]) < 1e-3
+                })
+            };
+            // The grid's lines are engraved end to end, and nothing else is.
+            for i in 0..=30 {
+                let t = i as f64;
+                for x in [5.0, 15.0, 25.0, 35.0] {
+                    if !on_cut(x, 5.0 + t * 20.0 / 30.0) {
+                        return Err(format!(
+                            "line X{x} not engraved at Y{}",
+                            5.0 + t * 20.0 / 30.0
+                        )
+                        .into());
+                    }
+                }
+                for y in [5.0, 15.0, 25.0] {
+                    if !on_cut(5.0 + t, y) {
+                        return Err(format!("line Y{y} not engraved at X{}", 5.0 + t).into());
+                    }
+                }
+            }
+            for m in &cuts {
+                for q in [m.start, m.end] {
+                    let on_line = [5.0, 15.0, 25.0, 35.0].iter().any(|&x| near(q[0], x, 1e-3))
+                        || [5.0, 15.0, 25.0].iter().any(|&y| near(q[1], y, 1e-3));
+                    if !on_line {
+                        return Err(format!("engraved off the grid at {q:?}").into());
+                    }
+                }
             }
             Ok(())
         }),
