@@ -364,7 +364,11 @@ impl<'a> Evaluator<'a> {
             ));
             return;
         }
-        let slot = match value::eval(value, &self.vars) {
+        let result = match value::fast_number(value, &self.vars) {
+            Some(n) => Ok(Value::Number(n)),
+            None => value::eval(value, &self.vars),
+        };
+        let slot = match result {
             Ok(v) => Slot::Set(v),
             Err(e) => {
                 self.report_expr(e);
