@@ -32,10 +32,6 @@ impl Names {
         s
     }
 
-    pub fn get(&self, text: &str) -> Option<Symbol> {
-        self.ids.get(text).copied()
-    }
-
     pub fn text(&self, s: Symbol) -> &str {
         &self.texts[s.0 as usize]
     }

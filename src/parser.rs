@@ -194,39 +194,6 @@ fn push_stretch<'t>(out: &mut Vec<Piece<'t>>, mut stretch: &'t [lexer::Spanned])
     }
 }
 
-/// Parse a single expression (used for wizard arguments built from text).
-pub fn parse_expr(text: &str, file: FileId, names: &mut Names) -> Result<Expr, Diagnostic> {
-    let Lexed {
-        tokens,
-        words,
-        errors,
-        ..
-    } = lexer::lex(text, file, names);
-    if let Some(e) = errors.into_iter().next() {
-        return Err(e);
-    }
-    let mut recovered = Vec::new();
-    grammar::ExprParser::new()
-        .parse(
-            file,
-            names,
-            &words,
-            &mut recovered,
-            tokens.into_iter().map(Ok::<_, &'static str>),
-        )
-        .map_err(|e| {
-            ErrorContext {
-                file,
-                text,
-                names,
-                call_groups: &[],
-                tokens: &[],
-                words: &words,
-            }
-            .describe(e)
-        })
-}
-
 struct ErrorContext<'a> {
     file: FileId,
     text: &'a str,

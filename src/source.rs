@@ -3,7 +3,7 @@
 //! computed here, when a diagnostic is rendered or an output line is numbered.
 //! This module does no I/O: callers hand it text they have read.
 
-use codespan_reporting::files::{Files, SimpleFiles};
+use codespan_reporting::files::SimpleFiles;
 
 /// Index of a file in [`Sources`].
 pub type FileId = usize;
@@ -60,21 +60,6 @@ impl Sources {
             .get(file)
             .map(|f| f.source().as_str())
             .unwrap_or("")
-    }
-
-    pub fn name(&self, file: FileId) -> &str {
-        self.files
-            .get(file)
-            .map(|f| f.name().as_str())
-            .unwrap_or("?")
-    }
-
-    /// 1-based line number of a byte offset.
-    pub fn line_of(&self, file: FileId, offset: u32) -> usize {
-        self.files
-            .line_index(file, offset as usize)
-            .map(|l| l + 1)
-            .unwrap_or(0)
     }
 
     pub fn files(&self) -> &SimpleFiles<String, String> {
