@@ -580,30 +580,7 @@ fn push_digits(out: &mut Vec<u8>, mut n: u64, width: usize) {
 /// A number with a decimal point and at most `decimals` decimals, trailing
 /// zeros removed: `1.`, `-0.25`, `12.5`.
 pub fn push_fixed_bytes(out: &mut Vec<u8>, v: f64, decimals: usize) {
-    // The usual decimals get their own copy, dividing by constants.
-    match decimals {
-        3 => push_fixed_scaled::<3, 1000>(out, v),
-        4 => push_fixed_scaled::<4, 10_000>(out, v),
-        _ => push_fixed_any(out, v, decimals.min(9)),
-    }
-}
-
-fn push_fixed_scaled<const DECIMALS: usize, const SCALE: u64>(out: &mut Vec<u8>, v: f64) {
-    if !v.is_finite() || v.abs() >= 1e12 {
-        out.extend_from_slice(format!("{v:.DECIMALS$}").as_bytes());
-        return;
-    }
-    let n = (v * SCALE as f64).round() as i64;
-    if n < 0 {
-        out.push(b'-');
-    }
-    let n = n.unsigned_abs();
-    push_digits(out, n / SCALE, 1);
-    out.push(b'.');
-    push_fraction(out, n % SCALE, DECIMALS);
-}
-
-fn push_fixed_any(out: &mut Vec<u8>, v: f64, decimals: usize) {
+    let decimals = decimals.min(9);
     if !v.is_finite() || v.abs() >= 1e12 {
         out.extend_from_slice(format!("{v:.decimals$}").as_bytes());
         return;
