@@ -10,7 +10,6 @@
 
 use libtest_mimic::{Arguments, Failed, Trial};
 use std::path::Path;
-use std::process::Command;
 
 mod support;
 
@@ -76,16 +75,7 @@ fn run_case(case: &Path) -> Result<(), Failed> {
         std::fs::write(&input, text).map_err(|e| e.to_string())?;
     }
     let out = work.join(format!("{stem}.nc"));
-    let ger = Command::new(env!("CARGO_BIN_EXE_ger"))
-        .arg("compile")
-        .arg(&input)
-        .arg("-o")
-        .arg(&out)
-        .output()
-        .map_err(|e| e.to_string())?;
-    if !ger.status.success() {
-        return Err(format!("ger failed:\n{}", String::from_utf8_lossy(&ger.stderr)).into());
-    }
+    support::compile(&input, &out)?;
     let text = std::fs::read_to_string(&out).map_err(|e| e.to_string())?;
     check_allowed_codes(&text)?;
     let reference = match case.with_extension("ngc") {
@@ -115,15 +105,9 @@ fn run_case(case: &Path) -> Result<(), Failed> {
 fn run_example(case: &Path) -> Result<(), Failed> {
     let stem = case.file_stem().unwrap().to_string_lossy().into_owned();
     let out = std::env::temp_dir().join(format!("ger-example-{}-{stem}.nc", std::process::id()));
-    let ger = Command::new(env!("CARGO_BIN_EXE_ger"))
-        .arg("compile")
-        .arg(case)
-        .arg("-o")
-        .arg(&out)
-        .output()
-        .map_err(|e| e.to_string())?;
-    if !ger.status.success() || !ger.stderr.is_empty() {
-        return Err(format!("ger:\n{}", String::from_utf8_lossy(&ger.stderr)).into());
+    let warnings = support::compile(case, &out)?;
+    if !warnings.is_empty() {
+        return Err(format!("the example has warnings:\n{warnings}").into());
     }
     let text = std::fs::read_to_string(&out).map_err(|e| e.to_string())?;
     check_allowed_codes(&text)?;

@@ -9,8 +9,6 @@
 use libtest_mimic::{Arguments, Failed, Trial};
 use serde_json::Value;
 
-use std::process::Command;
-
 mod support;
 use support::manifest;
 
@@ -49,16 +47,7 @@ fn tool_path(name: &str, program: &str) -> Result<Vec<Move>, Failed> {
     let part = work.join("part.egc");
     let out = work.join("part.nc");
     std::fs::write(&part, program).map_err(|e| e.to_string())?;
-    let ger = Command::new(env!("CARGO_BIN_EXE_ger"))
-        .arg("compile")
-        .arg(&part)
-        .arg("-o")
-        .arg(&out)
-        .output()
-        .map_err(|e| e.to_string())?;
-    if !ger.status.success() {
-        return Err(format!("ger failed:\n{}", String::from_utf8_lossy(&ger.stderr)).into());
-    }
+    support::compile(&part, &out)?;
     let json = support::run_oracle("toolpath.py", &[out.as_os_str(), "--json".as_ref()])
         .map_err(|e| e.to_string())?;
     let _ = std::fs::remove_dir_all(&work);

@@ -49,3 +49,21 @@ pub fn run_oracle(
         .args(args)
         .output()
 }
+
+/// `ger compile input -o out`: its warnings (stderr) when it succeeds, its
+/// diagnostics as the error when it does not.
+pub fn compile(input: &Path, out: &Path) -> Result<String, String> {
+    let ger = Command::new(env!("CARGO_BIN_EXE_ger"))
+        .arg("compile")
+        .arg(input)
+        .arg("-o")
+        .arg(out)
+        .output()
+        .map_err(|e| format!("cannot run ger: {e}"))?;
+    let stderr = String::from_utf8_lossy(&ger.stderr).into_owned();
+    if ger.status.success() {
+        Ok(stderr)
+    } else {
+        Err(format!("ger failed:\n{stderr}"))
+    }
+}
