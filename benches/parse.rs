@@ -39,12 +39,7 @@ fn bench(c: &mut Criterion) {
         b.iter(|| {
             let mut sources = Sources::new();
             let file = sources.add("bench.egc", text.clone());
-            black_box(compile(
-                &mut sources,
-                file,
-                &CompileOptions::default(),
-                None,
-            ))
+            black_box(compile(&sources, file, &CompileOptions::default(), None))
         })
     });
     group.finish();

@@ -36,7 +36,7 @@ fn bench(c: &mut Criterion) {
             );
             let mut engine = WizardEngine::new(library);
             let compiled = compile(
-                &mut sources,
+                &sources,
                 file,
                 &CompileOptions::default(),
                 Some(&mut engine),

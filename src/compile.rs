@@ -76,22 +76,45 @@ impl Clock {
 
 /// Compile the file `file` of `sources`.
 pub fn compile(
-    sources: &mut Sources,
+    sources: &Sources,
     file: FileId,
     options: &CompileOptions,
     wizards: Option<&mut dyn WizardHost>,
 ) -> Compiled {
+    let mut diagnostics = Vec::new();
     let mut clock = Clock::new();
-    let text = sources.text(file).to_string();
-    let (program, mut diagnostics) = crate::parser::parse_program(&text, file);
+    let output = run(
+        sources.text(file),
+        file,
+        options,
+        wizards,
+        &mut diagnostics,
+        &mut clock,
+    );
+    Compiled {
+        output: output.filter(|_| !diagnostics.iter().any(is_error)),
+        diagnostics,
+        timings: clock.timings,
+    }
+}
+
+/// The stages in order; `None` when one reports an error.
+fn run(
+    text: &str,
+    file: FileId,
+    options: &CompileOptions,
+    wizards: Option<&mut dyn WizardHost>,
+    diagnostics: &mut Vec<Diagnostic>,
+    clock: &mut Clock,
+) -> Option<String> {
+    let (program, parse_diagnostics) = crate::parser::parse_program(text, file);
+    diagnostics.extend(parse_diagnostics);
     clock.lap("parse");
-    if diagnostics.iter().any(is_error) || options.stage == Some(Stage::Parse) {
-        let output = (!diagnostics.iter().any(is_error)).then(|| program.to_text());
-        return Compiled {
-            output,
-            diagnostics,
-            timings: clock.timings,
-        };
+    if diagnostics.iter().any(is_error) {
+        return None;
+    }
+    if options.stage == Some(Stage::Parse) {
+        return Some(program.to_text());
     }
     let (ir, eval_diagnostics) = match wizards {
         Some(host) => eval::eval_program(
@@ -106,47 +129,25 @@ pub fn compile(
     drop(program);
     clock.lap("expand");
     if diagnostics.iter().any(is_error) {
-        return Compiled {
-            output: None,
-            diagnostics,
-            timings: clock.timings,
-        };
+        return None;
     }
     let units = output_units(&ir);
-    if options.stage == Some(Stage::Expand) {
-        return Compiled {
-            output: Some(emit::emit_stage(&ir, units, &text, file)),
-            diagnostics,
-            timings: clock.timings,
-        };
-    }
     let last = match options.stage {
+        Some(Stage::Expand) => return Some(emit::emit_stage(&ir, units, text, file)),
         Some(Stage::Lower(pass)) => pass,
         _ => *Pass::ALL.last().unwrap_or(&Pass::Absolute),
     };
-    let lowered = match lower::run_until(ir, units, last) {
-        Ok(program) => program,
-        Err(errors) => {
-            diagnostics.extend(errors);
-            return Compiled {
-                output: None,
-                diagnostics,
-                timings: clock.timings,
-            };
-        }
-    };
+    let lowered = lower::run_until(ir, units, last)
+        .map_err(|errors| diagnostics.extend(errors))
+        .ok()?;
     clock.lap("lower");
     let output = if options.stage.is_some() {
-        emit::emit_stage(&lowered, units, &text, file)
+        emit::emit_stage(&lowered, units, text, file)
     } else {
-        emit::emit_program(&lowered, units, &text, file, &options.emit)
+        emit::emit_program(&lowered, units, text, file, &options.emit)
     };
     clock.lap("emit");
-    Compiled {
-        output: Some(output),
-        diagnostics,
-        timings: clock.timings,
-    }
+    Some(output)
 }
 
 /// The output units (SPEC §3): `SetUnits`, else the program's first

@@ -325,7 +325,7 @@ fn run(
         }
     };
     let mut engine = WizardEngine::new(Library::new(found, &mut sources));
-    let compiled = compile(&mut sources, file, &compile_options, Some(&mut engine));
+    let compiled = compile(&sources, file, &compile_options, Some(&mut engine));
     eprint!("{}", render(&sources, &compiled.diagnostics));
     if options.timings {
         for (stage, took) in &compiled.timings {

@@ -17,7 +17,7 @@ fn run(text: &str) -> Compiled {
         },
         ..Default::default()
     };
-    compile(&mut sources, file, &options, None)
+    compile(&sources, file, &options, None)
 }
 
 /// Pieces of the language, glued at random: most soups are wrong, and every
