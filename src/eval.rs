@@ -49,6 +49,9 @@ pub trait WizardHost {
         ctx: &mut dyn WizardContext,
     ) -> Option<Result<(), Vec<Diagnostic>>>;
 
+    /// Is there a wizard of this name (matched case-insensitively)?
+    fn has(&self, name: &str) -> bool;
+
     /// Names of every wizard known, for "did you mean".
     fn names(&self) -> Vec<String>;
 }
@@ -381,8 +384,8 @@ impl<'a> Evaluator<'a> {
     fn call(&mut self, name: Symbol, name_span: Span, args: &[ast::Expr], span: Span) -> Flow {
         let text = self.names.text(name);
         let directive = setup::Directive::from_name(text);
-        let known = self.wizards.as_ref().map(|h| h.names()).unwrap_or_default();
-        if directive.is_none() && !known.iter().any(|k| k.eq_ignore_ascii_case(text)) {
+        if directive.is_none() && !self.wizards.as_ref().is_some_and(|h| h.has(text)) {
+            let known = self.wizards.as_ref().map(|h| h.names()).unwrap_or_default();
             self.unknown_wizard(text, name_span, &known);
             return Flow::Next;
         }
@@ -418,9 +421,13 @@ impl<'a> Evaluator<'a> {
             let mut ctx = Context { ev: self, span };
             host.call(text, &values, &call, &mut ctx)
         };
-        self.wizards = Some(host);
         match result {
-            None => self.unknown_wizard(text, name_span, &known),
+            None => {
+                let known = host.names();
+                self.wizards = Some(host);
+                self.unknown_wizard(text, name_span, &known);
+                return Flow::Next;
+            }
             Some(Ok(())) => {}
             Some(Err(ds)) => {
                 for d in ds {
@@ -428,6 +435,7 @@ impl<'a> Evaluator<'a> {
                 }
             }
         }
+        self.wizards = Some(host);
         Flow::Next
     }
 

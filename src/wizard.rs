@@ -550,6 +550,10 @@ impl WizardHost for WizardEngine {
         Some(self.run(wizard, args, call, ctx))
     }
 
+    fn has(&self, name: &str) -> bool {
+        self.library.get(name).is_some()
+    }
+
     fn names(&self) -> Vec<String> {
         self.library
             .wizards
