@@ -6,8 +6,10 @@ use crate::diagnostic::{is_error, Diagnostic};
 use crate::emit::{self, EmitOptions};
 use crate::eval::{self, EvalOptions, WizardHost};
 use crate::ir::{self, Units};
-use crate::lower::{self, Pass};
+use crate::lower::{Lowering, Pass};
 use crate::source::{FileId, Sources};
+use std::io::Write;
+use std::time::{Duration, Instant};
 
 /// The stages of SPEC §4, in order; `--stage NAME` stops after one.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord)]
@@ -50,117 +52,275 @@ pub struct Compiled {
     pub output: Option<String>,
     pub diagnostics: Vec<Diagnostic>,
     /// Time spent in each stage, in order (`ger compile --timings`).
-    pub timings: Vec<(&'static str, std::time::Duration)>,
+    pub timings: Vec<(&'static str, Duration)>,
+}
+
+/// What [`compile_to`] reports: every diagnostic, warnings included, and
+/// the time spent in each stage.
+pub struct Report {
+    pub diagnostics: Vec<Diagnostic>,
+    pub timings: Vec<(&'static str, Duration)>,
+}
+
+impl Report {
+    /// No errors: what was written is the whole program.
+    pub fn succeeded(&self) -> bool {
+        !self.diagnostics.iter().any(is_error)
+    }
 }
 
 /// Times the stages of one compile.
 struct Clock {
-    last: std::time::Instant,
-    timings: Vec<(&'static str, std::time::Duration)>,
+    last: Instant,
+    timings: Vec<(&'static str, Duration)>,
 }
 
 impl Clock {
     fn new() -> Clock {
         Clock {
-            last: std::time::Instant::now(),
+            last: Instant::now(),
             timings: Vec::new(),
         }
     }
 
     fn lap(&mut self, stage: &'static str) {
-        let now = std::time::Instant::now();
-        self.timings.push((stage, now - self.last));
+        self.split(stage, &[]);
+    }
+
+    /// A lap that ran `parts` inside it: they are reported after it, and
+    /// its own time without them.
+    fn split(&mut self, stage: &'static str, parts: &[(&'static str, Duration)]) {
+        let now = Instant::now();
+        let inner: Duration = parts.iter().map(|(_, d)| *d).sum();
+        self.timings
+            .push((stage, (now - self.last).saturating_sub(inner)));
+        self.timings.extend_from_slice(parts);
         self.last = now;
     }
 }
 
-/// Compile the file `file` of `sources`.
+/// Compile the file `file` of `sources` to a string.
 pub fn compile(
     sources: &Sources,
     file: FileId,
     options: &CompileOptions,
     wizards: Option<&mut dyn WizardHost>,
 ) -> Compiled {
+    let mut text = Vec::new();
+    let report = match compile_to(sources, file, options, wizards, &mut text) {
+        Ok(report) => report,
+        // Writing to a Vec cannot fail.
+        Err(_) => Report {
+            diagnostics: Vec::new(),
+            timings: Vec::new(),
+        },
+    };
+    let output = report.succeeded().then(|| {
+        String::from_utf8(text)
+            .unwrap_or_else(|e| String::from_utf8_lossy(e.as_bytes()).into_owned())
+    });
+    Compiled {
+        output,
+        diagnostics: report.diagnostics,
+        timings: report.timings,
+    }
+}
+
+/// Compile the file `file` of `sources`, writing the output to `out` as it
+/// is made (memory stays small whatever the program's length). When the
+/// report has errors what was written is incomplete: the caller must throw
+/// it away (`ger` writes to a temporary file and renames it on success).
+pub fn compile_to(
+    sources: &Sources,
+    file: FileId,
+    options: &CompileOptions,
+    wizards: Option<&mut dyn WizardHost>,
+    out: &mut dyn Write,
+) -> std::io::Result<Report> {
     let mut diagnostics = Vec::new();
     let mut clock = Clock::new();
-    let output = run(
+    run(
         sources.text(file),
         file,
         options,
         wizards,
+        out,
         &mut diagnostics,
         &mut clock,
-    );
-    Compiled {
-        output: output.filter(|_| !diagnostics.iter().any(is_error)),
+    )?;
+    Ok(Report {
         diagnostics,
         timings: clock.timings,
-    }
+    })
 }
 
-/// The stages in order; `None` when one reports an error.
+/// The stages in order, writing to `out`; they stop at the first stage
+/// that reports an error.
 fn run(
     text: &str,
     file: FileId,
     options: &CompileOptions,
     wizards: Option<&mut dyn WizardHost>,
+    out: &mut dyn Write,
     diagnostics: &mut Vec<Diagnostic>,
     clock: &mut Clock,
-) -> Option<String> {
+) -> std::io::Result<()> {
     let (program, parse_diagnostics) = crate::parser::parse_program(text, file);
     diagnostics.extend(parse_diagnostics);
     clock.lap("parse");
     if diagnostics.iter().any(is_error) {
-        return None;
+        return Ok(());
     }
     if options.stage == Some(Stage::Parse) {
-        return Some(program.to_text());
+        return out.write_all(program.to_text().as_bytes());
     }
-    let (ir, eval_diagnostics) = match wizards {
+    let mut backend = Backend::new(text, file, options, out);
+    let eval_diagnostics = match wizards {
         Some(host) => eval::eval_program(
             &program,
             &options.eval,
             Some(&mut *host as &mut dyn WizardHost),
+            &mut backend,
         ),
-        None => eval::eval_program(&program, &options.eval, None),
+        None => eval::eval_program(&program, &options.eval, None, &mut backend),
     };
     diagnostics.extend(eval_diagnostics);
-    // The tree is done with: free it before the IR passes allocate.
     drop(program);
-    clock.lap("expand");
+    // Evaluation, lowering and printing ran interleaved; the back end
+    // timed its own part.
+    clock.split(
+        "expand",
+        &[("lower", backend.lower_time), ("emit", backend.emit_time)],
+    );
     if diagnostics.iter().any(is_error) {
-        return None;
+        return Ok(());
     }
-    let units = output_units(&ir);
-    let last = match options.stage {
-        Some(Stage::Expand) => return Some(emit::emit_stage(&ir, units, text, file)),
-        Some(Stage::Lower(pass)) => pass,
-        _ => *Pass::ALL.last().unwrap_or(&Pass::Absolute),
-    };
-    let lowered = lower::run_until(ir, units, last)
-        .map_err(|errors| diagnostics.extend(errors))
-        .ok()?;
-    clock.lap("lower");
-    let output = if options.stage.is_some() {
-        emit::emit_stage(&lowered, units, text, file)
-    } else {
-        emit::emit_program(&lowered, units, text, file, &options.emit)
-    };
-    clock.lap("emit");
-    Some(output)
+    if let Err(errors) = backend.finish()? {
+        diagnostics.extend(errors);
+    }
+    Ok(())
 }
 
-/// The output units (SPEC §3): `SetUnits`, else the program's first
-/// G20/G21, else inch.
-pub fn output_units(program: &ir::Program) -> Units {
-    program.setup.units.unwrap_or_else(|| {
-        program
-            .stmts
-            .iter()
-            .find_map(|s| match s.op {
-                ir::Op::Units(u) => Some(u),
-                _ => None,
-            })
-            .unwrap_or(Units::Inch)
-    })
+/// The back end as the evaluator's sink: each batch of statements is
+/// lowered up to the requested stage and printed, then dropped, so the
+/// whole program is never held in memory (ARCHITECTURE.md, "streaming").
+struct Backend<'s> {
+    source: &'s str,
+    file: FileId,
+    options: &'s CompileOptions,
+    out: &'s mut dyn Write,
+    /// The first write that failed; nothing more is written after it.
+    write_error: Option<std::io::Error>,
+    /// Made by the first batch, when the setup and units are known.
+    started: Option<Started>,
+    lower_time: Duration,
+    emit_time: Duration,
+}
+
+struct Started {
+    /// `None` for `--stage expand`.
+    lowering: Option<Lowering>,
+    printer: Printer,
+}
+
+enum Printer {
+    Stage(emit::StagePrinter),
+    Program(emit::ProgramPrinter),
+}
+
+impl<'s> Backend<'s> {
+    fn new(
+        source: &'s str,
+        file: FileId,
+        options: &'s CompileOptions,
+        out: &'s mut dyn Write,
+    ) -> Backend<'s> {
+        Backend {
+            source,
+            file,
+            options,
+            out,
+            write_error: None,
+            started: None,
+            lower_time: Duration::ZERO,
+            emit_time: Duration::ZERO,
+        }
+    }
+
+    fn start(&self, setup: &ir::Setup, units: Units) -> Started {
+        let (source, file) = (self.source, self.file);
+        let last = match self.options.stage {
+            Some(Stage::Lower(pass)) => Some(pass),
+            Some(_) => None,
+            None => Some(Pass::Absolute),
+        };
+        Started {
+            lowering: last.map(|last| Lowering::new(setup, units, last)),
+            printer: match self.options.stage {
+                Some(_) => Printer::Stage(emit::StagePrinter::new(units, source, file)),
+                None => Printer::Program(emit::ProgramPrinter::new(
+                    &self.options.emit,
+                    units,
+                    source,
+                    file,
+                )),
+            },
+        }
+    }
+
+    /// Write the rest of the output; the lowering errors if there were any.
+    fn finish(self) -> std::io::Result<Result<(), Vec<Diagnostic>>> {
+        if let Some(e) = self.write_error {
+            return Err(e);
+        }
+        let Some(started) = self.started else {
+            return Ok(Ok(()));
+        };
+        if let Some(lowering) = started.lowering {
+            if let Err(errors) = lowering.finish() {
+                return Ok(Err(errors));
+            }
+        }
+        let rest = match started.printer {
+            Printer::Stage(p) => p.finish(),
+            Printer::Program(p) => p.finish(),
+        };
+        self.out.write_all(&rest)?;
+        Ok(Ok(()))
+    }
+}
+
+/// The printed text is written out once there is this much of it.
+const WRITE_AT: usize = 64 * 1024;
+
+impl ir::Sink for Backend<'_> {
+    fn batch(&mut self, setup: &ir::Setup, units: Units, batch: &mut Vec<ir::Stmt>) {
+        if self.started.is_none() {
+            self.started = Some(self.start(setup, units));
+        }
+        let Some(started) = &mut self.started else {
+            return;
+        };
+        let t0 = Instant::now();
+        if let Some(lowering) = &mut started.lowering {
+            lowering.run(batch);
+        }
+        let t1 = Instant::now();
+        let text = match &mut started.printer {
+            Printer::Stage(p) => p.print(batch),
+            Printer::Program(p) => p.print(batch),
+        };
+        batch.clear();
+        // Hand the text on in large writes.
+        if text.len() >= WRITE_AT {
+            if self.write_error.is_none() {
+                if let Err(e) = self.out.write_all(text) {
+                    self.write_error = Some(e);
+                }
+            }
+            text.clear();
+        }
+        self.lower_time += t1 - t0;
+        self.emit_time += t1.elapsed();
+    }
 }

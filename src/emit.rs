@@ -60,70 +60,107 @@ impl Default for EmitOptions {
     }
 }
 
-/// Print the program as it stands after some stage: every statement as
+/// Prints the program as it stands after some stage: every statement as
 /// written, modal codes included.
-pub fn emit_stage(program: &ir::Program, units: Units, source: &str, main_file: usize) -> String {
-    let options = EmitOptions::default();
-    let mut p = Printer::new(&options, units, source, main_file);
-    for stmt in &program.stmts {
-        p.begin(stmt.span);
-        p.op_as_written(&stmt.op);
-        p.end();
-    }
-    p.finish()
+pub struct StagePrinter {
+    p: Printer,
 }
 
-/// Print the final program: absolute, one unit, only the codes of SPEC §6.
-pub fn emit_program(
-    program: &ir::Program,
-    units: Units,
-    source: &str,
-    main_file: usize,
-    options: &EmitOptions,
-) -> String {
-    let mut p = Printer::new(options, units, source, main_file);
-    p.header();
-    // Machine position per axis; `None` until the program sets it.
-    let mut position: [Option<f64>; 3] = [None; 3];
-    for stmt in &program.stmts {
-        match &stmt.op {
-            Op::Move(m) => {
-                let end = [m.to.x, m.to.y, m.to.z];
-                p.final_move(stmt.span, m, position, end);
-                for (pos, e) in position.iter_mut().zip(end) {
-                    if e.is_some() {
-                        *pos = e;
-                    }
-                }
-            }
-            // The header selected G17; repeat a plane only when it changes.
-            Op::Plane(plane) if *plane == p.plane => {}
-            // F goes on the next cutting move's line (and only if it changed).
-            Op::Feed(f) => p.pending_feed = Some(*f),
-            op => {
-                if matches!(op, Op::ChangeTool | Op::Stop(_)) {
-                    // The operator may move the machine at a tool change or
-                    // stop: write every axis of the next move again.
-                    p.printed = [None; 3];
-                }
-                p.begin(stmt.span);
-                p.op_as_written(op);
-                p.end();
-            }
+impl StagePrinter {
+    pub fn new(units: Units, source: &str, main_file: usize) -> StagePrinter {
+        StagePrinter {
+            p: Printer::new(EmitOptions::default(), units, source, main_file),
         }
     }
-    if p.dialect == Dialect::Fanuc {
-        p.out.extend_from_slice(b"%\n");
+
+    /// Print the next statements of the program; returns the text not
+    /// yet taken (the caller may take it).
+    pub fn print(&mut self, stmts: &[ir::Stmt]) -> &mut Vec<u8> {
+        for stmt in stmts {
+            self.p.begin(stmt.span);
+            self.p.op_as_written(&stmt.op);
+            self.p.end();
+        }
+        &mut self.p.out
     }
-    p.finish()
+
+    /// The rest of the text.
+    pub fn finish(self) -> Vec<u8> {
+        self.p.out
+    }
 }
 
-struct Printer<'o> {
+/// Prints the final program: absolute, one unit, only the codes of SPEC §6.
+pub struct ProgramPrinter {
+    p: Printer,
+    /// Machine position per axis; `None` until the program sets it.
+    position: [Option<f64>; 3],
+}
+
+impl ProgramPrinter {
+    pub fn new(
+        options: &EmitOptions,
+        units: Units,
+        source: &str,
+        main_file: usize,
+    ) -> ProgramPrinter {
+        let mut p = Printer::new(options.clone(), units, source, main_file);
+        p.header();
+        ProgramPrinter {
+            p,
+            position: [None; 3],
+        }
+    }
+
+    /// Print the next statements of the program; returns the text not
+    /// yet taken (the caller may take it).
+    pub fn print(&mut self, stmts: &[ir::Stmt]) -> &mut Vec<u8> {
+        let p = &mut self.p;
+        for stmt in stmts {
+            match &stmt.op {
+                Op::Move(m) => {
+                    let end = [m.to.x, m.to.y, m.to.z];
+                    p.final_move(stmt.span, m, self.position, end);
+                    for (pos, e) in self.position.iter_mut().zip(end) {
+                        if e.is_some() {
+                            *pos = e;
+                        }
+                    }
+                }
+                // The header selected G17; repeat a plane only when it changes.
+                Op::Plane(plane) if *plane == p.plane => {}
+                // F goes on the next cutting move's line (and only if it changed).
+                Op::Feed(f) => p.pending_feed = Some(*f),
+                op => {
+                    if matches!(op, Op::ChangeTool | Op::Stop(_)) {
+                        // The operator may move the machine at a tool change or
+                        // stop: write every axis of the next move again.
+                        p.printed = [None; 3];
+                    }
+                    p.begin(stmt.span);
+                    p.op_as_written(op);
+                    p.end();
+                }
+            }
+        }
+        &mut p.out
+    }
+
+    /// The rest of the text.
+    pub fn finish(mut self) -> Vec<u8> {
+        if self.p.dialect == Dialect::Fanuc {
+            self.p.out.extend_from_slice(b"%\n");
+        }
+        self.p.out
+    }
+}
+
+struct Printer {
     /// Bytes, not chars: everything written is ASCII but comments, which
-    /// come from `&str`; `finish` makes the `String`.
+    /// come from `&str`, and every line is whole: the text is UTF-8.
     out: Vec<u8>,
     line: Vec<u8>,
-    options: &'o EmitOptions,
+    options: EmitOptions,
     dialect: Dialect,
     decimals: usize,
     /// 10^decimals.
@@ -143,17 +180,17 @@ struct Printer<'o> {
     printed_feed: Option<i64>,
 }
 
-impl<'o> Printer<'o> {
-    fn new(options: &'o EmitOptions, units: Units, source: &str, main_file: usize) -> Printer<'o> {
+impl Printer {
+    fn new(options: EmitOptions, units: Units, source: &str, main_file: usize) -> Printer {
         let decimals = options.decimals.unwrap_or(match units {
             Units::Mm => 3,
             Units::Inch => 4,
         });
         Printer {
-            out: Vec::with_capacity(source.len() * 2),
+            out: Vec::with_capacity((source.len() * 2).min(1 << 20)),
             line: Vec::with_capacity(80),
-            options,
             dialect: options.dialect,
+            options,
             decimals,
             scale: 10f64.powi(decimals as i32),
             lines: LineIndex::new(source),
@@ -179,11 +216,6 @@ impl<'o> Printer<'o> {
             Units::Mm => "G21",
         };
         self.raw_line(&format!("{units} G90 G17"));
-    }
-
-    fn finish(self) -> String {
-        String::from_utf8(self.out)
-            .unwrap_or_else(|e| String::from_utf8_lossy(e.as_bytes()).into_owned())
     }
 
     fn numbered(&self) -> Numbering {
@@ -228,6 +260,16 @@ impl<'o> Printer<'o> {
         }
         self.out.extend_from_slice(&self.line);
         self.out.push(b'\n');
+    }
+
+    /// A word whose value is already on the output grid: `q` units of
+    /// 10^-decimals (what [`Printer::word`] would print for `q / scale`).
+    fn word_q(&mut self, letter: char, q: i64) {
+        if !self.line.is_empty() && self.line.last() != Some(&b' ') {
+            self.line.push(b' ');
+        }
+        self.line.push(letter as u8);
+        push_scaled(&mut self.line, q, self.decimals.min(9));
     }
 
     fn word(&mut self, letter: char, v: f64) {
@@ -376,7 +418,7 @@ impl<'o> Printer<'o> {
     }
 
     fn scaled(&self, v: f64) -> i64 {
-        (v * self.scale).round() as i64
+        round_to_int(v * self.scale)
     }
 
     fn unscaled(&self, n: i64) -> f64 {
@@ -397,7 +439,7 @@ impl<'o> Printer<'o> {
         let start = start.map(|v| v.unwrap_or(0.0));
         let end = std::array::from_fn(|i| end[i].unwrap_or(start[i]));
         let start_q: [i64; 3] =
-            std::array::from_fn(|i| self.printed[i].unwrap_or(self.scaled(start[i])));
+            std::array::from_fn(|i| self.printed[i].unwrap_or_else(|| self.scaled(start[i])));
         let Some(arc) = m.arc.filter(|_| m.motion.is_arc()) else {
             return self.linear(span, m.motion, end_q);
         };
@@ -433,7 +475,7 @@ impl<'o> Printer<'o> {
         for axis in 0..3 {
             // Both in-plane axes always, so a full circle has an end.
             if axis == a || axis == b || Some(end_q[axis]) != self.printed[axis] {
-                self.word(AXES[axis], self.unscaled(end_q[axis]));
+                self.word_q(AXES[axis], end_q[axis]);
                 self.printed[axis] = Some(end_q[axis]);
             }
         }
@@ -449,10 +491,7 @@ impl<'o> Printer<'o> {
             let printed_center =
                 self.round_center(start, end, center, start_q, end_q, clockwise, arc.turns);
             for axis in [a, b] {
-                self.word(
-                    CENTER[axis],
-                    self.unscaled(printed_center[axis] - start_q[axis]),
-                );
+                self.word_q(CENTER[axis], printed_center[axis] - start_q[axis]);
             }
         }
         if arc.turns > 1 {
@@ -467,7 +506,7 @@ impl<'o> Printer<'o> {
         if let Some(f) = self.pending_feed.take() {
             let q = self.scaled(f);
             if self.printed_feed != Some(q) {
-                self.word('F', f);
+                self.word_q('F', q);
                 self.printed_feed = Some(q);
             }
         }
@@ -535,7 +574,7 @@ impl<'o> Printer<'o> {
         for axis in 0..3 {
             if changed[axis] {
                 let q = end_q[axis].unwrap_or_default();
-                self.word(AXES[axis], self.unscaled(q));
+                self.word_q(AXES[axis], q);
                 self.printed[axis] = Some(q);
             }
         }
@@ -562,19 +601,41 @@ fn push_int(out: &mut Vec<u8>, n: i64) {
     if n < 0 {
         out.push(b'-');
     }
-    push_digits(out, n.unsigned_abs(), 1);
+    push_digits(out, n.unsigned_abs());
 }
 
-/// Decimal digits of `n`, at least `width` of them (zero-padded).
-fn push_digits(out: &mut Vec<u8>, mut n: u64, width: usize) {
+/// Decimal digits of `n`.
+fn push_digits(out: &mut Vec<u8>, mut n: u64) {
     let mut buf = [b'0'; 20];
     let mut i = buf.len();
-    while n > 0 || buf.len() - i < width {
+    loop {
         i -= 1;
         buf[i] = b'0' + (n % 10) as u8;
         n /= 10;
+        if n == 0 {
+            break;
+        }
     }
     out.extend_from_slice(&buf[i..]);
+}
+
+/// `x` rounded half away from zero, as `f64::round` (without its libm
+/// call); saturates like `as i64` outside the range of `i64`.
+fn round_to_int(x: f64) -> i64 {
+    // Below 2^52 the truncation and the fraction `x - t` are exact.
+    if x.abs() < 4.5e15 {
+        let t = x as i64;
+        let fraction = x - t as f64;
+        if fraction >= 0.5 {
+            t + 1
+        } else if fraction <= -0.5 {
+            t - 1
+        } else {
+            t
+        }
+    } else {
+        x.round() as i64
+    }
 }
 
 /// A number with a decimal point and at most `decimals` decimals, trailing
@@ -585,26 +646,31 @@ pub fn push_fixed_bytes(out: &mut Vec<u8>, v: f64, decimals: usize) {
         out.extend_from_slice(format!("{v:.decimals$}").as_bytes());
         return;
     }
-    let scale = 10u64.pow(decimals as u32);
-    let n = (v * scale as f64).round() as i64;
-    if n < 0 {
-        out.push(b'-');
-    }
-    let n = n.unsigned_abs();
-    push_digits(out, n / scale, 1);
-    out.push(b'.');
-    push_fraction(out, n % scale, decimals);
+    push_scaled(out, round_to_int(v * 10f64.powi(decimals as i32)), decimals);
 }
 
-/// The digits after the point, without trailing zeros.
-fn push_fraction(out: &mut Vec<u8>, mut frac: u64, mut digits: usize) {
-    if frac != 0 {
-        while frac.is_multiple_of(10) {
-            frac /= 10;
-            digits -= 1;
-        }
-        push_digits(out, frac, digits);
+/// `q` × 10^-`decimals` (at most 18) as [`push_fixed_bytes`] writes it.
+fn push_scaled(out: &mut Vec<u8>, q: i64, decimals: usize) {
+    if q < 0 {
+        out.push(b'-');
     }
+    // The digits of |q|, at least one before the point.
+    let mut buf = [b'0'; 24];
+    let mut i = buf.len();
+    let mut n = q.unsigned_abs();
+    while n > 0 || buf.len() - i <= decimals {
+        i -= 1;
+        buf[i] = b'0' + (n % 10) as u8;
+        n /= 10;
+    }
+    let point = buf.len() - decimals;
+    let mut end = buf.len();
+    while end > point && buf[end - 1] == b'0' {
+        end -= 1;
+    }
+    out.extend_from_slice(&buf[i..point]);
+    out.push(b'.');
+    out.extend_from_slice(&buf[point..end]);
 }
 
 /// [`push_fixed_bytes`] onto a `String`.
@@ -616,7 +682,7 @@ pub fn push_fixed(out: &mut String, v: f64, decimals: usize) {
 
 #[cfg(test)]
 mod tests {
-    use super::push_fixed;
+    use super::{push_fixed, round_to_int};
 
     fn fixed(v: f64, d: usize) -> String {
         let mut s = String::new();
@@ -632,5 +698,39 @@ mod tests {
         assert_eq!(fixed(-0.0001, 3), "0.");
         assert_eq!(fixed(0.05, 4), "0.05");
         assert_eq!(fixed(1234.5678, 4), "1234.5678");
+    }
+
+    #[test]
+    fn rounding_is_half_away_from_zero_like_f64_round() {
+        let ties = [0.5, 1.5, 2.5, -0.5, -1.5, -2.5, 0.49999999999999994];
+        let edges = [4503599627370495.5, -4503599627370495.5, 4.5e15, 1e18, -1e19];
+        for x in ties.into_iter().chain(edges) {
+            assert_eq!(round_to_int(x), x.round() as i64, "{x}");
+        }
+    }
+
+    /// The printer formats integers on the output grid; it must print
+    /// what rounding the value and printing its digits would.
+    #[test]
+    fn fixed_point_matches_rounding_then_printing() {
+        fn reference(v: f64, d: usize) -> String {
+            let scale = 10u64.pow(d as u32);
+            let n = (v * scale as f64).round() as i64;
+            let sign = if n < 0 { "-" } else { "" };
+            let n = n.unsigned_abs();
+            let fraction = format!("{:0width$}", n % scale, width = d);
+            format!("{sign}{}.{}", n / scale, fraction.trim_end_matches('0'))
+        }
+        let mut state = 0x2545_f491_4f6c_dd1du64;
+        for i in 0..20_000 {
+            // xorshift: values over many magnitudes, both signs.
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            let unit = (state >> 11) as f64 / (1u64 << 53) as f64;
+            let v = (unit - 0.5) * 10f64.powi((i % 13) as i32 - 4);
+            let d = i % 10;
+            assert_eq!(fixed(v, d), reference(v, d), "{v} with {d} decimals");
+        }
     }
 }

@@ -24,6 +24,10 @@ pub struct EvalOptions {
     pub max_statements: usize,
     /// Subprogram nesting depth.
     pub max_call_depth: usize,
+    /// Statements per batch sent to the back end. The output does not
+    /// depend on it (`tests/streaming.rs` checks); it trades cache for
+    /// call overhead.
+    pub batch: usize,
 }
 
 impl Default for EvalOptions {
@@ -32,6 +36,7 @@ impl Default for EvalOptions {
             max_iterations: 10_000_000,
             max_statements: 5_000_000,
             max_call_depth: 64,
+            batch: 1024,
         }
     }
 }
@@ -86,22 +91,18 @@ pub struct MachineState {
     pub tool_diameter: f64,
 }
 
-/// Stage 0: evaluate a parsed program into IR.
+/// Stage 0: evaluate a parsed program into IR, which goes to `sink` as it
+/// is made. Returns the diagnostics; after an error nothing more is sent.
 pub fn eval_program<'a>(
     program: &'a ast::Program,
     options: &'a EvalOptions,
     wizards: Option<&'a mut (dyn WizardHost + 'a)>,
-) -> (ir::Program, Vec<Diagnostic>) {
-    let mut ev = Evaluator::new(program, options, wizards);
+    sink: &'a mut dyn ir::Sink,
+) -> Vec<Diagnostic> {
+    let mut ev = Evaluator::new(program, options, wizards, sink);
     ev.run();
-    let setup = ev.finish_setup();
-    (
-        ir::Program {
-            stmts: ev.out,
-            setup,
-        },
-        ev.diagnostics,
-    )
+    ev.finish();
+    ev.diagnostics
 }
 
 /// How a block finished.
@@ -122,7 +123,16 @@ struct Evaluator<'a> {
     options: &'a EvalOptions,
     wizards: Option<&'a mut dyn WizardHost>,
     vars: Vec<Slot>,
+    sink: &'a mut dyn ir::Sink,
+    /// Statements not yet sent to the sink.
     out: Vec<ir::Stmt>,
+    /// Statements made so far (the memory bound counts them all).
+    made: usize,
+    /// The first move: setup directives must come before it, and the sink
+    /// gets nothing until it (so the setup is complete).
+    first_move: Option<Span>,
+    /// The first G20/G21, which gives the output units without `SetUnits`.
+    first_units: Option<ir::Units>,
     diagnostics: Vec<Diagnostic>,
     errors: usize,
     /// Current motion mode, for words written without a G code.
@@ -148,6 +158,7 @@ impl<'a> Evaluator<'a> {
         program: &'a ast::Program,
         options: &'a EvalOptions,
         wizards: Option<&'a mut dyn WizardHost>,
+        sink: &'a mut dyn ir::Sink,
     ) -> Self {
         Evaluator {
             program,
@@ -155,8 +166,11 @@ impl<'a> Evaluator<'a> {
             options,
             wizards,
             vars: vec![Slot::Unset; program.names.len()],
-            // Most programs make about one statement per source statement.
-            out: Vec::with_capacity(program.main.len() + 16),
+            sink,
+            out: Vec::with_capacity(options.batch.clamp(1, 1 << 16)),
+            made: 0,
+            first_move: None,
+            first_units: None,
             diagnostics: Vec::new(),
             errors: 0,
             motion: None,
@@ -203,7 +217,7 @@ impl<'a> Evaluator<'a> {
     }
 
     fn emit(&mut self, op: ir::Op, span: Span) -> Result<(), Diagnostic> {
-        if self.out.len() >= self.options.max_statements {
+        if self.made >= self.options.max_statements {
             return Err(error(
                 format!(
                     "the program makes more than {} statements",
@@ -227,8 +241,50 @@ impl<'a> Evaluator<'a> {
             _ => {}
         }
         self.track(&op);
+        match op {
+            ir::Op::Move(_) if self.first_move.is_none() => self.first_move = Some(span),
+            ir::Op::Units(u) if self.first_units.is_none() => self.first_units = Some(u),
+            _ => {}
+        }
         self.out.push(ir::Stmt { op, span });
+        self.made += 1;
+        if self.out.len() >= self.options.batch {
+            self.send();
+        }
         Ok(())
+    }
+
+    /// The output units, once they are known: `SetUnits`, else the first
+    /// G20/G21 (SPEC §3).
+    fn output_units(&self) -> Option<ir::Units> {
+        self.setup.get().units.or(self.first_units)
+    }
+
+    /// Send the statements made so far to the sink, if it may have them:
+    /// after the first move (the setup is complete) and once the output
+    /// units are known. Until then they wait here. After an error nothing
+    /// is sent: there will be no output.
+    fn send(&mut self) {
+        if self.errors > 0 {
+            self.out.clear();
+            return;
+        }
+        if self.first_move.is_none() {
+            return;
+        }
+        if let Some(units) = self.output_units() {
+            self.sink.batch(self.setup.get(), units, &mut self.out);
+        }
+    }
+
+    /// The end of the program: send what is left (the units default to
+    /// inch) and tell the sink the program is complete.
+    fn finish(&mut self) {
+        if self.errors > 0 {
+            return;
+        }
+        let units = self.output_units().unwrap_or(ir::Units::Inch);
+        self.sink.batch(self.setup.get(), units, &mut self.out);
     }
 
     /// Keep the little state wizards can read (SPEC §5).
@@ -401,6 +457,19 @@ impl<'a> Evaluator<'a> {
         }
         let arg_spans: Vec<Span> = args.iter().map(|a| a.span).collect();
         if let Some(directive) = directive {
+            if let Some(first) = self.first_move {
+                let name = setup::Directive::NAMES[directive as usize];
+                self.report(
+                    error(
+                        format!("`{name}` after the first move"),
+                        name_span,
+                        "the machine setup must be complete before the tool moves",
+                    )
+                    .with_secondary(first, "the first move")
+                    .with_help("put the setup directives at the top of the program"),
+                );
+                return Flow::Next;
+            }
             if let Err(d) = self
                 .setup
                 .apply(directive, &values, name_span, &arg_spans, self.names)
@@ -465,10 +534,6 @@ impl<'a> Evaluator<'a> {
             );
         }
         self.report(d);
-    }
-
-    fn finish_setup(&mut self) -> ir::Setup {
-        std::mem::take(&mut self.setup).finish()
     }
 }
 

@@ -1,4 +1,4 @@
-//! The IR: a flat list of machine statements, each carrying the source span
+//! The IR: a stream of machine statements, each carrying the source span
 //! that produced it. It is still G-code, modal and in the program's own
 //! units; every lowering pass maps IR to simpler IR, and every stage prints
 //! as valid G-code (`emit`). Nothing here knows the AST.
@@ -6,10 +6,12 @@
 use crate::source::Span;
 use std::collections::BTreeMap;
 
-#[derive(Clone, Debug)]
-pub struct Program {
-    pub stmts: Vec<Stmt>,
-    pub setup: Setup,
+/// Where the evaluator sends the program: its statements in order, in
+/// batches, once the setup is complete and the output units are known
+/// (the back end then lowers and prints each batch and keeps nothing).
+pub trait Sink {
+    /// Take the statements of `batch`, leaving it empty.
+    fn batch(&mut self, setup: &Setup, output_units: Units, batch: &mut Vec<Stmt>);
 }
 
 #[derive(Clone, Debug, PartialEq)]

@@ -1,8 +1,11 @@
 //! Lowering: IR → simpler IR, one pass per stage of SPEC §4, applied in a
-//! fixed order by [`run_until`]. Each pass is a function
-//! `fn run(ir::Program) -> Result<ir::Program, Vec<Diagnostic>>` in its own
-//! file and can be stopped after (`--stage NAME`). Passes never see the
-//! AST and never print.
+//! fixed order by [`Lowering`]. Each pass is a state machine in its own
+//! file: `State::run` lowers a batch of statements in place (it may drop
+//! statements, and never reorders them), keeping between batches only what
+//! the program has made modal so far. The statements stream through the
+//! passes in program order, so a pass sees the same sequence whatever the
+//! batch size. A pass can be stopped after (`--stage NAME`). Passes never
+//! see the AST and never print.
 //!
 //! Order: units → polar → offsets → absolute. Polar runs before offsets
 //! (SPEC §4 lists it after): a G90 polar point is relative to the program
@@ -38,53 +41,67 @@ impl Pass {
             Pass::Absolute => "absolute",
         }
     }
-
-    fn run(
-        self,
-        program: ir::Program,
-        output_units: ir::Units,
-    ) -> Result<ir::Program, Vec<Diagnostic>> {
-        match self {
-            Pass::Units => units::run(program, output_units),
-            Pass::Polar => polar::run(program),
-            Pass::Offsets => offsets::run(program),
-            Pass::Absolute => absolute::run(program),
-        }
-    }
 }
 
-/// Run every pass up to and including `last`.
-pub fn run_until(
-    mut program: ir::Program,
-    output_units: ir::Units,
+/// The passes up to a stage, with each one's state between batches.
+pub struct Lowering {
     last: Pass,
-) -> Result<ir::Program, Vec<Diagnostic>> {
-    for pass in Pass::ALL {
-        program = pass.run(program, output_units)?;
-        if pass == last {
-            break;
+    units: units::State,
+    polar: polar::State,
+    offsets: offsets::State,
+    absolute: absolute::State,
+}
+
+impl Lowering {
+    /// Passes `Pass::ALL` up to and including `last`, for a program with
+    /// this setup, written in `output_units`.
+    pub fn new(setup: &ir::Setup, output_units: ir::Units, last: Pass) -> Lowering {
+        Lowering {
+            last,
+            units: units::State::new(output_units),
+            polar: polar::State::new(),
+            offsets: offsets::State::new(setup),
+            absolute: absolute::State::new(),
         }
     }
-    Ok(program)
+
+    /// Lower the next statements of the program, in place.
+    pub fn run(&mut self, stmts: &mut Vec<ir::Stmt>) {
+        for pass in Pass::ALL {
+            match pass {
+                Pass::Units => self.units.run(stmts),
+                Pass::Polar => self.polar.run(stmts),
+                Pass::Offsets => self.offsets.run(stmts),
+                Pass::Absolute => self.absolute.run(stmts),
+            }
+            if pass == self.last {
+                break;
+            }
+        }
+    }
+
+    /// The end of the program: the errors of the first pass that had any
+    /// (a later pass's errors may only follow from them), as when each
+    /// pass ran over the whole program before the next.
+    pub fn finish(self) -> Result<(), Vec<Diagnostic>> {
+        for errors in [self.polar.errors, self.offsets.errors, self.absolute.errors] {
+            if !errors.0.is_empty() {
+                return Err(errors.0);
+            }
+        }
+        Ok(())
+    }
 }
 
 /// Collects the diagnostics of one pass; the pass goes on after an error
 /// where it can, so one run reports every independent problem.
 #[derive(Default)]
-struct Errors(Vec<Diagnostic>);
+pub(crate) struct Errors(Vec<Diagnostic>);
 
 impl Errors {
     fn push(&mut self, d: Diagnostic) {
         if self.0.len() < 50 {
             self.0.push(d);
-        }
-    }
-
-    fn finish(self, program: ir::Program) -> Result<ir::Program, Vec<Diagnostic>> {
-        if self.0.is_empty() {
-            Ok(program)
-        } else {
-            Err(self.0)
         }
     }
 }

@@ -4,8 +4,8 @@
 //! lives here.
 
 use clap::{Parser, Subcommand, ValueEnum};
-use ger::compile::{compile, CompileOptions, Stage};
-use ger::diagnostic::{is_error, render};
+use ger::compile::{compile_to, CompileOptions, Report, Stage};
+use ger::diagnostic::render;
 use ger::emit::{ArcFormat, Dialect, Numbering};
 use ger::source::Sources;
 use ger::wizard::{standard_library, Library, WizardEngine, WizardSource};
@@ -325,34 +325,41 @@ fn run(
         }
     };
     let mut engine = WizardEngine::new(Library::new(found, &mut sources));
-    let compiled = compile(&sources, file, &compile_options, Some(&mut engine));
-    eprint!("{}", render(&sources, &compiled.diagnostics));
+    let mut compile =
+        |out: &mut dyn Write| compile_to(&sources, file, &compile_options, Some(&mut engine), out);
+    // A file is written as the program is compiled; standard output gets
+    // the program only once it is known to be whole (a pipe to a machine
+    // must never see half of one).
+    let mut text = Vec::new();
+    let result = match (write, output) {
+        (true, Some(path)) => write_atomically(path, compile),
+        (true, None) => compile(&mut text),
+        (false, _) => compile(&mut std::io::sink()),
+    };
+    let report = match result {
+        Ok(report) => report,
+        Err(e) => {
+            eprintln!("error: cannot write output: {e}");
+            return ExitCode::from(2);
+        }
+    };
+    eprint!("{}", render(&sources, &report.diagnostics));
     if options.timings {
-        for (stage, took) in &compiled.timings {
+        for (stage, took) in &report.timings {
             eprintln!("{stage:>8}: {:8.2} ms", took.as_secs_f64() * 1e3);
         }
         eprintln!("   total: {:8.2} ms", started.elapsed().as_secs_f64() * 1e3);
     }
-    if compiled.diagnostics.iter().any(is_error) {
+    if !report.succeeded() {
         return ExitCode::from(1);
     }
-    let Some(text) = compiled.output else {
-        return ExitCode::from(1);
-    };
-    if !write {
-        return ExitCode::SUCCESS;
-    }
-    let result = match output {
-        Some(path) => write_atomically(path, text.as_bytes()),
-        None => std::io::stdout().lock().write_all(text.as_bytes()),
-    };
-    match result {
-        Ok(()) => ExitCode::SUCCESS,
-        Err(e) => {
+    if write && output.is_none() {
+        if let Err(e) = std::io::stdout().lock().write_all(&text) {
             eprintln!("error: cannot write output: {e}");
-            ExitCode::from(2)
+            return ExitCode::from(2);
         }
     }
+    ExitCode::SUCCESS
 }
 
 fn read_input(input: &str) -> std::io::Result<String> {
@@ -375,9 +382,13 @@ fn same_file(a: &Path, b: &Path) -> bool {
     }
 }
 
-/// Write to a temporary file beside the target, then rename: a reader never
-/// sees half a program, and on failure the old file stays.
-fn write_atomically(path: &Path, bytes: &[u8]) -> std::io::Result<()> {
+/// Compile into a temporary file beside the target, then rename it on
+/// success: a reader never sees half a program, and on failure (errors in
+/// the program, or in writing) the old file stays.
+fn write_atomically(
+    path: &Path,
+    compile: impl FnOnce(&mut dyn Write) -> std::io::Result<Report>,
+) -> std::io::Result<Report> {
     let dir = path
         .parent()
         .filter(|p| !p.as_os_str().is_empty())
@@ -389,9 +400,14 @@ fn write_atomically(path: &Path, bytes: &[u8]) -> std::io::Result<()> {
     let tmp = dir.join(format!(".{file_name}.{}.tmp", std::process::id()));
     let result = (|| {
         let mut f = std::fs::File::create(&tmp)?;
-        f.write_all(bytes)?;
-        f.sync_all()?;
-        std::fs::rename(&tmp, path)
+        let report = compile(&mut f)?;
+        if report.succeeded() {
+            f.sync_all()?;
+            std::fs::rename(&tmp, path)?;
+        } else {
+            std::fs::remove_file(&tmp)?;
+        }
+        Ok(report)
     })();
     if result.is_err() {
         let _ = std::fs::remove_file(&tmp);

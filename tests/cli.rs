@@ -24,6 +24,9 @@ fn scratch(name: &str) -> PathBuf {
 
 const GOOD: &str = "G21 G90\nG0 X0 Y0 Z5\nG1 Z-1 F100\nG1 X10\nM30\n";
 const BAD: &str = "G21 G90\nG0 X<Undefined>\n";
+/// An error after 20,000 moves: far more output than is held back before
+/// it is written to the temporary file.
+const BAD_LATE: &str = "G21 G90\nG0 X0 Y0\nIi = 0\nwhile (Ii < 20000) {\n  G0 X<Ii / 10>\n  Ii = Ii + 1\n}\nG0 X<Undefined>\nM30\n";
 
 #[test]
 fn exit_codes() {
@@ -53,12 +56,19 @@ fn output_is_atomic_and_untouched_on_error() {
     std::fs::write(dir.join("good.egc"), GOOD).unwrap();
     std::fs::write(dir.join("bad.egc"), BAD).unwrap();
     std::fs::write(dir.join("out.nc"), "previous\n").unwrap();
-    let r = ger(&["compile", "bad.egc", "-o", "out.nc"], &dir);
-    assert_eq!(r.status.code(), Some(1));
-    assert_eq!(
-        std::fs::read_to_string(dir.join("out.nc")).unwrap(),
-        "previous\n"
-    );
+    std::fs::write(dir.join("bad_late.egc"), BAD_LATE).unwrap();
+    for bad in ["bad.egc", "bad_late.egc"] {
+        let r = ger(&["compile", bad, "-o", "out.nc"], &dir);
+        assert_eq!(r.status.code(), Some(1));
+        assert_eq!(
+            std::fs::read_to_string(dir.join("out.nc")).unwrap(),
+            "previous\n"
+        );
+        // Standard output gets a program only when it is whole.
+        let r = ger(&["compile", bad], &dir);
+        assert_eq!(r.status.code(), Some(1));
+        assert!(r.stdout.is_empty(), "{} bytes on stdout", r.stdout.len());
+    }
     let r = ger(&["compile", "good.egc", "-o", "out.nc"], &dir);
     assert_eq!(
         r.status.code(),

@@ -69,8 +69,9 @@ pub struct SetupBuilder {
 }
 
 impl SetupBuilder {
-    pub fn finish(self) -> ir::Setup {
-        self.setup
+    /// The setup as defined so far.
+    pub fn get(&self) -> &ir::Setup {
+        &self.setup
     }
 
     /// Diameter of a tool in the program's current units (for wizards).

@@ -15,64 +15,87 @@ use crate::geometry::{self, ArcError, Point};
 use crate::ir::{self, ArcGeometry, Axes, Distance, Op, Plane};
 use crate::source::Span;
 
-pub fn run(mut program: ir::Program) -> Result<ir::Program, Vec<Diagnostic>> {
-    let mut errors = Errors::default();
-    let mut distance = Distance::Absolute;
-    let mut plane = Plane::XY;
-    let mut position: [Option<f64>; 3] = [None; 3];
-    program.stmts.retain_mut(|stmt| match &mut stmt.op {
-        Op::Distance(d) => {
-            distance = *d;
-            false
+pub struct State {
+    distance: Distance,
+    plane: Plane,
+    position: [Option<f64>; 3],
+    pub errors: Errors,
+}
+
+impl State {
+    pub fn new() -> State {
+        State {
+            distance: Distance::Absolute,
+            plane: Plane::XY,
+            position: [None; 3],
+            errors: Errors::default(),
         }
-        Op::CompOff | Op::CycleOff => false,
-        Op::Plane(p) => {
-            plane = *p;
-            true
-        }
-        Op::Move(m) => {
-            let mut end = position;
-            for (axis, end_axis) in end.iter_mut().enumerate() {
-                let Some(v) = m.to.get(axis) else { continue };
-                *end_axis = match distance {
-                    Distance::Absolute => Some(v),
-                    Distance::Incremental => match position[axis] {
-                        Some(p) => Some(p + v),
-                        None => {
-                            errors.push(unknown_position(stmt.span, axis, "an incremental move"));
+    }
+
+    pub fn run(&mut self, stmts: &mut Vec<ir::Stmt>) {
+        let State {
+            distance,
+            plane,
+            position,
+            errors,
+        } = self;
+        stmts.retain_mut(|stmt| match &mut stmt.op {
+            Op::Distance(d) => {
+                *distance = *d;
+                false
+            }
+            Op::CompOff | Op::CycleOff => false,
+            Op::Plane(p) => {
+                *plane = *p;
+                true
+            }
+            Op::Move(m) => {
+                let mut end = *position;
+                for (axis, end_axis) in end.iter_mut().enumerate() {
+                    let Some(v) = m.to.get(axis) else { continue };
+                    *end_axis = match *distance {
+                        Distance::Absolute => Some(v),
+                        Distance::Incremental => match position[axis] {
+                            Some(p) => Some(p + v),
+                            None => {
+                                errors.push(unknown_position(
+                                    stmt.span,
+                                    axis,
+                                    "an incremental move",
+                                ));
+                                return true;
+                            }
+                        },
+                    };
+                }
+                if let Some(arc) = &mut m.arc {
+                    match resolve_arc(
+                        *position,
+                        end,
+                        arc.geometry,
+                        *plane,
+                        m.motion == ir::Motion::ArcCw,
+                        stmt.span,
+                    ) {
+                        Ok(center) => arc.geometry = ArcGeometry::Center(center),
+                        Err(d) => {
+                            errors.push(d);
                             return true;
                         }
-                    },
-                };
-            }
-            if let Some(arc) = &mut m.arc {
-                match resolve_arc(
-                    position,
-                    end,
-                    arc.geometry,
-                    plane,
-                    m.motion == ir::Motion::ArcCw,
-                    stmt.span,
-                ) {
-                    Ok(center) => arc.geometry = ArcGeometry::Center(center),
-                    Err(d) => {
-                        errors.push(d);
-                        return true;
                     }
                 }
+                // Only the axes the statement wrote: a Z retract stays a Z move.
+                m.to = Axes {
+                    x: m.to.x.and(end[0]),
+                    y: m.to.y.and(end[1]),
+                    z: m.to.z.and(end[2]),
+                };
+                *position = end;
+                true
             }
-            // Only the axes the statement wrote: a Z retract stays a Z move.
-            m.to = Axes {
-                x: m.to.x.and(end[0]),
-                y: m.to.y.and(end[1]),
-                z: m.to.z.and(end[2]),
-            };
-            position = end;
-            true
-        }
-        _ => true,
-    });
-    errors.finish(program)
+            _ => true,
+        });
+    }
 }
 
 /// The centre of an arc, relative to its start, in the plane's two axes.

@@ -1,0 +1,145 @@
+//! The back end is streamed: the evaluator sends statements in batches and
+//! each pass keeps its state between them. The output must not depend on
+//! where the batches are cut. Every program of the repository is compiled
+//! with batches of 1 and 7 statements and in one batch (the whole program
+//! at once, as a pass over a complete program would see it), at every
+//! stage and in the final output, and the text and diagnostics compared.
+//! A generated program longer than the default batch checks the default
+//! too.
+
+use ger::compile::{compile, CompileOptions, Stage};
+use ger::diagnostic::render;
+use ger::eval::EvalOptions;
+use ger::source::Sources;
+use ger::wizard::{standard_library, Library, WizardEngine, WizardSource};
+use std::path::{Path, PathBuf};
+
+mod support;
+
+/// Text and rendered diagnostics of one compile.
+fn run(path: &Path, text: &str, stage: Option<Stage>, batch: usize) -> String {
+    let mut sources = Sources::new();
+    let file = sources.add(path.to_string_lossy(), text.to_string());
+    let mut found = user_wizards();
+    found.extend(standard_library());
+    let mut engine = WizardEngine::new(Library::new(found, &mut sources));
+    let options = CompileOptions {
+        eval: EvalOptions {
+            batch,
+            // Runaway-loop cases: the same error, sooner.
+            max_iterations: 100_000,
+            ..EvalOptions::default()
+        },
+        stage,
+        ..CompileOptions::default()
+    };
+    let compiled = compile(&sources, file, &options, Some(&mut engine));
+    format!(
+        "{}\n--- diagnostics ---\n{}",
+        compiled.output.as_deref().unwrap_or("<no output>"),
+        render(&sources, &compiled.diagnostics)
+    )
+}
+
+/// The example wizards of `wizards/`, which some test programs call.
+fn user_wizards() -> Vec<WizardSource> {
+    let dir = support::manifest().join("wizards");
+    let mut found = Vec::new();
+    for entry in std::fs::read_dir(dir).into_iter().flatten().flatten() {
+        let path = entry.path();
+        if path.extension().is_some_and(|x| x == "rhai") {
+            found.push(WizardSource {
+                name: path.file_stem().unwrap().to_string_lossy().into_owned(),
+                text: std::fs::read_to_string(&path).unwrap(),
+                origin: path.display().to_string(),
+            });
+        }
+    }
+    found
+}
+
+fn programs() -> Vec<PathBuf> {
+    let root = support::manifest();
+    let mut dirs = vec![
+        root.join("examples"),
+        root.join("tests/oracle/eval"),
+        root.join("tests/oracle/lower"),
+    ];
+    for entry in std::fs::read_dir(root.join("tests/cases"))
+        .unwrap()
+        .flatten()
+    {
+        dirs.push(entry.path());
+    }
+    dirs.iter().flat_map(|d| support::egc_files(d)).collect()
+}
+
+/// The stages after parsing.
+fn stages() -> impl Iterator<Item = Option<Stage>> {
+    Stage::ALL
+        .iter()
+        .filter(|(_, s)| *s != Stage::Parse)
+        .map(|&(_, s)| Some(s))
+}
+
+#[test]
+fn output_does_not_depend_on_the_batch_size() {
+    let programs = programs();
+    assert!(
+        programs.len() > 150,
+        "found only {} programs",
+        programs.len()
+    );
+    let mut compared = 0;
+    for path in &programs {
+        let text = std::fs::read_to_string(path).unwrap();
+        let same = |stage: Option<Stage>, batches: &[usize]| {
+            let whole = run(path, &text, stage, usize::MAX);
+            for &batch in batches {
+                let cut = run(path, &text, stage, batch);
+                assert!(
+                    cut == whole,
+                    "{} at stage {stage:?}: batches of {batch} give\n{cut}\nin one batch:\n{whole}",
+                    path.display()
+                );
+            }
+            whole
+        };
+        let output = same(None, &[1, 7]);
+        compared += 1;
+        // A program with errors stops before the back end, at any stage.
+        if output.starts_with("<no output>") {
+            continue;
+        }
+        for stage in stages() {
+            same(stage, &[1]);
+            compared += 1;
+        }
+    }
+    assert!(compared > 700, "compared {compared}");
+}
+
+/// A program of about 9,000 statements crosses the default batch several
+/// times, with the modal state (G91, G16, offsets, units) live across the
+/// cuts, and an error in the middle of the lowering.
+#[test]
+fn a_long_program_streams_like_a_short_one() {
+    let mut text = String::from("SetOffset 55 10 20 0\nG21 G90 G17\nG0 X0 Y0 Z5\nF500\n");
+    text.push_str("Ii = 0\nwhile (Ii < 1500) {\n");
+    text.push_str("  if (Ii % 300 == 0) { G55 } else if (Ii % 300 == 150) { G54 }\n");
+    text.push_str("  G91 G1 X0.5 Y<sin(Ii)>\n  G90\n");
+    text.push_str("  G16 G1 X<10 + Ii / 100> Y<Ii * 7> G15\n");
+    text.push_str("  if (Ii % 500 == 499) { G20 G1 X1 G21 }\n");
+    text.push_str("  Ii = Ii + 1\n}\nG0 Z5\nM30\n");
+    let path = Path::new("long.egc");
+    let whole = run(path, &text, None, usize::MAX);
+    assert!(whole.lines().count() > 3000, "{}", &whole[..200]);
+    for batch in [1, 1000, EvalOptions::default().batch] {
+        assert!(run(path, &text, None, batch) == whole, "batch {batch}");
+    }
+    // An arc that cannot be made, after 9,000 statements: reported the same.
+    let broken = text.replace("G0 Z5\nM30", "G2 X0 Y0 R0.001\nM30");
+    let whole = run(path, &broken, None, usize::MAX);
+    assert!(whole.contains("arc radius too small"), "{whole}");
+    assert_eq!(run(path, &broken, None, 1000), whole);
+}
