@@ -6,6 +6,16 @@
 use crate::source::Span;
 use std::collections::BTreeMap;
 
+/// The largest length a program may give (10 km in mm): anything beyond is
+/// a typo, and with every offset and unit factor added it still prints
+/// with 9 decimals as an `i64` number of steps.
+pub const MAX_LENGTH: f64 = 1e7;
+
+/// Within ±[`MAX_LENGTH`] (and a number).
+pub fn is_length(v: f64) -> bool {
+    v.abs() < MAX_LENGTH
+}
+
 /// Where the evaluator sends the program: its statements in order, in
 /// batches, once the setup is complete and the output units are known
 /// (the back end then lowers and prints each batch and keeps nothing).

@@ -143,13 +143,21 @@ fn fail<T>(message: impl Into<String>) -> RhaiResult<T> {
 }
 
 fn number(d: &Dynamic, what: &str) -> RhaiResult<f64> {
-    if let Ok(f) = d.as_float() {
-        Ok(f)
+    let value = if let Ok(f) = d.as_float() {
+        f
     } else if let Ok(i) = d.as_int() {
-        Ok(i as f64)
+        i as f64
     } else {
-        fail(format!("{what} must be a number, not {}", d.type_name()))
+        return fail(format!("{what} must be a number, not {}", d.type_name()));
+    };
+    if !ir::is_length(value) {
+        return fail(format!(
+            "{what} is out of range: {value:e} (numbers must be between -{} and {})",
+            ir::MAX_LENGTH,
+            ir::MAX_LENGTH
+        ));
     }
+    Ok(value)
 }
 
 impl Session {

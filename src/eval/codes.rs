@@ -83,19 +83,37 @@ impl Evaluator<'_> {
 
     /// The number a word stands for; symbolic words are evaluated.
     fn word_value(&mut self, w: &ast::Word) -> Option<f64> {
-        match &w.value {
-            WordValue::Number(n) => Some(n.value),
+        let value = match &w.value {
+            WordValue::Number(n) => n.value,
             WordValue::Expr(e) => {
                 let what = || format!("the `{}` word", w.letter as char);
                 match super::value::number(e, &self.vars, &what) {
-                    Ok(v) => Some(v),
+                    Ok(v) => v,
                     Err(err) => {
                         self.report_expr(err);
-                        None
+                        return None;
                     }
                 }
             }
+        };
+        // A length no machine has is a typo; past the limit the output's
+        // fixed-point numbers could not hold it either.
+        if b"XYZIJKR".contains(&w.letter) && !ir::is_length(value) {
+            self.report(
+                error(
+                    format!("`{}` is out of range", w.letter as char),
+                    w.span,
+                    format!("this is {value:e}"),
+                )
+                .with_note(format!(
+                    "lengths must be between -{} and {}",
+                    ir::MAX_LENGTH,
+                    ir::MAX_LENGTH
+                )),
+            );
+            return None;
         }
+        Some(value)
     }
 
     /// F, S and T come first in any statement: `G1 X10 F100` feeds at 100.
