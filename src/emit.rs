@@ -417,8 +417,10 @@ impl Printer {
         }
     }
 
+    /// `v` on the output grid. Clamped far inside `i64`, so differences of
+    /// two never overflow (lengths are limited well below, `eval/codes.rs`).
     fn scaled(&self, v: f64) -> i64 {
-        round_to_int(v * self.scale)
+        round_to_int(v * self.scale).clamp(-(1 << 62), 1 << 62)
     }
 
     fn unscaled(&self, n: i64) -> f64 {
@@ -642,11 +644,12 @@ fn round_to_int(x: f64) -> i64 {
 /// zeros removed: `1.`, `-0.25`, `12.5`.
 pub fn push_fixed_bytes(out: &mut Vec<u8>, v: f64, decimals: usize) {
     let decimals = decimals.min(9);
-    if !v.is_finite() || v.abs() >= 1e12 {
+    let x = v * 10f64.powi(decimals as i32);
+    if !x.is_finite() || x.abs() >= 1e18 {
         out.extend_from_slice(format!("{v:.decimals$}").as_bytes());
         return;
     }
-    push_scaled(out, round_to_int(v * 10f64.powi(decimals as i32)), decimals);
+    push_scaled(out, round_to_int(x), decimals);
 }
 
 /// `q` × 10^-`decimals` (at most 18) as [`push_fixed_bytes`] writes it.

@@ -209,6 +209,9 @@ pub fn number(expr: &Expr, vars: &[Slot], what: What<'_>) -> Result<f64, ExprErr
 }
 
 pub fn boolean(expr: &Expr, vars: &[Slot], what: What<'_>) -> Result<bool, ExprError> {
+    if let Some(b) = fast_bool(expr, vars) {
+        return Ok(b);
+    }
     match eval(expr, vars)? {
         Value::Bool(b) => Ok(b),
         other => Err(ExprError::TypeMismatch {
@@ -350,12 +353,16 @@ fn apply(f: Function, args: &[f64], more: &[f64]) -> f64 {
 /// no `Value`, no error values, the same arithmetic as [`eval`].
 pub fn fast_number(expr: &Expr, vars: &[Slot]) -> Option<f64> {
     let v = match &expr.kind {
-        ExprKind::Number(n) => *n,
-        ExprKind::Var(s) => match vars.get(s.0 as usize) {
-            Some(Slot::Set(Value::Number(n))) => *n,
-            _ => return None,
-        },
-        ExprKind::Unary(UnaryOp::Neg, e) => -fast_number(e, vars)?,
+        // Literals and variables are finite: every result is checked
+        // before it is stored.
+        ExprKind::Number(n) => return Some(*n),
+        ExprKind::Var(s) => {
+            return match vars.get(s.0 as usize) {
+                Some(Slot::Set(Value::Number(n))) => Some(*n),
+                _ => None,
+            }
+        }
+        ExprKind::Unary(UnaryOp::Neg, e) => return fast_number(e, vars).map(|v| -v),
         ExprKind::Binary(op, a, b) => {
             if !matches!(
                 op,
@@ -374,18 +381,58 @@ pub fn fast_number(expr: &Expr, vars: &[Slot]) -> Option<f64> {
             }
             arithmetic(*op, x, y)
         }
-        ExprKind::Call(f, args) => {
-            let (lo, hi) = f.arity();
-            if args.len() < lo || args.len() > hi || args.len() > 8 {
-                return None;
-            }
-            let mut values = [0.0; 8];
-            for (slot, a) in values.iter_mut().zip(args) {
-                *slot = fast_number(a, vars)?;
-            }
-            apply(*f, &values[..args.len()], &[])
-        }
+        ExprKind::Call(f, args) => fast_call(*f, args, vars)?,
         _ => return None,
     };
     v.is_finite().then_some(v)
+}
+
+/// [`fast_number`] of a call; apart, so that the recursion above keeps a
+/// small stack frame.
+#[inline(never)]
+fn fast_call(f: Function, args: &[Expr], vars: &[Slot]) -> Option<f64> {
+    let (lo, hi) = f.arity();
+    if args.len() < lo || args.len() > hi || args.len() > 8 {
+        return None;
+    }
+    let mut values = [0.0; 8];
+    for (slot, a) in values.iter_mut().zip(args) {
+        *slot = fast_number(a, vars)?;
+    }
+    Some(apply(f, &values[..args.len()], &[]))
+}
+
+/// The value of a condition made of comparisons of numbers, `&&`, `||`
+/// and `!`, or `None` (then [`eval`] runs and says why): the hot path of
+/// `while` and `if`, with the short-circuits and comparisons of [`eval`].
+fn fast_bool(expr: &Expr, vars: &[Slot]) -> Option<bool> {
+    match &expr.kind {
+        ExprKind::Bool(b) => Some(*b),
+        ExprKind::Var(s) => match vars.get(s.0 as usize) {
+            Some(Slot::Set(Value::Bool(b))) => Some(*b),
+            _ => None,
+        },
+        ExprKind::Unary(UnaryOp::Not, e) => fast_bool(e, vars).map(|b| !b),
+        ExprKind::Binary(BinaryOp::And, a, b) => match fast_bool(a, vars)? {
+            false => Some(false),
+            true => fast_bool(b, vars),
+        },
+        ExprKind::Binary(BinaryOp::Or, a, b) => match fast_bool(a, vars)? {
+            true => Some(true),
+            false => fast_bool(b, vars),
+        },
+        ExprKind::Binary(op, a, b) => {
+            let compare: fn(&f64, &f64) -> bool = match op {
+                BinaryOp::Lt => f64::lt,
+                BinaryOp::Le => f64::le,
+                BinaryOp::Gt => f64::gt,
+                BinaryOp::Ge => f64::ge,
+                BinaryOp::Eq => f64::eq,
+                BinaryOp::Ne => f64::ne,
+                _ => return None,
+            };
+            Some(compare(&fast_number(a, vars)?, &fast_number(b, vars)?))
+        }
+        _ => None,
+    }
 }
