@@ -168,6 +168,9 @@ struct Printer {
     lines: LineIndex,
     main_file: usize,
     seq: u64,
+    /// The `N… ` of the source line starting at `numbered_at`.
+    number: Vec<u8>,
+    numbered_at: Option<u32>,
     /// Last printed value of each axis (in units of 10^-decimals).
     printed: [Option<i64>; 3],
     plane: ir::Plane,
@@ -196,6 +199,8 @@ impl Printer {
             lines: LineIndex::new(source),
             main_file,
             seq: 0,
+            number: Vec::with_capacity(16),
+            numbered_at: None,
             printed: [None; 3],
             plane: ir::Plane::XY,
             units,
@@ -240,9 +245,15 @@ impl Printer {
         self.line.clear();
         match self.numbered() {
             Numbering::Source if span.file == self.main_file => {
-                self.line.push(b'N');
-                push_int(&mut self.line, self.lines.line(span.start) as i64);
-                self.line.push(b' ');
+                // A loop prints many lines from one source line.
+                if self.numbered_at != Some(span.start) {
+                    self.number.clear();
+                    self.number.push(b'N');
+                    push_int(&mut self.number, self.lines.line(span.start) as i64);
+                    self.number.push(b' ');
+                    self.numbered_at = Some(span.start);
+                }
+                self.line.extend_from_slice(&self.number);
             }
             Numbering::Seq => {
                 self.seq += 10;
@@ -653,27 +664,38 @@ pub fn push_fixed_bytes(out: &mut Vec<u8>, v: f64, decimals: usize) {
 }
 
 /// `q` × 10^-`decimals` (at most 18) as [`push_fixed_bytes`] writes it.
+/// Written right to left into one buffer: the fraction's digits (its
+/// trailing zeros, which come first, skipped), the point, the integer's
+/// digits (at least one) and the sign.
 fn push_scaled(out: &mut Vec<u8>, q: i64, decimals: usize) {
-    if q < 0 {
-        out.push(b'-');
-    }
-    // The digits of |q|, at least one before the point.
-    let mut buf = [b'0'; 24];
+    let mut buf = [0u8; 32];
     let mut i = buf.len();
     let mut n = q.unsigned_abs();
-    while n > 0 || buf.len() - i <= decimals {
+    let mut significant = false;
+    for _ in 0..decimals {
+        let digit = (n % 10) as u8;
+        n /= 10;
+        significant |= digit != 0;
+        if significant {
+            i -= 1;
+            buf[i] = b'0' + digit;
+        }
+    }
+    i -= 1;
+    buf[i] = b'.';
+    loop {
         i -= 1;
         buf[i] = b'0' + (n % 10) as u8;
         n /= 10;
+        if n == 0 {
+            break;
+        }
     }
-    let point = buf.len() - decimals;
-    let mut end = buf.len();
-    while end > point && buf[end - 1] == b'0' {
-        end -= 1;
+    if q < 0 {
+        i -= 1;
+        buf[i] = b'-';
     }
-    out.extend_from_slice(&buf[i..point]);
-    out.push(b'.');
-    out.extend_from_slice(&buf[point..end]);
+    out.extend_from_slice(&buf[i..]);
 }
 
 /// [`push_fixed_bytes`] onto a `String`.
