@@ -1,6 +1,7 @@
 //! The driver: source text → G-code text, through the stages in order
 //! (parse, expand, lowering passes, emit). It is the library's one entry
-//! point for a whole compile and does no I/O.
+//! point for a whole compile; it does no I/O of its own, and writes only to
+//! the `Write` it is handed.
 
 use crate::diagnostic::{is_error, Diagnostic};
 use crate::emit::{self, EmitOptions};
@@ -55,17 +56,24 @@ pub struct Compiled {
     pub timings: Vec<(&'static str, Duration)>,
 }
 
-/// What [`compile_to`] reports: every diagnostic, warnings included, and
-/// the time spent in each stage.
+/// What [`compile_to`] reports: every diagnostic, warnings included, the
+/// time spent in each stage, and the first write that failed.
 pub struct Report {
     pub diagnostics: Vec<Diagnostic>,
     pub timings: Vec<(&'static str, Duration)>,
+    /// Nothing more was written after it.
+    pub write_error: Option<std::io::Error>,
 }
 
 impl Report {
-    /// No errors: what was written is the whole program.
-    pub fn succeeded(&self) -> bool {
+    /// No errors in the program.
+    pub fn compiled(&self) -> bool {
         !self.diagnostics.iter().any(is_error)
+    }
+
+    /// No errors, and what was written is the whole program.
+    pub fn succeeded(&self) -> bool {
+        self.compiled() && self.write_error.is_none()
     }
 }
 
@@ -107,14 +115,8 @@ pub fn compile(
     wizards: Option<&mut dyn WizardHost>,
 ) -> Compiled {
     let mut text = Vec::new();
-    let report = match compile_to(sources, file, options, wizards, &mut text) {
-        Ok(report) => report,
-        // Writing to a Vec cannot fail.
-        Err(_) => Report {
-            diagnostics: Vec::new(),
-            timings: Vec::new(),
-        },
-    };
+    // Writing to a Vec cannot fail.
+    let report = compile_to(sources, file, options, wizards, &mut text);
     let output = report.succeeded().then(|| {
         String::from_utf8(text)
             .unwrap_or_else(|e| String::from_utf8_lossy(e.as_bytes()).into_owned())
@@ -127,7 +129,8 @@ pub fn compile(
 }
 
 /// Compile the file `file` of `sources`, writing the output to `out` as it
-/// is made (memory stays small whatever the program's length). When the
+/// is made (once the output units are known, memory does not grow with the
+/// program's length). When the
 /// report has errors what was written is incomplete: the caller must throw
 /// it away (`ger` writes to a temporary file and renames it on success).
 pub fn compile_to(
@@ -136,10 +139,10 @@ pub fn compile_to(
     options: &CompileOptions,
     wizards: Option<&mut dyn WizardHost>,
     out: &mut dyn Write,
-) -> std::io::Result<Report> {
+) -> Report {
     let mut diagnostics = Vec::new();
     let mut clock = Clock::new();
-    run(
+    let write_error = run(
         sources.text(file),
         file,
         options,
@@ -147,11 +150,13 @@ pub fn compile_to(
         out,
         &mut diagnostics,
         &mut clock,
-    )?;
-    Ok(Report {
+    )
+    .err();
+    Report {
         diagnostics,
         timings: clock.timings,
-    })
+        write_error,
+    }
 }
 
 /// The stages in order, writing to `out`; they stop at the first stage
@@ -195,10 +200,11 @@ fn run(
     if diagnostics.iter().any(is_error) {
         return Ok(());
     }
-    if let Err(errors) = backend.finish()? {
+    let (lowered, written) = backend.finish();
+    if let Err(errors) = lowered {
         diagnostics.extend(errors);
     }
-    Ok(())
+    written
 }
 
 /// The back end as the evaluator's sink: each batch of statements is
@@ -268,25 +274,26 @@ impl<'s> Backend<'s> {
         }
     }
 
-    /// Write the rest of the output; the lowering errors if there were any.
-    fn finish(self) -> std::io::Result<Result<(), Vec<Diagnostic>>> {
-        if let Some(e) = self.write_error {
-            return Err(e);
-        }
+    /// The lowering errors if there were any, else write the rest of the
+    /// output; and whether the output was written.
+    fn finish(self) -> (Result<(), Vec<Diagnostic>>, std::io::Result<()>) {
+        let written = match self.write_error {
+            Some(e) => Err(e),
+            None => Ok(()),
+        };
         let Some(started) = self.started else {
-            return Ok(Ok(()));
+            return (Ok(()), written);
         };
         if let Some(lowering) = started.lowering {
             if let Err(errors) = lowering.finish() {
-                return Ok(Err(errors));
+                return (Err(errors), written);
             }
         }
         let rest = match started.printer {
             Printer::Stage(p) => p.finish(),
             Printer::Program(p) => p.finish(),
         };
-        self.out.write_all(&rest)?;
-        Ok(Ok(()))
+        (Ok(()), written.and_then(|()| self.out.write_all(&rest)))
     }
 }
 
@@ -304,6 +311,13 @@ impl ir::Sink for Backend<'_> {
         let t0 = Instant::now();
         if let Some(lowering) = &mut started.lowering {
             lowering.run(batch);
+            // The output will be thrown away: lower on, for the errors,
+            // but print nothing more.
+            if lowering.failed() {
+                batch.clear();
+                self.lower_time += t0.elapsed();
+                return;
+            }
         }
         let t1 = Instant::now();
         let text = match &mut started.printer {

@@ -185,10 +185,14 @@ struct Printer {
 
 impl Printer {
     fn new(options: EmitOptions, units: Units, source: &str, main_file: usize) -> Printer {
-        let decimals = options.decimals.unwrap_or(match units {
-            Units::Mm => 3,
-            Units::Inch => 4,
-        });
+        // Nine decimals at most: a nanometre, and the grid fits an i64.
+        let decimals = options
+            .decimals
+            .unwrap_or(match units {
+                Units::Mm => 3,
+                Units::Inch => 4,
+            })
+            .min(9);
         Printer {
             out: Vec::with_capacity((source.len() * 2).min(1 << 20)),
             line: Vec::with_capacity(80),
@@ -280,7 +284,7 @@ impl Printer {
             self.line.push(b' ');
         }
         self.line.push(letter as u8);
-        push_scaled(&mut self.line, q, self.decimals.min(9));
+        push_scaled(&mut self.line, q, self.decimals);
     }
 
     fn word(&mut self, letter: char, v: f64) {
@@ -428,10 +432,11 @@ impl Printer {
         }
     }
 
-    /// `v` on the output grid. Clamped far inside `i64`, so differences of
-    /// two never overflow (lengths are limited well below, `eval/codes.rs`).
+    /// `v` on the output grid. Positions are limited well inside it (the
+    /// absolute pass); the clamp only makes sure that no input can make a
+    /// difference of two overflow.
     fn scaled(&self, v: f64) -> i64 {
-        round_to_int(v * self.scale).clamp(-(1 << 62), 1 << 62)
+        round_to_int(v * self.scale).clamp(-(1 << 61), 1 << 61)
     }
 
     fn unscaled(&self, n: i64) -> f64 {
@@ -656,7 +661,7 @@ fn round_to_int(x: f64) -> i64 {
 pub fn push_fixed_bytes(out: &mut Vec<u8>, v: f64, decimals: usize) {
     let decimals = decimals.min(9);
     let x = v * 10f64.powi(decimals as i32);
-    if !x.is_finite() || x.abs() >= 1e18 {
+    if !v.is_finite() || v.abs() >= 1e12 || x.abs() >= 1e18 {
         out.extend_from_slice(format!("{v:.decimals$}").as_bytes());
         return;
     }

@@ -6,14 +6,22 @@
 use crate::source::Span;
 use std::collections::BTreeMap;
 
-/// The largest length a program may give (10 km in mm): anything beyond is
-/// a typo, and with every offset and unit factor added it still prints
-/// with 9 decimals as an `i64` number of steps.
+/// The largest length, feed or speed a program may give (10 km in mm,
+/// 254 km in inches): anything beyond is a typo.
 pub const MAX_LENGTH: f64 = 1e7;
+
+/// The largest machine position (the absolute pass checks every move): with
+/// 9 decimals it is 10^18 steps, inside the printer's `i64` grid.
+pub const MAX_POSITION: f64 = 1e9;
 
 /// Within ±[`MAX_LENGTH`] (and a number).
 pub fn is_length(v: f64) -> bool {
     v.abs() < MAX_LENGTH
+}
+
+/// Within ±[`MAX_POSITION`] (and a number).
+pub fn is_position(v: f64) -> bool {
+    v.abs() < MAX_POSITION
 }
 
 /// Where the evaluator sends the program: its statements in order, in

@@ -80,6 +80,17 @@ impl Lowering {
         }
     }
 
+    /// Has a pass reported an error? Then the output will be thrown away.
+    pub fn failed(&self) -> bool {
+        [
+            &self.polar.errors,
+            &self.offsets.errors,
+            &self.absolute.errors,
+        ]
+        .iter()
+        .any(|e| !e.0.is_empty())
+    }
+
     /// The end of the program: the errors of the first pass that had any
     /// (a later pass's errors may only follow from them), as when each
     /// pass ran over the whole program before the next.
@@ -100,7 +111,9 @@ pub(crate) struct Errors(Vec<Diagnostic>);
 
 impl Errors {
     fn push(&mut self, d: Diagnostic) {
-        if self.0.len() < 50 {
+        // A statement in a loop fails every time; say it once.
+        let same = |e: &Diagnostic| e.message == d.message && e.labels == d.labels;
+        if self.0.len() < 50 && !self.0.iter().rev().take(8).any(same) {
             self.0.push(d);
         }
     }

@@ -331,17 +331,10 @@ fn run(
     // the program only once it is known to be whole (a pipe to a machine
     // must never see half of one).
     let mut text = Vec::new();
-    let result = match (write, output) {
+    let report = match (write, output) {
         (true, Some(path)) => write_atomically(path, compile),
         (true, None) => compile(&mut text),
         (false, _) => compile(&mut std::io::sink()),
-    };
-    let report = match result {
-        Ok(report) => report,
-        Err(e) => {
-            eprintln!("error: cannot write output: {e}");
-            return ExitCode::from(2);
-        }
     };
     eprint!("{}", render(&sources, &report.diagnostics));
     if options.timings {
@@ -350,8 +343,12 @@ fn run(
         }
         eprintln!("   total: {:8.2} ms", started.elapsed().as_secs_f64() * 1e3);
     }
-    if !report.succeeded() {
+    if !report.compiled() {
         return ExitCode::from(1);
+    }
+    if let Some(e) = report.write_error {
+        eprintln!("error: cannot write output: {e}");
+        return ExitCode::from(2);
     }
     if write && output.is_none() {
         if let Err(e) = std::io::stdout().lock().write_all(&text) {
@@ -385,10 +382,7 @@ fn same_file(a: &Path, b: &Path) -> bool {
 /// Compile into a temporary file beside the target, then rename it on
 /// success: a reader never sees half a program, and on failure (errors in
 /// the program, or in writing) the old file stays.
-fn write_atomically(
-    path: &Path,
-    compile: impl FnOnce(&mut dyn Write) -> std::io::Result<Report>,
-) -> std::io::Result<Report> {
+fn write_atomically(path: &Path, compile: impl FnOnce(&mut dyn Write) -> Report) -> Report {
     let dir = path
         .parent()
         .filter(|p| !p.as_os_str().is_empty())
@@ -398,19 +392,23 @@ fn write_atomically(
         .map(|n| n.to_string_lossy().into_owned())
         .unwrap_or_default();
     let tmp = dir.join(format!(".{file_name}.{}.tmp", std::process::id()));
-    let result = (|| {
-        let mut f = std::fs::File::create(&tmp)?;
-        let report = compile(&mut f)?;
-        if report.succeeded() {
-            f.sync_all()?;
-            std::fs::rename(&tmp, path)?;
-        } else {
-            std::fs::remove_file(&tmp)?;
+    let mut file = match std::fs::File::create(&tmp) {
+        Ok(file) => file,
+        Err(e) => {
+            // Still compile, for the diagnostics.
+            let mut report = compile(&mut std::io::sink());
+            report.write_error = Some(e);
+            return report;
         }
-        Ok(report)
-    })();
-    if result.is_err() {
+    };
+    let mut report = compile(&mut file);
+    if report.succeeded() {
+        if let Err(e) = file.sync_all().and_then(|()| std::fs::rename(&tmp, path)) {
+            report.write_error = Some(e);
+        }
+    }
+    if !report.succeeded() {
         let _ = std::fs::remove_file(&tmp);
     }
-    result
+    report
 }

@@ -173,3 +173,21 @@ fn wizard_search_order() {
         Some(2)
     );
 }
+
+#[test]
+fn an_unwritable_output_still_shows_the_diagnostics() {
+    let dir = scratch("unwritable");
+    std::fs::write(dir.join("good.egc"), GOOD).unwrap();
+    std::fs::write(dir.join("bad.egc"), BAD).unwrap();
+    // A program with errors: its diagnostics and exit 1, whatever the file.
+    let r = ger(&["compile", "bad.egc", "-o", "missing/out.nc"], &dir);
+    let stderr = String::from_utf8_lossy(&r.stderr);
+    assert_eq!(r.status.code(), Some(1), "{stderr}");
+    assert!(stderr.contains("bad.egc:2"), "{stderr}");
+    assert!(!stderr.contains("cannot write"), "{stderr}");
+    // A good program that cannot be written: exit 2 and why.
+    let r = ger(&["compile", "good.egc", "-o", "missing/out.nc"], &dir);
+    let stderr = String::from_utf8_lossy(&r.stderr);
+    assert_eq!(r.status.code(), Some(2), "{stderr}");
+    assert!(stderr.contains("cannot write output"), "{stderr}");
+}

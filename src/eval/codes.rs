@@ -96,9 +96,8 @@ impl Evaluator<'_> {
                 }
             }
         };
-        // A length no machine has is a typo; past the limit the output's
-        // fixed-point numbers could not hold it either.
-        if b"XYZIJKR".contains(&w.letter) && !ir::is_length(value) {
+        // A length, feed or speed no machine has is a typo.
+        if b"XYZIJKRFS".contains(&w.letter) && !ir::is_length(value) {
             self.report(
                 error(
                     format!("`{}` is out of range", w.letter as char),
@@ -106,7 +105,7 @@ impl Evaluator<'_> {
                     format!("this is {value:e}"),
                 )
                 .with_note(format!(
-                    "lengths must be between -{} and {}",
+                    "lengths, feeds and speeds must be between -{} and {}",
                     ir::MAX_LENGTH,
                     ir::MAX_LENGTH
                 )),

@@ -353,8 +353,8 @@ fn apply(f: Function, args: &[f64], more: &[f64]) -> f64 {
 /// no `Value`, no error values, the same arithmetic as [`eval`].
 pub fn fast_number(expr: &Expr, vars: &[Slot]) -> Option<f64> {
     let v = match &expr.kind {
-        // Literals and variables are finite: every result is checked
-        // before it is stored.
+        // Literals and variables as they are (a literal too long for an
+        // f64 is infinite, as in `eval`); what uses them checks them.
         ExprKind::Number(n) => return Some(*n),
         ExprKind::Var(s) => {
             return match vars.get(s.0 as usize) {

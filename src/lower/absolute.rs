@@ -67,6 +67,21 @@ impl State {
                             }
                         },
                     };
+                    if let Some(e) = end_axis.filter(|&e| !ir::is_position(e)) {
+                        let letter = ['X', 'Y', 'Z'][axis];
+                        errors.push(
+                            error(
+                                format!("the move takes {letter} out of range"),
+                                stmt.span,
+                                format!("{letter} would be {e:e}"),
+                            )
+                            .with_note(format!(
+                                "machine positions must be between -{0} and {0}",
+                                ir::MAX_POSITION
+                            )),
+                        );
+                        return true;
+                    }
                 }
                 if let Some(arc) = &mut m.arc {
                     match resolve_arc(
