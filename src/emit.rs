@@ -623,18 +623,23 @@ fn push_int(out: &mut Vec<u8>, n: i64) {
 }
 
 /// Decimal digits of `n`.
-fn push_digits(out: &mut Vec<u8>, mut n: u64) {
-    let mut buf = [b'0'; 20];
-    let mut i = buf.len();
+fn push_digits(out: &mut Vec<u8>, n: u64) {
+    let mut buf = [0u8; 20];
+    let start = digits_before(&mut buf, 20, n);
+    out.extend_from_slice(&buf[start..]);
+}
+
+/// Write the decimal digits of `n` (at least one) into `buf`, ending just
+/// before `end`; returns where they start.
+fn digits_before(buf: &mut [u8], mut end: usize, mut n: u64) -> usize {
     loop {
-        i -= 1;
-        buf[i] = b'0' + (n % 10) as u8;
+        end -= 1;
+        buf[end] = b'0' + (n % 10) as u8;
         n /= 10;
         if n == 0 {
-            break;
+            return end;
         }
     }
-    out.extend_from_slice(&buf[i..]);
 }
 
 /// `x` rounded half away from zero, as `f64::round` (without its libm
@@ -688,14 +693,7 @@ fn push_scaled(out: &mut Vec<u8>, q: i64, decimals: usize) {
     }
     i -= 1;
     buf[i] = b'.';
-    loop {
-        i -= 1;
-        buf[i] = b'0' + (n % 10) as u8;
-        n /= 10;
-        if n == 0 {
-            break;
-        }
-    }
+    i = digits_before(&mut buf, i, n);
     if q < 0 {
         i -= 1;
         buf[i] = b'-';
