@@ -130,9 +130,9 @@ pub fn compile(
 
 /// Compile the file `file` of `sources`, writing the output to `out` as it
 /// is made (once the output units are known, memory does not grow with the
-/// program's length). When the
-/// report has errors what was written is incomplete: the caller must throw
-/// it away (`ger` writes to a temporary file and renames it on success).
+/// program's length). When the report has errors what was written is
+/// incomplete: the caller must throw it away (`ger` writes to a temporary
+/// file and renames it on success).
 pub fn compile_to(
     sources: &Sources,
     file: FileId,
@@ -277,10 +277,7 @@ impl<'s> Backend<'s> {
     /// The lowering errors if there were any, else write the rest of the
     /// output; and whether the output was written.
     fn finish(self) -> (Result<(), Vec<Diagnostic>>, std::io::Result<()>) {
-        let written = match self.write_error {
-            Some(e) => Err(e),
-            None => Ok(()),
-        };
+        let written = self.write_error.map_or(Ok(()), Err);
         let Some(started) = self.started else {
             return (Ok(()), written);
         };

@@ -277,28 +277,29 @@ impl Printer {
         self.out.push(b'\n');
     }
 
-    /// A word whose value is already on the output grid: `q` units of
-    /// 10^-decimals (what [`Printer::word`] would print for `q / scale`).
-    fn word_q(&mut self, letter: char, q: i64) {
+    /// A space before the next word, unless the line is empty or has one.
+    fn separate(&mut self) {
         if !self.line.is_empty() && self.line.last() != Some(&b' ') {
             self.line.push(b' ');
         }
+    }
+
+    /// A word whose value is already on the output grid: `q` units of
+    /// 10^-decimals (what [`Printer::word`] would print for `q / scale`).
+    fn word_q(&mut self, letter: char, q: i64) {
+        self.separate();
         self.line.push(letter as u8);
         push_scaled(&mut self.line, q, self.decimals);
     }
 
     fn word(&mut self, letter: char, v: f64) {
-        if !self.line.is_empty() && self.line.last() != Some(&b' ') {
-            self.line.push(b' ');
-        }
+        self.separate();
         self.line.push(letter as u8);
         push_fixed_bytes(&mut self.line, v, self.decimals);
     }
 
     fn code(&mut self, text: &str) {
-        if !self.line.is_empty() && self.line.last() != Some(&b' ') {
-            self.line.push(b' ');
-        }
+        self.separate();
         self.line.extend_from_slice(text.as_bytes());
     }
 
@@ -619,13 +620,8 @@ fn push_int(out: &mut Vec<u8>, n: i64) {
     if n < 0 {
         out.push(b'-');
     }
-    push_digits(out, n.unsigned_abs());
-}
-
-/// Decimal digits of `n`.
-fn push_digits(out: &mut Vec<u8>, n: u64) {
     let mut buf = [0u8; 20];
-    let start = digits_before(&mut buf, 20, n);
+    let start = digits_before(&mut buf, 20, n.unsigned_abs());
     out.extend_from_slice(&buf[start..]);
 }
 

@@ -105,6 +105,15 @@ pub fn eval_program<'a>(
     ev.diagnostics
 }
 
+/// `value`, given at `span`, is beyond ±[`ir::MAX_LENGTH`]; `what` names
+/// the kind of number for the note.
+fn out_of_range(message: String, what: &str, value: f64, span: Span) -> Diagnostic {
+    error(message, span, format!("this is {value:e}")).with_note(format!(
+        "{what} must be between -{0} and {0}",
+        ir::MAX_LENGTH
+    ))
+}
+
 /// How a block finished.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 enum Flow {

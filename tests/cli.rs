@@ -22,6 +22,14 @@ fn scratch(name: &str) -> PathBuf {
     dir
 }
 
+/// A scratch folder holding `good.egc` and `bad.egc`.
+fn scratch_with_programs(name: &str) -> PathBuf {
+    let dir = scratch(name);
+    std::fs::write(dir.join("good.egc"), GOOD).unwrap();
+    std::fs::write(dir.join("bad.egc"), BAD).unwrap();
+    dir
+}
+
 const GOOD: &str = "G21 G90\nG0 X0 Y0 Z5\nG1 Z-1 F100\nG1 X10\nM30\n";
 const BAD: &str = "G21 G90\nG0 X<Undefined>\n";
 /// An error after 20,000 moves: far more output than is held back before
@@ -30,9 +38,7 @@ const BAD_LATE: &str = "G21 G90\nG0 X0 Y0\nIi = 0\nwhile (Ii < 20000) {\n  G0 X<
 
 #[test]
 fn exit_codes() {
-    let dir = scratch("exit");
-    std::fs::write(dir.join("good.egc"), GOOD).unwrap();
-    std::fs::write(dir.join("bad.egc"), BAD).unwrap();
+    let dir = scratch_with_programs("exit");
     assert_eq!(ger(&["check", "good.egc"], &dir).status.code(), Some(0));
     assert_eq!(ger(&["check", "bad.egc"], &dir).status.code(), Some(1));
     assert_eq!(ger(&["check", "missing.egc"], &dir).status.code(), Some(2));
@@ -52,9 +58,7 @@ fn exit_codes() {
 
 #[test]
 fn output_is_atomic_and_untouched_on_error() {
-    let dir = scratch("atomic");
-    std::fs::write(dir.join("good.egc"), GOOD).unwrap();
-    std::fs::write(dir.join("bad.egc"), BAD).unwrap();
+    let dir = scratch_with_programs("atomic");
     std::fs::write(dir.join("out.nc"), "previous\n").unwrap();
     std::fs::write(dir.join("bad_late.egc"), BAD_LATE).unwrap();
     for bad in ["bad.egc", "bad_late.egc"] {
@@ -176,9 +180,7 @@ fn wizard_search_order() {
 
 #[test]
 fn an_unwritable_output_still_shows_the_diagnostics() {
-    let dir = scratch("unwritable");
-    std::fs::write(dir.join("good.egc"), GOOD).unwrap();
-    std::fs::write(dir.join("bad.egc"), BAD).unwrap();
+    let dir = scratch_with_programs("unwritable");
     // A program with errors: its diagnostics and exit 1, whatever the file.
     let r = ger(&["compile", "bad.egc", "-o", "missing/out.nc"], &dir);
     let stderr = String::from_utf8_lossy(&r.stderr);

@@ -98,18 +98,12 @@ impl Evaluator<'_> {
         };
         // A length, feed or speed no machine has is a typo.
         if b"XYZIJKRFS".contains(&w.letter) && !ir::is_length(value) {
-            self.report(
-                error(
-                    format!("`{}` is out of range", w.letter as char),
-                    w.span,
-                    format!("this is {value:e}"),
-                )
-                .with_note(format!(
-                    "lengths, feeds and speeds must be between -{} and {}",
-                    ir::MAX_LENGTH,
-                    ir::MAX_LENGTH
-                )),
-            );
+            self.report(super::out_of_range(
+                format!("`{}` is out of range", w.letter as char),
+                "lengths, feeds and speeds",
+                value,
+                w.span,
+            ));
             return None;
         }
         Some(value)

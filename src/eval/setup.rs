@@ -107,16 +107,12 @@ impl SetupBuilder {
         };
         let number = |i: usize| -> Result<f64, Diagnostic> {
             match args[i] {
-                Value::Number(n) if !ir::is_length(n) => Err(error(
-                    "out of range",
+                Value::Number(n) if !ir::is_length(n) => Err(super::out_of_range(
+                    "out of range".into(),
+                    "numbers here",
+                    n,
                     arg_spans[i],
-                    format!("this is {n:e}"),
-                )
-                .with_note(format!(
-                    "numbers here must be between -{} and {}",
-                    ir::MAX_LENGTH,
-                    ir::MAX_LENGTH
-                ))),
+                )),
                 Value::Number(n) => Ok(n),
                 other => Err(error(
                     "expected a number",
