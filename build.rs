@@ -11,7 +11,7 @@ fn main() {
         .set_out_dir(&out)
         .emit_rerun_directives(true)
         .process()
-        .expect("grammar/ger.lalrpop must generate");
+        .expect("every grammar/*.lalrpop must generate");
 
     println!("cargo:rerun-if-changed=stdlib");
     let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("stdlib");

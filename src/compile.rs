@@ -170,7 +170,7 @@ fn run(
     diagnostics: &mut Vec<Diagnostic>,
     clock: &mut Clock,
 ) -> std::io::Result<()> {
-    let (program, parse_diagnostics) = crate::parser::parse_program(text, file);
+    let (program, parse_diagnostics) = crate::syntax::egc::parse_program(text, file);
     diagnostics.extend(parse_diagnostics);
     clock.lap("parse");
     if diagnostics.iter().any(is_error) {

@@ -8,10 +8,9 @@
 pub mod diagnostic;
 pub mod source;
 
-// The source language: tokens, syntax tree, parser.
+// The source languages: syntax tree and front ends.
 pub mod ast;
-pub mod lexer;
-pub mod parser;
+pub mod syntax;
 
 // The compiler: evaluation to IR, lowering, G-code output.
 pub mod compile;

@@ -1,7 +1,7 @@
 //! The parser's fast path for plain lines must build exactly the tree the
 //! grammar builds: compare both on every program in the test corpus.
 
-use ger::parser::parse_program_with_fast_path;
+use ger::syntax::egc::parse_program_with_fast_path;
 use std::path::Path;
 
 #[test]

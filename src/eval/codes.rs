@@ -594,7 +594,7 @@ pub(super) fn run_wizard_line(
     text: &str,
     span: Span,
 ) -> Result<(), Vec<Diagnostic>> {
-    let (program, diagnostics) = crate::parser::parse_program(text, span.file);
+    let (program, diagnostics) = crate::syntax::egc::parse_program(text, span.file);
     if !diagnostics.is_empty() {
         return Err(diagnostics);
     }

@@ -1,19 +1,19 @@
 //! Parser: tokens → AST. The only module that knows LALRPOP; the grammar
-//! (`grammar/ger.lalrpop`) could be replaced by touching this file alone.
+//! (`grammar/egc.lalrpop`) could be replaced by touching this file alone.
 //! Besides running the grammar it turns parse errors into diagnostics and
 //! splits the top level into the main program and `O…`/`M99` subprograms.
 //! It must not evaluate anything.
 
+use super::lexer::{self, Lexed, Tok};
 use crate::ast::*;
 use crate::diagnostic::{error, Diagnostic, DiagnosticExt};
-use crate::lexer::{self, Lexed, Tok};
 use crate::source::{FileId, Span};
 use lalrpop_util::{lalrpop_mod, ParseError};
 
 lalrpop_mod!(
     #[allow(clippy::all, clippy::pedantic, unused_parens, dead_code)]
     grammar,
-    "/ger.rs"
+    "/egc.rs"
 );
 
 /// Parse one source file. The program is returned even when there are

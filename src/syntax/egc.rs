@@ -1,0 +1,8 @@
+//! ger's own language, `.egc` (SPEC §2): a logos lexer with G-code's
+//! context rules and a LALRPOP grammar (`grammar/egc.lalrpop`), behind
+//! [`parse_program`].
+
+pub mod lexer;
+pub mod parser;
+
+pub use parser::{parse_program, parse_program_with_fast_path};
