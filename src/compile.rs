@@ -6,8 +6,8 @@
 use crate::diagnostic::{is_error, Diagnostic};
 use crate::emit::{self, EmitOptions};
 use crate::eval::{self, EvalOptions, WizardHost};
-use crate::ir::{self, Units};
-use crate::lower::{Lowering, Pass};
+use crate::ir;
+use crate::lower::{self, Pipeline};
 use crate::source::{FileId, Sources};
 use std::io::Write;
 use std::time::{Duration, Instant};
@@ -18,30 +18,31 @@ pub enum Stage {
     /// The parsed program, normalised (no evaluation).
     Parse,
     Expand,
-    Lower(Pass),
+    /// After the pass of this index in [`lower::PASSES`].
+    Lower(usize),
 }
 
 impl Stage {
-    pub const ALL: [(&'static str, Stage); 6] = [
-        ("parse", Stage::Parse),
-        ("expand", Stage::Expand),
-        ("units", Stage::Lower(Pass::Units)),
-        ("polar", Stage::Lower(Pass::Polar)),
-        ("offsets", Stage::Lower(Pass::Offsets)),
-        ("absolute", Stage::Lower(Pass::Absolute)),
-    ];
+    /// Every stage name, in order.
+    pub fn names() -> impl Iterator<Item = &'static str> {
+        ["parse", "expand"]
+            .into_iter()
+            .chain(lower::PASSES.iter().map(|p| p.name))
+    }
 
     pub fn from_name(name: &str) -> Option<Stage> {
-        Stage::ALL
-            .iter()
-            .find(|(n, _)| n.eq_ignore_ascii_case(name))
-            .map(|&(_, s)| s)
+        match name.to_ascii_lowercase().as_str() {
+            "parse" => Some(Stage::Parse),
+            "expand" => Some(Stage::Expand),
+            _ => lower::pass_index(name).map(Stage::Lower),
+        }
     }
 }
 
 #[derive(Clone, Debug, Default)]
 pub struct CompileOptions {
     pub eval: EvalOptions,
+    pub lower: lower::LowerOptions,
     pub emit: EmitOptions,
     /// Print the program after this stage instead of the final output.
     pub stage: Option<Stage>,
@@ -201,9 +202,7 @@ fn run(
         return Ok(());
     }
     let (lowered, written) = backend.finish();
-    if let Err(errors) = lowered {
-        diagnostics.extend(errors);
-    }
+    diagnostics.extend(lowered);
     written
 }
 
@@ -225,13 +224,13 @@ struct Backend<'s> {
 
 struct Started {
     /// `None` for `--stage expand`.
-    lowering: Option<Lowering>,
+    lowering: Option<Pipeline>,
     printer: Printer,
 }
 
 enum Printer {
     Stage(emit::StagePrinter),
-    Program(emit::ProgramPrinter),
+    Program(Box<emit::ProgramPrinter>),
 }
 
 impl<'s> Backend<'s> {
@@ -253,56 +252,94 @@ impl<'s> Backend<'s> {
         }
     }
 
-    fn start(&self, setup: &ir::Setup, units: Units) -> Started {
-        let (source, file) = (self.source, self.file);
+    fn started(&self, start: &ir::Start) -> Started {
+        let (len, file) = (self.source.len(), self.file);
         let last = match self.options.stage {
             Some(Stage::Lower(pass)) => Some(pass),
-            Some(_) => None,
-            None => Some(Pass::Absolute),
+            Some(Stage::Parse | Stage::Expand) => None,
+            None => Some(lower::PASSES.len() - 1),
+        };
+        let context = lower::Context {
+            start,
+            options: &self.options.lower,
+        };
+        // What the first pass starts from is what is printed, unless the
+        // units pass has run.
+        let units = match last {
+            Some(last) if last >= lower::pass_index("units").unwrap_or(0) => start.output_units,
+            _ => start.program_units,
         };
         Started {
-            lowering: last.map(|last| Lowering::new(setup, units, last)),
+            lowering: last.map(|last| Pipeline::new(&context, last)),
             printer: match self.options.stage {
-                Some(_) => Printer::Stage(emit::StagePrinter::new(units, source, file)),
-                None => Printer::Program(emit::ProgramPrinter::new(
+                Some(_) => Printer::Stage(emit::StagePrinter::new(units, len, file)),
+                None => Printer::Program(Box::new(emit::ProgramPrinter::new(
                     &self.options.emit,
                     units,
-                    source,
+                    len,
                     file,
-                )),
+                ))),
             },
         }
     }
 
-    /// The lowering errors if there were any, else write the rest of the
-    /// output; and whether the output was written.
-    fn finish(self) -> (Result<(), Vec<Diagnostic>>, std::io::Result<()>) {
+    /// The passes' diagnostics, and the rest of the output unless a pass
+    /// failed; and whether the output was written.
+    fn finish(self) -> (Vec<Diagnostic>, std::io::Result<()>) {
         let written = self.write_error.map_or(Ok(()), Err);
-        let Some(started) = self.started else {
-            return (Ok(()), written);
+        let Some(Started {
+            lowering,
+            mut printer,
+        }) = self.started
+        else {
+            return (Vec::new(), written);
         };
-        if let Some(lowering) = started.lowering {
-            if let Err(errors) = lowering.finish() {
-                return (Err(errors), written);
+        let mut diagnostics = Vec::new();
+        if let Some(mut lowering) = lowering {
+            let mut rest = Vec::new();
+            lowering.finish(&mut rest);
+            let failed = lowering.failed();
+            diagnostics = lowering.diagnostics();
+            if failed {
+                return (diagnostics, written);
             }
+            printer.print(&rest);
         }
-        let rest = match started.printer {
-            Printer::Stage(p) => p.finish(),
-            Printer::Program(p) => p.finish(),
-        };
-        (Ok(()), written.and_then(|()| self.out.write_all(&rest)))
+        let rest = printer.finish();
+        (
+            diagnostics,
+            written.and_then(|()| self.out.write_all(&rest)),
+        )
     }
 }
 
 /// The printed text is written out once there is this much of it.
 const WRITE_AT: usize = 64 * 1024;
 
-impl ir::Sink for Backend<'_> {
-    fn batch(&mut self, setup: &ir::Setup, units: Units, batch: &mut Vec<ir::Stmt>) {
-        if self.started.is_none() {
-            self.started = Some(self.start(setup, units));
+impl Printer {
+    fn print(&mut self, stmts: &[ir::Stmt]) -> &mut Vec<u8> {
+        match self {
+            Printer::Stage(p) => p.print(stmts),
+            Printer::Program(p) => p.print(stmts),
         }
+    }
+
+    fn finish(self) -> Vec<u8> {
+        match self {
+            Printer::Stage(p) => p.finish(),
+            Printer::Program(p) => p.finish(),
+        }
+    }
+}
+
+impl ir::Sink for Backend<'_> {
+    fn start(&mut self, start: &ir::Start) {
+        self.started = Some(self.started(start));
+    }
+
+    fn batch(&mut self, batch: &mut Vec<ir::Stmt>) {
         let Some(started) = &mut self.started else {
+            batch.clear();
             return;
         };
         let t0 = Instant::now();
@@ -317,10 +354,7 @@ impl ir::Sink for Backend<'_> {
             }
         }
         let t1 = Instant::now();
-        let text = match &mut started.printer {
-            Printer::Stage(p) => p.print(batch),
-            Printer::Program(p) => p.print(batch),
-        };
+        let text = started.printer.print(batch);
         batch.clear();
         // Hand the text on in large writes.
         if text.len() >= WRITE_AT {

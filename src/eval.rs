@@ -10,7 +10,7 @@ mod setup;
 pub mod value;
 
 use crate::ast::{self, Names, StmtKind, Symbol};
-use crate::diagnostic::{error, Diagnostic, DiagnosticExt};
+use crate::diagnostic::{error, warning, Diagnostic, DiagnosticExt};
 use crate::ir;
 use crate::source::Span;
 use value::{ExprError, Slot, Value};
@@ -28,6 +28,8 @@ pub struct EvalOptions {
     /// depend on it (`tests/streaming.rs` checks); it trades cache for
     /// call overhead.
     pub batch: usize,
+    /// `--units`: the units of a program that states none.
+    pub units: Option<ir::Units>,
 }
 
 impl Default for EvalOptions {
@@ -37,6 +39,7 @@ impl Default for EvalOptions {
             max_statements: 5_000_000,
             max_call_depth: 64,
             batch: 1024,
+            units: None,
         }
     }
 }
@@ -142,6 +145,8 @@ struct Evaluator<'a> {
     first_move: Option<Span>,
     /// The first G20/G21, which gives the output units without `SetUnits`.
     first_units: Option<ir::Units>,
+    /// The sink has been told the start ([`ir::Sink::start`]).
+    started: bool,
     diagnostics: Vec<Diagnostic>,
     errors: usize,
     /// Current motion mode, for words written without a G code.
@@ -180,6 +185,7 @@ impl<'a> Evaluator<'a> {
             made: 0,
             first_move: None,
             first_units: None,
+            started: false,
             diagnostics: Vec::new(),
             errors: 0,
             motion: None,
@@ -255,7 +261,10 @@ impl<'a> Evaluator<'a> {
             ir::Op::Units(u) if self.first_units.is_none() => self.first_units = Some(u),
             _ => {}
         }
-        self.out.push(ir::Stmt { op, span });
+        if self.first_move == Some(span) && !self.started {
+            self.start(span);
+        }
+        self.out.push(ir::Stmt::new(op, span));
         self.made += 1;
         if self.out.len() >= self.options.batch {
             self.send();
@@ -263,37 +272,55 @@ impl<'a> Evaluator<'a> {
         Ok(())
     }
 
-    /// The output units, once they are known: `SetUnits`, else the first
-    /// G20/G21 (SPEC §3).
-    fn output_units(&self) -> Option<ir::Units> {
-        self.setup.get().units.or(self.first_units)
+    /// The setup is complete (the first move, or the end of a program
+    /// without moves): tell the sink what it starts from. The output units
+    /// are `SetUnits`, else the first G20/G21 before the first move, else
+    /// `--units`; else the machine's own, with a warning (SPEC §3).
+    fn start(&mut self, at: Span) {
+        self.started = true;
+        let setup = self.setup.get().clone();
+        let output_units = setup.units.or(self.first_units).or(self.options.units);
+        if output_units.is_none() && at != Span::default() {
+            self.report(
+                warning(
+                    "the program does not state its units",
+                    at,
+                    "this move runs in the machine's units",
+                )
+                .with_note("nothing is converted and no G20/G21 is written")
+                .with_help("add G21 (mm) or G20 (inch) at the top, or pass --units mm|inch"),
+            );
+        }
+        let start = ir::Start {
+            program_units: self.options.units.or(setup.units),
+            output_units,
+            setup,
+        };
+        self.sink.start(&start);
     }
 
-    /// Send the statements made so far to the sink, if it may have them:
-    /// after the first move (the setup is complete) and once the output
-    /// units are known. Until then they wait here. After an error nothing
-    /// is sent: there will be no output.
+    /// Send the statements made so far to the sink, once it has started
+    /// (after the first move: the setup is complete). Until then they wait
+    /// here. After an error nothing is sent: there will be no output.
     fn send(&mut self) {
         if self.errors > 0 {
             self.out.clear();
             return;
         }
-        if self.first_move.is_none() {
-            return;
-        }
-        if let Some(units) = self.output_units() {
-            self.sink.batch(self.setup.get(), units, &mut self.out);
+        if self.started {
+            self.sink.batch(&mut self.out);
         }
     }
 
-    /// The end of the program: send what is left (the units default to
-    /// inch) and tell the sink the program is complete.
+    /// The end of the program: send what is left.
     fn finish(&mut self) {
         if self.errors > 0 {
             return;
         }
-        let units = self.output_units().unwrap_or(ir::Units::Inch);
-        self.sink.batch(self.setup.get(), units, &mut self.out);
+        if !self.started {
+            self.start(Span::default());
+        }
+        self.sink.batch(&mut self.out);
     }
 
     /// Keep the little state wizards can read (SPEC §5).
@@ -301,8 +328,9 @@ impl<'a> Evaluator<'a> {
         match op {
             ir::Op::Move(m) => {
                 self.motion = Some(m.motion);
-                for axis in 0..3 {
+                for axis in [ir::Axis::X, ir::Axis::Y, ir::Axis::Z] {
                     if let Some(v) = m.to.get(axis) {
+                        let axis = axis.index();
                         self.position[axis] = match self.distance {
                             ir::Distance::Absolute => Some(v),
                             ir::Distance::Incremental => self.position[axis].map(|p| p + v),
@@ -314,9 +342,9 @@ impl<'a> Evaluator<'a> {
             ir::Op::Distance(d) => self.distance = *d,
             ir::Op::Polar(on) => self.polar = *on,
             ir::Op::SetPosition(a) => {
-                for axis in 0..3 {
+                for axis in [ir::Axis::X, ir::Axis::Y, ir::Axis::Z] {
                     if let Some(v) = a.get(axis) {
-                        self.position[axis] = Some(v);
+                        self.position[axis.index()] = Some(v);
                     }
                 }
             }

@@ -2,6 +2,10 @@
 //! that produced it. It is still G-code, modal and in the program's own
 //! units; every lowering pass maps IR to simpler IR, and every stage prints
 //! as valid G-code (`emit`). Nothing here knows the AST.
+//!
+//! Architecture invariant: [`Op`] has one variant per G-code concept, and
+//! every pass matches it without a catch-all, so a new op fails to compile
+//! wherever it needs a decision.
 
 use crate::source::Span;
 use std::collections::BTreeMap;
@@ -24,62 +28,166 @@ pub fn is_position(v: f64) -> bool {
     v.abs() < MAX_POSITION
 }
 
+/// What the evaluator knows when it starts sending statements (after the
+/// setup directives, before the first move).
+#[derive(Clone, Debug)]
+pub struct Start {
+    pub setup: Setup,
+    /// The units the output is written in; `None`: the program never says,
+    /// and its numbers pass through in the machine's units (SPEC §3).
+    pub output_units: Option<Units>,
+    /// The units the program is in before its first G20/G21.
+    pub program_units: Option<Units>,
+}
+
 /// Where the evaluator sends the program: its statements in order, in
-/// batches, once the setup is complete and the output units are known
-/// (the back end then lowers and prints each batch and keeps nothing).
+/// batches (the back end lowers and prints each batch and keeps nothing).
 pub trait Sink {
+    /// Called once, before the first batch.
+    fn start(&mut self, start: &Start);
     /// Take the statements of `batch`, leaving it empty.
-    fn batch(&mut self, setup: &Setup, output_units: Units, batch: &mut Vec<Stmt>);
+    fn batch(&mut self, batch: &mut Vec<Stmt>);
 }
 
 #[derive(Clone, Debug, PartialEq)]
 pub struct Stmt {
     pub op: Op,
     pub span: Span,
+    /// Written on a block-delete line (`/`): printed with its `/`.
+    pub block_delete: bool,
 }
 
-/// Optional X, Y, Z values as written (a missing axis keeps its position).
+impl Stmt {
+    pub fn new(op: Op, span: Span) -> Stmt {
+        Stmt {
+            op,
+            span,
+            block_delete: false,
+        }
+    }
+
+    /// Another statement from the same source block.
+    pub fn with_op(&self, op: Op) -> Stmt {
+        Stmt {
+            op,
+            span: self.span,
+            block_delete: self.block_delete,
+        }
+    }
+}
+
+/// The axes of a move: three linear (X Y Z), three rotary in degrees
+/// (A B C) and three more linear (U V W), in the order they are printed.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash)]
+pub enum Axis {
+    X,
+    Y,
+    Z,
+    A,
+    B,
+    C,
+    U,
+    V,
+    W,
+}
+
+impl Axis {
+    pub const ALL: [Axis; 9] = [
+        Axis::X,
+        Axis::Y,
+        Axis::Z,
+        Axis::A,
+        Axis::B,
+        Axis::C,
+        Axis::U,
+        Axis::V,
+        Axis::W,
+    ];
+
+    pub fn index(self) -> usize {
+        self as usize
+    }
+
+    pub fn letter(self) -> u8 {
+        b"XYZABCUVW"[self as usize]
+    }
+
+    pub fn from_letter(letter: u8) -> Option<Axis> {
+        let i = b"XYZABCUVW".iter().position(|&l| l == letter)?;
+        Some(Axis::ALL[i])
+    }
+
+    /// A B C turn (degrees); the others are lengths.
+    pub fn is_rotary(self) -> bool {
+        matches!(self, Axis::A | Axis::B | Axis::C)
+    }
+}
+
+/// Axis values as written: an axis left out keeps its position.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct Axes {
-    pub x: Option<f64>,
-    pub y: Option<f64>,
-    pub z: Option<f64>,
+    present: u16,
+    values: [f64; 9],
 }
 
 impl Axes {
     pub fn is_empty(&self) -> bool {
-        self.x.is_none() && self.y.is_none() && self.z.is_none()
+        self.present == 0
     }
 
-    pub fn get(&self, axis: usize) -> Option<f64> {
-        [self.x, self.y, self.z][axis]
+    pub fn get(&self, axis: Axis) -> Option<f64> {
+        (self.present & (1 << axis as u16) != 0).then(|| self.values[axis as usize])
     }
 
-    pub fn set(&mut self, axis: usize, value: Option<f64>) {
-        match axis {
-            0 => self.x = value,
-            1 => self.y = value,
-            _ => self.z = value,
+    pub fn has(&self, axis: Axis) -> bool {
+        self.present & (1 << axis as u16) != 0
+    }
+
+    pub fn set(&mut self, axis: Axis, value: f64) {
+        self.present |= 1 << axis as u16;
+        self.values[axis as usize] = value;
+    }
+
+    pub fn put(&mut self, axis: Axis, value: Option<f64>) {
+        match value {
+            Some(v) => self.set(axis, v),
+            None => self.present &= !(1 << axis as u16),
         }
     }
 
-    /// Apply `f` to every present value.
-    pub fn map(self, f: impl Fn(f64) -> f64) -> Axes {
-        Axes {
-            x: self.x.map(&f),
-            y: self.y.map(&f),
-            z: self.z.map(&f),
-        }
+    /// The axes present, in printing order.
+    pub fn iter(&self) -> impl Iterator<Item = (Axis, f64)> + '_ {
+        Axis::ALL
+            .into_iter()
+            .filter_map(move |a| self.get(a).map(|v| (a, v)))
     }
 
-    pub fn full(p: [f64; 3]) -> Axes {
-        Axes {
-            x: Some(p[0]),
-            y: Some(p[1]),
-            z: Some(p[2]),
+    /// Any axis but X, Y and Z?
+    pub fn has_extra(&self) -> bool {
+        self.present & !0b111 != 0
+    }
+
+    /// Apply `f` to every present length (not to A B C).
+    pub fn map_lengths(mut self, f: impl Fn(f64) -> f64) -> Axes {
+        for axis in Axis::ALL {
+            if !axis.is_rotary() && self.has(axis) {
+                self.values[axis as usize] = f(self.values[axis as usize]);
+            }
         }
+        self
+    }
+
+    pub fn xyz(x: f64, y: f64, z: f64) -> Axes {
+        let mut a = Axes::default();
+        a.set(Axis::X, x);
+        a.set(Axis::Y, y);
+        a.set(Axis::Z, z);
+        a
     }
 }
+
+/// What is known of the machine's position, per axis.
+pub type Position = [Option<f64>; 9];
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Motion {
@@ -95,11 +203,13 @@ impl Motion {
     }
 }
 
+/// An arc's centre offset I, J, K (relative to the start point).
+pub type Center = [Option<f64>; 3];
+
 /// How an arc's geometry was given.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum ArcGeometry {
-    /// I, J, K: the centre relative to the start point.
-    Center(Axes),
+    Center(Center),
     /// R: positive for the short arc, negative for the long one.
     Radius(f64),
 }
@@ -190,9 +300,124 @@ pub enum Stop {
     Optional,
 }
 
+/// G28 or G30: a return to a home position the machine stores.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Home {
+    G28,
+    G30,
+}
+
+/// Where a canned cycle retracts to between holes (G98 / G99).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum ReturnLevel {
+    /// G98: the level where the run of cycles began.
+    Initial,
+    /// G99: the R level.
+    R,
+}
+
+/// The canned cycles (SPEC §4 cycles).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum CycleKind {
+    /// G73 chip-breaking peck.
+    G73,
+    /// G74 left-hand tapping.
+    G74,
+    /// G81 drill.
+    G81,
+    /// G82 drill with dwell.
+    G82,
+    /// G83 deep peck.
+    G83,
+    /// G84 right-hand tapping.
+    G84,
+    /// G85 bore, feed out.
+    G85,
+    /// G86 bore, spindle stop, rapid out.
+    G86,
+    /// G87 back bore.
+    G87,
+    /// G88 bore, dwell, spindle stop, manual retract (program stop).
+    G88,
+    /// G89 bore, dwell, feed out.
+    G89,
+}
+
+impl CycleKind {
+    pub fn code(self) -> u32 {
+        match self {
+            CycleKind::G73 => 73,
+            CycleKind::G74 => 74,
+            CycleKind::G81 => 81,
+            CycleKind::G82 => 82,
+            CycleKind::G83 => 83,
+            CycleKind::G84 => 84,
+            CycleKind::G85 => 85,
+            CycleKind::G86 => 86,
+            CycleKind::G87 => 87,
+            CycleKind::G88 => 88,
+            CycleKind::G89 => 89,
+        }
+    }
+}
+
+/// One block of a canned cycle, as written: the words it gives. Missing
+/// R, Z, Q, P keep the values of the previous block of the run.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Cycle {
+    pub kind: CycleKind,
+    /// The hole position (plane axes) and the bottom (the normal axis).
+    pub at: Axes,
+    pub r: Option<f64>,
+    /// Peck depth (G73, G83).
+    pub q: Option<f64>,
+    /// Dwell at the bottom, seconds.
+    pub dwell: Option<f64>,
+    /// Repeats (L, or Fanuc's K).
+    pub repeats: u32,
+    /// G87's I, J (back-bore offset) and K (back-bore level).
+    pub ijk: Center,
+}
+
+/// Which side of the path the tool runs on (G41 left, G42 right).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Side {
+    Left,
+    Right,
+}
+
+/// Where compensation takes its radius from.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum CompRadius {
+    /// G41/G42 D`n`: half of tool `n`'s diameter in the table.
+    Tool(u32),
+    /// G41/G42 without D: the loaded tool.
+    LoadedTool,
+    /// G41.1/G42.1 D`d`: the diameter itself.
+    Diameter(f64),
+}
+
+/// A machine code ger does not interpret: passed through as written.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Passthrough {
+    /// An M code with its P, Q, E, L words (M40, M62, M100…).
+    MCode { number: u32, words: Vec<(u8, f64)> },
+    /// A controller command line such as grbl's `$H`, verbatim.
+    Line(String),
+}
+
 #[derive(Clone, Debug, PartialEq)]
 pub enum Op {
     Move(Move),
+    /// G53: a straight move in machine coordinates (passed through; the
+    /// position is unknown after it).
+    MachineMove(Move),
+    /// G28/G30: to the stored home position through `via`, absolute
+    /// (passed through; the position is unknown after it).
+    Home {
+        home: Home,
+        via: Axes,
+    },
     /// F, in length units per minute.
     Feed(f64),
     /// S, rpm.
@@ -211,7 +436,7 @@ pub enum Op {
     Units(Units),
     Distance(Distance),
     Plane(Plane),
-    /// G54..G59 as 1..=6.
+    /// G54..G59.3 as 1..=9.
     SelectWorkOffset(u8),
     /// G10 L2 P`index` (1 = G54): the origin of that system.
     SetWorkOffset {
@@ -230,20 +455,33 @@ pub enum Op {
     SetPosition(Axes),
     /// G92.1: cancel G92.
     CancelPosition,
-    /// G43 H`tool` (positive) / G44 (negative).
+    /// G43 H`tool` (positive) / G44 (negative); `None`: the loaded tool,
+    /// not known.
     ToolLength {
-        tool: u32,
+        tool: Option<u32>,
         negative: bool,
     },
     /// G49
     CancelToolLength,
     /// G16 (true) / G15 (false).
     Polar(bool),
-    /// G40
-    CompOff,
+    /// G7 (true): X words are diameters; G8 (false): radii.
+    DiameterMode(bool),
+    /// G98 / G99.
+    ReturnLevel(ReturnLevel),
+    /// G73, G74, G81–G89 and the blocks that repeat them.
+    Cycle(Cycle),
     /// G80
     CycleOff,
+    /// G41/G42 (G41.1/G42.1).
+    Comp {
+        side: Side,
+        radius: CompRadius,
+    },
+    /// G40
+    CompOff,
     Comment(String),
+    Passthrough(Passthrough),
 }
 
 /// The machine as the setup directives (SPEC §3) describe it. Lengths are
@@ -266,16 +504,19 @@ pub struct Setup {
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Tool {
     pub diameter: f64,
-    pub length: f64,
+    /// `None`: unknown (a G43 with it passes through).
+    pub length: Option<f64>,
     pub shape: ToolShape,
 }
 
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, PartialEq)]
 pub enum ToolShape {
     Flat,
     Ball,
+    /// A drill with its point angle (118°).
     Drill,
-    Vee,
+    /// A vee cutter with its included angle in degrees (default 90°).
+    Vee(f64),
 }
 
 impl ToolShape {
@@ -284,7 +525,7 @@ impl ToolShape {
             "flat" => Some(ToolShape::Flat),
             "ball" => Some(ToolShape::Ball),
             "drill" => Some(ToolShape::Drill),
-            "vee" | "v" => Some(ToolShape::Vee),
+            "vee" | "v" => Some(ToolShape::Vee(90.0)),
             _ => None,
         }
     }

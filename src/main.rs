@@ -6,7 +6,8 @@
 use clap::{Parser, Subcommand, ValueEnum};
 use ger::compile::{compile_to, CompileOptions, Report, Stage};
 use ger::diagnostic::render;
-use ger::emit::{ArcFormat, Dialect, Numbering};
+use ger::emit::{ArcFormat, Numbering, Target};
+use ger::ir::Units;
 use ger::source::Sources;
 use ger::wizard::{standard_library, Library, WizardEngine, WizardSource};
 use std::io::{Read, Write};
@@ -41,7 +42,7 @@ enum Command {
         output: Option<PathBuf>,
         #[command(flatten)]
         options: Options,
-        /// Print the program after this stage (expand, units, offsets, polar, absolute).
+        /// Print the program after this stage (parse, expand, units, polar, offsets, absolute).
         #[arg(long)]
         stage: Option<String>,
     },
@@ -68,9 +69,12 @@ struct Options {
     /// Line numbers: the source line (default), a sequence, or none.
     #[arg(long, value_enum, default_value_t = NumbersArg::Source)]
     numbers: NumbersArg,
-    /// Output dialect.
-    #[arg(long, value_enum, default_value_t = DialectArg::Generic)]
-    dialect: DialectArg,
+    /// The output flavour.
+    #[arg(long, alias = "dialect", value_enum, default_value_t = TargetArg::Generic)]
+    target: TargetArg,
+    /// The units of a program that states none (no G20/G21, no SetUnits).
+    #[arg(long, value_enum)]
+    units: Option<UnitsArg>,
     /// How arcs are written.
     #[arg(long, value_enum, default_value_t = ArcsArg::Ij)]
     arcs: ArcsArg,
@@ -99,7 +103,13 @@ enum NumbersArg {
 }
 
 #[derive(Clone, Copy, ValueEnum)]
-enum DialectArg {
+enum UnitsArg {
+    Mm,
+    Inch,
+}
+
+#[derive(Clone, Copy, ValueEnum)]
+enum TargetArg {
     Generic,
     Fanuc,
     Grbl,
@@ -137,7 +147,7 @@ fn real_main() -> ExitCode {
                 None => None,
                 Some((_, Some(stage))) => Some(stage),
                 Some((name, None)) => {
-                    let names: Vec<&str> = Stage::ALL.iter().map(|(n, _)| *n).collect();
+                    let names: Vec<&str> = Stage::names().collect();
                     eprintln!(
                         "error: unknown stage `{name}`; the stages are {}",
                         names.join(", ")
@@ -270,11 +280,24 @@ fn run(
             return ExitCode::from(2);
         }
     }
-    let text = match read_input(input) {
-        Ok(text) => text,
+    let bytes = match read_input(input) {
+        Ok(bytes) => bytes,
         Err(e) => {
             eprintln!("error: cannot read `{input}`: {e}");
             return ExitCode::from(2);
+        }
+    };
+    let text = match ger::source::decode(&bytes) {
+        Ok(text) => text,
+        Err(why) => {
+            let (what, at) = match why {
+                ger::source::NotText::Nul(at) => ("a NUL byte", at),
+                ger::source::NotText::Control(at) => ("a control character", at),
+            };
+            eprintln!(
+                "error: `{input}` is not a text file: {what} at byte {at}\n  = note: ger reads G-code programs as text (UTF-8 or Latin-1)"
+            );
+            return ExitCode::from(1);
         }
     };
     let mut sources = Sources::new();
@@ -283,19 +306,24 @@ fn run(
     let compile_options = CompileOptions {
         eval: ger::eval::EvalOptions {
             max_iterations: options.max_iterations,
+            units: options.units.map(|u| match u {
+                UnitsArg::Mm => Units::Mm,
+                UnitsArg::Inch => Units::Inch,
+            }),
             ..Default::default()
         },
+        lower: Default::default(),
         emit: ger::emit::EmitOptions {
             numbering: match options.numbers {
                 NumbersArg::Source => Numbering::Source,
                 NumbersArg::Seq => Numbering::Seq,
                 NumbersArg::None => Numbering::None,
             },
-            dialect: match options.dialect {
-                DialectArg::Generic => Dialect::Generic,
-                DialectArg::Fanuc => Dialect::Fanuc,
-                DialectArg::Grbl => Dialect::Grbl,
-                DialectArg::Linuxcnc => Dialect::LinuxCnc,
+            target: match options.target {
+                TargetArg::Generic => Target::Generic,
+                TargetArg::Fanuc => Target::Fanuc,
+                TargetArg::Grbl => Target::Grbl,
+                TargetArg::Linuxcnc => Target::LinuxCnc,
             },
             arcs: match options.arcs {
                 ArcsArg::Ij => ArcFormat::Ij,
@@ -359,16 +387,13 @@ fn run(
     ExitCode::SUCCESS
 }
 
-fn read_input(input: &str) -> std::io::Result<String> {
+fn read_input(input: &str) -> std::io::Result<Vec<u8>> {
     if input == "-" {
-        let mut text = String::new();
-        std::io::stdin().read_to_string(&mut text)?;
-        Ok(text)
+        let mut bytes = Vec::new();
+        std::io::stdin().read_to_end(&mut bytes)?;
+        Ok(bytes)
     } else {
-        let bytes = std::fs::read(input)?;
-        // G-code files from old controllers are not always UTF-8.
-        Ok(String::from_utf8(bytes)
-            .unwrap_or_else(|e| String::from_utf8_lossy(e.as_bytes()).into_owned()))
+        std::fs::read(input)
     }
 }
 

@@ -1,35 +1,47 @@
-//! Source files and spans. A [`Span`] is a file id plus a byte range; every
-//! AST node and IR statement carries one. Line and column numbers are only
-//! computed here, when a diagnostic is rendered or an output line is numbered.
-//! This module does no I/O: callers hand it text they have read.
-
-use codespan_reporting::files::SimpleFiles;
+//! Source files and spans. A [`Span`] is a file id, the 1-based line of its
+//! start and a byte range; every AST node and IR statement carries one, so
+//! an output line's N number needs no lookup. Input bytes become text here
+//! ([`decode`]): UTF-8, else Latin-1 per line, and binary input is refused.
+//! This module does no I/O: callers hand it the bytes they have read.
 
 /// Index of a file in [`Sources`].
 pub type FileId = usize;
 
-/// A byte range in one source file.
+/// A byte range in one source file, with the line it starts on.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Default)]
 pub struct Span {
-    pub file: FileId,
+    pub file: u32,
+    /// 1-based line of `start` (0 for spans made up by the compiler).
+    pub line: u32,
     pub start: u32,
     pub end: u32,
 }
 
 impl Span {
-    pub fn new(file: FileId, start: usize, end: usize) -> Span {
+    pub fn new(file: FileId, line: u32, start: usize, end: usize) -> Span {
         Span {
-            file,
+            file: file as u32,
+            line,
             start: start as u32,
             end: end as u32,
         }
     }
 
+    pub fn file_id(self) -> FileId {
+        self.file as FileId
+    }
+
     /// The smallest span covering both (they must be in the same file).
     pub fn to(self, other: Span) -> Span {
+        let first = if other.start < self.start {
+            other
+        } else {
+            self
+        };
         Span {
             file: self.file,
-            start: self.start.min(other.start),
+            line: first.line,
+            start: first.start,
             end: self.end.max(other.end),
         }
     }
@@ -39,11 +51,17 @@ impl Span {
     }
 }
 
-/// Every file the compiler has read: the part program and any wizard scripts
-/// whose diagnostics must be shown.
+/// Every file the compiler has read: the part program, subroutine files
+/// and any wizard scripts whose diagnostics must be shown.
 #[derive(Default)]
 pub struct Sources {
-    files: SimpleFiles<String, String>,
+    files: Vec<SourceFile>,
+}
+
+pub struct SourceFile {
+    pub name: String,
+    pub text: String,
+    lines: LineIndex,
 }
 
 impl Sources {
@@ -52,23 +70,64 @@ impl Sources {
     }
 
     pub fn add(&mut self, name: impl Into<String>, text: impl Into<String>) -> FileId {
-        self.files.add(name.into(), text.into())
+        let text = text.into();
+        self.files.push(SourceFile {
+            name: name.into(),
+            lines: LineIndex::new(&text),
+            text,
+        });
+        self.files.len() - 1
     }
 
     pub fn text(&self, file: FileId) -> &str {
-        self.files
-            .get(file)
-            .map(|f| f.source().as_str())
-            .unwrap_or("")
+        self.files.get(file).map_or("", |f| f.text.as_str())
     }
 
-    pub fn files(&self) -> &SimpleFiles<String, String> {
-        &self.files
+    pub fn name(&self, file: FileId) -> &str {
+        self.files.get(file).map_or("?", |f| f.name.as_str())
+    }
+
+    pub fn get(&self, file: FileId) -> Option<&SourceFile> {
+        self.files.get(file)
     }
 }
 
-/// Line lookup for one text without the codespan machinery: used by the
-/// emitter, which numbers hundreds of thousands of output lines.
+impl SourceFile {
+    /// The byte range of a 1-based line, without its line end.
+    pub fn line_range(&self, line: usize) -> std::ops::Range<usize> {
+        self.lines.range(line, &self.text)
+    }
+
+    /// 1-based line of a byte offset.
+    pub fn line_of(&self, offset: usize) -> usize {
+        self.lines.line(offset as u32)
+    }
+}
+
+/// Makes the spans of one file: byte ranges with their line.
+pub struct Locator {
+    file: FileId,
+    lines: LineIndex,
+}
+
+impl Locator {
+    pub fn new(file: FileId, text: &str) -> Locator {
+        Locator {
+            file,
+            lines: LineIndex::new(text),
+        }
+    }
+
+    pub fn file(&self) -> FileId {
+        self.file
+    }
+
+    pub fn span(&self, start: usize, end: usize) -> Span {
+        Span::new(self.file, self.lines.line(start as u32) as u32, start, end)
+    }
+}
+
+/// Line starts of one text.
 pub struct LineIndex {
     starts: Vec<u32>,
 }
@@ -91,5 +150,108 @@ impl LineIndex {
             Ok(i) => i + 1,
             Err(i) => i,
         }
+    }
+
+    /// The byte range of a 1-based line, without its `\n` (or `\r\n`).
+    pub fn range(&self, line: usize, text: &str) -> std::ops::Range<usize> {
+        let i = line.saturating_sub(1).min(self.starts.len() - 1);
+        let start = self.starts[i] as usize;
+        let mut end = self
+            .starts
+            .get(i + 1)
+            .map_or(text.len(), |&s| s as usize - 1);
+        if end > start && text.as_bytes().get(end - 1) == Some(&b'\r') {
+            end -= 1;
+        }
+        start..end.max(start)
+    }
+}
+
+/// Why bytes are not a program.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum NotText {
+    /// A NUL byte at this offset: a binary file.
+    Nul(usize),
+    /// Control bytes no text editor writes, at this offset.
+    Control(usize),
+}
+
+/// The text of a source file: UTF-8 as it is; a line that is not UTF-8 is
+/// read as Latin-1 (old controllers and editors write it), so a comment
+/// with `°` survives. A byte-order mark is dropped, a lone CR (old Mac
+/// line ends) becomes LF, and a DOS end-of-file `^Z` with anything after
+/// it is dropped. NUL bytes or other control characters mean the file is
+/// not text: refused before any parsing. Every span refers to this text.
+pub fn decode(bytes: &[u8]) -> Result<String, NotText> {
+    let bytes = bytes.strip_prefix(b"\xef\xbb\xbf").unwrap_or(bytes);
+    let bytes = match bytes.iter().position(|&b| b == 0x1a) {
+        Some(eof) if bytes[eof + 1..].iter().all(|b| b.is_ascii_whitespace()) => &bytes[..eof],
+        _ => bytes,
+    };
+    if let Some(at) = bytes.iter().position(|&b| b == 0) {
+        return Err(NotText::Nul(at));
+    }
+    if let Some(at) = bytes
+        .iter()
+        .position(|&b| b < 0x20 && !matches!(b, b'\n' | b'\r' | b'\t' | 0x0c))
+    {
+        return Err(NotText::Control(at));
+    }
+    let mut text = match std::str::from_utf8(bytes) {
+        Ok(text) => text.to_string(),
+        Err(_) => {
+            let mut text = String::with_capacity(bytes.len() + bytes.len() / 8);
+            for line in bytes.split_inclusive(|&b| b == b'\n') {
+                match std::str::from_utf8(line) {
+                    Ok(s) => text.push_str(s),
+                    Err(_) => text.extend(line.iter().map(|&b| b as char)),
+                }
+            }
+            text
+        }
+    };
+    if text.contains('\r') {
+        // Same length: offsets do not move.
+        let mut bytes = text.into_bytes();
+        for i in 0..bytes.len() {
+            if bytes[i] == b'\r' && bytes.get(i + 1) != Some(&b'\n') {
+                bytes[i] = b'\n';
+            }
+        }
+        text = String::from_utf8(bytes).unwrap_or_default();
+    }
+    Ok(text)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn latin1_lines_survive_and_utf8_stays() {
+        let bytes = b"G0 X1 (25\xb0)\nG1 Y2 (\xc3\xa9)\n";
+        assert_eq!(decode(bytes).unwrap(), "G0 X1 (25°)\nG1 Y2 (é)\n");
+    }
+
+    #[test]
+    fn cr_line_ends_and_bom() {
+        assert_eq!(decode(b"\xef\xbb\xbfG0\rG1\r\nG2").unwrap(), "G0\nG1\r\nG2");
+    }
+
+    #[test]
+    fn binary_is_refused_and_ctrl_z_ends_the_file() {
+        assert_eq!(decode(b"G0\x00X1"), Err(NotText::Nul(2)));
+        assert_eq!(decode(b"G0 X1\n\x1a").unwrap(), "G0 X1\n");
+        assert_eq!(decode(b"G0\x01"), Err(NotText::Control(2)));
+    }
+
+    #[test]
+    fn line_ranges_drop_line_ends() {
+        let text = "ab\r\ncd\nef";
+        let index = LineIndex::new(text);
+        assert_eq!(&text[index.range(1, text)], "ab");
+        assert_eq!(&text[index.range(2, text)], "cd");
+        assert_eq!(&text[index.range(3, text)], "ef");
+        assert_eq!(index.line(5), 2);
     }
 }

@@ -10,7 +10,7 @@ pub mod declaration;
 use crate::diagnostic::{error, Diagnostic, DiagnosticExt};
 use crate::eval::value::Value;
 use crate::eval::{MachineState, WizardCall, WizardContext, WizardHost};
-use crate::ir::{self, Arc, ArcGeometry, Axes, Motion, Op};
+use crate::ir::{self, Arc, ArcGeometry, Axes, Axis, Motion, Op};
 use crate::source::{FileId, Sources, Span};
 use declaration::Declaration;
 use rhai::{Array, Dynamic, Engine, EvalAltResult, NativeCallContext, Position, Scope, AST};
@@ -168,8 +168,9 @@ impl Session {
             ));
         }
         if let Action::Op(Op::Move(m)) = &action {
-            for axis in 0..3 {
+            for axis in [Axis::X, Axis::Y, Axis::Z] {
                 if let Some(v) = m.to.get(axis) {
+                    let axis = axis.index();
                     self.position[axis] = if self.incremental {
                         self.position[axis].map(|p| p + v)
                     } else {
@@ -182,7 +183,7 @@ impl Session {
         Ok(())
     }
 
-    fn motion(&mut self, motion: Motion, to: Axes, center: Option<Axes>) -> RhaiResult<()> {
+    fn motion(&mut self, motion: Motion, to: Axes, center: Option<ir::Center>) -> RhaiResult<()> {
         let arc = center.map(|c| Arc {
             geometry: ArcGeometry::Center(c),
             turns: 1,
@@ -240,10 +241,17 @@ fn register_api(engine: &mut Engine, session: &Rc<RefCell<Session>>, library: &R
             });
         }};
     }
-    let full = |x: f64, y: f64, z: Option<f64>| Axes {
-        x: Some(x),
-        y: Some(y),
-        z,
+    let full = |x: f64, y: f64, z: Option<f64>| {
+        let mut to = Axes::default();
+        to.set(Axis::X, x);
+        to.set(Axis::Y, y);
+        to.put(Axis::Z, z);
+        to
+    };
+    let z_only = |z: f64| {
+        let mut to = Axes::default();
+        to.set(Axis::Z, z);
+        to
     };
     api!("rapid", |s, x, y| s.motion(
         Motion::Rapid,
@@ -255,14 +263,7 @@ fn register_api(engine: &mut Engine, session: &Rc<RefCell<Session>>, library: &R
         full(x, y, Some(z)),
         None
     ));
-    api!("rapid_z", |s, z| s.motion(
-        Motion::Rapid,
-        Axes {
-            z: Some(z),
-            ..Axes::default()
-        },
-        None
-    ));
+    api!("rapid_z", |s, z| s.motion(Motion::Rapid, z_only(z), None));
     api!("line", |s, x, y| s.motion(
         Motion::Linear,
         full(x, y, None),
@@ -273,32 +274,17 @@ fn register_api(engine: &mut Engine, session: &Rc<RefCell<Session>>, library: &R
         full(x, y, Some(z)),
         None
     ));
-    api!("line_z", |s, z| s.motion(
-        Motion::Linear,
-        Axes {
-            z: Some(z),
-            ..Axes::default()
-        },
-        None
-    ));
+    api!("line_z", |s, z| s.motion(Motion::Linear, z_only(z), None));
     for (name, motion) in [("arc_cw", Motion::ArcCw), ("arc_ccw", Motion::ArcCcw)] {
         api!(name, |s, x, y, i, j| s.motion(
             motion,
             full(x, y, None),
-            Some(Axes {
-                x: Some(i),
-                y: Some(j),
-                z: None
-            })
+            Some([Some(i), Some(j), None])
         ));
         api!(name, |s, x, y, z, i, j, k| s.motion(
             motion,
             full(x, y, Some(z)),
-            Some(Axes {
-                x: Some(i),
-                y: Some(j),
-                z: Some(k)
-            })
+            Some([Some(i), Some(j), Some(k)])
         ));
     }
     api!("feed", |s, f| if f > 0.0 {
@@ -533,7 +519,7 @@ impl Wizard {
 /// The span of a 1-based line of a script (the whole script if unknown).
 fn line_span(text: &str, file: FileId, line: Option<usize>) -> Span {
     let Some(line) = line else {
-        return Span::new(file, 0, text.len().min(1));
+        return Span::new(file, 1, 0, text.len().min(1));
     };
     let start: usize = text
         .split_inclusive('\n')
@@ -543,7 +529,7 @@ fn line_span(text: &str, file: FileId, line: Option<usize>) -> Span {
     let len = text[start.min(text.len())..]
         .find('\n')
         .unwrap_or(text.len() - start.min(text.len()));
-    Span::new(file, start, start + len)
+    Span::new(file, line as u32, start, start + len)
 }
 
 impl WizardHost for WizardEngine {

@@ -6,7 +6,7 @@
 use super::{Evaluator, Flow, WordValues};
 use crate::ast::{self, LineStmt, WordValue};
 use crate::diagnostic::{error, warning, Diagnostic, DiagnosticExt};
-use crate::ir::{self, Arc, ArcGeometry, Axes, Motion, Op};
+use crate::ir::{self, Arc, ArcGeometry, Axes, Axis, Motion, Op};
 use crate::source::Span;
 
 /// A code for messages: its letter and number in tenths.
@@ -182,17 +182,9 @@ impl Evaluator<'_> {
         w: &mut WordValues,
         span: Span,
     ) -> Result<ir::Move, Diagnostic> {
-        let to = Axes {
-            x: w.take(b'X').map(|v| v.0),
-            y: w.take(b'Y').map(|v| v.0),
-            z: w.take(b'Z').map(|v| v.0),
-        };
+        let to = take_xyz(w);
         let arc = if motion.is_arc() {
-            let center = Axes {
-                x: w.take(b'I').map(|v| v.0),
-                y: w.take(b'J').map(|v| v.0),
-                z: w.take(b'K').map(|v| v.0),
-            };
+            let center: ir::Center = [b'I', b'J', b'K'].map(|l| w.take(l).map(|v| v.0));
             let radius = w.take(b'R');
             let turns = match w.take(b'P') {
                 Some((p, pspan)) => {
@@ -205,7 +197,7 @@ impl Evaluator<'_> {
                 None => 1,
             };
             let geometry =
-                match (radius, center.is_empty()) {
+                match (radius, center.iter().all(Option::is_none)) {
                     (Some((_, rspan)), false) => {
                         return Err(error(
                             "an arc with both R and I/J/K",
@@ -296,7 +288,7 @@ impl Evaluator<'_> {
                     None => self.tool,
                 };
                 Op::ToolLength {
-                    tool,
+                    tool: Some(tool),
                     negative: t == 440,
                 }
             }
@@ -338,7 +330,7 @@ impl Evaluator<'_> {
             920 => {
                 let axes = self.take_axes(w, at, "G92", true)?;
                 Op::SetPosition(if axes.is_empty() {
-                    Axes::full([0.0; 3])
+                    Axes::xyz(0.0, 0.0, 0.0)
                 } else {
                     axes
                 })
@@ -483,11 +475,7 @@ impl Evaluator<'_> {
         name: &str,
         may_be_empty: bool,
     ) -> Result<Axes, Diagnostic> {
-        let axes = Axes {
-            x: w.take(b'X').map(|v| v.0),
-            y: w.take(b'Y').map(|v| v.0),
-            z: w.take(b'Z').map(|v| v.0),
-        };
+        let axes = take_xyz(w);
         if axes.is_empty() && !may_be_empty {
             return Err(error(format!("{name} without axes"), at, "give X, Y or Z"));
         }
@@ -575,6 +563,17 @@ impl Evaluator<'_> {
     }
 }
 
+/// The X, Y and Z words of a statement.
+fn take_xyz(w: &mut WordValues) -> Axes {
+    let mut axes = Axes::default();
+    for axis in [Axis::X, Axis::Y, Axis::Z] {
+        if let Some((v, _)) = w.take(axis.letter()) {
+            axes.set(axis, v);
+        }
+    }
+    axes
+}
+
 /// A word that must hold a whole, non-negative number.
 fn whole(value: f64, span: Span, what: &str) -> Result<u32, Diagnostic> {
     if value < 0.0 || value.fract() != 0.0 || value > u32::MAX as f64 {
@@ -594,7 +593,7 @@ pub(super) fn run_wizard_line(
     text: &str,
     span: Span,
 ) -> Result<(), Vec<Diagnostic>> {
-    let (program, diagnostics) = crate::syntax::egc::parse_program(text, span.file);
+    let (program, diagnostics) = crate::syntax::egc::parse_program(text, span.file_id());
     if !diagnostics.is_empty() {
         return Err(diagnostics);
     }

@@ -232,7 +232,7 @@ impl SetupBuilder {
                     n as u32,
                     Tool {
                         diameter,
-                        length,
+                        length: Some(length),
                         shape,
                     },
                 );

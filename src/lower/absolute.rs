@@ -1,179 +1,228 @@
 //! Pass absolute (SPEC §4.5, and the arc rules of §4): G91 → G90, every
-//! move's written axes absolute machine coordinates (axes it did not
-//! write stay out, so the emitter knows what the source commanded), and every arc checked and given as
-//! a centre relative to its start in the active plane (R arcs resolved,
-//! I/J/K arcs checked: radii within 1 %). The given centre is kept, as
-//! LinuxCNC keeps it (a small radius difference is a slight spiral); the
-//! larger radius is what `--arcs r` writes. An axis the program never set stays unknown and is not
-//! written; an incremental move or an arc on an unknown axis is an error.
-//! Until cycles and cutter compensation have passes, G80 and G40 (no-ops:
-//! G8x and G41/G42 are refused earlier) are dropped here.
+//! move's written axes absolute machine coordinates (axes it did not write
+//! stay out, so the emitter knows what the source commanded), and every
+//! arc checked and given as a centre relative to its start in the active
+//! plane (R arcs resolved, I/J/K arcs checked: radii within 1 %). The given
+//! centre is kept, as LinuxCNC keeps it (a small radius difference is a
+//! slight spiral); the larger radius is what `--arcs r` writes.
+//!
+//! An axis the program never set stays unknown and is not written; so do
+//! the axes a machine move (G28, G30, G53) or a passed-through offset left
+//! unknown. An incremental move or an arc on an unknown axis is an error.
 
-use super::{unknown_position, Errors};
-use crate::diagnostic::{error, Diagnostic, DiagnosticExt};
+use super::{Context, LowerError, LowerErrorKind, Out, Pass, PassInfo};
 use crate::geometry::{self, ArcError, Point};
-use crate::ir::{self, ArcGeometry, Axes, Distance, Op, Plane};
+use crate::ir::{self, ArcGeometry, Axes, Axis, Distance, Op, Plane, Position, Stmt};
 use crate::source::Span;
 
-pub struct State {
+pub const PASS: PassInfo = PassInfo {
+    name: "absolute",
+    make: |_: &Context<'_>| Box::new(AbsolutePass::new()),
+};
+
+struct AbsolutePass {
     distance: Distance,
     plane: Plane,
-    position: [Option<f64>; 3],
-    pub errors: Errors,
+    position: Position,
+    /// Where each unknown axis became unknown (a machine move), if it was
+    /// ever known.
+    lost_at: [Option<Span>; 9],
 }
 
-impl State {
-    pub fn new() -> State {
-        State {
+impl AbsolutePass {
+    fn new() -> AbsolutePass {
+        AbsolutePass {
             distance: Distance::Absolute,
             plane: Plane::XY,
-            position: [None; 3],
-            errors: Errors::default(),
+            position: [None; 9],
+            lost_at: [None; 9],
         }
     }
 
-    pub fn run(&mut self, stmts: &mut Vec<ir::Stmt>) {
-        let State {
-            distance,
-            plane,
-            position,
-            errors,
-        } = self;
-        stmts.retain_mut(|stmt| match &mut stmt.op {
+    fn forget(&mut self, axis: usize, at: Span) {
+        self.position[axis] = None;
+        self.lost_at[axis] = Some(at);
+    }
+
+    fn unknown(&self, axis: usize, what: &'static str, span: Span) -> LowerError {
+        LowerError::new(
+            LowerErrorKind::UnknownPosition {
+                axis: Axis::ALL[axis],
+                what,
+                since: self.lost_at[axis],
+            },
+            span,
+        )
+    }
+
+    /// The end point of axis words under the distance mode, or the error.
+    fn end_of(&self, to: &Axes, what: &'static str, span: Span) -> Result<Position, LowerError> {
+        let mut end = self.position;
+        for (axis, v) in to.iter() {
+            let i = axis.index();
+            let e = match self.distance {
+                Distance::Absolute => v,
+                Distance::Incremental => match self.position[i] {
+                    Some(p) => p + v,
+                    None => return Err(self.unknown(i, what, span)),
+                },
+            };
+            if !ir::is_position(e) {
+                return Err(LowerError::new(
+                    LowerErrorKind::PositionOutOfRange { axis, value: e },
+                    span,
+                ));
+            }
+            end[i] = Some(e);
+        }
+        Ok(end)
+    }
+
+    fn lower_move(&mut self, m: &mut ir::Move, span: Span) -> Result<(), LowerError> {
+        let end = self.end_of(&m.to, "an incremental move", span)?;
+        if let Some(arc) = &mut m.arc {
+            let center = resolve_arc(self, end, arc.geometry, m.motion == ir::Motion::ArcCw, span)?;
+            arc.geometry = ArcGeometry::Center(center);
+        }
+        // Only the axes the statement wrote: a Z retract stays a Z move.
+        let mut written = Axes::default();
+        for (axis, _) in m.to.iter() {
+            written.put(axis, end[axis.index()]);
+        }
+        m.to = written;
+        self.position = end;
+        Ok(())
+    }
+}
+
+impl Pass for AbsolutePass {
+    fn feed(&mut self, mut stmt: Stmt, out: &mut Out<'_>) {
+        let span = stmt.span;
+        match &mut stmt.op {
             Op::Distance(d) => {
-                *distance = *d;
-                false
+                self.distance = *d;
+                return;
             }
-            Op::CompOff | Op::CycleOff => false,
-            Op::Plane(p) => {
-                *plane = *p;
-                true
-            }
+            Op::Plane(p) => self.plane = *p,
             Op::Move(m) => {
-                let mut end = *position;
-                for (axis, end_axis) in end.iter_mut().enumerate() {
-                    let Some(v) = m.to.get(axis) else { continue };
-                    *end_axis = match *distance {
-                        Distance::Absolute => Some(v),
-                        Distance::Incremental => match position[axis] {
-                            Some(p) => Some(p + v),
-                            None => {
-                                errors.push(unknown_position(
-                                    stmt.span,
-                                    axis,
-                                    "an incremental move",
-                                ));
-                                return true;
-                            }
-                        },
-                    };
-                    if let Some(e) = end_axis.filter(|&e| !ir::is_position(e)) {
-                        let letter = ['X', 'Y', 'Z'][axis];
-                        errors.push(
-                            error(
-                                format!("the move takes {letter} out of range"),
-                                stmt.span,
-                                format!("{letter} would be {e:e}"),
-                            )
-                            .with_note(format!(
-                                "machine positions must be between -{0} and {0}",
-                                ir::MAX_POSITION
-                            )),
-                        );
-                        return true;
-                    }
+                if let Err(e) = self.lower_move(m, span) {
+                    out.report(e);
+                    return;
                 }
-                if let Some(arc) = &mut m.arc {
-                    match resolve_arc(
-                        *position,
-                        end,
-                        arc.geometry,
-                        *plane,
-                        m.motion == ir::Motion::ArcCw,
-                        stmt.span,
-                    ) {
-                        Ok(center) => arc.geometry = ArcGeometry::Center(center),
-                        Err(d) => {
-                            errors.push(d);
-                            return true;
-                        }
-                    }
-                }
-                // Only the axes the statement wrote: a Z retract stays a Z move.
-                m.to = Axes {
-                    x: m.to.x.and(end[0]),
-                    y: m.to.y.and(end[1]),
-                    z: m.to.z.and(end[2]),
-                };
-                *position = end;
-                true
             }
-            _ => true,
-        });
+            Op::MachineMove(m) => {
+                if self.distance == Distance::Incremental {
+                    out.report(LowerError::new(
+                        LowerErrorKind::MachineMoveIncremental,
+                        span,
+                    ));
+                    return;
+                }
+                for (axis, _) in m.to.iter() {
+                    self.forget(axis.index(), span);
+                }
+            }
+            Op::Home { via, .. } => {
+                let end = match self.end_of(via, "an incremental G28/G30", span) {
+                    Ok(end) => end,
+                    Err(e) => {
+                        out.report(e);
+                        return;
+                    }
+                };
+                let all = via.is_empty();
+                let mut absolute = Axes::default();
+                for (axis, _) in via.iter() {
+                    absolute.put(axis, end[axis.index()]);
+                }
+                *via = absolute;
+                for axis in 0..9 {
+                    if all || via.has(Axis::ALL[axis]) {
+                        self.forget(axis, span);
+                    }
+                }
+            }
+            // A work offset or tool length passed through to the machine:
+            // where the tool is in its coordinates is not known.
+            Op::SelectWorkOffset(_) => {
+                for axis in 0..9 {
+                    self.forget(axis, span);
+                }
+            }
+            Op::ToolLength { .. } | Op::CancelToolLength => self.forget(2, span),
+            // Nothing to cancel: the front end refuses G41/G42 and the
+            // cycles until their passes exist.
+            Op::CycleOff | Op::CompOff => return,
+            Op::Feed(_)
+            | Op::Speed(_)
+            | Op::SelectTool(_)
+            | Op::ChangeTool
+            | Op::Spindle(_)
+            | Op::Coolant(_)
+            | Op::Dwell(_)
+            | Op::Stop(_)
+            | Op::End
+            | Op::Units(_)
+            | Op::SetWorkOffset { .. }
+            | Op::SetWorkOffsetHere { .. }
+            | Op::LocalOffset(_)
+            | Op::SetPosition(_)
+            | Op::CancelPosition
+            | Op::Polar(_)
+            | Op::DiameterMode(_)
+            | Op::ReturnLevel(_)
+            | Op::Cycle(_)
+            | Op::Comp { .. }
+            | Op::Comment(_)
+            | Op::Passthrough(_) => {}
+        }
+        out.push(stmt);
     }
 }
 
 /// The centre of an arc, relative to its start, in the plane's two axes.
 fn resolve_arc(
-    start: [Option<f64>; 3],
-    end: [Option<f64>; 3],
+    pass: &AbsolutePass,
+    end: Position,
     geometry: ArcGeometry,
-    plane: Plane,
     clockwise: bool,
     span: Span,
-) -> Result<Axes, Diagnostic> {
-    let (a, b, n) = plane.axes();
+) -> Result<ir::Center, LowerError> {
+    let start = pass.position;
+    let (a, b, n) = pass.plane.axes();
     for axis in [a, b, n] {
         if start[axis].is_none() && (axis != n || end[axis].is_some()) {
-            return Err(unknown_position(span, axis, "an arc"));
+            return Err(pass.unknown(axis, "an arc", span));
         }
     }
-    let s: Point = start.map(|v| v.unwrap_or(0.0));
-    let mut e: Point = end.map(|v| v.unwrap_or(0.0));
+    let s: Point = std::array::from_fn(|i| start[i].unwrap_or(0.0));
+    let mut e: Point = std::array::from_fn(|i| end[i].unwrap_or(0.0));
     e[n] = end[n].unwrap_or(s[n]);
     let arc_error = |err: ArcError| {
-        match err {
-        ArcError::RadiusTooSmall { radius, half_chord } => error(
-            "arc radius too small",
-            span,
-            format!("R{radius} cannot reach an end point {} away", fmt(2.0 * half_chord)),
-        )
-        .with_note(format!("the radius must be at least half the distance: {}", fmt(half_chord))),
-        ArcError::SamePoints => error(
-            "an R arc cannot be a full circle",
-            span,
-            "the end point is the start point",
-        )
-        .with_help("give a full circle's centre with I/J/K"),
-        ArcError::RadiiDiffer { start, end } => error(
-            "arc end is not on the circle",
-            span,
-            format!("radius {} at the start, {} at the end", fmt(start), fmt(end)),
-        )
-        .with_note("the two radii may differ by at most 1%; check the centre (I/J/K are relative to the start)"),
-        ArcError::ZeroRadius => error("arc with zero radius", span, "the centre is the start point"),
-    }
+        let kind = match err {
+            ArcError::RadiusTooSmall { radius, half_chord } => {
+                LowerErrorKind::ArcRadiusTooSmall { radius, half_chord }
+            }
+            ArcError::SamePoints => LowerErrorKind::FullCircleWithR,
+            ArcError::RadiiDiffer { start, end } => LowerErrorKind::ArcRadiiDiffer { start, end },
+            ArcError::ZeroRadius => LowerErrorKind::ArcZeroRadius,
+        };
+        LowerError::new(kind, span)
     };
     let center: Point = match geometry {
         ArcGeometry::Radius(r) => {
-            geometry::center_from_radius(s, e, r, plane, clockwise).map_err(arc_error)?
+            geometry::center_from_radius(s, e, r, pass.plane, clockwise).map_err(arc_error)?
         }
         ArcGeometry::Center(c) => {
             let mut center = s;
-            center[a] += c.get(a).unwrap_or(0.0);
-            center[b] += c.get(b).unwrap_or(0.0);
-            geometry::check_center(s, e, center, plane).map_err(arc_error)?;
+            center[a] += c[a].unwrap_or(0.0);
+            center[b] += c[b].unwrap_or(0.0);
+            geometry::check_center(s, e, center, pass.plane).map_err(arc_error)?;
             center
         }
     };
-    let mut rel = Axes::default();
-    rel.set(a, Some(center[a] - s[a]));
-    rel.set(b, Some(center[b] - s[b]));
+    let mut rel: ir::Center = [None; 3];
+    rel[a] = Some(center[a] - s[a]);
+    rel[b] = Some(center[b] - s[b]);
     Ok(rel)
-}
-
-fn fmt(v: f64) -> String {
-    let mut s = String::new();
-    crate::emit::push_fixed(&mut s, v, 4);
-    s
 }

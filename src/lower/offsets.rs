@@ -1,200 +1,335 @@
-//! Pass offsets (SPEC §4.2): G54–G59 (table from `SetOffset`, changed by
-//! G10 L2/L20), G52, G92/G92.1 and G43/G44/G49 folded into the
-//! coordinates, which become machine coordinates: the frame in which G54's
-//! origin is the program zero (PRZ). Under G90 an axis word gets the
-//! active offset added; G91 moves are unchanged. An axis left out keeps its
-//! machine position, as on LinuxCNC. Changing an offset under G91 is an
-//! error. Lengths are in the output units (the units pass ran first).
+//! Pass offsets (SPEC §4.2): G54–G59.3 (origins from `SetOffset`, changed
+//! by G10 L2/L20), G52, G92/G92.1 and G43/G44/G49 folded into the
+//! coordinates when their values are known. Under G90 an axis word gets
+//! the active offsets added; G91 moves are unchanged. An axis left out
+//! keeps its machine position, as on LinuxCNC.
+//!
+//! What the program does not state is passed through, never guessed: a
+//! work offset with unknown values and a tool length offset with no known
+//! length stay in the output, with a warning, and the coordinates under
+//! them stay as written. Known work offsets are measured from G54, the
+//! program zero: selecting one writes `G54` (the output's frame) once.
+//! Changing an offset under G91 is an error. Lengths are in the output
+//! units (the units pass ran first).
 
-// `axis` indexes several per-axis arrays at once in this pass.
-#![allow(clippy::needless_range_loop)]
-
-use super::{unknown_position, Errors};
-use crate::diagnostic::{error, DiagnosticExt};
-use crate::ir::{self, Distance, Op};
+use super::{Context, LowerError, LowerErrorKind, Out, Pass, PassInfo};
+use crate::ir::{self, Axes, Axis, Distance, Op, Position, Stmt};
 use crate::source::Span;
 use std::collections::BTreeMap;
 
-struct Offsets {
-    /// Origins of G54..G59 (index 1..=6); G54 starts at the PRZ.
-    work: [[f64; 3]; 7],
-    active: usize,
-    local: [f64; 3],
-    position: [f64; 3],
+pub const PASS: PassInfo = PassInfo {
+    name: "offsets",
+    make: |cx| Box::new(OffsetsPass::new(cx)),
+};
+
+/// The frame the output's coordinates are in.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Frame {
+    /// Whatever the machine is in when the program starts.
+    Initial,
+    /// G54: known work offsets are folded into it.
+    G54,
+    /// A work offset with unknown values, passed through (index 2..=9).
+    Passed(u8),
+}
+
+struct OffsetsPass {
+    /// Origins of G54..G59.3 (index 1..=9) per axis, measured from G54.
+    systems: [[Option<f64>; 9]; 10],
+    /// The work offset the program selected (1 = G54).
+    active: u8,
+    frame: Frame,
+    /// G52 and G92 shifts.
+    local: [f64; 9],
+    g92: [f64; 9],
+    /// The folded tool length offset (Z).
     tool_length: f64,
-}
-
-impl Offsets {
-    fn total(&self, axis: usize) -> f64 {
-        self.work[self.active][axis]
-            + self.local[axis]
-            + self.position[axis]
-            + if axis == 2 { self.tool_length } else { 0.0 }
-    }
-}
-
-/// The pass's state between batches.
-pub struct State {
-    off: Offsets,
+    /// A G43/G44 with an unknown length is active in the output.
+    passed_length: bool,
+    plane: ir::Plane,
     tools: BTreeMap<u32, ir::Tool>,
     distance: Distance,
     incremental_since: Option<Span>,
-    /// Machine position of each axis, once known.
-    machine: [Option<f64>; 3],
-    pub errors: Errors,
+    /// Position per axis in the output's coordinates, once known.
+    position: Position,
+    /// Work offsets already reported as unknown.
+    warned: u16,
 }
 
-impl State {
-    pub fn new(setup: &ir::Setup) -> State {
-        let mut off = Offsets {
-            work: [[0.0; 3]; 7],
-            active: 1,
-            local: [0.0; 3],
-            position: [0.0; 3],
-            tool_length: 0.0,
-        };
-        for (&index, origin) in &setup.work_offsets {
-            off.work[index as usize] = *origin;
+impl OffsetsPass {
+    fn new(cx: &Context<'_>) -> OffsetsPass {
+        let mut systems = [[None; 9]; 10];
+        systems[1] = [Some(0.0); 9];
+        for (&index, origin) in &cx.start.setup.work_offsets {
+            let mut o = [Some(0.0); 9];
+            for (axis, &v) in origin.iter().enumerate() {
+                o[axis] = Some(v);
+            }
+            systems[index as usize] = o;
         }
-        State {
-            off,
-            tools: setup.tools.clone(),
+        OffsetsPass {
+            systems,
+            active: 1,
+            frame: Frame::Initial,
+            local: [0.0; 9],
+            g92: [0.0; 9],
+            tool_length: 0.0,
+            passed_length: false,
+            plane: ir::Plane::XY,
+            tools: cx.start.setup.tools.clone(),
             distance: Distance::Absolute,
             incremental_since: None,
-            machine: [None; 3],
-            errors: Errors::default(),
+            position: [None; 9],
+            warned: 0,
         }
     }
 
-    pub fn run(&mut self, stmts: &mut Vec<ir::Stmt>) {
-        let State {
-            off,
-            tools,
-            distance,
-            incremental_since,
-            machine,
-            errors,
-        } = self;
-        stmts.retain_mut(|stmt| {
-            let span = stmt.span;
-            if super::polar::changes_offsets(&stmt.op) && *distance == Distance::Incremental {
-                let mut d = error(
-                    "offsets changed under G91",
+    fn known(&self, index: u8) -> bool {
+        self.systems[index as usize][..3]
+            .iter()
+            .all(Option::is_some)
+    }
+
+    /// What is added to a G90 coordinate of `axis`.
+    fn shift(&self, axis: usize) -> f64 {
+        let work = match self.frame {
+            Frame::G54 => self.systems[self.active as usize][axis].unwrap_or(0.0),
+            Frame::Initial | Frame::Passed(_) => 0.0,
+        };
+        work + self.local[axis] + self.g92[axis] + if axis == 2 { self.tool_length } else { 0.0 }
+    }
+
+    /// Absolute axis words to the output's coordinates; the position follows.
+    fn place(&mut self, to: &mut Axes) {
+        for axis in Axis::ALL {
+            let Some(v) = to.get(axis) else { continue };
+            let i = axis.index();
+            match self.distance {
+                Distance::Absolute => {
+                    let value = v + self.shift(i);
+                    to.set(axis, value);
+                    self.position[i] = Some(value);
+                }
+                Distance::Incremental => self.position[i] = self.position[i].map(|p| p + v),
+            }
+        }
+    }
+
+    /// Switch the output to G54 (from the machine's initial frame or a
+    /// passed-through one): nothing is known of the position there.
+    fn enter_g54(&mut self, stmt: &Stmt, out: &mut Out<'_>) {
+        if self.frame != Frame::G54 {
+            self.frame = Frame::G54;
+            self.position = [None; 9];
+            out.push(stmt.with_op(Op::SelectWorkOffset(1)));
+        }
+    }
+
+    fn changes_offsets(op: &Op) -> bool {
+        matches!(
+            op,
+            Op::SelectWorkOffset(_)
+                | Op::SetWorkOffset { .. }
+                | Op::SetWorkOffsetHere { .. }
+                | Op::LocalOffset(_)
+                | Op::SetPosition(_)
+                | Op::CancelPosition
+                | Op::ToolLength { .. }
+                | Op::CancelToolLength
+        )
+    }
+}
+
+impl Pass for OffsetsPass {
+    fn feed(&mut self, mut stmt: Stmt, out: &mut Out<'_>) {
+        let span = stmt.span;
+        if Self::changes_offsets(&stmt.op) && self.distance == Distance::Incremental {
+            out.report(LowerError::new(
+                LowerErrorKind::OffsetsUnderIncremental {
+                    since: self.incremental_since,
+                },
+                span,
+            ));
+            return;
+        }
+        match &mut stmt.op {
+            Op::Distance(d) => {
+                self.distance = *d;
+                if *d == Distance::Incremental {
+                    self.incremental_since = Some(span);
+                }
+            }
+            Op::Move(m) => self.place(&mut m.to),
+            Op::Cycle(c) => {
+                if self.distance == Distance::Absolute {
+                    // R lies on the drilling axis: the plane's normal.
+                    let normal = self.plane.axes().2;
+                    for v in c.r.iter_mut() {
+                        *v += self.shift(normal);
+                    }
+                }
+                self.place(&mut c.at);
+            }
+            Op::Plane(p) => self.plane = *p,
+            Op::MachineMove(m) => {
+                // Machine coordinates ignore work offsets, not the tool's length.
+                if let Some(z) = m.to.get(Axis::Z) {
+                    m.to.set(Axis::Z, z + self.tool_length);
+                }
+                for (axis, _) in m.to.iter() {
+                    self.position[axis.index()] = None;
+                }
+            }
+            Op::Home { via, .. } => {
+                let all = via.is_empty();
+                self.place(via);
+                for axis in Axis::ALL {
+                    if all || via.has(axis) {
+                        self.position[axis.index()] = None;
+                    }
+                }
+            }
+            Op::SelectWorkOffset(i) => {
+                let index = *i;
+                // SPEC §4.2: G54 cancels G52.
+                if index == 1 {
+                    self.local = [0.0; 9];
+                }
+                if self.known(index) {
+                    self.active = index;
+                    self.enter_g54(&stmt, out);
+                    return;
+                }
+                if self.warned & (1 << index) == 0 {
+                    self.warned |= 1 << index;
+                    out.report(LowerError::new(
+                        LowerErrorKind::WorkOffsetUnknown { index },
+                        span,
+                    ));
+                }
+                self.active = index;
+                self.frame = Frame::Passed(index);
+                self.position = [None; 9];
+            }
+            Op::SetWorkOffset { index, origin } => {
+                let index = if *index == 0 { self.active } else { *index };
+                for (axis, v) in origin.iter() {
+                    self.systems[index as usize][axis.index()] = Some(v);
+                }
+                if self.frame == Frame::Passed(index) && self.known(index) {
+                    self.enter_g54(&stmt, out);
+                }
+                return;
+            }
+            Op::SetWorkOffsetHere { index, at } => {
+                let index = if *index == 0 { self.active } else { *index };
+                for (axis, v) in at.iter() {
+                    let i = axis.index();
+                    match (self.position[i], self.frame) {
+                        (Some(p), Frame::G54) => {
+                            let others = self.shift(i)
+                                - self.systems[self.active as usize][i].unwrap_or(0.0);
+                            self.systems[index as usize][i] = Some(p - v - others);
+                        }
+                        (Some(_), _) => out.report(LowerError::new(
+                            LowerErrorKind::OffsetAxisUnknown {
+                                axis,
+                                index: self.active,
+                            },
+                            span,
+                        )),
+                        (None, _) => out.report(LowerError::new(
+                            LowerErrorKind::UnknownPosition {
+                                axis,
+                                what: "G10 L20",
+                                since: None,
+                            },
+                            span,
+                        )),
+                    }
+                }
+                return;
+            }
+            Op::LocalOffset(a) => {
+                for (axis, v) in a.iter() {
+                    self.local[axis.index()] = v;
+                }
+                return;
+            }
+            Op::SetPosition(a) => {
+                for (axis, v) in a.iter() {
+                    let i = axis.index();
+                    match self.position[i] {
+                        Some(p) => {
+                            // Choose the G92 shift so that here reads `v`.
+                            self.g92[i] = 0.0;
+                            self.g92[i] = p - v - self.shift(i);
+                        }
+                        None => out.report(LowerError::new(
+                            LowerErrorKind::UnknownPosition {
+                                axis,
+                                what: "G92",
+                                since: None,
+                            },
+                            span,
+                        )),
+                    }
+                }
+                return;
+            }
+            Op::CancelPosition => {
+                self.g92 = [0.0; 9];
+                return;
+            }
+            Op::ToolLength { tool, negative } => {
+                let length = tool.and_then(|t| self.tools.get(&t)).and_then(|t| t.length);
+                if let Some(length) = length {
+                    self.tool_length = if *negative { -length } else { length };
+                    if self.passed_length {
+                        // The machine's own offset is still on: cancel it.
+                        self.passed_length = false;
+                        self.position[2] = None;
+                        out.push(stmt.with_op(Op::CancelToolLength));
+                    }
+                    return;
+                }
+                out.report(LowerError::new(
+                    LowerErrorKind::ToolLengthUnknown {
+                        tool: tool.unwrap_or(0),
+                    },
                     span,
-                    "incremental mode is on here",
-                )
-                .with_help("switch to G90 before changing offsets");
-                if let Some(at) = *incremental_since {
-                    d = d.with_secondary(at, "G91 from here");
-                }
-                errors.push(d);
-                return false;
+                ));
+                self.tool_length = 0.0;
+                self.passed_length = true;
+                self.position[2] = None;
             }
-            match &mut stmt.op {
-                Op::Distance(d) => {
-                    *distance = *d;
-                    if *d == Distance::Incremental {
-                        *incremental_since = Some(span);
-                    }
-                    true
+            Op::CancelToolLength => {
+                self.tool_length = 0.0;
+                if !self.passed_length {
+                    return;
                 }
-                Op::Move(m) => {
-                    for axis in 0..3 {
-                        let Some(v) = m.to.get(axis) else { continue };
-                        match *distance {
-                            Distance::Absolute => {
-                                let value = v + off.total(axis);
-                                m.to.set(axis, Some(value));
-                                machine[axis] = Some(value);
-                            }
-                            Distance::Incremental => machine[axis] = machine[axis].map(|p| p + v),
-                        }
-                    }
-                    true
-                }
-                Op::SelectWorkOffset(i) => {
-                    off.active = *i as usize;
-                    // SPEC §4.2: G54 cancels G52.
-                    if *i == 1 {
-                        off.local = [0.0; 3];
-                    }
-                    false
-                }
-                Op::SetWorkOffset { index, origin } => {
-                    for axis in 0..3 {
-                        if let Some(v) = origin.get(axis) {
-                            off.work[*index as usize][axis] = v;
-                        }
-                    }
-                    false
-                }
-                Op::SetWorkOffsetHere { index, at } => {
-                    let index = *index as usize;
-                    for axis in 0..3 {
-                        let Some(v) = at.get(axis) else { continue };
-                        match machine[axis] {
-                            Some(m) => {
-                                let others = off.total(axis) - off.work[off.active][axis];
-                                off.work[index][axis] = m - v - others;
-                            }
-                            None => errors.push(unknown_position(span, axis, "G10 L20")),
-                        }
-                    }
-                    false
-                }
-                Op::LocalOffset(a) => {
-                    for axis in 0..3 {
-                        if let Some(v) = a.get(axis) {
-                            off.local[axis] = v;
-                        }
-                    }
-                    false
-                }
-                Op::SetPosition(a) => {
-                    for axis in 0..3 {
-                        let Some(v) = a.get(axis) else { continue };
-                        match machine[axis] {
-                            Some(m) => {
-                                // Choose the G92 shift so that here reads `v`.
-                                off.position[axis] = 0.0;
-                                off.position[axis] = m - v - off.total(axis);
-                            }
-                            None => errors.push(unknown_position(span, axis, "G92")),
-                        }
-                    }
-                    false
-                }
-                Op::CancelPosition => {
-                    off.position = [0.0; 3];
-                    false
-                }
-                Op::ToolLength { tool, negative } => {
-                    let length = match tools.get(tool) {
-                        Some(t) => t.length,
-                        None if *tool == 1 => 0.0,
-                        None => {
-                            errors.push(
-                                error(
-                                    format!("tool {tool} has no length"),
-                                    span,
-                                    "G43 needs the tool's length",
-                                )
-                                .with_help(format!(
-                                    "add `SetTool {tool} diameter length` to the setup"
-                                )),
-                            );
-                            0.0
-                        }
-                    };
-                    off.tool_length = if *negative { -length } else { length };
-                    false
-                }
-                Op::CancelToolLength => {
-                    off.tool_length = 0.0;
-                    false
-                }
-                _ => true,
+                self.passed_length = false;
+                self.position[2] = None;
             }
-        });
+            Op::Feed(_)
+            | Op::Speed(_)
+            | Op::SelectTool(_)
+            | Op::ChangeTool
+            | Op::Spindle(_)
+            | Op::Coolant(_)
+            | Op::Dwell(_)
+            | Op::Stop(_)
+            | Op::End
+            | Op::Units(_)
+            | Op::Polar(_)
+            | Op::DiameterMode(_)
+            | Op::ReturnLevel(_)
+            | Op::CycleOff
+            | Op::Comp { .. }
+            | Op::CompOff
+            | Op::Comment(_)
+            | Op::Passthrough(_) => {}
+        }
+        out.push(stmt);
     }
 }

@@ -4,131 +4,130 @@
 //! the program zero (the result is an absolute program point); under G91
 //! it is the current position (the result is an incremental move). A word
 //! left out keeps the last radius or angle of this G16 block; the first
-//! polar move must give both. Changing offsets under G16 is an error.
+//! polar move must give both. Canned-cycle hole positions are polar too.
+//! Changing offsets or the plane, or a machine move, under G16 is an error.
 
-use super::Errors;
-use crate::diagnostic::{error, DiagnosticExt};
-use crate::ir::{self, Op, Plane};
+use super::{Context, LowerError, LowerErrorKind, Out, Pass, PassInfo};
+use crate::ir::{Axes, Axis, Op, Plane, Stmt};
 use crate::source::Span;
 
-pub struct State {
-    plane: Plane,
+pub const PASS: PassInfo = PassInfo {
+    name: "polar",
+    make: |_: &Context<'_>| Box::new(PolarPass::default()),
+};
+
+#[derive(Default)]
+struct PolarPass {
+    plane: Option<Plane>,
     /// Some((radius, angle)) while G16 is on; the values are the last given.
     polar: Option<(Option<f64>, Option<f64>)>,
     entered: Option<Span>,
-    pub errors: Errors,
 }
 
-impl State {
-    pub fn new() -> State {
-        State {
-            plane: Plane::XY,
-            polar: None,
-            entered: None,
-            errors: Errors::default(),
+impl PolarPass {
+    /// Make the plane words of `to` Cartesian; false if they are incomplete.
+    fn cartesian(&mut self, to: &mut Axes) -> bool {
+        let Some((radius, angle)) = &mut self.polar else {
+            return true;
+        };
+        let (a, b, _) = self.plane.unwrap_or(Plane::XY).axes();
+        let (a, b) = (Axis::ALL[a], Axis::ALL[b]);
+        if let Some(r) = to.get(a) {
+            *radius = Some(r);
+        }
+        if let Some(t) = to.get(b) {
+            *angle = Some(t);
+        }
+        if !to.has(a) && !to.has(b) {
+            return true;
+        }
+        match (*radius, *angle) {
+            (Some(r), Some(t)) => {
+                let t = t.to_radians();
+                to.set(a, r * t.cos());
+                to.set(b, r * t.sin());
+                true
+            }
+            _ => false,
         }
     }
+}
 
-    pub fn run(&mut self, stmts: &mut Vec<ir::Stmt>) {
-        let State {
-            plane,
-            polar,
-            entered,
-            errors,
-        } = self;
-        stmts.retain_mut(|stmt| {
-            match &mut stmt.op {
-                Op::Polar(on) => {
-                    if *on {
-                        if polar.is_none() {
-                            *entered = Some(stmt.span);
-                        }
-                        polar.get_or_insert((None, None));
-                    } else {
-                        *polar = None;
+impl Pass for PolarPass {
+    fn feed(&mut self, mut stmt: Stmt, out: &mut Out<'_>) {
+        let span = stmt.span;
+        let on = self.polar.is_some();
+        let mut report = |kind| out.report(LowerError::new(kind, span));
+        match &mut stmt.op {
+            Op::Polar(turn_on) => {
+                if *turn_on {
+                    if !on {
+                        self.entered = Some(span);
                     }
-                    return false;
+                    self.polar.get_or_insert((None, None));
+                } else {
+                    self.polar = None;
                 }
-                Op::Plane(p) => {
-                    if polar.is_some() && *p != *plane {
-                        errors.push(
-                            error(
-                                "plane changed under G16",
-                                stmt.span,
-                                "polar coordinates are on",
-                            )
-                            .with_help("cancel polar coordinates with G15 first"),
-                        );
-                    }
-                    *plane = *p;
-                }
-                op if polar.is_some() && changes_offsets(op) => {
-                    let mut d = error(
-                        "offsets changed under G16",
-                        stmt.span,
-                        "polar coordinates are on here",
-                    )
-                    .with_help("cancel polar coordinates with G15 before changing offsets");
-                    if let Some(at) = *entered {
-                        d = d.with_secondary(at, "G16 is on from here");
-                    }
-                    errors.push(d);
-                }
-                Op::Move(m) => {
-                    if let Some((radius, angle)) = polar {
-                        let (a, b, _) = plane.axes();
-                        if let Some(r) = m.to.get(a) {
-                            *radius = Some(r);
-                        }
-                        if let Some(t) = m.to.get(b) {
-                            *angle = Some(t);
-                        }
-                        let touches_plane = m.to.get(a).is_some() || m.to.get(b).is_some();
-                        if touches_plane {
-                            match (*radius, *angle) {
-                                (Some(r), Some(t)) => {
-                                    let t = t.to_radians();
-                                    m.to.set(a, Some(r * t.cos()));
-                                    m.to.set(b, Some(r * t.sin()));
-                                }
-                                _ => errors.push(
-                                    error(
-                                        "polar move without radius and angle",
-                                        stmt.span,
-                                        "the first move under G16 needs both",
-                                    )
-                                    .with_note(polar_words(*plane)),
-                                ),
-                            }
-                        }
-                    }
-                }
-                _ => {}
+                return;
             }
-            true
-        });
-    }
-}
-
-fn polar_words(plane: Plane) -> &'static str {
-    match plane {
-        Plane::XY => "in G17 the X word is the radius and Y the angle (degrees from +X)",
-        Plane::ZX => "in G18 the Z word is the radius and X the angle (degrees from +Z)",
-        Plane::YZ => "in G19 the Y word is the radius and Z the angle (degrees from +Y)",
-    }
-}
-
-/// Statements that enter or leave an offset (SPEC §4.2).
-pub(super) fn changes_offsets(op: &Op) -> bool {
-    matches!(
-        op,
-        Op::SelectWorkOffset(_)
+            Op::Plane(p) => {
+                if on && Some(*p) != self.plane.or(Some(Plane::XY)) {
+                    report(LowerErrorKind::PlaneChangeUnderPolar);
+                }
+                self.plane = Some(*p);
+            }
+            Op::SelectWorkOffset(_)
             | Op::SetWorkOffset { .. }
             | Op::SetWorkOffsetHere { .. }
             | Op::LocalOffset(_)
             | Op::SetPosition(_)
             | Op::CancelPosition
             | Op::ToolLength { .. }
-            | Op::CancelToolLength
-    )
+            | Op::CancelToolLength => {
+                if on {
+                    report(LowerErrorKind::OffsetsUnderPolar {
+                        since: self.entered,
+                    });
+                }
+            }
+            Op::MachineMove(_) | Op::Home { .. } => {
+                if on {
+                    report(LowerErrorKind::MachineMoveUnderPolar);
+                }
+            }
+            Op::Move(m) => {
+                if !self.cartesian(&mut m.to) {
+                    report(LowerErrorKind::PolarIncomplete {
+                        plane: self.plane.unwrap_or(Plane::XY),
+                    });
+                }
+            }
+            Op::Cycle(c) => {
+                if !self.cartesian(&mut c.at) {
+                    report(LowerErrorKind::PolarIncomplete {
+                        plane: self.plane.unwrap_or(Plane::XY),
+                    });
+                }
+            }
+            Op::Feed(_)
+            | Op::Speed(_)
+            | Op::SelectTool(_)
+            | Op::ChangeTool
+            | Op::Spindle(_)
+            | Op::Coolant(_)
+            | Op::Dwell(_)
+            | Op::Stop(_)
+            | Op::End
+            | Op::Units(_)
+            | Op::Distance(_)
+            | Op::DiameterMode(_)
+            | Op::ReturnLevel(_)
+            | Op::CycleOff
+            | Op::Comp { .. }
+            | Op::CompOff
+            | Op::Comment(_)
+            | Op::Passthrough(_) => {}
+        }
+        out.push(stmt);
+    }
 }

@@ -1,64 +1,127 @@
 //! Pass units (SPEC §4.1): every length in the output units; G20/G21 are
 //! removed. Feeds are converted when they are given, so a feed set before a
-//! unit switch keeps its machine value, as on LinuxCNC. The program starts
-//! in the output units. Tool and offset tables are already in them (§3).
-//! Under G16 the angle word is left alone: it is in degrees.
+//! unit switch keeps its machine value, as on LinuxCNC. Tool and offset
+//! tables are already in the output units (§3). Under G16 the angle word is
+//! left alone: it is in degrees; so are A, B and C.
+//!
+//! A program that never states its units is in the machine's: nothing is
+//! converted. If it states them only after its first move, the first G20 or
+//! G21 stays where it is (the moves before it run in the machine's units)
+//! and fixes the output units from there on.
 
-use crate::ir::{self, ArcGeometry, Op, Units};
+use super::{Context, Out, Pass, PassInfo};
+use crate::ir::{self, ArcGeometry, Axis, CompRadius, Op, Stmt, Units};
 
-pub struct State {
-    output: Units,
-    current: Units,
+pub const PASS: PassInfo = PassInfo {
+    name: "units",
+    make: |cx| Box::new(UnitsPass::new(cx)),
+};
+
+struct UnitsPass {
+    /// The units lengths are converted to; `None` until known.
+    output: Option<Units>,
+    /// The units the program is in now; `None`: the machine's.
+    current: Option<Units>,
     /// Under G16 the plane's second axis word is an angle, not a length.
     polar: bool,
     plane: ir::Plane,
 }
 
-impl State {
-    pub fn new(output: Units) -> State {
-        State {
-            output,
-            current: output,
+impl UnitsPass {
+    fn new(cx: &Context<'_>) -> UnitsPass {
+        UnitsPass {
+            output: cx.start.output_units,
+            current: cx.start.program_units,
             polar: false,
             plane: ir::Plane::XY,
         }
     }
 
-    pub fn run(&mut self, stmts: &mut Vec<ir::Stmt>) {
-        stmts.retain_mut(|stmt| {
-            let k = self.current.factor(self.output);
-            match &mut stmt.op {
-                Op::Units(u) => {
-                    self.current = *u;
-                    return false;
+    /// The factor from the program's units to the output's.
+    fn factor(&self) -> f64 {
+        match (self.current, self.output) {
+            (Some(from), Some(to)) => from.factor(to),
+            _ => 1.0,
+        }
+    }
+
+    /// Scale a move's lengths, but not a polar angle.
+    fn scale_axes(&self, to: ir::Axes, k: f64) -> ir::Axes {
+        let angle = self
+            .polar
+            .then(|| Axis::ALL[self.plane.axes().1])
+            .and_then(|b| to.get(b).map(|v| (b, v)));
+        let mut to = to.map_lengths(|v| v * k);
+        if let Some((axis, degrees)) = angle {
+            to.set(axis, degrees);
+        }
+        to
+    }
+}
+
+impl Pass for UnitsPass {
+    fn feed(&mut self, mut stmt: Stmt, out: &mut Out<'_>) {
+        let k = self.factor();
+        let scale = |v: &mut f64| *v *= k;
+        match &mut stmt.op {
+            Op::Units(u) => {
+                self.current = Some(*u);
+                if self.output.is_none() {
+                    // The first statement of units: it stays, and fixes them.
+                    self.output = Some(*u);
+                    out.push(stmt);
                 }
-                Op::Polar(on) => self.polar = *on,
-                Op::Plane(p) => self.plane = *p,
-                _ if k == 1.0 => {}
-                Op::Move(m) => {
-                    let angle = self
-                        .polar
-                        .then(|| self.plane.axes().1)
-                        .and_then(|b| m.to.get(b).map(|v| (b, v)));
-                    m.to = m.to.map(|v| v * k);
-                    if let Some((axis, degrees)) = angle {
-                        m.to.set(axis, Some(degrees));
-                    }
-                    if let Some(arc) = &mut m.arc {
-                        arc.geometry = match arc.geometry {
-                            ArcGeometry::Center(c) => ArcGeometry::Center(c.map(|v| v * k)),
-                            ArcGeometry::Radius(r) => ArcGeometry::Radius(r * k),
-                        };
-                    }
-                }
-                Op::Feed(f) => *f *= k,
-                Op::SetWorkOffset { origin: a, .. }
-                | Op::SetWorkOffsetHere { at: a, .. }
-                | Op::LocalOffset(a)
-                | Op::SetPosition(a) => *a = a.map(|v| v * k),
-                _ => {}
+                return;
             }
-            true
-        });
+            Op::Polar(on) => self.polar = *on,
+            Op::Plane(p) => self.plane = *p,
+            Op::Move(m) | Op::MachineMove(m) => {
+                m.to = self.scale_axes(m.to, k);
+                if let Some(arc) = &mut m.arc {
+                    arc.geometry = match arc.geometry {
+                        ArcGeometry::Center(c) => ArcGeometry::Center(c.map(|v| v.map(|v| v * k))),
+                        ArcGeometry::Radius(r) => ArcGeometry::Radius(r * k),
+                    };
+                }
+            }
+            Op::Cycle(c) => {
+                c.at = self.scale_axes(c.at, k);
+                for v in [&mut c.r, &mut c.q].into_iter().flatten() {
+                    scale(v);
+                }
+                c.ijk = c.ijk.map(|v| v.map(|v| v * k));
+            }
+            Op::Home { via: a, .. }
+            | Op::SetWorkOffset { origin: a, .. }
+            | Op::SetWorkOffsetHere { at: a, .. }
+            | Op::LocalOffset(a)
+            | Op::SetPosition(a) => *a = a.map_lengths(|v| v * k),
+            Op::Feed(f) => scale(f),
+            Op::Comp {
+                radius: CompRadius::Diameter(d),
+                ..
+            } => scale(d),
+            Op::Comp { .. }
+            | Op::Speed(_)
+            | Op::SelectTool(_)
+            | Op::ChangeTool
+            | Op::Spindle(_)
+            | Op::Coolant(_)
+            | Op::Dwell(_)
+            | Op::Stop(_)
+            | Op::End
+            | Op::Distance(_)
+            | Op::SelectWorkOffset(_)
+            | Op::CancelPosition
+            | Op::ToolLength { .. }
+            | Op::CancelToolLength
+            | Op::DiameterMode(_)
+            | Op::ReturnLevel(_)
+            | Op::CycleOff
+            | Op::CompOff
+            | Op::Comment(_)
+            | Op::Passthrough(_) => {}
+        }
+        out.push(stmt);
     }
 }

@@ -6,7 +6,7 @@
 
 use crate::ast::{Function, Names, Symbol};
 use crate::diagnostic::{error, Diagnostic, DiagnosticExt};
-use crate::source::{FileId, Span};
+use crate::source::{Locator, Span};
 use logos::Logos;
 
 #[derive(Logos, Clone, Copy, Debug, PartialEq)]
@@ -225,13 +225,13 @@ pub struct Lexed {
     pub call_groups: Vec<Span>,
 }
 
-pub fn lex(text: &str, file: FileId, names: &mut Names) -> Lexed {
-    Lexer::new(text, file, names).run()
+pub fn lex(text: &str, at: &Locator, names: &mut Names) -> Lexed {
+    Lexer::new(text, at, names).run()
 }
 
 struct Lexer<'a> {
     text: &'a str,
-    file: FileId,
+    at: &'a Locator,
     names: &'a mut Names,
     out: Vec<Spanned>,
     words: Vec<LexedWord>,
@@ -256,10 +256,10 @@ struct Lexer<'a> {
 }
 
 impl<'a> Lexer<'a> {
-    fn new(text: &'a str, file: FileId, names: &'a mut Names) -> Lexer<'a> {
+    fn new(text: &'a str, at: &'a Locator, names: &'a mut Names) -> Lexer<'a> {
         Lexer {
             text,
-            file,
+            at,
             names,
             // Generous: untouched capacity costs no memory, regrowing copies.
             out: Vec::with_capacity(text.len() / 4),
@@ -278,7 +278,7 @@ impl<'a> Lexer<'a> {
     }
 
     fn span(&self, start: usize, end: usize) -> Span {
-        Span::new(self.file, start, end)
+        self.at.span(start, end)
     }
 
     fn run(mut self) -> Lexed {
@@ -790,7 +790,7 @@ mod tests {
 
     fn kinds(src: &str) -> Vec<Tok> {
         let mut names = Names::default();
-        lex(src, 0, &mut names)
+        lex(src, &Locator::new(0, src), &mut names)
             .tokens
             .into_iter()
             .map(|t| t.1)
@@ -800,7 +800,11 @@ mod tests {
     #[test]
     fn compact_words_split() {
         let mut names = Names::default();
-        let lexed = lex("N10G01X1.5Y-.5F100", 0, &mut names);
+        let lexed = lex(
+            "N10G01X1.5Y-.5F100",
+            &Locator::new(0, "N10G01X1.5Y-.5F100"),
+            &mut names,
+        );
         assert_eq!(lexed.tokens.len(), 1);
         assert_eq!(lexed.words.len(), 5);
         let y = lexed.words[3];

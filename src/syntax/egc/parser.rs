@@ -7,7 +7,7 @@
 use super::lexer::{self, Lexed, Tok};
 use crate::ast::*;
 use crate::diagnostic::{error, Diagnostic, DiagnosticExt};
-use crate::source::{FileId, Span};
+use crate::source::{FileId, Locator, Span};
 use lalrpop_util::{lalrpop_mod, ParseError};
 
 lalrpop_mod!(
@@ -21,16 +21,17 @@ lalrpop_mod!(
 /// that callers can decide how far to go.
 pub fn parse_program(text: &str, file: FileId) -> (Program, Vec<Diagnostic>) {
     let mut names = Names::default();
+    let at = Locator::new(file, text);
     let Lexed {
         tokens,
         words,
         errors: mut diagnostics,
         call_groups,
-    } = lexer::lex(text, file, &mut names);
+    } = lexer::lex(text, &at, &mut names);
     let brace_errors = diagnostics.iter().any(|d| d.message.contains('{'));
 
     let context = ErrorContext {
-        file,
+        at: &at,
         text,
         names: &names,
         call_groups: &call_groups,
@@ -49,16 +50,16 @@ pub fn parse_program(text: &str, file: FileId) -> (Program, Vec<Diagnostic>) {
                 kind: StmtKind::Line(Line {
                     words: {
                         let mut v = Vec::with_capacity(run.1 as usize);
-                        push_words(&mut v, &words, run, file);
+                        push_words(&mut v, &words, run, &at);
                         v
                     },
                 }),
-                span: Span::new(file, start, end),
+                span: at.span(start, end),
             }),
             Piece::Grammar(slice) => {
                 let mut recovered = Vec::new();
                 let result = grammar::ProgramParser::new().parse(
-                    file,
+                    &at,
                     &names,
                     &words,
                     &mut recovered,
@@ -195,7 +196,7 @@ fn push_stretch<'t>(out: &mut Vec<Piece<'t>>, mut stretch: &'t [lexer::Spanned])
 }
 
 struct ErrorContext<'a> {
-    file: FileId,
+    at: &'a Locator,
     text: &'a str,
     names: &'a Names,
     call_groups: &'a [Span],
@@ -211,16 +212,16 @@ impl ErrorContext<'_> {
                 expected,
             } => {
                 let (what, span) = if tok == Tok::Term {
-                    ("end of statement".to_string(), Span::new(self.file, l, l))
+                    ("end of statement".to_string(), self.at.span(l, l))
                 } else if let Tok::Words(first, _) = tok {
                     let w = self.words[first as usize];
                     let (start, end) = (w.start as usize, w.end as usize);
                     (
                         format!("word `{}`", &self.text[start..end]),
-                        Span::new(self.file, start, end),
+                        self.at.span(start, end),
                     )
                 } else {
-                    (tok.describe(self.names), Span::new(self.file, l, r))
+                    (tok.describe(self.names), self.at.span(l, r))
                 };
                 let mut d = error(
                     format!("unexpected {what}"),
@@ -247,20 +248,20 @@ impl ErrorContext<'_> {
             }
             ParseError::UnrecognizedEof { location, expected } => error(
                 "unexpected end of file",
-                Span::new(self.file, location, location),
+                self.at.span(location, location),
                 format!("expected {}", expected_list(&expected)),
             ),
             ParseError::ExtraToken { token: (l, tok, r) } => error(
                 format!("unexpected {}", tok.describe(self.names)),
-                Span::new(self.file, l, r),
+                self.at.span(l, r),
                 "nothing more was expected here",
             ),
             ParseError::InvalidToken { location } => error(
                 "invalid token",
-                Span::new(self.file, location, location + 1),
+                self.at.span(location, location + 1),
                 "not understood",
             ),
-            ParseError::User { error: message } => error(message, Span::new(self.file, 0, 0), ""),
+            ParseError::User { error: message } => error(message, self.at.span(0, 0), ""),
         }
     }
 
@@ -429,7 +430,7 @@ pub(crate) fn push_words(
     line: &mut Vec<Word>,
     words: &[lexer::LexedWord],
     run: (u32, u32),
-    file: FileId,
+    at: &Locator,
 ) {
     let (first, len) = (run.0 as usize, run.1 as usize);
     line.extend(words[first..first + len].iter().map(|w| Word {
@@ -439,14 +440,14 @@ pub(crate) fn push_words(
             int_digits: w.word.int_digits,
             has_point: w.word.has_point,
         }),
-        span: Span::new(file, w.start as usize, w.end as usize),
+        span: at.span(w.start as usize, w.end as usize),
     }));
 }
 
-pub(crate) fn binary(file: FileId, l: usize, r: usize, op: BinaryOp, a: Expr, b: Expr) -> Expr {
+pub(crate) fn binary(at: &Locator, l: usize, r: usize, op: BinaryOp, a: Expr, b: Expr) -> Expr {
     Expr {
         kind: ExprKind::Binary(op, Box::new(a), Box::new(b)),
-        span: Span::new(file, l, r),
+        span: at.span(l, r),
     }
 }
 

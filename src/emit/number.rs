@@ -1,0 +1,147 @@
+//! Number formatting: every number of the output goes through here. Values
+//! are put on a decimal grid (`q` units of 10^-decimals) once, so that what
+//! is compared is what is printed; the digits are written without `format!`
+//! (the printer's hot loop).
+
+pub fn push_int(out: &mut Vec<u8>, n: i64) {
+    if n < 0 {
+        out.push(b'-');
+    }
+    let mut buf = [0u8; 20];
+    let start = digits_before(&mut buf, 20, n.unsigned_abs());
+    out.extend_from_slice(&buf[start..]);
+}
+
+/// Write the decimal digits of `n` (at least one) into `buf`, ending just
+/// before `end`; returns where they start.
+fn digits_before(buf: &mut [u8], mut end: usize, mut n: u64) -> usize {
+    loop {
+        end -= 1;
+        buf[end] = b'0' + (n % 10) as u8;
+        n /= 10;
+        if n == 0 {
+            return end;
+        }
+    }
+}
+
+/// `x` rounded half away from zero, as `f64::round` (without its libm
+/// call); saturates like `as i64` outside the range of `i64`.
+pub fn round_to_int(x: f64) -> i64 {
+    // Below 2^52 the truncation and the fraction `x - t` are exact.
+    if x.abs() < 4.5e15 {
+        let t = x as i64;
+        let fraction = x - t as f64;
+        if fraction >= 0.5 {
+            t + 1
+        } else if fraction <= -0.5 {
+            t - 1
+        } else {
+            t
+        }
+    } else {
+        x.round() as i64
+    }
+}
+
+/// A number with a decimal point and at most `decimals` decimals, trailing
+/// zeros removed: `1.`, `-0.25`, `12.5`.
+pub fn push_fixed_bytes(out: &mut Vec<u8>, v: f64, decimals: usize) {
+    let decimals = decimals.min(9);
+    let x = v * 10f64.powi(decimals as i32);
+    if !v.is_finite() || v.abs() >= 1e12 || x.abs() >= 1e18 {
+        out.extend_from_slice(format!("{v:.decimals$}").as_bytes());
+        return;
+    }
+    push_scaled(out, round_to_int(x), decimals);
+}
+
+/// `q` × 10^-`decimals` (at most 18) as [`push_fixed_bytes`] writes it.
+/// Written right to left into one buffer: the fraction's digits (its
+/// trailing zeros, which come first, skipped), the point, the integer's
+/// digits (at least one) and the sign.
+pub fn push_scaled(out: &mut Vec<u8>, q: i64, decimals: usize) {
+    let mut buf = [0u8; 32];
+    let mut i = buf.len();
+    let mut n = q.unsigned_abs();
+    let mut significant = false;
+    for _ in 0..decimals {
+        let digit = (n % 10) as u8;
+        n /= 10;
+        significant |= digit != 0;
+        if significant {
+            i -= 1;
+            buf[i] = b'0' + digit;
+        }
+    }
+    i -= 1;
+    buf[i] = b'.';
+    i = digits_before(&mut buf, i, n);
+    if q < 0 {
+        i -= 1;
+        buf[i] = b'-';
+    }
+    out.extend_from_slice(&buf[i..]);
+}
+
+/// [`push_fixed_bytes`] onto a `String`.
+pub fn push_fixed(out: &mut String, v: f64, decimals: usize) {
+    let mut bytes = Vec::with_capacity(24);
+    push_fixed_bytes(&mut bytes, v, decimals);
+    out.push_str(&String::from_utf8_lossy(&bytes));
+}
+
+#[cfg(test)]
+mod tests {
+    use super::{push_fixed, round_to_int};
+
+    fn fixed(v: f64, d: usize) -> String {
+        let mut s = String::new();
+        push_fixed(&mut s, v, d);
+        s
+    }
+
+    #[test]
+    fn numbers_always_have_a_point() {
+        assert_eq!(fixed(1.0, 3), "1.");
+        assert_eq!(fixed(-0.25, 3), "-0.25");
+        assert_eq!(fixed(12.0005, 3), "12.001");
+        assert_eq!(fixed(-0.0001, 3), "0.");
+        assert_eq!(fixed(0.05, 4), "0.05");
+        assert_eq!(fixed(1234.5678, 4), "1234.5678");
+    }
+
+    #[test]
+    fn rounding_is_half_away_from_zero_like_f64_round() {
+        let ties = [0.5, 1.5, 2.5, -0.5, -1.5, -2.5, 0.49999999999999994];
+        let edges = [4503599627370495.5, -4503599627370495.5, 4.5e15, 1e18, -1e19];
+        for x in ties.into_iter().chain(edges) {
+            assert_eq!(round_to_int(x), x.round() as i64, "{x}");
+        }
+    }
+
+    /// The printer formats integers on the output grid; it must print
+    /// what rounding the value and printing its digits would.
+    #[test]
+    fn fixed_point_matches_rounding_then_printing() {
+        fn reference(v: f64, d: usize) -> String {
+            let scale = 10u64.pow(d as u32);
+            let n = (v * scale as f64).round() as i64;
+            let sign = if n < 0 { "-" } else { "" };
+            let n = n.unsigned_abs();
+            let fraction = format!("{:0width$}", n % scale, width = d);
+            format!("{sign}{}.{}", n / scale, fraction.trim_end_matches('0'))
+        }
+        let mut state = 0x2545_f491_4f6c_dd1du64;
+        for i in 0..20_000 {
+            // xorshift: values over many magnitudes, both signs.
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            let unit = (state >> 11) as f64 / (1u64 << 53) as f64;
+            let v = (unit - 0.5) * 10f64.powi((i % 13) as i32 - 4);
+            let d = i % 10;
+            assert_eq!(fixed(v, d), reference(v, d), "{v} with {d} decimals");
+        }
+    }
+}

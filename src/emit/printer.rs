@@ -1,0 +1,385 @@
+//! The line writer: N numbers, words and codes of one output line at a
+//! time, and the spelling of every statement as written. It decides
+//! nothing about what to print; the stage and program printers do.
+
+use super::number::{push_fixed_bytes, push_int, push_scaled, round_to_int};
+use super::{Numbering, Target};
+use crate::ir::{self, ArcGeometry, CompRadius, Motion, Op, Passthrough, Units};
+use crate::source::Span;
+
+pub(super) struct Printer {
+    /// Bytes, not chars: everything written is ASCII but comments and
+    /// passed-through lines, which come from `&str`, and every line is
+    /// whole: the text is UTF-8.
+    pub out: Vec<u8>,
+    line: Vec<u8>,
+    numbering: Numbering,
+    pub target: Target,
+    pub decimals: usize,
+    /// 10^decimals.
+    scale: f64,
+    main_file: u32,
+    seq: u64,
+    /// The `N… ` of source line `numbered_at`.
+    number: Vec<u8>,
+    numbered_at: Option<u32>,
+    /// The arc plane as printed so far.
+    pub plane: ir::Plane,
+    /// The tool of the last T word, for targets that name it at M6.
+    selected_tool: Option<u32>,
+}
+
+impl Printer {
+    pub fn new(
+        numbering: Numbering,
+        target: Target,
+        decimals: Option<usize>,
+        units: Option<Units>,
+        main_file: usize,
+        capacity: usize,
+    ) -> Printer {
+        // Nine decimals at most: a nanometre, and the grid fits an i64. In
+        // unknown units, enough for inches.
+        let decimals = decimals
+            .unwrap_or(match units {
+                Some(Units::Mm) => 3,
+                Some(Units::Inch) | None => 4,
+            })
+            .min(9);
+        Printer {
+            out: Vec::with_capacity(capacity.min(1 << 20)),
+            line: Vec::with_capacity(80),
+            numbering: if target.takes_line_numbers() {
+                numbering
+            } else {
+                Numbering::None
+            },
+            target,
+            decimals,
+            scale: 10f64.powi(decimals as i32),
+            main_file: main_file as u32,
+            seq: 0,
+            number: Vec::with_capacity(16),
+            numbered_at: None,
+            plane: ir::Plane::XY,
+            selected_tool: None,
+        }
+    }
+
+    /// A line ger makes up (the header): numbered only by `seq`.
+    pub fn raw_line(&mut self, text: &str) {
+        self.line.clear();
+        if self.numbering == Numbering::Seq {
+            self.seq_number();
+        }
+        self.line.extend_from_slice(text.as_bytes());
+        self.end();
+    }
+
+    /// Text written as it is, outside the numbering (tape marks).
+    pub fn raw(&mut self, text: &str) {
+        self.out.extend_from_slice(text.as_bytes());
+    }
+
+    fn seq_number(&mut self) {
+        self.seq += 10;
+        self.line.push(b'N');
+        push_int(&mut self.line, self.seq as i64);
+        self.line.push(b' ');
+    }
+
+    /// Start the line of a statement from `span`.
+    pub fn begin(&mut self, span: Span, block_delete: bool) {
+        self.line.clear();
+        if block_delete {
+            self.line.push(b'/');
+        }
+        match self.numbering {
+            Numbering::Source if span.file == self.main_file && span.line > 0 => {
+                // A loop prints many lines from one source line.
+                if self.numbered_at != Some(span.line) {
+                    self.number.clear();
+                    self.number.push(b'N');
+                    push_int(&mut self.number, span.line as i64);
+                    self.number.push(b' ');
+                    self.numbered_at = Some(span.line);
+                }
+                self.line.extend_from_slice(&self.number);
+            }
+            Numbering::Seq => self.seq_number(),
+            Numbering::Source | Numbering::None => {}
+        }
+    }
+
+    pub fn end(&mut self) {
+        if self.line.last() == Some(&b' ') {
+            self.line.pop();
+        }
+        self.out.extend_from_slice(&self.line);
+        self.out.push(b'\n');
+    }
+
+    /// A space before the next word, unless the line is empty or has one.
+    fn separate(&mut self) {
+        if !self.line.is_empty() && self.line.last() != Some(&b' ') {
+            self.line.push(b' ');
+        }
+    }
+
+    /// A word whose value is already on the output grid: `q` units of
+    /// 10^-decimals (what [`Printer::word`] would print for `q / scale`).
+    pub fn word_q(&mut self, letter: u8, q: i64) {
+        self.separate();
+        self.line.push(letter);
+        push_scaled(&mut self.line, q, self.decimals);
+    }
+
+    pub fn word(&mut self, letter: u8, v: f64) {
+        self.separate();
+        self.line.push(letter);
+        push_fixed_bytes(&mut self.line, v, self.decimals);
+    }
+
+    /// A word with an integer value (`T3`, `P2`, `H1`).
+    fn int_word(&mut self, letter: u8, n: u32) {
+        self.separate();
+        self.line.push(letter);
+        push_int(&mut self.line, n as i64);
+    }
+
+    pub fn code(&mut self, text: &str) {
+        self.separate();
+        self.line.extend_from_slice(text.as_bytes());
+    }
+
+    fn axes(&mut self, a: &ir::Axes) {
+        for (axis, v) in a.iter() {
+            self.word(axis.letter(), v);
+        }
+    }
+
+    /// `v` on the output grid. Positions are limited well inside it (the
+    /// absolute pass); the clamp only makes sure that no input can make a
+    /// difference of two overflow.
+    pub fn scaled(&self, v: f64) -> i64 {
+        round_to_int(v * self.scale).clamp(-(1 << 61), 1 << 61)
+    }
+
+    pub fn unscaled(&self, n: i64) -> f64 {
+        n as f64 / self.scale
+    }
+
+    /// A statement on its own line, as written.
+    pub fn stmt(&mut self, stmt: &ir::Stmt) {
+        if let Op::Passthrough(Passthrough::Line(text)) = &stmt.op {
+            // A controller command (`$H`) takes no N word.
+            self.line.clear();
+            if stmt.block_delete {
+                self.line.push(b'/');
+            }
+            self.line.extend_from_slice(text.as_bytes());
+            return self.end();
+        }
+        self.begin(stmt.span, stmt.block_delete);
+        self.op(&stmt.op);
+        self.end();
+    }
+
+    /// The words of one statement, as written.
+    pub fn op(&mut self, op: &Op) {
+        match op {
+            Op::Move(m) => self.move_words(m),
+            Op::MachineMove(m) => {
+                self.code("G53");
+                self.move_words(m);
+            }
+            Op::Home { home, via } => {
+                self.code(match home {
+                    ir::Home::G28 => "G28",
+                    ir::Home::G30 => "G30",
+                });
+                self.axes(via);
+            }
+            Op::Feed(f) => self.word(b'F', *f),
+            Op::Speed(s) => self.word(b'S', *s),
+            Op::SelectTool(t) => {
+                self.selected_tool = Some(*t);
+                self.int_word(b'T', *t);
+            }
+            Op::ChangeTool => {
+                let text = self.target.tool_change(self.selected_tool);
+                self.code(&text);
+            }
+            Op::Spindle(s) => self.code(match s {
+                ir::Spindle::Clockwise => "M3",
+                ir::Spindle::CounterClockwise => "M4",
+                ir::Spindle::Off => "M5",
+            }),
+            Op::Coolant(c) => self.code(match c {
+                ir::Coolant::Mist => "M7",
+                ir::Coolant::Flood => "M8",
+                ir::Coolant::Off => "M9",
+            }),
+            Op::Dwell(seconds) => {
+                self.code("G4");
+                self.word(self.target.dwell_letter(), *seconds);
+            }
+            Op::Stop(ir::Stop::Program) => self.code("M0"),
+            Op::Stop(ir::Stop::Optional) => self.code("M1"),
+            Op::End => self.code(self.target.program_end()),
+            Op::Units(Units::Inch) => self.code("G20"),
+            Op::Units(Units::Mm) => self.code("G21"),
+            Op::Distance(ir::Distance::Absolute) => self.code("G90"),
+            Op::Distance(ir::Distance::Incremental) => self.code("G91"),
+            Op::Plane(plane) => {
+                self.plane = *plane;
+                self.code(match plane {
+                    ir::Plane::XY => "G17",
+                    ir::Plane::ZX => "G18",
+                    ir::Plane::YZ => "G19",
+                })
+            }
+            Op::SelectWorkOffset(i) => self.code(work_offset_code(*i)),
+            Op::SetWorkOffset { index, origin } => {
+                self.code("G10 L2");
+                self.int_word(b'P', *index as u32);
+                self.axes(origin);
+            }
+            Op::SetWorkOffsetHere { index, at } => {
+                self.code("G10 L20");
+                self.int_word(b'P', *index as u32);
+                self.axes(at);
+            }
+            Op::LocalOffset(a) => {
+                self.code("G52");
+                self.axes(a);
+            }
+            Op::SetPosition(a) => {
+                self.code("G92");
+                self.axes(a);
+            }
+            Op::CancelPosition => self.code("G92.1"),
+            Op::ToolLength { tool, negative } => {
+                self.code(if *negative { "G44" } else { "G43" });
+                if let Some(tool) = tool {
+                    self.int_word(b'H', *tool);
+                }
+            }
+            Op::CancelToolLength => self.code("G49"),
+            Op::Polar(true) => self.code("G16"),
+            Op::Polar(false) => self.code("G15"),
+            Op::DiameterMode(true) => self.code("G7"),
+            Op::DiameterMode(false) => self.code("G8"),
+            Op::ReturnLevel(ir::ReturnLevel::Initial) => self.code("G98"),
+            Op::ReturnLevel(ir::ReturnLevel::R) => self.code("G99"),
+            Op::Cycle(c) => self.cycle_words(c),
+            Op::CycleOff => self.code("G80"),
+            Op::Comp { side, radius } => self.comp_words(*side, *radius),
+            Op::CompOff => self.code("G40"),
+            Op::Comment(text) => self.comment(text),
+            Op::Passthrough(Passthrough::MCode { number, words }) => {
+                self.int_word(b'M', *number);
+                for &(letter, v) in words {
+                    self.word(letter, v);
+                }
+            }
+            Op::Passthrough(Passthrough::Line(text)) => self.code(text),
+        }
+    }
+
+    /// A comment, with any parenthesis or line end inside it made a space
+    /// (it must not close early or run on as code).
+    pub fn comment(&mut self, text: &str) {
+        self.separate();
+        self.line.push(b'(');
+        for c in text.chars() {
+            let c = if matches!(c, '(' | ')' | '\n' | '\r') {
+                ' '
+            } else {
+                c
+            };
+            let mut buf = [0u8; 4];
+            self.line
+                .extend_from_slice(c.encode_utf8(&mut buf).as_bytes());
+        }
+        self.line.push(b')');
+    }
+
+    fn move_words(&mut self, m: &ir::Move) {
+        self.code(motion_code(m.motion));
+        self.axes(&m.to);
+        let Some(arc) = &m.arc else { return };
+        match arc.geometry {
+            ArcGeometry::Center(c) => {
+                for (letter, v) in [b'I', b'J', b'K'].into_iter().zip(c) {
+                    if let Some(v) = v {
+                        self.word(letter, v);
+                    }
+                }
+            }
+            ArcGeometry::Radius(r) => self.word(b'R', r),
+        }
+        if arc.turns > 1 {
+            self.int_word(b'P', arc.turns);
+        }
+    }
+
+    fn cycle_words(&mut self, c: &ir::Cycle) {
+        self.separate();
+        self.line.push(b'G');
+        push_int(&mut self.line, c.kind.code() as i64);
+        self.axes(&c.at);
+        for (letter, v) in [(b'R', c.r), (b'Q', c.q), (b'P', c.dwell)] {
+            if let Some(v) = v {
+                self.word(letter, v);
+            }
+        }
+        for (letter, v) in [b'I', b'J', b'K'].into_iter().zip(c.ijk) {
+            if let Some(v) = v {
+                self.word(letter, v);
+            }
+        }
+        if c.repeats != 1 {
+            self.int_word(b'L', c.repeats);
+        }
+    }
+
+    fn comp_words(&mut self, side: ir::Side, radius: CompRadius) {
+        let left = side == ir::Side::Left;
+        match radius {
+            CompRadius::Tool(tool) => {
+                self.code(if left { "G41" } else { "G42" });
+                self.int_word(b'D', tool);
+            }
+            CompRadius::LoadedTool => self.code(if left { "G41" } else { "G42" }),
+            CompRadius::Diameter(d) => {
+                self.code(if left { "G41.1" } else { "G42.1" });
+                self.word(b'D', d);
+            }
+        }
+    }
+}
+
+pub(super) fn motion_code(m: Motion) -> &'static str {
+    match m {
+        Motion::Rapid => "G0",
+        Motion::Linear => "G1",
+        Motion::ArcCw => "G2",
+        Motion::ArcCcw => "G3",
+    }
+}
+
+/// G54..G59.3 from their index 1..=9.
+pub(super) fn work_offset_code(index: u8) -> &'static str {
+    match index {
+        1 => "G54",
+        2 => "G55",
+        3 => "G56",
+        4 => "G57",
+        5 => "G58",
+        6 => "G59",
+        7 => "G59.1",
+        8 => "G59.2",
+        _ => "G59.3",
+    }
+}

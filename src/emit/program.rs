@@ -1,0 +1,310 @@
+//! The final program (SPEC §6): absolute moves with unchanged axes left
+//! out, F on the cutting move it applies to, arc centres relative to the
+//! start point as printed, and the target's prologue and epilogue.
+
+use super::printer::{motion_code, Printer};
+use super::{ArcFormat, EmitOptions};
+use crate::geometry::{self, Point};
+use crate::ir::{self, ArcGeometry, Axis, Motion, Op, Units};
+
+/// Prints the final program: absolute, one unit, only the codes of SPEC §6
+/// and what the passes passed through.
+pub struct ProgramPrinter {
+    p: Printer,
+    arcs: ArcFormat,
+    tolerance: f64,
+    /// Machine position per axis, as the absolute pass knows it.
+    position: ir::Position,
+    /// Last printed value of each axis, on the output grid; `None` makes
+    /// the next move that has the axis write it.
+    printed: [Option<i64>; 9],
+    /// A feed waiting for the next cutting move, and the last feed written.
+    pending_feed: Option<f64>,
+    printed_feed: Option<i64>,
+}
+
+impl ProgramPrinter {
+    /// `units`: the output units, if known (a program that never states
+    /// them gets no G20/G21).
+    pub fn new(
+        options: &EmitOptions,
+        units: Option<Units>,
+        source_len: usize,
+        main_file: usize,
+    ) -> ProgramPrinter {
+        let mut p = Printer::new(
+            options.numbering,
+            options.target,
+            options.decimals,
+            units,
+            main_file,
+            source_len * 2,
+        );
+        if let Some(prologue) = options.target.prologue(options.program_number) {
+            p.raw(&prologue);
+        }
+        p.raw_line(match units {
+            Some(Units::Inch) => "G20 G90 G17",
+            Some(Units::Mm) => "G21 G90 G17",
+            None => "G90 G17",
+        });
+        ProgramPrinter {
+            p,
+            arcs: options.arcs,
+            tolerance: options.tolerance,
+            position: [None; 9],
+            printed: [None; 9],
+            pending_feed: None,
+            printed_feed: None,
+        }
+    }
+
+    /// Print the next statements of the program; returns the text not
+    /// yet taken (the caller may take it).
+    pub fn print(&mut self, stmts: &[ir::Stmt]) -> &mut Vec<u8> {
+        for stmt in stmts {
+            match &stmt.op {
+                Op::Move(m) => {
+                    self.final_move(stmt, m);
+                    for (axis, v) in m.to.iter() {
+                        self.position[axis.index()] = Some(v);
+                    }
+                    continue;
+                }
+                // The header selected G17; repeat a plane only when it changes.
+                Op::Plane(plane) if *plane == self.p.plane => continue,
+                // F goes on the next cutting move's line (and only if it changed).
+                Op::Feed(f) => {
+                    self.pending_feed = Some(*f);
+                    continue;
+                }
+                // The operator may move the machine at a tool change or a
+                // stop: write every axis of the next move again.
+                Op::ChangeTool | Op::Stop(_) => self.printed = [None; 9],
+                // Where the tool is, in program coordinates, is no longer
+                // known (the absolute pass forgets the same axes).
+                Op::MachineMove(m) => self.forget(|a| m.to.has(a)),
+                Op::Home { via, .. } => {
+                    let all = via.is_empty();
+                    self.forget(|a| all || via.has(a));
+                }
+                Op::SelectWorkOffset(_) => self.forget(|_| true),
+                Op::ToolLength { .. } | Op::CancelToolLength => self.forget(|a| a == Axis::Z),
+                Op::Speed(_)
+                | Op::SelectTool(_)
+                | Op::Spindle(_)
+                | Op::Coolant(_)
+                | Op::Dwell(_)
+                | Op::End
+                | Op::Units(_)
+                | Op::Distance(_)
+                | Op::Plane(_)
+                | Op::SetWorkOffset { .. }
+                | Op::SetWorkOffsetHere { .. }
+                | Op::LocalOffset(_)
+                | Op::SetPosition(_)
+                | Op::CancelPosition
+                | Op::Polar(_)
+                | Op::DiameterMode(_)
+                | Op::ReturnLevel(_)
+                | Op::Cycle(_)
+                | Op::CycleOff
+                | Op::Comp { .. }
+                | Op::CompOff
+                | Op::Comment(_)
+                | Op::Passthrough(_) => {}
+            }
+            self.p.stmt(stmt);
+        }
+        &mut self.p.out
+    }
+
+    /// The rest of the text.
+    pub fn finish(mut self) -> Vec<u8> {
+        if let Some(epilogue) = self.p.target.epilogue() {
+            self.p.raw(epilogue);
+        }
+        self.p.out
+    }
+
+    fn forget(&mut self, axes: impl Fn(Axis) -> bool) {
+        for axis in Axis::ALL {
+            if axes(axis) {
+                self.position[axis.index()] = None;
+                self.printed[axis.index()] = None;
+            }
+        }
+    }
+
+    /// A move: the absolute pass guarantees that an arc's plane axes are
+    /// known and that its centre is given.
+    fn final_move(&mut self, stmt: &ir::Stmt, m: &ir::Move) {
+        let end_q: [Option<i64>; 9] =
+            std::array::from_fn(|i| m.to.get(Axis::ALL[i]).map(|v| self.p.scaled(v)));
+        let arc = m.arc.filter(|_| m.motion.is_arc());
+        let Some(ArcGeometry::Center(c)) = arc.map(|a| a.geometry) else {
+            return self.linear(stmt, m.motion, end_q);
+        };
+        let turns = arc.map_or(1, |a| a.turns);
+        let start: Point = std::array::from_fn(|i| self.position[i].unwrap_or(0.0));
+        let end: Point = std::array::from_fn(|i| m.to.get(Axis::ALL[i]).unwrap_or(start[i]));
+        let center: Point = std::array::from_fn(|i| start[i] + c[i].unwrap_or(0.0));
+        let clockwise = m.motion == Motion::ArcCw;
+        if self.arcs == ArcFormat::Lines {
+            return self.arc_as_lines(stmt, m, [start, end, center], clockwise, turns);
+        }
+        let start_q: [i64; 3] =
+            std::array::from_fn(|i| self.printed[i].unwrap_or_else(|| self.p.scaled(start[i])));
+        let end3: [i64; 3] = std::array::from_fn(|i| end_q[i].unwrap_or(start_q[i]));
+        self.p.begin(stmt.span, stmt.block_delete);
+        self.p.code(motion_code(m.motion));
+        let (a, b, _) = self.p.plane.axes();
+        for axis in Axis::ALL {
+            let i = axis.index();
+            let q = if i < 3 { Some(end3[i]) } else { end_q[i] };
+            let Some(q) = q else { continue };
+            // Both in-plane axes always, so a full circle has an end.
+            if i == a || i == b || Some(q) != self.printed[i] {
+                self.p.word_q(axis.letter(), q);
+                self.printed[i] = Some(q);
+            }
+        }
+        let full = start_q[a] == end3[a] && start_q[b] == end3[b];
+        if self.arcs == ArcFormat::R && turns == 1 && !full {
+            // SPEC §4: of the start and end radii, the larger is used.
+            let r = (center[a] - start[a])
+                .hypot(center[b] - start[b])
+                .max((center[a] - end[a]).hypot(center[b] - end[b]));
+            let long = geometry::is_long_arc(start, end, center, self.p.plane, clockwise);
+            self.p.word(b'R', if long { -r } else { r });
+        } else {
+            let printed_center =
+                self.round_center([start, end, center], start_q, end3, clockwise, turns);
+            for (axis, letter) in [(a, CENTER[a]), (b, CENTER[b])] {
+                self.p.word_q(letter, printed_center[axis] - start_q[axis]);
+            }
+        }
+        if turns > 1 {
+            self.p.code(&format!("P{turns}"));
+        }
+        self.feed_word();
+        self.p.end();
+    }
+
+    /// `--arcs lines`: chords within the tolerance; extra axes move in
+    /// proportion, as they do along the arc.
+    fn arc_as_lines(
+        &mut self,
+        stmt: &ir::Stmt,
+        m: &ir::Move,
+        [start, end, center]: [Point; 3],
+        clockwise: bool,
+        turns: u32,
+    ) {
+        let points = geometry::arc_points(
+            start,
+            end,
+            center,
+            self.p.plane,
+            clockwise,
+            turns,
+            self.tolerance,
+        );
+        let n = points.len();
+        for (k, point) in points.into_iter().enumerate() {
+            let fraction = (k + 1) as f64 / n as f64;
+            let q: [Option<i64>; 9] = std::array::from_fn(|i| {
+                if i < 3 {
+                    return Some(self.p.scaled(point[i]));
+                }
+                let axis = Axis::ALL[i];
+                let to = m.to.get(axis)?;
+                let from = self.position[i].unwrap_or(to);
+                Some(self.p.scaled(from + (to - from) * fraction))
+            });
+            self.linear(stmt, Motion::Linear, q);
+        }
+    }
+
+    /// Write the pending feed on a cutting move's line, if it changed.
+    fn feed_word(&mut self) {
+        if let Some(f) = self.pending_feed.take() {
+            let q = self.p.scaled(f);
+            if self.printed_feed != Some(q) {
+                self.p.word_q(b'F', q);
+                self.printed_feed = Some(q);
+            }
+        }
+    }
+
+    /// The centre to print, on the output grid. Rounding start, end and
+    /// centre independently can turn a half circle by more than the
+    /// rounding itself; of the grid points around the exact centre, take
+    /// the one that keeps centre, sweep and radius closest to the exact arc.
+    fn round_center(
+        &self,
+        [start, end, center]: [Point; 3],
+        start_q: [i64; 3],
+        end_q: [i64; 3],
+        clockwise: bool,
+        turns: u32,
+    ) -> [i64; 3] {
+        use crate::geometry::sweep;
+        let plane = self.p.plane;
+        let (a, b, _) = plane.axes();
+        let exact_sweep = sweep(start, end, center, plane, clockwise, turns);
+        let radius = (start[a] - center[a]).hypot(start[b] - center[b]);
+        let s = start_q.map(|q| self.p.unscaled(q));
+        let e = end_q.map(|q| self.p.unscaled(q));
+        let base = center.map(|v| self.p.scaled(v));
+        let error_of = |q: [i64; 3]| {
+            let c = q.map(|v| self.p.unscaled(v));
+            let moved = (c[a] - center[a]).hypot(c[b] - center[b]);
+            let turned = (sweep(s, e, c, plane, clockwise, turns) - exact_sweep).abs() * radius;
+            let rs = (s[a] - c[a]).hypot(s[b] - c[b]);
+            let re = (e[a] - c[a]).hypot(e[b] - c[b]);
+            moved.max(turned).max((rs - re).abs())
+        };
+        // Plain rounding is usually as good as the grid allows.
+        let mut best = (error_of(base), base);
+        if best.0 <= 0.75 * self.p.unscaled(1) {
+            return base;
+        }
+        for da in -1..=1 {
+            for db in -1..=1 {
+                let mut q = base;
+                q[a] += da;
+                q[b] += db;
+                let error = error_of(q);
+                if error < best.0 {
+                    best = (error, q);
+                }
+            }
+        }
+        best.1
+    }
+
+    /// A straight move to the known axes of `end_q`; nothing if none changed.
+    fn linear(&mut self, stmt: &ir::Stmt, motion: Motion, end_q: [Option<i64>; 9]) {
+        let changed: [bool; 9] =
+            std::array::from_fn(|i| end_q[i].is_some() && end_q[i] != self.printed[i]);
+        if !changed.iter().any(|&c| c) {
+            return;
+        }
+        self.p.begin(stmt.span, stmt.block_delete);
+        self.p.code(motion_code(motion));
+        for axis in Axis::ALL {
+            let i = axis.index();
+            if let (true, Some(q)) = (changed[i], end_q[i]) {
+                self.p.word_q(axis.letter(), q);
+                self.printed[i] = Some(q);
+            }
+        }
+        if motion != Motion::Rapid {
+            self.feed_word();
+        }
+        self.p.end();
+    }
+}
+
+const CENTER: [u8; 3] = [b'I', b'J', b'K'];

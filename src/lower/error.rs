@@ -1,0 +1,243 @@
+//! The problems a lowering pass can find, as data: a kind and the span of
+//! the statement. [`LowerError::to_diagnostic`] is the one place their
+//! wording lives.
+
+use crate::diagnostic::{error, warning, Diagnostic, DiagnosticExt};
+use crate::ir::{Axis, Plane, MAX_POSITION};
+use crate::source::Span;
+
+#[derive(Clone, Debug, PartialEq)]
+pub struct LowerError {
+    pub kind: LowerErrorKind,
+    pub span: Span,
+}
+
+#[derive(Clone, Debug, PartialEq)]
+pub enum LowerErrorKind {
+    /// `what` needs the position of `axis`, which no move has set (or a
+    /// machine move at `since` made unknown).
+    UnknownPosition {
+        axis: Axis,
+        what: &'static str,
+        since: Option<Span>,
+    },
+    /// A move would take `axis` to `value`, beyond [`MAX_POSITION`].
+    PositionOutOfRange {
+        axis: Axis,
+        value: f64,
+    },
+    /// R smaller than half the chord.
+    ArcRadiusTooSmall {
+        radius: f64,
+        half_chord: f64,
+    },
+    /// An R arc whose end is its start.
+    FullCircleWithR,
+    /// I/J/K whose radii at start and end differ by more than 1 %.
+    ArcRadiiDiffer {
+        start: f64,
+        end: f64,
+    },
+    /// I/J/K that put the centre on the start point.
+    ArcZeroRadius,
+    /// An offset changed under G91.
+    OffsetsUnderIncremental {
+        since: Option<Span>,
+    },
+    /// An offset changed under G16.
+    OffsetsUnderPolar {
+        since: Option<Span>,
+    },
+    PlaneChangeUnderPolar,
+    /// The first move under G16 gives only the radius or only the angle.
+    PolarIncomplete {
+        plane: Plane,
+    },
+    /// A machine move (G28, G30, G53) under G16.
+    MachineMoveUnderPolar,
+    /// G53 under G91.
+    MachineMoveIncremental,
+    /// Warning: G43 H`tool` with no known length is passed through.
+    ToolLengthUnknown {
+        tool: u32,
+    },
+    /// Warning: a work offset with unknown values is passed through.
+    WorkOffsetUnknown {
+        index: u8,
+    },
+    /// G10 L2/L20 or G92 for an axis whose offset ger cannot know.
+    OffsetAxisUnknown {
+        axis: Axis,
+        index: u8,
+    },
+}
+
+impl LowerError {
+    pub fn new(kind: LowerErrorKind, span: Span) -> LowerError {
+        LowerError { kind, span }
+    }
+
+    pub fn is_error(&self) -> bool {
+        !matches!(
+            self.kind,
+            LowerErrorKind::ToolLengthUnknown { .. } | LowerErrorKind::WorkOffsetUnknown { .. }
+        )
+    }
+
+    pub fn to_diagnostic(&self) -> Diagnostic {
+        use LowerErrorKind::*;
+        let span = self.span;
+        match &self.kind {
+            UnknownPosition { axis, what, since } => {
+                let letter = axis.letter() as char;
+                let d = error(
+                    format!("{what} needs the current {letter} position, which is not known"),
+                    span,
+                    match since {
+                        None => format!("no move has set {letter} yet"),
+                        Some(_) => format!("no move has set {letter} since the machine move"),
+                    },
+                )
+                .with_help(format!("move to an absolute {letter} position first"));
+                match since {
+                    Some(at) => d.with_secondary(*at, "the position is not known after this"),
+                    None => d,
+                }
+            }
+            PositionOutOfRange { axis, value } => {
+                let letter = axis.letter() as char;
+                error(
+                    format!("the move takes {letter} out of range"),
+                    span,
+                    format!("{letter} would be {value:e}"),
+                )
+                .with_note(format!(
+                    "machine positions must be between -{MAX_POSITION} and {MAX_POSITION}"
+                ))
+            }
+            ArcRadiusTooSmall { radius, half_chord } => error(
+                "arc radius too small",
+                span,
+                format!(
+                    "R{radius} cannot reach an end point {} away",
+                    fmt(2.0 * half_chord)
+                ),
+            )
+            .with_note(format!(
+                "the radius must be at least half the distance: {}",
+                fmt(*half_chord)
+            )),
+            FullCircleWithR => error(
+                "an R arc cannot be a full circle",
+                span,
+                "the end point is the start point",
+            )
+            .with_help("give a full circle's centre with I/J/K"),
+            ArcRadiiDiffer { start, end } => error(
+                "arc end is not on the circle",
+                span,
+                format!("radius {} at the start, {} at the end", fmt(*start), fmt(*end)),
+            )
+            .with_note(
+                "the two radii may differ by at most 1%; check the centre (I/J/K are relative to the start)",
+            ),
+            ArcZeroRadius => error("arc with zero radius", span, "the centre is the start point"),
+            OffsetsUnderIncremental { since } => {
+                let d = error(
+                    "offsets changed under G91",
+                    span,
+                    "incremental mode is on here",
+                )
+                .with_help("switch to G90 before changing offsets");
+                match since {
+                    Some(at) => d.with_secondary(*at, "G91 from here"),
+                    None => d,
+                }
+            }
+            OffsetsUnderPolar { since } => {
+                let d = error(
+                    "offsets changed under G16",
+                    span,
+                    "polar coordinates are on here",
+                )
+                .with_help("cancel polar coordinates with G15 before changing offsets");
+                match since {
+                    Some(at) => d.with_secondary(*at, "G16 is on from here"),
+                    None => d,
+                }
+            }
+            PlaneChangeUnderPolar => error(
+                "plane changed under G16",
+                span,
+                "polar coordinates are on",
+            )
+            .with_help("cancel polar coordinates with G15 first"),
+            PolarIncomplete { plane } => error(
+                "polar move without radius and angle",
+                span,
+                "the first move under G16 needs both",
+            )
+            .with_note(match plane {
+                Plane::XY => "in G17 the X word is the radius and Y the angle (degrees from +X)",
+                Plane::ZX => "in G18 the Z word is the radius and X the angle (degrees from +Z)",
+                Plane::YZ => "in G19 the Y word is the radius and Z the angle (degrees from +Y)",
+            }),
+            MachineMoveUnderPolar => error(
+                "a machine move under G16",
+                span,
+                "polar coordinates are on here",
+            )
+            .with_help("cancel polar coordinates with G15 first"),
+            MachineMoveIncremental => error(
+                "G53 under G91",
+                span,
+                "machine coordinates are always absolute",
+            )
+            .with_help("switch to G90 first"),
+            ToolLengthUnknown { tool } => warning(
+                format!("tool {tool}'s length is not known: the length offset is passed through"),
+                span,
+                "the machine applies its own tool table here",
+            )
+            .with_help(format!(
+                "to fold it into the coordinates, give `SetTool {tool} diameter length` or --tool-table"
+            )),
+            WorkOffsetUnknown { index } => warning(
+                format!(
+                    "{} has no known values: passed through to the machine",
+                    work_offset_name(*index)
+                ),
+                span,
+                "coordinates after this are in the machine's own offsets",
+            )
+            .with_help(format!(
+                "to fold it into the coordinates, set it with `SetOffset` or G10 L2 P{index}"
+            )),
+            OffsetAxisUnknown { axis, index } => error(
+                format!(
+                    "the {} offset of {} is not known",
+                    axis.letter() as char,
+                    work_offset_name(*index)
+                ),
+                span,
+                "this needs it",
+            )
+            .with_help("set the offset with G10 L2 or `SetOffset` first"),
+        }
+    }
+}
+
+/// `G54` … `G59`, `G59.1` … `G59.3` for the indices 1..=9.
+pub fn work_offset_name(index: u8) -> String {
+    match index {
+        1..=6 => format!("G{}", 53 + index as u32),
+        7..=9 => format!("G59.{}", index - 6),
+        _ => format!("work offset {index}"),
+    }
+}
+
+fn fmt(v: f64) -> String {
+    let mut s = String::new();
+    crate::emit::number::push_fixed(&mut s, v, 4);
+    s
+}
