@@ -9,6 +9,7 @@ use crate::eval::{self, EvalOptions, WizardHost};
 use crate::ir;
 use crate::lower::{self, Pipeline};
 use crate::source::{FileId, Sources};
+use crate::toolpath::{Builder as ToolPathBuilder, ToolPath};
 use std::io::Write;
 use std::time::{Duration, Instant};
 
@@ -148,7 +149,7 @@ pub fn compile_to(
         file,
         options,
         wizards,
-        out,
+        Output::Text(out),
         &mut diagnostics,
         &mut clock,
     )
@@ -160,14 +161,50 @@ pub fn compile_to(
     }
 }
 
-/// The stages in order, writing to `out`; they stop at the first stage
-/// that reports an error.
-fn run(
-    text: &str,
+/// The tool path of the file `file` of `sources` (SPEC §4 to the end, then
+/// [`crate::toolpath`] instead of text); `None` when there are errors.
+pub fn tool_path(
+    sources: &Sources,
     file: FileId,
     options: &CompileOptions,
     wizards: Option<&mut dyn WizardHost>,
-    out: &mut dyn Write,
+) -> (Option<ToolPath>, Vec<Diagnostic>) {
+    let mut diagnostics = Vec::new();
+    let mut path = None;
+    let options = CompileOptions {
+        stage: None,
+        ..options.clone()
+    };
+    // Nothing is written: no write can fail.
+    let _ = run(
+        sources.text(file),
+        file,
+        &options,
+        wizards,
+        Output::Path(&mut path),
+        &mut diagnostics,
+        &mut Clock::new(),
+    );
+    if diagnostics.iter().any(is_error) {
+        path = None;
+    }
+    (path, diagnostics)
+}
+
+/// Where the back end's result goes.
+enum Output<'a> {
+    Text(&'a mut dyn Write),
+    Path(&'a mut Option<ToolPath>),
+}
+
+/// The stages in order, writing to `out`; they stop at the first stage
+/// that reports an error.
+fn run<'a>(
+    text: &'a str,
+    file: FileId,
+    options: &'a CompileOptions,
+    wizards: Option<&mut dyn WizardHost>,
+    out: Output<'a>,
     diagnostics: &mut Vec<Diagnostic>,
     clock: &mut Clock,
 ) -> std::io::Result<()> {
@@ -178,7 +215,10 @@ fn run(
         return Ok(());
     }
     if options.stage == Some(Stage::Parse) {
-        return out.write_all(program.to_text().as_bytes());
+        return match out {
+            Output::Text(out) => out.write_all(program.to_text().as_bytes()),
+            Output::Path(_) => Ok(()),
+        };
     }
     let mut backend = Backend::new(text, file, options, out);
     let eval_diagnostics = match wizards {
@@ -213,7 +253,7 @@ struct Backend<'s> {
     source: &'s str,
     file: FileId,
     options: &'s CompileOptions,
-    out: &'s mut dyn Write,
+    out: Output<'s>,
     /// The first write that failed; nothing more is written after it.
     write_error: Option<std::io::Error>,
     /// Made by the first batch, when the setup and units are known.
@@ -231,6 +271,8 @@ struct Started {
 enum Printer {
     Stage(emit::StagePrinter),
     Program(Box<emit::ProgramPrinter>),
+    /// [`tool_path`]: the path is built instead of text.
+    Path(Box<crate::toolpath::Builder>),
 }
 
 impl<'s> Backend<'s> {
@@ -238,7 +280,7 @@ impl<'s> Backend<'s> {
         source: &'s str,
         file: FileId,
         options: &'s CompileOptions,
-        out: &'s mut dyn Write,
+        out: Output<'s>,
     ) -> Backend<'s> {
         Backend {
             source,
@@ -272,6 +314,9 @@ impl<'s> Backend<'s> {
         Started {
             lowering: last.map(|last| Pipeline::new(&context, last)),
             printer: match self.options.stage {
+                _ if matches!(self.out, Output::Path(_)) => {
+                    Printer::Path(Box::new(ToolPathBuilder::new(units)))
+                }
                 Some(_) => Printer::Stage(emit::StagePrinter::new(units, len, file)),
                 None => Printer::Program(Box::new(emit::ProgramPrinter::new(
                     &self.options.emit,
@@ -305,11 +350,16 @@ impl<'s> Backend<'s> {
             }
             printer.print(&rest);
         }
-        let rest = printer.finish();
-        (
-            diagnostics,
-            written.and_then(|()| self.out.write_all(&rest)),
-        )
+        match (printer.finish(), self.out) {
+            (Ok(rest), Output::Text(out)) => {
+                (diagnostics, written.and_then(|()| out.write_all(&rest)))
+            }
+            (Err(path), Output::Path(slot)) => {
+                *slot = Some(path);
+                (diagnostics, written)
+            }
+            (Ok(_), Output::Path(_)) | (Err(_), Output::Text(_)) => (diagnostics, written),
+        }
     }
 }
 
@@ -317,17 +367,26 @@ impl<'s> Backend<'s> {
 const WRITE_AT: usize = 64 * 1024;
 
 impl Printer {
-    fn print(&mut self, stmts: &[ir::Stmt]) -> &mut Vec<u8> {
+    /// Print the statements; the text not yet written (none for a path).
+    fn print(&mut self, stmts: &[ir::Stmt]) -> Option<&mut Vec<u8>> {
         match self {
-            Printer::Stage(p) => p.print(stmts),
-            Printer::Program(p) => p.print(stmts),
+            Printer::Stage(p) => Some(p.print(stmts)),
+            Printer::Program(p) => Some(p.print(stmts)),
+            Printer::Path(b) => {
+                for stmt in stmts {
+                    b.feed(stmt);
+                }
+                None
+            }
         }
     }
 
-    fn finish(self) -> Vec<u8> {
+    /// The rest of the text, or the path.
+    fn finish(self) -> Result<Vec<u8>, ToolPath> {
         match self {
-            Printer::Stage(p) => p.finish(),
-            Printer::Program(p) => p.finish(),
+            Printer::Stage(p) => Ok(p.finish()),
+            Printer::Program(p) => Ok(p.finish()),
+            Printer::Path(b) => Err(b.finish()),
         }
     }
 }
@@ -356,10 +415,15 @@ impl ir::Sink for Backend<'_> {
         let t1 = Instant::now();
         let text = started.printer.print(batch);
         batch.clear();
+        let Some(text) = text else {
+            self.lower_time += t1 - t0;
+            self.emit_time += t1.elapsed();
+            return;
+        };
         // Hand the text on in large writes.
         if text.len() >= WRITE_AT {
-            if self.write_error.is_none() {
-                if let Err(e) = self.out.write_all(text) {
+            if let (None, Output::Text(out)) = (&self.write_error, &mut self.out) {
+                if let Err(e) = out.write_all(text) {
                     self.write_error = Some(e);
                 }
             }

@@ -19,4 +19,5 @@ pub mod eval;
 pub mod geometry;
 pub mod ir;
 pub mod lower;
+pub mod toolpath;
 pub mod wizard;

@@ -1,21 +1,25 @@
-//! Differential tests against LinuxCNC's `rs274` (`../shared/oracle`). For
+//! Differential tests against LinuxCNC's `rs274` (`support/rs274.rs`). For
 //! each `tests/oracle/<area>/<name>.egc`, ger's output must move the tool as
 //! the reference does: `<name>.ngc` when present, else the `.egc` itself
 //! (a program both ger and rs274 read). `<name>.tbl` is a LinuxCNC tool
 //! table (mm) given to rs274 and, as `SetTool` lines, to ger.
 //! Every output is also checked to use only the codes of SPEC §6.
 //!
-//! Without rs274 these tests are ignored, unless `GER_REQUIRE_ORACLE=1`
-//! (set by `.ci/run`), which makes a missing oracle a failure.
+//! Without rs274 every test fails with how to install it; so does a
+//! missing rs274 under CI (`CI=true` or `GER_REQUIRE_ORACLE=1`). Elsewhere
+//! they are marked ignored, so `cargo test` on a machine without LinuxCNC
+//! still runs the rest.
 
 use libtest_mimic::{Arguments, Failed, Trial};
 use std::path::Path;
 
 mod support;
 
+use support::rs274;
+
 fn main() {
     let args = Arguments::from_args();
-    let (have_oracle, required) = support::oracle();
+    let (have_oracle, required) = (rs274::available(), rs274::required());
     let mut trials = Vec::new();
     for area in ["eval", "lower"] {
         let cases = support::egc_files(&support::manifest().join("tests/oracle").join(area));
@@ -23,7 +27,7 @@ fn main() {
             let name = format!("{area}/{}", case.file_stem().unwrap().to_string_lossy());
             let trial = Trial::test(name, move || {
                 if !have_oracle {
-                    return Err("rs274 or python3 or ../shared/oracle is missing".into());
+                    return Err(rs274::missing().into());
                 }
                 run_case(&case)
             });
@@ -36,7 +40,7 @@ fn main() {
         let name = format!("examples/{}", case.file_stem().unwrap().to_string_lossy());
         let trial = Trial::test(name, move || {
             if !have_oracle {
-                return Err("rs274 or python3 or ../shared/oracle is missing".into());
+                return Err(rs274::missing().into());
             }
             run_example(&case)
         });
@@ -82,24 +86,40 @@ fn run_case(case: &Path) -> Result<(), Failed> {
         r if r.exists() => r,
         _ => case.to_path_buf(),
     };
-    let mut args = vec![reference.as_os_str(), out.as_os_str()];
-    if table.exists() {
-        args.extend([std::ffi::OsStr::new("--tool-table"), table.as_os_str()]);
-    }
-    let result = support::run_oracle("compare.py", &args).map_err(|e| e.to_string())?;
+    let tools = match std::fs::read_to_string(&table) {
+        Ok(text) => rs274::read_tool_table(&text),
+        Err(_) => Vec::new(),
+    };
+    let a = rs274::tool_path(&reference, &tools)
+        .map_err(|e| format!("the reference {} fails: {e}", reference.display()))?;
+    let b = rs274::tool_path(&out, &tools).map_err(|e| format!("ger's output fails: {e}"))?;
+    // ger's own tool path (from its IR) is the one its output makes.
+    let own = own_tool_path(&input)?;
+    let own = rs274::Reference {
+        path: own,
+        inch: b.inch,
+    };
+    rs274::same_path(&b, &own, &Default::default())
+        .map_err(|why| format!("ger's tool path is not its output's: {why}"))?;
     let _ = std::fs::remove_dir_all(&work);
-    if result.status.success() {
-        Ok(())
-    } else {
-        Err(format!(
-            "compare.py {} <ger output> says:\n{}{}\n--- ger output (first 40 lines) ---\n{}",
+    match rs274::same_path(&a, &b, &Default::default()) {
+        Ok(_) => Ok(()),
+        Err(why) => Err(format!(
+            "{} and ger's output move differently: {why}\n--- ger output (first 40 lines) ---\n{}",
             reference.display(),
-            String::from_utf8_lossy(&result.stdout),
-            String::from_utf8_lossy(&result.stderr),
             text.lines().take(40).collect::<Vec<_>>().join("\n")
         )
-        .into())
+        .into()),
     }
+}
+
+fn own_tool_path(input: &Path) -> Result<ger::toolpath::ToolPath, Failed> {
+    let text = std::fs::read_to_string(input).map_err(|e| e.to_string())?;
+    let mut sources = ger::source::Sources::new();
+    let file = sources.add(input.display().to_string(), text);
+    let (path, diagnostics) =
+        ger::compile::tool_path(&sources, file, &Default::default(), None);
+    path.ok_or_else(|| ger::diagnostic::render(&sources, &diagnostics).into())
 }
 
 fn run_example(case: &Path) -> Result<(), Failed> {
@@ -111,17 +131,11 @@ fn run_example(case: &Path) -> Result<(), Failed> {
     }
     let text = std::fs::read_to_string(&out).map_err(|e| e.to_string())?;
     check_allowed_codes(&text)?;
-    let result =
-        support::run_oracle("toolpath.py", &[out.as_os_str()]).map_err(|e| e.to_string())?;
+    let result = rs274::tool_path(&out, &[]);
     let _ = std::fs::remove_file(&out);
-    if result.status.success() {
-        Ok(())
-    } else {
-        Err(format!(
-            "rs274 rejects the output:\n{}",
-            String::from_utf8_lossy(&result.stdout)
-        )
-        .into())
+    match result {
+        Ok(_) => Ok(()),
+        Err(e) => Err(format!("rs274 rejects the output: {e}").into()),
     }
 }
 

@@ -1,16 +1,17 @@
 //! Standard-library and example wizards, checked by geometry: each program
 //! is compiled by the real binary, its output run through rs274
-//! (`../shared/oracle/toolpath.py --json`), and the tool path measured —
+//! (`support/rs274.rs`), and the tool path measured —
 //! hole positions, pocket containment and floor coverage, spiral radii,
 //! Bézier end points — never the text.
 //!
-//! Like `tests/oracle.rs`: ignored without rs274 unless `GER_REQUIRE_ORACLE`.
+//! Like `tests/oracle.rs`: without rs274 they fail under CI and are
+//! ignored elsewhere.
 
+use ger::toolpath::MoveKind;
 use libtest_mimic::{Arguments, Failed, Trial};
-use serde_json::Value;
 
 mod support;
-use support::manifest;
+use support::{manifest, rs274};
 
 type Point = [f64; 3];
 
@@ -48,32 +49,26 @@ fn tool_path(name: &str, program: &str) -> Result<Vec<Move>, Failed> {
     let out = work.join("part.nc");
     std::fs::write(&part, program).map_err(|e| e.to_string())?;
     support::compile(&part, &out)?;
-    let json = support::run_oracle("toolpath.py", &[out.as_os_str(), "--json".as_ref()])
-        .map_err(|e| e.to_string())?;
+    let result = rs274::tool_path(&out, &[]);
     let _ = std::fs::remove_dir_all(&work);
-    if !json.status.success() {
-        return Err(format!(
-            "rs274 rejected the output:\n{}",
-            String::from_utf8_lossy(&json.stdout)
-        )
-        .into());
-    }
-    let value: Value = serde_json::from_slice(&json.stdout).map_err(|e| e.to_string())?;
-    let point = |v: &Value| -> Point {
-        let a = v.as_array().cloned().unwrap_or_default();
-        std::array::from_fn(|i| a.get(i).and_then(Value::as_f64).unwrap_or(f64::NAN))
-    };
-    Ok(value["moves"]
-        .as_array()
-        .cloned()
-        .unwrap_or_default()
+    let reference = result.map_err(|e| format!("rs274 rejected the output: {e}"))?;
+    Ok(reference
+        .path
+        .moves
         .iter()
-        .map(|m| Move {
-            kind: m["kind"].as_str().unwrap_or("").to_string(),
-            start: point(&m["start"]),
-            end: point(&m["end"]),
-            center: m.get("center").filter(|c| !c.is_null()).map(point),
-            sweep: m["sweep"].as_f64().unwrap_or(0.0) * if m["dir"] == "cw" { -1.0 } else { 1.0 },
+        .map(|m| {
+            let (kind, center, sign) = match m.kind {
+                MoveKind::Rapid => ("rapid", None, 0.0),
+                MoveKind::Feed => ("feed", None, 0.0),
+                MoveKind::Arc(a) => ("arc", Some(a.center), if a.clockwise { -1.0 } else { 1.0 }),
+            };
+            Move {
+                kind: kind.to_string(),
+                start: m.start,
+                end: m.end,
+                center,
+                sweep: m.sweep().to_degrees() * sign,
+            }
         })
         .collect())
 }
@@ -522,13 +517,13 @@ fn cases() -> Vec<Case> {
 
 fn main() {
     let args = Arguments::from_args();
-    let (have, required) = support::oracle();
+    let (have, required) = (rs274::available(), rs274::required());
     let trials = cases()
         .into_iter()
         .map(|(name, f)| {
             Trial::test(name, move || {
                 if !have {
-                    return Err("rs274 or ../shared/oracle is missing".into());
+                    return Err(rs274::missing().into());
                 }
                 f()
             })

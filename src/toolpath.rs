@@ -1,0 +1,277 @@
+//! The tool path: what a program makes the machine do, as data. Straight
+//! and arc moves (start, end, centre, plane, direction, feed) and the
+//! events between them (tool changes, spindle, coolant, dwells, stops),
+//! each with the source line that caused it, in millimetres. Built from
+//! the lowered IR ([`Builder`]); the tests build the same type from
+//! LinuxCNC's `rs274` and compare the two ([`compare`]); the picture and
+//! the compensation geometry read it.
+//!
+//! Where the program leaves an axis unknown (never set, or after a move
+//! the machine makes on its own: G28, G53), it counts as 0, as where
+//! `rs274` starts, and the machine's tables (work offsets, tool lengths,
+//! home) are taken as zero, as in a fresh `rs274` parameter file.
+
+pub mod compare;
+
+use crate::geometry;
+use crate::ir::{self, ArcGeometry, Axis, Op, Plane, Stmt, Units};
+use crate::source::Span;
+
+pub type Point = [f64; 3];
+
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct ToolPath {
+    pub moves: Vec<Move>,
+    pub events: Vec<Event>,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum MoveKind {
+    Rapid,
+    Feed,
+    Arc(ArcPath),
+}
+
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ArcPath {
+    pub center: Point,
+    pub plane: Plane,
+    pub clockwise: bool,
+    /// Full turns (G2/G3 P); 1 is an ordinary arc.
+    pub turns: u32,
+}
+
+/// The machine state a cutting move runs with.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct State {
+    /// mm/min.
+    pub feed: f64,
+    pub rpm: f64,
+    /// `None`: off.
+    pub spindle: Option<ir::Spindle>,
+    pub flood: bool,
+    pub mist: bool,
+    pub tool: u32,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Move {
+    pub kind: MoveKind,
+    pub start: Point,
+    pub end: Point,
+    /// A B C (degrees) and U V W (mm) at the end.
+    pub extra: [f64; 6],
+    pub state: State,
+    /// The source line (for `rs274`'s path, the line its N word names).
+    pub span: Span,
+}
+
+impl Move {
+    /// The arc's sweep in radians (positive), or 0 for a straight move.
+    pub fn sweep(&self) -> f64 {
+        match self.kind {
+            MoveKind::Arc(a) => geometry::sweep(
+                self.start,
+                self.end,
+                a.center,
+                a.plane,
+                a.clockwise,
+                a.turns,
+            )
+            .abs(),
+            MoveKind::Rapid | MoveKind::Feed => 0.0,
+        }
+    }
+
+    /// Length of the path in the plane and along the normal (arcs by
+    /// their start radius).
+    pub fn length(&self) -> f64 {
+        match self.kind {
+            MoveKind::Arc(a) => {
+                let (p, q, n) = a.plane.axes();
+                let r = (self.start[p] - a.center[p]).hypot(self.start[q] - a.center[q]);
+                (r * self.sweep()).hypot(self.end[n] - self.start[n])
+            }
+            MoveKind::Rapid | MoveKind::Feed => distance(self.start, self.end),
+        }
+    }
+
+    /// The point at `t` in 0..=1 along the move.
+    pub fn at(&self, t: f64) -> Point {
+        match self.kind {
+            MoveKind::Arc(a) => {
+                let (p, q, n) = a.plane.axes();
+                let sweep = self.sweep() * if a.clockwise { -1.0 } else { 1.0 };
+                let (sp, sq) = (self.start[p] - a.center[p], self.start[q] - a.center[q]);
+                let (ep, eq) = (self.end[p] - a.center[p], self.end[q] - a.center[q]);
+                let r = sp.hypot(sq) + (ep.hypot(eq) - sp.hypot(sq)) * t;
+                let angle = sq.atan2(sp) + sweep * t;
+                let mut out = [0.0; 3];
+                out[p] = a.center[p] + r * angle.cos();
+                out[q] = a.center[q] + r * angle.sin();
+                out[n] = self.start[n] + (self.end[n] - self.start[n]) * t;
+                out
+            }
+            MoveKind::Rapid | MoveKind::Feed => {
+                std::array::from_fn(|i| self.start[i] + (self.end[i] - self.start[i]) * t)
+            }
+        }
+    }
+}
+
+pub fn distance(a: Point, b: Point) -> f64 {
+    ((a[0] - b[0]).powi(2) + (a[1] - b[1]).powi(2) + (a[2] - b[2]).powi(2)).sqrt()
+}
+
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum EventKind {
+    ToolChange(u32),
+    Dwell(f64),
+    Stop(ir::Stop),
+    End,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Event {
+    pub kind: EventKind,
+    /// How many moves came before it.
+    pub after_move: usize,
+    pub span: Span,
+}
+
+/// Builds the tool path from the lowered IR (after the absolute pass:
+/// absolute coordinates, arcs with centres).
+#[derive(Clone, Debug)]
+pub struct Builder {
+    path: ToolPath,
+    /// Factor from the IR's lengths to mm (1 while the units are unknown).
+    to_mm: f64,
+    position: [f64; 9],
+    plane: Plane,
+    state: State,
+    selected: u32,
+}
+
+impl Builder {
+    /// `units`: the units of the IR's lengths (the output units).
+    pub fn new(units: Option<Units>) -> Builder {
+        Builder {
+            path: ToolPath::default(),
+            to_mm: units.map_or(1.0, |u| u.factor(Units::Mm)),
+            position: [0.0; 9],
+            plane: Plane::XY,
+            state: State::default(),
+            selected: 0,
+        }
+    }
+
+    pub fn feed(&mut self, stmt: &Stmt) {
+        let k = self.to_mm;
+        match &stmt.op {
+            Op::Move(m) | Op::MachineMove(m) => {
+                let kind = match (m.motion, m.arc.map(|a| (a.geometry, a.turns))) {
+                    (ir::Motion::Rapid, _) => MoveKind::Rapid,
+                    (
+                        ir::Motion::ArcCw | ir::Motion::ArcCcw,
+                        Some((ArcGeometry::Center(c), turns)),
+                    ) => {
+                        let mut center: Point = std::array::from_fn(|i| self.position[i]);
+                        for (i, v) in c.iter().enumerate() {
+                            center[i] += v.unwrap_or(0.0) * k;
+                        }
+                        MoveKind::Arc(ArcPath {
+                            center,
+                            plane: self.plane,
+                            clockwise: m.motion == ir::Motion::ArcCw,
+                            turns,
+                        })
+                    }
+                    _ => MoveKind::Feed,
+                };
+                self.move_to(kind, &m.to, stmt.span);
+            }
+            Op::Home { via, .. } => {
+                self.move_to(MoveKind::Rapid, via, stmt.span);
+                let home = ir::Axes::default();
+                let mut all = home;
+                for axis in Axis::ALL {
+                    if via.is_empty() || via.has(axis) {
+                        all.set(axis, 0.0);
+                    }
+                }
+                self.move_to(MoveKind::Rapid, &all, stmt.span);
+            }
+            Op::Feed(f) => self.state.feed = f * k,
+            Op::Speed(s) => self.state.rpm = *s,
+            Op::SelectTool(t) => self.selected = *t,
+            Op::ChangeTool => {
+                self.state.tool = self.selected;
+                self.event(EventKind::ToolChange(self.selected), stmt.span);
+            }
+            Op::Spindle(s) => {
+                self.state.spindle = (*s != ir::Spindle::Off).then_some(*s);
+            }
+            Op::Coolant(c) => match c {
+                ir::Coolant::Mist => self.state.mist = true,
+                ir::Coolant::Flood => self.state.flood = true,
+                ir::Coolant::Off => (self.state.mist, self.state.flood) = (false, false),
+            },
+            Op::Dwell(s) => self.event(EventKind::Dwell(*s), stmt.span),
+            Op::Stop(s) => self.event(EventKind::Stop(*s), stmt.span),
+            Op::End => {
+                self.state.spindle = None;
+                (self.state.mist, self.state.flood) = (false, false);
+                self.event(EventKind::End, stmt.span);
+            }
+            Op::Units(u) => self.to_mm = u.factor(Units::Mm),
+            Op::Plane(p) => self.plane = *p,
+            // Folded away before the absolute pass, or the machine's own
+            // (taken as zero, see the module doc), or nothing that moves.
+            Op::Distance(_)
+            | Op::SelectWorkOffset(_)
+            | Op::SetWorkOffset { .. }
+            | Op::SetWorkOffsetHere { .. }
+            | Op::LocalOffset(_)
+            | Op::SetPosition(_)
+            | Op::CancelPosition
+            | Op::ToolLength { .. }
+            | Op::CancelToolLength
+            | Op::Polar(_)
+            | Op::DiameterMode(_)
+            | Op::ReturnLevel(_)
+            | Op::Cycle(_)
+            | Op::CycleOff
+            | Op::Comp { .. }
+            | Op::CompOff
+            | Op::Comment(_)
+            | Op::Passthrough(_) => {}
+        }
+    }
+
+    fn move_to(&mut self, kind: MoveKind, to: &ir::Axes, span: Span) {
+        let start: Point = std::array::from_fn(|i| self.position[i]);
+        for (axis, v) in to.iter() {
+            self.position[axis.index()] = if axis.is_rotary() { v } else { v * self.to_mm };
+        }
+        self.path.moves.push(Move {
+            kind,
+            start,
+            end: std::array::from_fn(|i| self.position[i]),
+            extra: std::array::from_fn(|i| self.position[i + 3]),
+            state: self.state,
+            span,
+        });
+    }
+
+    fn event(&mut self, kind: EventKind, span: Span) {
+        self.path.events.push(Event {
+            kind,
+            after_move: self.path.moves.len(),
+            span,
+        });
+    }
+
+    pub fn finish(self) -> ToolPath {
+        self.path
+    }
+}
