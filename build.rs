@@ -4,19 +4,17 @@
 
 use std::path::Path;
 
-fn main() {
-    let out = std::env::var("OUT_DIR").expect("cargo sets OUT_DIR");
+fn main() -> Result<(), Box<dyn std::error::Error>> {
+    let out = std::env::var("OUT_DIR")?;
     lalrpop::Configuration::new()
         .set_in_dir("grammar")
         .set_out_dir(&out)
         .emit_rerun_directives(true)
-        .process()
-        .expect("every grammar/*.lalrpop must generate");
+        .process()?;
 
     println!("cargo:rerun-if-changed=stdlib");
     let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("stdlib");
-    let mut entries: Vec<_> = std::fs::read_dir(&dir)
-        .expect("stdlib/ exists")
+    let mut entries: Vec<_> = std::fs::read_dir(&dir)?
         .filter_map(|e| e.ok().map(|e| e.path()))
         .filter(|p| p.extension().is_some_and(|x| x == "rhai"))
         .collect();
@@ -26,12 +24,13 @@ fn main() {
     );
     for path in entries {
         println!("cargo:rerun-if-changed={}", path.display());
-        let name = path.file_stem().unwrap().to_string_lossy();
+        let name = path.file_stem().unwrap_or_default().to_string_lossy();
         list.push_str(&format!(
             "    ({name:?}, include_str!({:?})),\n",
             path.display().to_string()
         ));
     }
     list.push_str("];\n");
-    std::fs::write(Path::new(&out).join("stdlib.rs"), list).expect("write stdlib.rs");
+    std::fs::write(Path::new(&out).join("stdlib.rs"), list)?;
+    Ok(())
 }

@@ -2,6 +2,9 @@
 //! program (issue target: well under 50 ms), and the whole compile of the
 //! same program.
 
+// Test code: a failed unwrap is a failed test.
+#![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
+
 use criterion::{criterion_group, criterion_main, Criterion};
 use ger::compile::{compile, CompileOptions};
 use ger::source::Sources;

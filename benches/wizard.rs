@@ -1,6 +1,9 @@
 //! Benchmark (issue target: under 0.5 s): a wizard that emits 100,000
 //! moves, compiled end to end.
 
+// Test code: a failed unwrap is a failed test.
+#![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
+
 use criterion::{criterion_group, criterion_main, Criterion};
 use ger::compile::{compile, CompileOptions};
 use ger::source::Sources;

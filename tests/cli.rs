@@ -2,6 +2,9 @@
 //! leaves an existing file alone on error, `-o` equal to the input refused,
 //! `-` for stdin, deterministic bytes, wizard discovery.
 
+// Test code: a failed unwrap is a failed test.
+#![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
+
 use std::io::Write;
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output, Stdio};

@@ -1,6 +1,9 @@
 //! The parser's fast path for plain lines must build exactly the tree the
 //! grammar builds: compare both on every program in the test corpus.
 
+// Test code: a failed unwrap is a failed test.
+#![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
+
 use ger::syntax::egc::parse_program_with_fast_path;
 use std::path::Path;
 

@@ -6,6 +6,9 @@
 //! Arguments: `<name>.args` if present, else by area (`parse` prints the
 //! parse stage, `syntax` and `errors` run `check`, others `compile`).
 
+// Test code: a failed unwrap is a failed test.
+#![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
+
 use libtest_mimic::{Arguments, Failed, Trial};
 use std::path::{Path, PathBuf};
 use std::process::Command;

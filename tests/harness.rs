@@ -3,6 +3,9 @@
 //! thing must be told apart, with that thing named. Written by hand from
 //! the G-code meaning (LinuxCNC's manual), not from the harness's output.
 
+// Test code: a failed unwrap is a failed test.
+#![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
+
 use ger::toolpath::compare::Options;
 use libtest_mimic::{Arguments, Failed, Trial};
 

@@ -10,6 +10,9 @@
 //! they are marked ignored, so `cargo test` on a machine without LinuxCNC
 //! still runs the rest.
 
+// Test code: a failed unwrap is a failed test.
+#![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
+
 use libtest_mimic::{Arguments, Failed, Trial};
 use std::path::Path;
 
@@ -117,8 +120,7 @@ fn own_tool_path(input: &Path) -> Result<ger::toolpath::ToolPath, Failed> {
     let text = std::fs::read_to_string(input).map_err(|e| e.to_string())?;
     let mut sources = ger::source::Sources::new();
     let file = sources.add(input.display().to_string(), text);
-    let (path, diagnostics) =
-        ger::compile::tool_path(&sources, file, &Default::default(), None);
+    let (path, diagnostics) = ger::compile::tool_path(&sources, file, &Default::default(), None);
     path.ok_or_else(|| ger::diagnostic::render(&sources, &diagnostics).into())
 }
 

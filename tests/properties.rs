@@ -1,6 +1,9 @@
 //! Property tests: no input makes ger panic, and the lowering preserves the
 //! tool path whatever the input's distance mode and units.
 
+// Test code: a failed unwrap is a failed test.
+#![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
+
 use ger::compile::{compile, CompileOptions, Compiled};
 use ger::eval::EvalOptions;
 use ger::source::Sources;
@@ -231,5 +234,75 @@ fn deep_nesting_is_an_error_not_a_crash() {
         let compiled = run(&text);
         assert!(compiled.output.is_none());
         assert!(!compiled.diagnostics.is_empty());
+    }
+}
+
+/// A plain line as CAM writes them: some words, spaces or none, an N word
+/// or a comment now and then.
+fn plain_line() -> impl Strategy<Value = String> {
+    let word = prop_oneof![
+        (0..4u8).prop_map(|g| format!("G{g}")),
+        (0..4u8).prop_map(|g| format!("G0{g}")),
+        (-500.0..500.0f64).prop_map(|v| format!("X{v:.3}")),
+        (-500.0..500.0f64).prop_map(|v| format!("Y{v:.4}")),
+        (-50.0..10.0f64).prop_map(|v| format!("Z{v:.2}")),
+        (-50.0..50.0f64).prop_map(|v| format!("I{v:.3}")),
+        (-50.0..50.0f64).prop_map(|v| format!("J{v:.3}")),
+        (1.0..2000.0f64).prop_map(|v| format!("F{v:.0}")),
+        Just("M3 S1000".to_string()),
+        Just("(a comment)".to_string()),
+        Just("G90".to_string()),
+        Just("G91".to_string()),
+        Just("G20".to_string()),
+        Just("G21".to_string()),
+    ];
+    (
+        proptest::option::of(1..9999u32),
+        proptest::collection::vec(word, 1..6),
+        any::<bool>(),
+    )
+        .prop_map(|(n, words, spaced)| {
+            let sep = if spaced { " " } else { "" };
+            let body = words.join(sep);
+            match n {
+                Some(n) => format!("N{n}{sep}{body}"),
+                None => body,
+            }
+        })
+}
+
+/// Output and diagnostics, as text.
+fn outcome(text: &str, fast: bool) -> String {
+    let compiled = ger::syntax::egc::with_fast_path(fast, || run(text));
+    format!("{:?}\n{:?}", compiled.output, compiled.diagnostics)
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig { cases: 300, ..ProptestConfig::default() })]
+
+    /// The parser's fast path for plain lines and the grammar give the
+    /// same program: same output, same diagnostics, byte for byte.
+    #[test]
+    fn fast_path_and_grammar_compile_alike(lines in proptest::collection::vec(plain_line(), 1..40)) {
+        let text = format!("G21 G90 F100\nG0 X0 Y0 Z5\n{}\nM30\n", lines.join("\n"));
+        prop_assert_eq!(outcome(&text, true), outcome(&text, false));
+    }
+
+    /// ger's output is a program ger reads again to the same tool path.
+    #[test]
+    fn output_compiles_to_the_same_tool_path(steps in proptest::collection::vec(step(), 1..20), inch in any::<bool>()) {
+        let moves = resolve(&steps);
+        let text = program(&moves, false, inch);
+        let first = run(&text).output.expect("the generated program compiles");
+        let path = |text: &str| {
+            let mut sources = Sources::new();
+            let file = sources.add("p.egc", text.to_string());
+            ger::compile::tool_path(&sources, file, &CompileOptions::default(), None).0
+        };
+        let (a, b) = (path(&text).expect("a path"), path(&first).expect("the output's path"));
+        let options = ger::toolpath::compare::Options { tol: 0.002, ..Default::default() };
+        if let Err(d) = ger::toolpath::compare::compare(&a, &b, &options) {
+            prop_assert!(false, "{}\n--- output ---\n{}", d, first);
+        }
     }
 }

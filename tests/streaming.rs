@@ -7,6 +7,9 @@
 //! A generated program longer than the default batch checks the default
 //! too.
 
+// Test code: a failed unwrap is a failed test.
+#![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
+
 use ger::compile::{compile, CompileOptions, Stage};
 use ger::diagnostic::render;
 use ger::eval::EvalOptions;

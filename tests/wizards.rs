@@ -7,6 +7,9 @@
 //! Like `tests/oracle.rs`: without rs274 they fail under CI and are
 //! ignored elsewhere.
 
+// Test code: a failed unwrap is a failed test.
+#![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
+
 use ger::toolpath::MoveKind;
 use libtest_mimic::{Arguments, Failed, Trial};
 

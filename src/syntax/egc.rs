@@ -5,4 +5,4 @@
 pub mod lexer;
 pub mod parser;
 
-pub use parser::{parse_program, parse_program_with_fast_path};
+pub use parser::{parse_program, parse_program_with_fast_path, with_fast_path};

@@ -11,7 +11,16 @@ use crate::source::{FileId, Locator, Span};
 use lalrpop_util::{lalrpop_mod, ParseError};
 
 lalrpop_mod!(
-    #[allow(clippy::all, clippy::pedantic, unused_parens, dead_code)]
+    // Generated code: its unreachable-state panics are LALRPOP's, not ours.
+    #[allow(
+        clippy::all,
+        clippy::pedantic,
+        clippy::unwrap_used,
+        clippy::expect_used,
+        clippy::panic,
+        unused_parens,
+        dead_code
+    )]
     grammar,
     "/egc.rs"
 );
@@ -137,9 +146,15 @@ pub fn parse_program_with_fast_path(
     file: FileId,
     fast: bool,
 ) -> (Program, Vec<Diagnostic>) {
-    let old = FAST_PATH.with(|f| f.replace(fast));
-    let result = parse_program(text, file);
-    FAST_PATH.with(|f| f.set(old));
+    with_fast_path(fast, || parse_program(text, file))
+}
+
+/// Run `f` (a parse or a whole compile on this thread) with the fast path
+/// for plain lines on or off (for tests).
+pub fn with_fast_path<T>(fast: bool, f: impl FnOnce() -> T) -> T {
+    let old = FAST_PATH.with(|c| c.replace(fast));
+    let result = f();
+    FAST_PATH.with(|c| c.set(old));
     result
 }
 
