@@ -152,14 +152,19 @@ impl Pass for OffsetsPass {
             ));
             return;
         }
-        match &mut stmt.op {
+        // Whether the statement goes on to the output.
+        let keep = match &mut stmt.op {
             Op::Distance(d) => {
                 self.distance = *d;
                 if *d == Distance::Incremental {
                     self.incremental_since = Some(span);
                 }
+                true
             }
-            Op::Move(m) => self.place(&mut m.to),
+            Op::Move(m) => {
+                self.place(&mut m.to);
+                true
+            }
             Op::Cycle(c) => {
                 if self.distance == Distance::Absolute {
                     // R lies on the drilling axis: the plane's normal.
@@ -169,8 +174,12 @@ impl Pass for OffsetsPass {
                     }
                 }
                 self.place(&mut c.at);
+                true
             }
-            Op::Plane(p) => self.plane = *p,
+            Op::Plane(p) => {
+                self.plane = *p;
+                true
+            }
             Op::MachineMove(m) => {
                 // Machine coordinates ignore work offsets, not the tool's length.
                 if let Some(z) = m.to.get(Axis::Z) {
@@ -179,6 +188,7 @@ impl Pass for OffsetsPass {
                 for (axis, _) in m.to.iter() {
                     self.position[axis.index()] = None;
                 }
+                true
             }
             Op::Home { via, .. } => {
                 let all = via.is_empty();
@@ -188,128 +198,50 @@ impl Pass for OffsetsPass {
                         self.position[axis.index()] = None;
                     }
                 }
+                true
             }
             Op::SelectWorkOffset(i) => {
                 let index = *i;
-                // SPEC §4.2: G54 cancels G52.
-                if index == 1 {
-                    self.local = [0.0; 9];
-                }
-                if self.known(index) {
-                    self.active = index;
-                    self.enter_g54(&stmt, out);
-                    return;
-                }
-                if self.warned & (1 << index) == 0 {
-                    self.warned |= 1 << index;
-                    out.report(LowerError::new(
-                        LowerErrorKind::WorkOffsetUnknown { index },
-                        span,
-                    ));
-                }
-                self.active = index;
-                self.frame = Frame::Passed(index);
-                self.position = [None; 9];
+                self.select_work_offset(index, &stmt, out)
             }
             Op::SetWorkOffset { index, origin } => {
-                let index = if *index == 0 { self.active } else { *index };
-                for (axis, v) in origin.iter() {
-                    self.systems[index as usize][axis.index()] = Some(v);
-                }
-                if self.frame == Frame::Passed(index) && self.known(index) {
-                    self.enter_g54(&stmt, out);
-                }
-                return;
+                let (index, origin) = (*index, *origin);
+                self.set_work_offset(index, &origin, &stmt, out);
+                false
             }
             Op::SetWorkOffsetHere { index, at } => {
-                let index = if *index == 0 { self.active } else { *index };
-                for (axis, v) in at.iter() {
-                    let i = axis.index();
-                    match (self.position[i], self.frame) {
-                        (Some(p), Frame::G54) => {
-                            let others = self.shift(i)
-                                - self.systems[self.active as usize][i].unwrap_or(0.0);
-                            self.systems[index as usize][i] = Some(p - v - others);
-                        }
-                        (Some(_), _) => out.report(LowerError::new(
-                            LowerErrorKind::OffsetAxisUnknown {
-                                axis,
-                                index: self.active,
-                            },
-                            span,
-                        )),
-                        (None, _) => out.report(LowerError::new(
-                            LowerErrorKind::UnknownPosition {
-                                axis,
-                                what: "G10 L20",
-                                since: None,
-                            },
-                            span,
-                        )),
-                    }
-                }
-                return;
+                let (index, at) = (*index, *at);
+                self.set_work_offset_here(index, &at, span, out);
+                false
             }
             Op::LocalOffset(a) => {
                 for (axis, v) in a.iter() {
                     self.local[axis.index()] = v;
                 }
-                return;
+                false
             }
             Op::SetPosition(a) => {
-                for (axis, v) in a.iter() {
-                    let i = axis.index();
-                    match self.position[i] {
-                        Some(p) => {
-                            // Choose the G92 shift so that here reads `v`.
-                            self.g92[i] = 0.0;
-                            self.g92[i] = p - v - self.shift(i);
-                        }
-                        None => out.report(LowerError::new(
-                            LowerErrorKind::UnknownPosition {
-                                axis,
-                                what: "G92",
-                                since: None,
-                            },
-                            span,
-                        )),
-                    }
-                }
-                return;
+                let a = *a;
+                self.set_position(&a, span, out);
+                false
             }
             Op::CancelPosition => {
                 self.g92 = [0.0; 9];
-                return;
+                false
             }
             Op::ToolLength { tool, negative } => {
-                let length = tool.and_then(|t| self.tools.get(&t)).and_then(|t| t.length);
-                if let Some(length) = length {
-                    self.tool_length = if *negative { -length } else { length };
-                    if self.passed_length {
-                        // The machine's own offset is still on: cancel it.
-                        self.passed_length = false;
-                        self.position[2] = None;
-                        out.push(stmt.with_op(Op::CancelToolLength));
-                    }
-                    return;
-                }
-                out.report(LowerError::new(
-                    LowerErrorKind::ToolLengthUnknown {
-                        tool: tool.unwrap_or(0),
-                    },
-                    span,
-                ));
-                self.tool_length = 0.0;
-                self.passed_length = true;
-                self.position[2] = None;
+                let (tool, negative) = (*tool, *negative);
+                self.tool_length_offset(tool, negative, &stmt, out)
             }
             Op::CancelToolLength => {
                 self.tool_length = 0.0;
-                if !self.passed_length {
-                    return;
+                // Only a length the machine applies needs cancelling there.
+                let passed = self.passed_length;
+                if passed {
+                    self.passed_length = false;
+                    self.position[2] = None;
                 }
-                self.passed_length = false;
-                self.position[2] = None;
+                passed
             }
             Op::Feed(_)
             | Op::Speed(_)
@@ -328,8 +260,131 @@ impl Pass for OffsetsPass {
             | Op::Comp { .. }
             | Op::CompOff
             | Op::Comment(_)
-            | Op::Passthrough(_) => {}
+            | Op::Passthrough(_) => true,
+        };
+        if keep {
+            out.push(stmt);
         }
-        out.push(stmt);
+    }
+}
+
+impl OffsetsPass {
+    /// G54–G59.3: folded when its values are known, else passed through
+    /// (with a warning the first time). Whether the statement goes on.
+    fn select_work_offset(&mut self, index: u8, stmt: &Stmt, out: &mut Out<'_>) -> bool {
+        // SPEC §4.2: G54 cancels G52.
+        if index == 1 {
+            self.local = [0.0; 9];
+        }
+        if self.known(index) {
+            self.active = index;
+            self.enter_g54(stmt, out);
+            return false;
+        }
+        if self.warned & (1 << index) == 0 {
+            self.warned |= 1 << index;
+            out.report(LowerError::new(
+                LowerErrorKind::WorkOffsetUnknown { index },
+                stmt.span,
+            ));
+        }
+        self.active = index;
+        self.frame = Frame::Passed(index);
+        self.position = [None; 9];
+        true
+    }
+
+    /// G10 L2: the origin of a system (P0: the active one).
+    fn set_work_offset(&mut self, index: u8, origin: &Axes, stmt: &Stmt, out: &mut Out<'_>) {
+        let index = if index == 0 { self.active } else { index };
+        for (axis, v) in origin.iter() {
+            self.systems[index as usize][axis.index()] = Some(v);
+        }
+        if self.frame == Frame::Passed(index) && self.known(index) {
+            self.enter_g54(stmt, out);
+        }
+    }
+
+    /// G10 L20: a system moved so that the current point has `at`.
+    fn set_work_offset_here(&mut self, index: u8, at: &Axes, span: Span, out: &mut Out<'_>) {
+        let index = if index == 0 { self.active } else { index };
+        for (axis, v) in at.iter() {
+            let i = axis.index();
+            match (self.position[i], self.frame) {
+                (Some(p), Frame::G54) => {
+                    let others =
+                        self.shift(i) - self.systems[self.active as usize][i].unwrap_or(0.0);
+                    self.systems[index as usize][i] = Some(p - v - others);
+                }
+                (Some(_), _) => out.report(LowerError::new(
+                    LowerErrorKind::OffsetAxisUnknown {
+                        axis,
+                        index: self.active,
+                    },
+                    span,
+                )),
+                (None, _) => out.report(LowerError::new(
+                    LowerErrorKind::UnknownPosition {
+                        axis,
+                        what: "G10 L20",
+                        since: None,
+                    },
+                    span,
+                )),
+            }
+        }
+    }
+
+    /// G92: the G92 shift chosen so that the current point reads `a`.
+    fn set_position(&mut self, a: &Axes, span: Span, out: &mut Out<'_>) {
+        for (axis, v) in a.iter() {
+            let i = axis.index();
+            match self.position[i] {
+                Some(p) => {
+                    self.g92[i] = 0.0;
+                    self.g92[i] = p - v - self.shift(i);
+                }
+                None => out.report(LowerError::new(
+                    LowerErrorKind::UnknownPosition {
+                        axis,
+                        what: "G92",
+                        since: None,
+                    },
+                    span,
+                )),
+            }
+        }
+    }
+
+    /// G43/G44: folded when the tool's length is known, else passed
+    /// through with a warning. Whether the statement goes on.
+    fn tool_length_offset(
+        &mut self,
+        tool: Option<u32>,
+        negative: bool,
+        stmt: &Stmt,
+        out: &mut Out<'_>,
+    ) -> bool {
+        let length = tool.and_then(|t| self.tools.get(&t)).and_then(|t| t.length);
+        if let Some(length) = length {
+            self.tool_length = if negative { -length } else { length };
+            if self.passed_length {
+                // The machine's own offset is still on: cancel it.
+                self.passed_length = false;
+                self.position[2] = None;
+                out.push(stmt.with_op(Op::CancelToolLength));
+            }
+            return false;
+        }
+        out.report(LowerError::new(
+            LowerErrorKind::ToolLengthUnknown {
+                tool: tool.unwrap_or(0),
+            },
+            stmt.span,
+        ));
+        self.tool_length = 0.0;
+        self.passed_length = true;
+        self.position[2] = None;
+        true
     }
 }
