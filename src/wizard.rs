@@ -229,7 +229,16 @@ impl WizardEngine {
     }
 }
 
+/// The API of `stdlib/README.md`, in four groups.
 fn register_api(engine: &mut Engine, session: &Rc<RefCell<Session>>, library: &Rc<Library>) {
+    register_moves(engine, session);
+    register_settings(engine, session);
+    register_state(engine, session);
+    register_nested(engine, session, library);
+}
+
+/// Moves, feed, spindle and dwell: numeric arguments, checked by `number`.
+fn register_moves(engine: &mut Engine, session: &Rc<RefCell<Session>>) {
     macro_rules! api {
         ($name:expr, |$s:ident $(, $arg:ident)*| $body:expr) => {{
             let shared = Rc::clone(session);
@@ -307,7 +316,10 @@ fn register_api(engine: &mut Engine, session: &Rc<RefCell<Session>>, library: &R
     } else {
         fail("a dwell time is positive")
     });
+}
 
+/// Coolant, plane, comments and raw lines: string arguments.
+fn register_settings(engine: &mut Engine, session: &Rc<RefCell<Session>>) {
     let shared = Rc::clone(session);
     engine.register_fn("coolant", move |kind: &str| -> RhaiResult<()> {
         let coolant = match kind.to_ascii_lowercase().as_str() {
@@ -349,6 +361,10 @@ fn register_api(engine: &mut Engine, session: &Rc<RefCell<Session>>, library: &R
         }
         shared.borrow_mut().push(Action::Source(text.to_string()))
     });
+}
+
+/// What a wizard can read of the machine (SPEC §5).
+fn register_state(engine: &mut Engine, session: &Rc<RefCell<Session>>) {
     for (name, axis) in [("pos_x", 0), ("pos_y", 1), ("pos_z", 2)] {
         let shared = Rc::clone(session);
         engine.register_fn(name, move || -> Dynamic {
@@ -372,7 +388,10 @@ fn register_api(engine: &mut Engine, session: &Rc<RefCell<Session>>, library: &R
     engine.register_fn("tool_diameter", move || -> rhai::FLOAT {
         shared.borrow().tool_diameter
     });
+}
 
+/// `wizard(name, args)`: one wizard calling another, depth-limited.
+fn register_nested(engine: &mut Engine, session: &Rc<RefCell<Session>>, library: &Rc<Library>) {
     let shared = Rc::clone(session);
     let lib = Rc::clone(library);
     let nested = move |ctx: NativeCallContext, name: &str, args: Array| -> RhaiResult<()> {
