@@ -220,6 +220,8 @@ pub struct Lexed {
     pub tokens: Vec<Spanned>,
     pub words: Vec<LexedWord>,
     pub errors: Vec<Diagnostic>,
+    /// A `{` was never closed: the lexer closed it at the end of the file.
+    pub unclosed_brace: bool,
     /// Spans of `(` groups opened in wizard calls; a parse error inside one
     /// gets a hint that comments there are written with `//`.
     pub call_groups: Vec<Span>,
@@ -236,6 +238,7 @@ struct Lexer<'a> {
     out: Vec<Spanned>,
     words: Vec<LexedWord>,
     errors: Vec<Diagnostic>,
+    unclosed_brace: bool,
     call_groups: Vec<Span>,
     shape: Shape,
     /// Index in `out` where the current statement starts.
@@ -265,6 +268,7 @@ impl<'a> Lexer<'a> {
             out: Vec::with_capacity(text.len() / 4),
             words: Vec::with_capacity(text.len() / 3),
             errors: Vec::new(),
+            unclosed_brace: false,
             call_groups: Vec::new(),
             shape: Shape::Empty,
             stmt_start: 0,
@@ -338,6 +342,7 @@ impl<'a> Lexer<'a> {
                 self.push(eof, Tok::RBrace, eof);
                 continue;
             }
+            self.unclosed_brace = true;
             self.errors.push(
                 error(
                     "unclosed `{`",
@@ -352,6 +357,7 @@ impl<'a> Lexer<'a> {
             tokens: self.out,
             words: self.words,
             errors: self.errors,
+            unclosed_brace: self.unclosed_brace,
             call_groups: self.call_groups,
         }
     }

@@ -34,10 +34,14 @@ pub fn parse_program(text: &str, file: FileId) -> (Program, Vec<Diagnostic>) {
     let Lexed {
         tokens,
         words,
-        errors: mut diagnostics,
+        errors: lex_errors,
+        unclosed_brace,
         call_groups,
     } = lexer::lex(text, &at, &mut names);
-    let brace_errors = diagnostics.iter().any(|d| d.message.contains('{'));
+    let mut problems: Vec<Problem> = lex_errors
+        .into_iter()
+        .map(|d| Problem::new(ProblemKind::Read, d))
+        .collect();
 
     let context = ErrorContext {
         at: &at,
@@ -78,31 +82,60 @@ pub fn parse_program(text: &str, file: FileId) -> (Program, Vec<Diagnostic>) {
                     // The `}` the lexer adds for an unclosed block may not fit
                     // after a broken statement; the unclosed-brace error
                     // already covers it.
-                    if !(brace_errors && at_eof(&r.error)) {
-                        diagnostics.push(context.describe(r.error));
+                    if !(unclosed_brace && at_eof(&r.error)) {
+                        problems.push(context.problem(r.error));
                     }
                 }
                 match result {
                     Ok(stmts) => top.extend(stmts),
                     Err(e) => {
-                        if !(brace_errors && at_eof(&e)) {
-                            diagnostics.push(context.describe(e));
+                        if !(unclosed_brace && at_eof(&e)) {
+                            problems.push(context.problem(e));
                         }
                     }
                 }
             }
         }
     }
-    let mut program = split_subprograms(top, &mut diagnostics);
+    let mut structure = Vec::new();
+    let mut program = split_subprograms(top, &mut structure);
+    problems.extend(
+        structure
+            .into_iter()
+            .map(|d| Problem::new(ProblemKind::Read, d)),
+    );
     program.names = names;
-    diagnostics.sort_by_key(|d| d.labels.first().map_or(0, |l| l.range.start));
-    (program, drop_cascades(diagnostics, text))
+    problems.sort_by_key(|p| p.diagnostic.labels.first().map_or(0, |l| l.range.start));
+    (program, drop_cascades(problems, text))
+}
+
+/// A syntax problem and where it comes from, which decides whether it is
+/// only a consequence of another.
+struct Problem {
+    kind: ProblemKind,
+    diagnostic: Diagnostic,
+}
+
+#[derive(Clone, Copy, PartialEq, Eq)]
+enum ProblemKind {
+    /// Found reading the text (the lexer) or its structure (O…M99).
+    Read,
+    /// The grammar did not expect a token.
+    Parse,
+    /// The grammar did not expect a `}`.
+    StrayBrace,
+}
+
+impl Problem {
+    fn new(kind: ProblemKind, diagnostic: Diagnostic) -> Problem {
+        Problem { kind, diagnostic }
+    }
 }
 
 /// Keep the errors that say something new: a parse error on a line the
 /// lexer already reported, or at a `}` after an earlier error (its `{` was
 /// skipped while recovering), only repeats an error the user has.
-fn drop_cascades(diagnostics: Vec<Diagnostic>, text: &str) -> Vec<Diagnostic> {
+fn drop_cascades(problems: Vec<Problem>, text: &str) -> Vec<Diagnostic> {
     let line_of = |d: &Diagnostic| {
         let at = d
             .labels
@@ -111,28 +144,23 @@ fn drop_cascades(diagnostics: Vec<Diagnostic>, text: &str) -> Vec<Diagnostic> {
             .min(text.len());
         text[..at].bytes().filter(|&b| b == b'\n').count()
     };
-    let lexer_lines: Vec<usize> = diagnostics
+    let read_lines: Vec<usize> = problems
         .iter()
-        .filter(|d| is_lexer_error(d))
-        .map(line_of)
+        .filter(|p| p.kind == ProblemKind::Read)
+        .map(|p| line_of(&p.diagnostic))
         .collect();
-    let mut kept: Vec<Diagnostic> = Vec::with_capacity(diagnostics.len());
-    for d in diagnostics {
-        let parse_error = !is_lexer_error(&d);
-        if parse_error && lexer_lines.contains(&line_of(&d)) {
+    let mut kept: Vec<Diagnostic> = Vec::with_capacity(problems.len());
+    for p in problems {
+        let parse_error = p.kind != ProblemKind::Read;
+        if parse_error && read_lines.contains(&line_of(&p.diagnostic)) {
             continue;
         }
-        if parse_error && d.message == "unexpected `}`" && !kept.is_empty() {
+        if p.kind == ProblemKind::StrayBrace && !kept.is_empty() {
             continue;
         }
-        kept.push(d);
+        kept.push(p.diagnostic);
     }
     kept
-}
-
-/// Parse errors all start with "unexpected" (see [`ErrorContext`]).
-fn is_lexer_error(d: &Diagnostic) -> bool {
-    !d.message.starts_with("unexpected ") || d.message.starts_with("unexpected character")
 }
 
 thread_local! {
@@ -220,6 +248,25 @@ struct ErrorContext<'a> {
 }
 
 impl ErrorContext<'_> {
+    /// A parse error as a problem: a stray `}` is told apart, since after
+    /// an earlier error it only means its `{` was skipped.
+    fn problem(&self, e: ParseError<usize, Tok, &'static str>) -> Problem {
+        let kind = match e {
+            ParseError::UnrecognizedToken {
+                token: (_, Tok::RBrace, _),
+                ..
+            }
+            | ParseError::ExtraToken {
+                token: (_, Tok::RBrace, _),
+            } => ProblemKind::StrayBrace,
+            ParseError::UnrecognizedToken { .. }
+            | ParseError::ExtraToken { .. }
+            | ParseError::UnrecognizedEof { .. } => ProblemKind::Parse,
+            ParseError::InvalidToken { .. } | ParseError::User { .. } => ProblemKind::Read,
+        };
+        Problem::new(kind, self.describe(e))
+    }
+
     fn describe(&self, e: ParseError<usize, Tok, &'static str>) -> Diagnostic {
         match e {
             ParseError::UnrecognizedToken {
