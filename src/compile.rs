@@ -9,6 +9,7 @@ use crate::eval::{self, EvalOptions, WizardHost};
 use crate::ir;
 use crate::lower::{self, Pipeline};
 use crate::source::{FileId, Sources};
+use crate::syntax::egc::Language;
 use crate::toolpath::{Builder as ToolPathBuilder, ToolPath};
 use std::io::Write;
 use std::time::{Duration, Instant};
@@ -43,6 +44,8 @@ impl Stage {
 #[derive(Clone, Debug, Default)]
 pub struct CompileOptions {
     pub eval: EvalOptions,
+    /// The source language (`--input`); `None`: from the file name.
+    pub input: Option<crate::syntax::egc::Language>,
     pub lower: lower::LowerOptions,
     pub emit: EmitOptions,
     /// Print the program after this stage instead of the final output.
@@ -147,6 +150,9 @@ pub fn compile_to(
     let write_error = run(
         sources.text(file),
         file,
+        options
+            .input
+            .unwrap_or_else(|| Language::of_file(sources.name(file))),
         options,
         wizards,
         Output::Text(out),
@@ -179,6 +185,9 @@ pub fn tool_path(
     let _ = run(
         sources.text(file),
         file,
+        options
+            .input
+            .unwrap_or_else(|| Language::of_file(sources.name(file))),
         &options,
         wizards,
         Output::Path(&mut path),
@@ -202,13 +211,14 @@ enum Output<'a> {
 fn run<'a>(
     text: &'a str,
     file: FileId,
+    language: Language,
     options: &'a CompileOptions,
     wizards: Option<&mut dyn WizardHost>,
     out: Output<'a>,
     diagnostics: &mut Vec<Diagnostic>,
     clock: &mut Clock,
 ) -> std::io::Result<()> {
-    let (program, parse_diagnostics) = crate::syntax::egc::parse_program(text, file);
+    let (program, parse_diagnostics) = crate::syntax::egc::parse_program_as(text, file, language);
     diagnostics.extend(parse_diagnostics);
     clock.lap("parse");
     if diagnostics.iter().any(is_error) {

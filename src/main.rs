@@ -72,6 +72,9 @@ struct Options {
     /// The output flavour.
     #[arg(long, alias = "dialect", value_enum, default_value_t = TargetArg::Generic)]
     target: TargetArg,
+    /// The source language; default: `.egc` is ger's, any other file plain G-code.
+    #[arg(long, value_enum)]
+    input: Option<InputArg>,
     /// The units of a program that states none (no G20/G21, no SetUnits).
     #[arg(long, value_enum)]
     units: Option<UnitsArg>,
@@ -100,6 +103,12 @@ enum NumbersArg {
     Source,
     Seq,
     None,
+}
+
+#[derive(Clone, Copy, ValueEnum)]
+enum InputArg {
+    Egc,
+    Gcode,
 }
 
 #[derive(Clone, Copy, ValueEnum)]
@@ -313,6 +322,10 @@ fn run(
             ..Default::default()
         },
         lower: Default::default(),
+        input: options.input.map(|i| match i {
+            InputArg::Egc => ger::syntax::egc::Language::Egc,
+            InputArg::Gcode => ger::syntax::egc::Language::Gcode,
+        }),
         emit: ger::emit::EmitOptions {
             numbering: match options.numbers {
                 NumbersArg::Source => Numbering::Source,

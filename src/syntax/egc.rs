@@ -5,4 +5,5 @@
 pub mod lexer;
 pub mod parser;
 
-pub use parser::{parse_program, parse_program_with_fast_path, with_fast_path};
+pub use lexer::Language;
+pub use parser::{parse_program, parse_program_as, parse_program_with_fast_path, with_fast_path};

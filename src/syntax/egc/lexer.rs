@@ -79,6 +79,29 @@ enum Raw {
     Caret,
 }
 
+/// Which language a file is in (SPEC §2.8): ger's own, or plain G-code as
+/// CAM and people write it, where `;` starts a comment, `( … )` is always a
+/// comment (nested parentheses included), `:0097` is a program number and a
+/// word may have spaces between its letter and number (`G0Z  0.1`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum Language {
+    #[default]
+    Egc,
+    Gcode,
+}
+
+impl Language {
+    /// `.egc` is ger's language; every other file is plain G-code.
+    pub fn of_file(name: &str) -> Language {
+        let lower = name.to_ascii_lowercase();
+        if lower.ends_with(".egc") || name == "<stdin>" {
+            Language::Egc
+        } else {
+            Language::Gcode
+        }
+    }
+}
+
 /// A G-code word as the lexer read it: `X-.5`, `G54.1`, `P31000`.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct WordTok {
@@ -228,11 +251,18 @@ pub struct Lexed {
 }
 
 pub fn lex(text: &str, at: &Locator, names: &mut Names) -> Lexed {
-    Lexer::new(text, at, names).run()
+    lex_as(text, at, names, Language::Egc)
+}
+
+pub fn lex_as(text: &str, at: &Locator, names: &mut Names, language: Language) -> Lexed {
+    let mut lexer = Lexer::new(text, at, names);
+    lexer.language = language;
+    lexer.run()
 }
 
 struct Lexer<'a> {
     text: &'a str,
+    language: Language,
     at: &'a Locator,
     names: &'a mut Names,
     out: Vec<Spanned>,
@@ -262,6 +292,7 @@ impl<'a> Lexer<'a> {
     fn new(text: &'a str, at: &'a Locator, names: &'a mut Names) -> Lexer<'a> {
         Lexer {
             text,
+            language: Language::Egc,
             at,
             names,
             // Generous: untouched capacity costs no memory, regrowing copies.
@@ -290,6 +321,12 @@ impl<'a> Lexer<'a> {
         while let Some(result) = raw.next() {
             let range = raw.span();
             let (start, end) = (range.start, range.end);
+            if self.language == Language::Gcode {
+                if let Some(skip_to) = self.plain_gcode(result, start, end) {
+                    raw.bump(skip_to.saturating_sub(end));
+                    continue;
+                }
+            }
             let Ok(tok) = result else {
                 let ch = self.text[start..].chars().next().unwrap_or('?');
                 self.errors.push(
@@ -316,6 +353,101 @@ impl<'a> Lexer<'a> {
             }
         }
         self.finish()
+    }
+
+    /// The rules of plain G-code that differ from `.egc`, for the raw token
+    /// at `start..end`: where it took the text, the offset to go on from.
+    fn plain_gcode(&mut self, raw: Result<Raw, ()>, start: usize, end: usize) -> Option<usize> {
+        let line_end = self.text[start..]
+            .find('\n')
+            .map_or(self.text.len(), |i| start + i);
+        let at_line_start = self.text[..start].rfind('\n').map_or(0, |i| i + 1);
+        let first_on_line = self.text[at_line_start..start].trim().is_empty();
+        match raw {
+            // `;` to the end of the line is a comment.
+            Ok(Raw::Semi) => Some(line_end),
+            Ok(Raw::LParen) => Some(self.nested_comment(start, line_end)),
+            // `%` starts and ends a tape; text after it is a note.
+            Ok(Raw::Percent) if first_on_line => Some(line_end),
+            // Fanuc's `:0097` is the program number `O0097`.
+            Err(()) if first_on_line && self.text[start..].starts_with(':') => {
+                let digits = self.text[start + 1..line_end]
+                    .find(|c: char| !c.is_ascii_digit())
+                    .map_or(line_end, |i| start + 1 + i);
+                if digits == start + 1 {
+                    return None;
+                }
+                let number = format!("O{}", &self.text[start + 1..digits]);
+                self.push_word(word(&number), start, digits);
+                Some(digits)
+            }
+            // `G0Z  0.1`: spaces between a letter and its number.
+            Ok(Raw::Letter) => {
+                let rest = &self.text[end..line_end];
+                let spaces = rest.len() - rest.trim_start_matches([' ', '\t']).len();
+                let number = &rest[spaces..];
+                let sign = usize::from(number.starts_with(['+', '-']));
+                let digits = number[sign..]
+                    .find(|c: char| !c.is_ascii_digit() && c != '.')
+                    .unwrap_or(number.len() - sign);
+                let body = &number[sign..sign + digits];
+                if body.is_empty() || body == "." || body.matches('.').count() > 1 {
+                    return None;
+                }
+                let word_end = end + spaces + sign + digits;
+                let compact = format!("{}{}", &self.text[start..end], &number[..sign + digits]);
+                self.push_word(word(&compact), start, word_end);
+                Some(word_end)
+            }
+            _ => None,
+        }
+    }
+
+    /// A `( … )` comment of plain G-code, which may hold parentheses of its
+    /// own; it ends with its line. Returns where the text goes on.
+    fn nested_comment(&mut self, start: usize, line_end: usize) -> usize {
+        let mut depth = 0usize;
+        for (i, b) in self.text[start..line_end].bytes().enumerate() {
+            match b {
+                b'(' => depth += 1,
+                b')' => {
+                    depth -= 1;
+                    if depth == 0 {
+                        return start + i + 1;
+                    }
+                }
+                _ => {}
+            }
+        }
+        self.errors.push(
+            error(
+                "unclosed comment",
+                self.span(start, start + 1),
+                "this comment is not closed on its line",
+            )
+            .with_help("a `( … )` comment ends with a `)` on the same line"),
+        );
+        line_end
+    }
+
+    /// A word the plain G-code rules read, as `Raw::Word` would be.
+    fn push_word(&mut self, word: WordTok, start: usize, end: usize) {
+        let index = self.words.len() as u32;
+        self.words.push(LexedWord {
+            word,
+            start: start as u32,
+            end: end as u32,
+        });
+        if self.pending_term.is_none() {
+            if let Some((_, Tok::Words(first, len), run_end)) = self.out.last_mut() {
+                if *first + *len == index {
+                    *len += 1;
+                    *run_end = end;
+                    return;
+                }
+            }
+        }
+        self.push(start, Tok::Words(index, 1), end);
     }
 
     fn finish(mut self) -> Lexed {
@@ -472,23 +604,8 @@ impl<'a> Lexer<'a> {
                 return;
             }
             Raw::Word => {
-                let lexed = LexedWord {
-                    word: word(text),
-                    start: start as u32,
-                    end: end as u32,
-                };
-                let index = self.words.len() as u32;
-                self.words.push(lexed);
-                if self.pending_term.is_none() {
-                    if let Some((_, Tok::Words(first, len), run_end)) = self.out.last_mut() {
-                        if *first + *len == index {
-                            *len += 1;
-                            *run_end = end;
-                            return;
-                        }
-                    }
-                }
-                Tok::Words(index, 1)
+                self.push_word(word(text), start, end);
+                return;
             }
             Raw::BadNumber => {
                 self.errors.push(

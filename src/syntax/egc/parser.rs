@@ -4,7 +4,7 @@
 //! splits the top level into the main program and `O…`/`M99` subprograms.
 //! It must not evaluate anything.
 
-use super::lexer::{self, Lexed, Tok};
+use super::lexer::{self, Language, Lexed, Tok};
 use crate::ast::*;
 use crate::diagnostic::{error, Diagnostic, DiagnosticExt};
 use crate::source::{FileId, Locator, Span};
@@ -29,6 +29,16 @@ lalrpop_mod!(
 /// errors (with `StmtKind::Error` where a statement could not be read), so
 /// that callers can decide how far to go.
 pub fn parse_program(text: &str, file: FileId) -> (Program, Vec<Diagnostic>) {
+    parse_program_as(text, file, Language::Egc)
+}
+
+/// Parse one source file in `language` (plain G-code differs in comments,
+/// program numbers and spaces inside words; see [`Language`]).
+pub fn parse_program_as(
+    text: &str,
+    file: FileId,
+    language: Language,
+) -> (Program, Vec<Diagnostic>) {
     let mut names = Names::default();
     let at = Locator::new(file, text);
     let Lexed {
@@ -37,7 +47,7 @@ pub fn parse_program(text: &str, file: FileId) -> (Program, Vec<Diagnostic>) {
         errors: lex_errors,
         unclosed_brace,
         call_groups,
-    } = lexer::lex(text, &at, &mut names);
+    } = lexer::lex_as(text, &at, &mut names, language);
     let mut problems: Vec<Problem> = lex_errors
         .into_iter()
         .map(|d| Problem::new(ProblemKind::Read, d))
