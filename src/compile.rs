@@ -148,11 +148,13 @@ pub fn compile_to(
     let mut diagnostics = Vec::new();
     let mut clock = Clock::new();
     let write_error = run(
-        sources.text(file),
-        file,
-        options
-            .input
-            .unwrap_or_else(|| Language::of_file(sources.name(file))),
+        Input {
+            text: sources.text(file),
+            file,
+            language: options
+                .input
+                .unwrap_or_else(|| Language::of_file(sources.name(file))),
+        },
         options,
         wizards,
         Output::Text(out),
@@ -183,11 +185,13 @@ pub fn tool_path(
     };
     // Nothing is written: no write can fail.
     let _ = run(
-        sources.text(file),
-        file,
-        options
-            .input
-            .unwrap_or_else(|| Language::of_file(sources.name(file))),
+        Input {
+            text: sources.text(file),
+            file,
+            language: options
+                .input
+                .unwrap_or_else(|| Language::of_file(sources.name(file))),
+        },
         &options,
         wizards,
         Output::Path(&mut path),
@@ -208,16 +212,26 @@ enum Output<'a> {
 
 /// The stages in order, writing to `out`; they stop at the first stage
 /// that reports an error.
-fn run<'a>(
+/// The file to compile: its text, id and language.
+struct Input<'a> {
     text: &'a str,
     file: FileId,
     language: Language,
+}
+
+fn run<'a>(
+    input: Input<'a>,
     options: &'a CompileOptions,
     wizards: Option<&mut dyn WizardHost>,
     out: Output<'a>,
     diagnostics: &mut Vec<Diagnostic>,
     clock: &mut Clock,
 ) -> std::io::Result<()> {
+    let Input {
+        text,
+        file,
+        language,
+    } = input;
     let (program, parse_diagnostics) = crate::syntax::egc::parse_program_as(text, file, language);
     diagnostics.extend(parse_diagnostics);
     clock.lap("parse");
