@@ -82,6 +82,11 @@ impl Out<'_> {
     pub fn report(&mut self, e: LowerError) {
         self.problems.push(e);
     }
+
+    /// Has this pass reported an error? (There will be no output.)
+    pub fn failed(&self) -> bool {
+        self.problems.errors > 0
+    }
 }
 
 /// The problems one pass found; it goes on after an error where it can,

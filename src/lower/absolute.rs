@@ -27,6 +27,9 @@ struct AbsolutePass {
     /// Where each unknown axis became unknown (a machine move), if it was
     /// ever known.
     lost_at: [Option<Span>; 9],
+    /// An M2/M30 went by, and the span of the last statement.
+    ended: bool,
+    last: Option<Span>,
 }
 
 impl AbsolutePass {
@@ -36,6 +39,8 @@ impl AbsolutePass {
             plane: Plane::XY,
             position: [None; 9],
             lost_at: [None; 9],
+            ended: false,
+            last: None,
         }
     }
 
@@ -96,14 +101,26 @@ impl AbsolutePass {
 }
 
 impl Pass for AbsolutePass {
+    /// SPEC §6: the output always ends with a program end.
+    fn finish(&mut self, out: &mut Out<'_>) {
+        if self.ended || out.failed() {
+            return;
+        }
+        let span = self.last.unwrap_or_default();
+        out.report(LowerError::new(LowerErrorKind::NoProgramEnd, span));
+        out.push(Stmt::new(Op::End, span));
+    }
+
     fn feed(&mut self, mut stmt: Stmt, out: &mut Out<'_>) {
         let span = stmt.span;
+        self.last = Some(span);
         match &mut stmt.op {
             Op::Distance(d) => {
                 self.distance = *d;
                 return;
             }
             Op::Plane(p) => self.plane = *p,
+            Op::End => self.ended = true,
             Op::Move(m) => {
                 if let Err(e) = self.lower_move(m, span) {
                     out.report(e);
@@ -161,7 +178,6 @@ impl Pass for AbsolutePass {
             | Op::Coolant(_)
             | Op::Dwell(_)
             | Op::Stop(_)
-            | Op::End
             | Op::Units(_)
             | Op::SetWorkOffset { .. }
             | Op::SetWorkOffsetHere { .. }

@@ -70,6 +70,9 @@ pub enum LowerErrorKind {
         axis: Axis,
         index: u8,
     },
+    /// Warning: the program has no M2/M30; one is added after its last
+    /// statement.
+    NoProgramEnd,
 }
 
 impl LowerError {
@@ -80,7 +83,9 @@ impl LowerError {
     pub fn is_error(&self) -> bool {
         !matches!(
             self.kind,
-            LowerErrorKind::ToolLengthUnknown { .. } | LowerErrorKind::WorkOffsetUnknown { .. }
+            LowerErrorKind::ToolLengthUnknown { .. }
+                | LowerErrorKind::WorkOffsetUnknown { .. }
+                | LowerErrorKind::NoProgramEnd
         )
     }
 
@@ -202,6 +207,12 @@ impl LowerError {
             .with_help(format!(
                 "to fold it into the coordinates, give `SetTool {tool} diameter length` or --tool-table"
             )),
+            NoProgramEnd => warning(
+                "the program has no end (M2 or M30)",
+                span,
+                "its last statement",
+            )
+            .with_note("the output ends with a program end: a controller needs one to stop the spindle and reset"),
             WorkOffsetUnknown { index } => warning(
                 format!(
                     "{} has no known values: passed through to the machine",
