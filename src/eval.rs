@@ -5,6 +5,7 @@
 //! The result is still modal (G91, G20, G16 stay); lowering is not done
 //! here. This module must not know how IR is printed or lowered.
 
+mod block;
 mod codes;
 mod setup;
 pub mod value;
@@ -365,17 +366,29 @@ impl<'a> Evaluator<'a> {
         Flow::Next
     }
 
+    /// One line, in rs274's order of execution when it has several codes.
+    fn exec_line(&mut self, line: &ast::Line) -> Flow {
+        if let Some(stmts) = block::in_order(line) {
+            for s in &stmts {
+                let flow = self.exec_line_stmt(s.as_stmt());
+                if flow != Flow::Next {
+                    return flow;
+                }
+            }
+            return Flow::Next;
+        }
+        for s in line.statements() {
+            let flow = self.exec_line_stmt(s);
+            if flow != Flow::Next {
+                return flow;
+            }
+        }
+        Flow::Next
+    }
+
     fn exec(&mut self, stmt: &ast::Stmt) -> Flow {
         match &stmt.kind {
-            StmtKind::Line(line) => {
-                for s in line.statements() {
-                    let flow = self.exec_line_stmt(s);
-                    if flow != Flow::Next {
-                        return flow;
-                    }
-                }
-                Flow::Next
-            }
+            StmtKind::Line(line) => self.exec_line(line),
             StmtKind::Assign {
                 name,
                 name_span,

@@ -617,11 +617,7 @@ pub(super) fn run_wizard_line(
             w.span = span;
         }
         let before = ev.errors;
-        for s in line.statements() {
-            if ev.exec_line_stmt(s) != Flow::Next {
-                break;
-            }
-        }
+        ev.exec_line(&line);
         if ev.errors > before {
             return Err(Vec::new());
         }

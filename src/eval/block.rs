@@ -1,0 +1,212 @@
+//! The order of execution inside one block (SPEC §2.2), rs274's: whatever
+//! order a line writes its codes in, feed, speed and tool come first, then
+//! the tool change, spindle, coolant, dwell, the modes (plane, units,
+//! compensation, length offset, work offset, path mode, distance, return
+//! level), the non-modal codes that take axes (G10, G28, G30, G52, G92), the
+//! motion, and last the stops and program end. So `G1 Y40 M8` turns the
+//! coolant on before the move and `G28 G91 Z0` goes home through a point
+//! given incrementally.
+//!
+//! Each code takes the words it uses from anywhere in the line. A line
+//! with two codes of one modal group (`G0 X1 G1 X2`) keeps Ger's in-order
+//! reading: every code takes the words after it.
+
+use crate::ast::{Line, LineStmt, Word, WordValue};
+
+/// A statement of a reordered block: a code and the words it takes.
+pub struct Owned {
+    pub code: Option<Word>,
+    pub args: Vec<Word>,
+}
+
+impl Owned {
+    pub fn as_stmt(&self) -> LineStmt<'_> {
+        LineStmt {
+            code: self.code.as_ref(),
+            args: &self.args,
+        }
+    }
+}
+
+/// The statements of `line` in rs274's order, or `None` when the line's
+/// own order stands (one code or none, two codes of one modal group, or a
+/// code ger does not place).
+pub fn in_order(line: &Line) -> Option<Vec<Owned>> {
+    let codes: Vec<&Word> = line.words.iter().filter(|w| w.is_code()).collect();
+    if codes.len() < 2 {
+        return None;
+    }
+    let mut groups = Vec::with_capacity(codes.len());
+    for code in &codes {
+        let kind = kind_of(code)?;
+        let group = kind.group();
+        if group != Group::Alone && groups.contains(&group) {
+            return None;
+        }
+        groups.push(group);
+    }
+    let mut stmts: Vec<(u8, Owned)> = codes
+        .iter()
+        .map(|&c| {
+            let rank = kind_of(c).map_or(u8::MAX, Kind::rank);
+            (
+                rank,
+                Owned {
+                    code: Some(c.clone()),
+                    args: Vec::new(),
+                },
+            )
+        })
+        .collect();
+    // F, S and T (and axis words with no code to take them) form a
+    // statement of their own: first, or where the motion goes.
+    let mut first = Owned {
+        code: None,
+        args: Vec::new(),
+    };
+    let mut moves = Owned {
+        code: None,
+        args: Vec::new(),
+    };
+    for w in line.words.iter().filter(|w| !w.is_code()) {
+        match taker(w.letter, &codes) {
+            Some(i) => stmts[i].1.args.push(w.clone()),
+            None if matches!(w.letter, b'F' | b'S' | b'T' | b'N') => first.args.push(w.clone()),
+            None => moves.args.push(w.clone()),
+        }
+    }
+    if !first.args.is_empty() {
+        stmts.push((0, first));
+    }
+    if !moves.args.is_empty() {
+        stmts.push((Kind::Motion.rank(), moves));
+    }
+    stmts.sort_by_key(|(rank, _)| *rank);
+    Some(stmts.into_iter().map(|(_, s)| s).collect())
+}
+
+/// Which code of the line takes a word with this letter: the first that
+/// uses it, in the order of preference of rs274.
+fn taker(letter: u8, codes: &[&Word]) -> Option<usize> {
+    let kinds: Vec<Option<Kind>> = codes.iter().map(|c| kind_of(c)).collect();
+    let find = |wanted: &[Kind]| {
+        kinds
+            .iter()
+            .position(|k| k.is_some_and(|k| wanted.contains(&k)))
+    };
+    match letter {
+        b'X' | b'Y' | b'Z' | b'A' | b'B' | b'C' | b'U' | b'V' | b'W' => {
+            find(&[Kind::AxisUser]).or_else(|| find(&[Kind::Motion]))
+        }
+        b'I' | b'J' | b'K' | b'R' => find(&[Kind::AxisUser, Kind::Motion]),
+        b'H' => find(&[Kind::ToolLength]),
+        b'D' => find(&[Kind::Comp]),
+        b'P' | b'Q' | b'L' | b'E' => find(&[
+            Kind::Dwell,
+            Kind::AxisUser,
+            Kind::Call,
+            Kind::OtherM,
+            Kind::Motion,
+        ]),
+        _ => None,
+    }
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Kind {
+    ToolChange,
+    Spindle,
+    Coolant,
+    OtherM,
+    Dwell,
+    Plane,
+    Units,
+    Comp,
+    ToolLength,
+    WorkOffset,
+    PathMode,
+    Polar,
+    Distance,
+    ReturnLevel,
+    AxisUser,
+    Motion,
+    CycleOff,
+    Stop,
+    Call,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Group {
+    /// Several may share a block (M7 with M8, several user M codes).
+    Alone,
+    Of(Kind),
+}
+
+impl Kind {
+    fn group(self) -> Group {
+        match self {
+            Kind::Coolant | Kind::OtherM => Group::Alone,
+            Kind::CycleOff => Group::Of(Kind::Motion),
+            other => Group::Of(other),
+        }
+    }
+
+    /// rs274's order of execution (interp_execute.cc's list).
+    fn rank(self) -> u8 {
+        match self {
+            Kind::ToolChange => 2,
+            Kind::Spindle => 3,
+            Kind::Coolant => 4,
+            Kind::OtherM => 5,
+            Kind::Dwell => 6,
+            Kind::Plane => 7,
+            Kind::Units => 8,
+            Kind::Comp => 9,
+            Kind::ToolLength => 10,
+            Kind::WorkOffset => 11,
+            Kind::PathMode => 12,
+            Kind::Polar => 13,
+            Kind::Distance => 14,
+            Kind::ReturnLevel => 15,
+            Kind::AxisUser => 16,
+            Kind::CycleOff | Kind::Motion => 17,
+            Kind::Stop | Kind::Call => 18,
+        }
+    }
+}
+
+/// What a G or M code is, for ordering; `None` for one ger does not place
+/// (the line keeps its own order and the code its usual diagnostic).
+fn kind_of(w: &Word) -> Option<Kind> {
+    let WordValue::Number(n) = &w.value else {
+        return None;
+    };
+    let t = (n.value * 10.0).round();
+    if (n.value * 10.0 - t).abs() > 1e-6 || !(0.0..10_000.0).contains(&t) {
+        return None;
+    }
+    let t = t as u32;
+    let kind = match (w.letter, t) {
+        (b'M', 60) => Kind::ToolChange,
+        (b'M', 30 | 40 | 50) => Kind::Spindle,
+        (b'M', 70 | 80 | 90) => Kind::Coolant,
+        (b'M', 0 | 10 | 20 | 300 | 600) => Kind::Stop,
+        (b'M', 980 | 990) => Kind::Call,
+        (b'M', 480..=530 | 620..=680 | 1000..=1990) => Kind::OtherM,
+        (b'G', 40) => Kind::Dwell,
+        (b'G', 170 | 180 | 190) => Kind::Plane,
+        (b'G', 200 | 210) => Kind::Units,
+        (b'G', 400 | 410 | 420 | 411 | 421) => Kind::Comp,
+        (b'G', 430 | 440 | 490) => Kind::ToolLength,
+        (b'G', 540 | 550 | 560 | 570 | 580 | 590 | 591 | 592 | 593) => Kind::WorkOffset,
+        (b'G', 610 | 611 | 640) => Kind::PathMode,
+        (b'G', 150 | 160) => Kind::Polar,
+        (b'G', 900 | 910) => Kind::Distance,
+        (b'G', 980 | 990) => Kind::ReturnLevel,
+        (b'G', 100 | 280 | 300 | 520 | 920 | 921 | 922) => Kind::AxisUser,
+        (b'G', 0 | 10 | 20 | 30 | 730 | 810..=890) => Kind::Motion,
+        (b'G', 800) => Kind::CycleOff,
+        _ => return None,
+    };
+    Some(kind)
+}
