@@ -148,6 +148,11 @@ struct Evaluator<'a> {
     first_units: Option<ir::Units>,
     /// The sink has been told the start ([`ir::Sink::start`]).
     started: bool,
+    /// M codes and G28/G30 already warned about (once each).
+    passed_m_codes: std::collections::BTreeSet<u32>,
+    passed_home: std::collections::BTreeSet<u32>,
+    /// G53 in the current line: its motion is in machine coordinates.
+    machine_coordinates: bool,
     diagnostics: Vec<Diagnostic>,
     errors: usize,
     /// Current motion mode, for words written without a G code.
@@ -187,6 +192,9 @@ impl<'a> Evaluator<'a> {
             first_move: None,
             first_units: None,
             started: false,
+            passed_m_codes: Default::default(),
+            passed_home: Default::default(),
+            machine_coordinates: false,
             diagnostics: Vec::new(),
             errors: 0,
             motion: None,
@@ -368,6 +376,7 @@ impl<'a> Evaluator<'a> {
 
     /// One line, in rs274's order of execution when it has several codes.
     fn exec_line(&mut self, line: &ast::Line) -> Flow {
+        self.machine_coordinates = false;
         if let Some(stmts) = block::in_order(line) {
             for s in &stmts {
                 let flow = self.exec_line_stmt(s.as_stmt());

@@ -129,6 +129,8 @@ enum Kind {
     Distance,
     ReturnLevel,
     AxisUser,
+    /// G53: the motion of the line is in machine coordinates.
+    MachineCoordinates,
     Motion,
     CycleOff,
     Stop,
@@ -169,8 +171,9 @@ impl Kind {
             Kind::Distance => 14,
             Kind::ReturnLevel => 15,
             Kind::AxisUser => 16,
-            Kind::CycleOff | Kind::Motion => 17,
-            Kind::Stop | Kind::Call => 18,
+            Kind::MachineCoordinates => 17,
+            Kind::CycleOff | Kind::Motion => 18,
+            Kind::Stop | Kind::Call => 19,
         }
     }
 }
@@ -205,6 +208,7 @@ fn kind_of(w: &Word) -> Option<Kind> {
         (b'G', 980 | 990) => Kind::ReturnLevel,
         (b'G', 100 | 280 | 300 | 520 | 920 | 921 | 922) => Kind::AxisUser,
         (b'G', 0 | 10 | 20 | 30 | 730 | 810..=890) => Kind::Motion,
+        (b'G', 530) => Kind::MachineCoordinates,
         (b'G', 800) => Kind::CycleOff,
         _ => return None,
     };

@@ -160,7 +160,18 @@ impl Evaluator<'_> {
                 .with_help("start the move with `G0` or `G1`"));
             };
             let m = self.motion_move(motion, w, span)?;
-            self.emit(Op::Move(m), span)?;
+            if self.machine_coordinates {
+                if m.motion.is_arc() {
+                    return Err(error(
+                        "an arc in machine coordinates (G53)",
+                        span,
+                        "G53 takes only G0 or G1",
+                    ));
+                }
+                self.emit(Op::MachineMove(m), span)?;
+            } else {
+                self.emit(Op::Move(m), span)?;
+            }
         }
         if let Some((letter, at)) = w.remaining().next() {
             let label = match code {
@@ -260,17 +271,31 @@ impl Evaluator<'_> {
             200 => Op::Units(ir::Units::Inch),
             210 => Op::Units(ir::Units::Mm),
             280 | 300 => {
-                for l in [b'X', b'Y', b'Z'] {
-                    w.take(l);
+                let via = take_xyz(w);
+                if self.passed_home.insert(t) {
+                    self.report(
+                        warning(
+                            format!("{} is passed through", name()),
+                            at,
+                            "the machine moves to the home position it stores",
+                        )
+                        .with_note(
+                            "the position after it is not known to ger: the next moves must be absolute",
+                        ),
+                    );
                 }
-                self.report(
-                    warning(
-                        format!("{} dropped", name()),
-                        at,
-                        "a return to the machine's home depends on the machine",
-                    )
-                    .with_note("ger writes no move for it, nor for its intermediate point"),
-                );
+                Op::Home {
+                    home: if t == 280 {
+                        ir::Home::G28
+                    } else {
+                        ir::Home::G30
+                    },
+                    via,
+                }
+            }
+            530 => {
+                // The motion of this line is in machine coordinates.
+                self.machine_coordinates = true;
                 return self.leftover_move(w, span, code).map(|_| Flow::Next);
             }
             400 => Op::CompOff,
@@ -294,14 +319,6 @@ impl Evaluator<'_> {
             }
             490 => Op::CancelToolLength,
             520 => Op::LocalOffset(self.take_axes(w, at, "G52", false)?),
-            530 => {
-                return Err(error(
-                    "G53 (machine coordinates) cannot be expressed",
-                    at,
-                    "the output's coordinates are relative to the program zero",
-                )
-                .with_help("write the move in work coordinates"))
-            }
             540..=590 if t.is_multiple_of(10) => Op::SelectWorkOffset((t / 10 - 53) as u8),
             610 | 611 | 640 => {
                 w.take(b'P');
@@ -390,12 +407,43 @@ impl Evaluator<'_> {
                 self.leftover_move(w, span, code)?;
                 return Ok(Flow::Return);
             }
+            470 => {
+                return Err(error(
+                    format!("unsupported code {}", name()),
+                    at,
+                    "M47 repeats the program from the top; the output cannot express it",
+                ))
+            }
+            // Any other whole M code is the machine's: passed through.
+            _ if t.is_multiple_of(10) => {
+                let number = t / 10;
+                let mut words = Vec::new();
+                for letter in [b'P', b'Q', b'E', b'L'] {
+                    if let Some((v, _)) = w.take(letter) {
+                        words.push((letter, v));
+                    }
+                }
+                if self.passed_m_codes.insert(number) {
+                    self.report(
+                        warning(
+                            format!("M{number} is passed through"),
+                            at,
+                            "ger does not know what this code does on your machine",
+                        )
+                        .with_note("it is written to the output as it is, in its place"),
+                    );
+                }
+                (
+                    Op::Passthrough(ir::Passthrough::MCode { number, words }),
+                    Flow::Next,
+                )
+            }
             _ => {
-                let why = match t {
-                    470 => "M47 repeats the program from the top; the output cannot express it",
-                    _ => "the output cannot express this code",
-                };
-                return Err(error(format!("unsupported code {}", name()), at, why));
+                return Err(error(
+                    format!("unsupported code {}", name()),
+                    at,
+                    "the output cannot express this code",
+                ))
             }
         };
         self.emit(op, span)?;
