@@ -417,6 +417,10 @@ pub enum Op {
     Home {
         home: Home,
         via: Axes,
+        /// `via` is relative to the current point: only when the absolute
+        /// pass cannot know that point and every increment is 0 (Fusion's
+        /// `G28 G91 Z0.`: home, straight from where the tool is).
+        incremental: bool,
     },
     /// F, in length units per minute.
     Feed(f64),

@@ -190,8 +190,14 @@ impl Builder {
                 };
                 self.move_to(kind, &m.to, stmt.span);
             }
-            Op::Home { via, .. } => {
-                self.move_to(MoveKind::Rapid, via, stmt.span);
+            Op::Home {
+                via, incremental, ..
+            } => {
+                if *incremental {
+                    // Zero steps from here: no move to the via point.
+                } else {
+                    self.move_to(MoveKind::Rapid, via, stmt.span);
+                }
                 let home = ir::Axes::default();
                 let mut all = home;
                 for axis in Axis::ALL {

@@ -168,7 +168,11 @@ fn check_allowed_codes(text: &str) -> Result<(), Failed> {
                 }
                 let num = &code[start..end];
                 let ok = match c {
-                    b'G' => G.contains(&num),
+                    // `G91 G28 Z0.`: home from an unknown point, passed through.
+                    b'G' => {
+                        G.contains(&num)
+                            || (num == "91" && (code.contains("G28") || code.contains("G30")))
+                    }
                     b'M' => M.contains(&num),
                     b'X' | b'Y' | b'Z' | b'I' | b'J' | b'K' | b'R' | b'F' | b'S' | b'T' | b'P'
                     | b'N' | b'O' | b'H' | b'A' | b'B' | b'C' | b'U' | b'V' | b'W' => true,

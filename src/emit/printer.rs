@@ -183,6 +183,16 @@ impl Printer {
         self.begin(stmt.span, stmt.block_delete);
         self.op(&stmt.op);
         self.end();
+        if let Op::Home {
+            incremental: true, ..
+        } = &stmt.op
+        {
+            // Back to absolute, on a line of its own (one block cannot
+            // hold both distance modes).
+            self.begin(stmt.span, stmt.block_delete);
+            self.code("G90");
+            self.end();
+        }
     }
 
     /// The words of one statement, as written.
@@ -193,7 +203,14 @@ impl Printer {
                 self.code("G53");
                 self.move_words(m);
             }
-            Op::Home { home, via } => {
+            Op::Home {
+                home,
+                via,
+                incremental,
+            } => {
+                if *incremental {
+                    self.code("G91");
+                }
                 self.code(match home {
                     ir::Home::G28 => "G28",
                     ir::Home::G30 => "G30",

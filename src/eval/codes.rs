@@ -291,6 +291,7 @@ impl Evaluator<'_> {
                         ir::Home::G30
                     },
                     via,
+                    incremental: false,
                 }
             }
             530 => {

@@ -139,9 +139,23 @@ impl Pass for AbsolutePass {
                     self.forget(axis.index(), span);
                 }
             }
-            Op::Home { via, .. } => {
+            Op::Home {
+                via, incremental, ..
+            } => {
+                let zero_steps = self.distance == Distance::Incremental
+                    && via.iter().all(|(_, v)| v == 0.0)
+                    && !via.is_empty();
                 let end = match self.end_of(via, "an incremental G28/G30", span) {
                     Ok(end) => end,
+                    // Home straight from an unknown point: kept relative.
+                    Err(_) if zero_steps => {
+                        *incremental = true;
+                        for (axis, _) in via.iter() {
+                            self.forget(axis.index(), span);
+                        }
+                        out.push(stmt);
+                        return;
+                    }
                     Err(e) => {
                         out.report(e);
                         return;
