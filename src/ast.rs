@@ -94,6 +94,9 @@ pub enum StmtKind {
     },
     If(Box<If>),
     While(Box<While>),
+    /// A controller command line of plain G-code (grbl's `$H`), passed
+    /// through as written.
+    Command(Symbol),
     /// A statement the parser could not read; its error is already reported.
     Error,
 }
@@ -114,6 +117,9 @@ pub struct While {
 #[derive(Debug, Clone)]
 pub struct Line {
     pub words: Vec<Word>,
+    /// Written after a block-delete `/`: it runs (as on rs274 and most
+    /// controllers with the switch off) and keeps its `/` in the output.
+    pub block_delete: bool,
 }
 
 /// One statement of a [`Line`]: a G or M code with the argument words that

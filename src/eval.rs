@@ -151,6 +151,10 @@ struct Evaluator<'a> {
     /// M codes and G28/G30 already warned about (once each).
     passed_m_codes: std::collections::BTreeSet<u32>,
     passed_home: std::collections::BTreeSet<u32>,
+    /// The line being run was written after a block-delete `/`.
+    block_delete: bool,
+    /// A controller command was warned about.
+    passed_command: bool,
     /// G53 in the current line: its motion is in machine coordinates.
     machine_coordinates: bool,
     diagnostics: Vec<Diagnostic>,
@@ -195,6 +199,8 @@ impl<'a> Evaluator<'a> {
             passed_m_codes: Default::default(),
             passed_home: Default::default(),
             machine_coordinates: false,
+            passed_command: false,
+            block_delete: false,
             diagnostics: Vec::new(),
             errors: 0,
             motion: None,
@@ -273,7 +279,11 @@ impl<'a> Evaluator<'a> {
         if self.first_move == Some(span) && !self.started {
             self.start(span);
         }
-        self.out.push(ir::Stmt::new(op, span));
+        self.out.push(ir::Stmt {
+            op,
+            span,
+            block_delete: self.block_delete,
+        });
         self.made += 1;
         if self.out.len() >= self.options.batch {
             self.send();
@@ -377,6 +387,13 @@ impl<'a> Evaluator<'a> {
     /// One line, in rs274's order of execution when it has several codes.
     fn exec_line(&mut self, line: &ast::Line) -> Flow {
         self.machine_coordinates = false;
+        self.block_delete = line.block_delete;
+        let flow = self.exec_line_in_order(line);
+        self.block_delete = false;
+        flow
+    }
+
+    fn exec_line_in_order(&mut self, line: &ast::Line) -> Flow {
         if let Some(stmts) = block::in_order(line) {
             for s in &stmts {
                 let flow = self.exec_line_stmt(s.as_stmt());
@@ -433,6 +450,28 @@ impl<'a> Evaluator<'a> {
             }
             StmtKind::While(w) => self.exec_while(&w.cond, &w.body, stmt.span),
             StmtKind::Error => Flow::Next,
+            StmtKind::Command(c) => {
+                let text = self.names.text(*c).to_string();
+                if !self.passed_command {
+                    self.passed_command = true;
+                    self.report(
+                        warning(
+                            format!("`{text}` is passed through"),
+                            stmt.span,
+                            "a command to the controller, not G-code",
+                        )
+                        .with_note("ger writes controller commands as they are, in their place"),
+                    );
+                }
+                let op = ir::Op::Passthrough(ir::Passthrough::Line(text));
+                match self.emit(op, stmt.span) {
+                    Ok(()) => Flow::Next,
+                    Err(d) => {
+                        self.report(d);
+                        Flow::Abort
+                    }
+                }
+            }
         }
     }
 

@@ -73,8 +73,8 @@ struct Options {
     #[arg(long, alias = "dialect", value_enum, default_value_t = TargetArg::Generic)]
     target: TargetArg,
     /// The source language; default: `.egc` is ger's, any other file plain G-code.
-    #[arg(long, value_enum)]
-    input: Option<InputArg>,
+    #[arg(long = "input", id = "language", value_name = "LANGUAGE", value_enum)]
+    language: Option<InputArg>,
     /// The units of a program that states none (no G20/G21, no SetUnits).
     #[arg(long, value_enum)]
     units: Option<UnitsArg>,
@@ -322,7 +322,7 @@ fn run(
             ..Default::default()
         },
         lower: Default::default(),
-        input: options.input.map(|i| match i {
+        input: options.language.map(|i| match i {
             InputArg::Egc => ger::syntax::egc::Language::Egc,
             InputArg::Gcode => ger::syntax::egc::Language::Gcode,
         }),

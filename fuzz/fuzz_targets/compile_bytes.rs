@@ -1,10 +1,12 @@
-//! Arbitrary bytes as a program: ger must not panic, hang or run out of
-//! memory; it either compiles them or reports errors.
+//! Arbitrary bytes as a program, read both as `.egc` and as plain G-code:
+//! ger must not panic, hang or run out of memory; it either compiles them
+//! or reports errors.
 #![no_main]
 
 use ger::compile::{compile, CompileOptions};
 use ger::eval::EvalOptions;
 use ger::source::{decode, Sources};
+use ger::syntax::egc::Language;
 use ger::wizard::{standard_library, Library, WizardEngine};
 use libfuzzer_sys::fuzz_target;
 
@@ -22,7 +24,13 @@ fuzz_target!(|bytes: &[u8]| {
         },
         ..CompileOptions::default()
     };
-    let compiled = compile(&sources, file, &options, Some(&mut engine));
-    // Every diagnostic renders (long lines windowed, spans inside the text).
-    let _ = ger::diagnostic::render(&sources, &compiled.diagnostics);
+    for language in [Language::Egc, Language::Gcode] {
+        let options = CompileOptions {
+            input: Some(language),
+            ..options.clone()
+        };
+        let compiled = compile(&sources, file, &options, Some(&mut engine));
+        // Every diagnostic renders (long lines windowed, spans inside the text).
+        let _ = ger::diagnostic::render(&sources, &compiled.diagnostics);
+    }
 });

@@ -58,7 +58,8 @@ impl AstPrinter<'_> {
                         .chain(s.args)
                         .map(|w| self.word(w))
                         .collect();
-                    self.line(&words.join(" "));
+                    let slash = if line.block_delete { "/" } else { "" };
+                    self.line(&format!("{slash}{}", words.join(" ")));
                 }
             }
             StmtKind::Assign { name, value, .. } => {
@@ -95,6 +96,10 @@ impl AstPrinter<'_> {
                 self.line("}");
             }
             StmtKind::Error => self.line("<error>"),
+            StmtKind::Command(c) => {
+                let text = self.names.text(*c).to_string();
+                self.line(&text)
+            }
         }
     }
 

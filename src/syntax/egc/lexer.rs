@@ -133,6 +133,8 @@ pub enum Tok {
     Name(Symbol),
     Number(f64),
     Str(Symbol),
+    /// A controller command line of plain G-code (grbl's `$H`), whole.
+    Command(Symbol),
     If,
     Else,
     While,
@@ -176,6 +178,7 @@ impl Tok {
             Tok::Name(s) => format!("name `{}`", names.text(*s)),
             Tok::Number(_) => "a number".into(),
             Tok::Str(_) => "a string".into(),
+            Tok::Command(_) => "a controller command".into(),
             Tok::Term => "end of statement".into(),
             other => format!("`{}`", other.text()),
         }
@@ -369,6 +372,13 @@ impl<'a> Lexer<'a> {
             Ok(Raw::LParen) => Some(self.nested_comment(start, line_end)),
             // `%` starts and ends a tape; text after it is a note.
             Ok(Raw::Percent) if first_on_line => Some(line_end),
+            // grbl's `$H`, `$X`, `$$`: a command to the controller.
+            Err(()) if first_on_line && self.text[start..].starts_with('$') => {
+                let command = self.text[start..line_end].trim_end();
+                let symbol = self.names.intern(command);
+                self.push(start, Tok::Command(symbol), start + command.len());
+                Some(line_end)
+            }
             // Fanuc's `:0097` is the program number `O0097`.
             Err(()) if first_on_line && self.text[start..].starts_with(':') => {
                 let digits = self.text[start + 1..line_end]

@@ -76,6 +76,7 @@ pub fn parse_program_as(
                         push_words(&mut v, &words, run, &at);
                         v
                     },
+                    block_delete: false,
                 }),
                 span: at.span(start, end),
             }),
