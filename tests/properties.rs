@@ -306,3 +306,53 @@ proptest! {
         }
     }
 }
+
+/// Text a comment may hold: code-like pieces, parentheses, semicolons.
+fn comment_text() -> impl Strategy<Value = String> {
+    let piece = prop_oneof![
+        Just("G0 Z50".to_string()),
+        Just("M30".to_string()),
+        Just("X99 Y99".to_string()),
+        Just("(".to_string()),
+        Just(")".to_string()),
+        Just(";".to_string()),
+        Just("%".to_string()),
+        Just("$H".to_string()),
+        Just("#1=2".to_string()),
+        "[a-z ]{0,8}",
+    ];
+    proptest::collection::vec(piece, 0..6).prop_map(|v| v.join(" "))
+}
+
+fn compile_gcode(text: &str) -> Compiled {
+    let mut sources = Sources::new();
+    let file = sources.add("prop.nc", text.to_string());
+    compile(&sources, file, &CompileOptions::default(), None)
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig { cases: 300, ..ProptestConfig::default() })]
+
+    /// In plain G-code nothing after `;` runs: the program with comments
+    /// appended to its lines compiles to exactly the program without them.
+    #[test]
+    fn text_after_a_semicolon_never_runs(
+        lines in proptest::collection::vec(plain_line(), 1..30),
+        comments in proptest::collection::vec(proptest::option::of(comment_text()), 30),
+    ) {
+        let body: Vec<String> = lines.iter().map(|l| l.replace("(a comment)", "")).collect();
+        let plain = format!("G21 G90 F100\nG0 X0 Y0 Z5\n{}\nM30\n", body.join("\n"));
+        let commented: Vec<String> = body
+            .iter()
+            .zip(&comments)
+            .map(|(l, c)| match c {
+                Some(c) => format!("{l} ;{c}"),
+                None => l.clone(),
+            })
+            .collect();
+        let with = format!("G21 G90 F100 ; units\nG0 X0 Y0 Z5\n{}\nM30\n", commented.join("\n"));
+        let (a, b) = (compile_gcode(&plain), compile_gcode(&with));
+        prop_assert_eq!(&a.output, &b.output);
+        prop_assert_eq!(a.diagnostics.len(), b.diagnostics.len());
+    }
+}
