@@ -150,6 +150,9 @@ pub struct Builder {
     plane: Plane,
     state: State,
     selected: u32,
+    /// A work offset the program set at the machine (G10 L20 passed
+    /// through), added to later coordinates.
+    offset: [f64; 9],
 }
 
 impl Builder {
@@ -162,6 +165,7 @@ impl Builder {
             plane: Plane::XY,
             state: State::default(),
             selected: 0,
+            offset: [0.0; 9],
         }
     }
 
@@ -188,7 +192,8 @@ impl Builder {
                     }
                     _ => MoveKind::Feed,
                 };
-                self.move_to(kind, &m.to, stmt.span);
+                let machine = matches!(stmt.op, Op::MachineMove(_));
+                self.move_to(kind, &m.to, stmt.span, machine);
             }
             Op::Home {
                 via, incremental, ..
@@ -196,7 +201,7 @@ impl Builder {
                 if *incremental {
                     // Zero steps from here: no move to the via point.
                 } else {
-                    self.move_to(MoveKind::Rapid, via, stmt.span);
+                    self.move_to(MoveKind::Rapid, via, stmt.span, false);
                 }
                 let home = ir::Axes::default();
                 let mut all = home;
@@ -205,7 +210,7 @@ impl Builder {
                         all.set(axis, 0.0);
                     }
                 }
-                self.move_to(MoveKind::Rapid, &all, stmt.span);
+                self.move_to(MoveKind::Rapid, &all, stmt.span, true);
             }
             Op::Feed(f) => self.state.feed = f * k,
             Op::Speed(s) => self.state.rpm = *s,
@@ -230,13 +235,22 @@ impl Builder {
                 self.event(EventKind::End, stmt.span);
             }
             Op::Units(u) => self.to_mm = u.factor(Units::Mm),
+            // Passed through (the position was unknown): the machine's
+            // active system now reads `at` here.
+            Op::SetWorkOffsetHere { index, at } if *index <= 1 => {
+                for (axis, v) in at.iter() {
+                    let i = axis.index();
+                    let v = if axis.is_rotary() { v } else { v * k };
+                    self.offset[i] = self.position[i] - v;
+                }
+            }
+            Op::SetWorkOffsetHere { .. } => {}
             Op::Plane(p) => self.plane = *p,
             // Folded away before the absolute pass, or the machine's own
             // (taken as zero, see the module doc), or nothing that moves.
             Op::Distance(_)
             | Op::SelectWorkOffset(_)
             | Op::SetWorkOffset { .. }
-            | Op::SetWorkOffsetHere { .. }
             | Op::LocalOffset(_)
             | Op::SetPosition(_)
             | Op::CancelPosition
@@ -254,10 +268,14 @@ impl Builder {
         }
     }
 
-    fn move_to(&mut self, kind: MoveKind, to: &ir::Axes, span: Span) {
+    /// A move to program coordinates `to` (machine coordinates when
+    /// `machine`).
+    fn move_to(&mut self, kind: MoveKind, to: &ir::Axes, span: Span, machine: bool) {
         let start: Point = std::array::from_fn(|i| self.position[i]);
         for (axis, v) in to.iter() {
-            self.position[axis.index()] = if axis.is_rotary() { v } else { v * self.to_mm };
+            let i = axis.index();
+            let offset = if machine { 0.0 } else { self.offset[i] };
+            self.position[i] = offset + if axis.is_rotary() { v } else { v * self.to_mm };
         }
         self.path.moves.push(Move {
             kind,

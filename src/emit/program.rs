@@ -88,7 +88,7 @@ impl ProgramPrinter {
                     let all = via.is_empty();
                     self.forget(|a| all || via.has(a));
                 }
-                Op::SelectWorkOffset(_) => self.forget(|_| true),
+                Op::SelectWorkOffset(_) | Op::SetWorkOffsetHere { .. } => self.forget(|_| true),
                 Op::ToolLength { .. } | Op::CancelToolLength => self.forget(|a| a == Axis::Z),
                 Op::Speed(_)
                 | Op::SelectTool(_)
@@ -100,7 +100,6 @@ impl ProgramPrinter {
                 | Op::Distance(_)
                 | Op::Plane(_)
                 | Op::SetWorkOffset { .. }
-                | Op::SetWorkOffsetHere { .. }
                 | Op::LocalOffset(_)
                 | Op::SetPosition(_)
                 | Op::CancelPosition

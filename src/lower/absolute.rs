@@ -175,7 +175,7 @@ impl Pass for AbsolutePass {
             }
             // A work offset or tool length passed through to the machine:
             // where the tool is in its coordinates is not known.
-            Op::SelectWorkOffset(_) => {
+            Op::SelectWorkOffset(_) | Op::SetWorkOffsetHere { .. } => {
                 for axis in 0..9 {
                     self.forget(axis, span);
                 }
@@ -194,7 +194,6 @@ impl Pass for AbsolutePass {
             | Op::Stop(_)
             | Op::Units(_)
             | Op::SetWorkOffset { .. }
-            | Op::SetWorkOffsetHere { .. }
             | Op::LocalOffset(_)
             | Op::SetPosition(_)
             | Op::CancelPosition

@@ -70,6 +70,11 @@ pub enum LowerErrorKind {
         axis: Axis,
         index: u8,
     },
+    /// Warning: G10 L20 where the position is not known: the machine sets
+    /// the offset.
+    WorkOffsetSetByMachine {
+        index: u8,
+    },
     /// Warning: the program has no M2/M30; one is added after its last
     /// statement.
     NoProgramEnd,
@@ -86,6 +91,7 @@ impl LowerError {
             LowerErrorKind::ToolLengthUnknown { .. }
                 | LowerErrorKind::WorkOffsetUnknown { .. }
                 | LowerErrorKind::NoProgramEnd
+                | LowerErrorKind::WorkOffsetSetByMachine { .. }
         )
     }
 
@@ -207,6 +213,15 @@ impl LowerError {
             .with_help(format!(
                 "to fold it into the coordinates, give `SetTool {tool} diameter length` or --tool-table"
             )),
+            WorkOffsetSetByMachine { index } => warning(
+                format!(
+                    "G10 L20 sets {} where the tool is, which ger does not know: passed through",
+                    work_offset_name(*index)
+                ),
+                span,
+                "the machine sets this offset",
+            )
+            .with_note("coordinates after it are in that offset, as the machine sets it"),
             NoProgramEnd => warning(
                 "the program has no end (M2 or M30)",
                 span,

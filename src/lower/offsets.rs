@@ -211,8 +211,7 @@ impl Pass for OffsetsPass {
             }
             Op::SetWorkOffsetHere { index, at } => {
                 let (index, at) = (*index, *at);
-                self.set_work_offset_here(index, &at, span, out);
-                false
+                self.set_work_offset_here(index, &at, span, out)
             }
             Op::LocalOffset(a) => {
                 for (axis, v) in a.iter() {
@@ -305,34 +304,43 @@ impl OffsetsPass {
         }
     }
 
-    /// G10 L20: a system moved so that the current point has `at`.
-    fn set_work_offset_here(&mut self, index: u8, at: &Axes, span: Span, out: &mut Out<'_>) {
+    /// G10 L20: a system moved so that the current point has `at`. Folded
+    /// when the point is known in G54's frame; else the machine does it
+    /// (after homing, `G10 L20 P1 X0 Y0 Z50` is how grbl programs set their
+    /// zero): passed through, and that system's values are the machine's
+    /// from here. Whether the statement goes on.
+    fn set_work_offset_here(
+        &mut self,
+        index: u8,
+        at: &Axes,
+        span: Span,
+        out: &mut Out<'_>,
+    ) -> bool {
         let index = if index == 0 { self.active } else { index };
+        let known = self.frame == Frame::G54
+            && at
+                .iter()
+                .all(|(axis, _)| self.position[axis.index()].is_some());
+        if !known {
+            out.report(LowerError::new(
+                LowerErrorKind::WorkOffsetSetByMachine { index },
+                span,
+            ));
+            self.systems[index as usize] = [None; 9];
+            if index == self.active {
+                self.frame = Frame::Passed(index);
+                self.position = [None; 9];
+            }
+            return true;
+        }
         for (axis, v) in at.iter() {
             let i = axis.index();
-            match (self.position[i], self.frame) {
-                (Some(p), Frame::G54) => {
-                    let others =
-                        self.shift(i) - self.systems[self.active as usize][i].unwrap_or(0.0);
-                    self.systems[index as usize][i] = Some(p - v - others);
-                }
-                (Some(_), _) => out.report(LowerError::new(
-                    LowerErrorKind::OffsetAxisUnknown {
-                        axis,
-                        index: self.active,
-                    },
-                    span,
-                )),
-                (None, _) => out.report(LowerError::new(
-                    LowerErrorKind::UnknownPosition {
-                        axis,
-                        what: "G10 L20",
-                        since: None,
-                    },
-                    span,
-                )),
+            if let Some(p) = self.position[i] {
+                let others = self.shift(i) - self.systems[self.active as usize][i].unwrap_or(0.0);
+                self.systems[index as usize][i] = Some(p - v - others);
             }
         }
+        false
     }
 
     /// G92: the G92 shift chosen so that the current point reads `a`.
