@@ -342,12 +342,19 @@ impl<'s> Backend<'s> {
                     Printer::Path(Box::new(ToolPathBuilder::new(units)))
                 }
                 Some(_) => Printer::Stage(emit::StagePrinter::new(units, len, file)),
-                None => Printer::Program(Box::new(emit::ProgramPrinter::new(
-                    &self.options.emit,
-                    units,
-                    len,
-                    file,
-                ))),
+                None => {
+                    // SPEC §6: as many decimals as the input's most precise
+                    // coordinate, at least 3 for mm and 4 for inch, at most 6.
+                    let mut emit = self.options.emit.clone();
+                    if emit.decimals.is_none() {
+                        let least = match units {
+                            Some(ir::Units::Mm) => 3,
+                            Some(ir::Units::Inch) | None => 4,
+                        };
+                        emit.decimals = Some(input_decimals(self.source).clamp(least, 6));
+                    }
+                    Printer::Program(Box::new(emit::ProgramPrinter::new(&emit, units, len, file)))
+                }
             },
         }
     }
@@ -385,6 +392,37 @@ impl<'s> Backend<'s> {
             (Ok(_), Output::Path(_)) | (Err(_), Output::Text(_)) => (diagnostics, written),
         }
     }
+}
+
+/// The most decimals any coordinate word (X Y Z I J K R, and the other
+/// axes) of the source has: one pass over its bytes. A word inside a
+/// comment counts too, which can only add precision.
+fn input_decimals(text: &str) -> usize {
+    let bytes = text.as_bytes();
+    let mut most = 0;
+    let mut i = 0;
+    while i < bytes.len() {
+        let b = bytes[i].to_ascii_uppercase();
+        i += 1;
+        if !b"XYZIJKRABCUVW".contains(&b) {
+            continue;
+        }
+        while i < bytes.len() && matches!(bytes[i], b' ' | b'\t' | b'+' | b'-') {
+            i += 1;
+        }
+        while i < bytes.len() && bytes[i].is_ascii_digit() {
+            i += 1;
+        }
+        if i < bytes.len() && bytes[i] == b'.' {
+            i += 1;
+            let start = i;
+            while i < bytes.len() && bytes[i].is_ascii_digit() {
+                i += 1;
+            }
+            most = most.max(i - start);
+        }
+    }
+    most
 }
 
 /// The printed text is written out once there is this much of it.
