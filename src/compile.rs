@@ -46,6 +46,8 @@ pub struct CompileOptions {
     pub eval: EvalOptions,
     /// The source language (`--input`); `None`: from the file name.
     pub input: Option<crate::syntax::egc::Language>,
+    /// `--from`; `None`: from the file name (`.ngc` is LinuxCNC's).
+    pub from: Option<eval::Flavour>,
     pub lower: lower::LowerOptions,
     pub emit: EmitOptions,
     /// Print the program after this stage instead of the final output.
@@ -154,6 +156,9 @@ pub fn compile_to(
             language: options
                 .input
                 .unwrap_or_else(|| Language::of_file(sources.name(file))),
+            from: options
+                .from
+                .unwrap_or_else(|| eval::Flavour::of_file(sources.name(file))),
         },
         options,
         wizards,
@@ -191,6 +196,9 @@ pub fn tool_path(
             language: options
                 .input
                 .unwrap_or_else(|| Language::of_file(sources.name(file))),
+            from: options
+                .from
+                .unwrap_or_else(|| eval::Flavour::of_file(sources.name(file))),
         },
         &options,
         wizards,
@@ -217,6 +225,7 @@ struct Input<'a> {
     text: &'a str,
     file: FileId,
     language: Language,
+    from: eval::Flavour,
 }
 
 fn run<'a>(
@@ -231,7 +240,13 @@ fn run<'a>(
         text,
         file,
         language,
+        from,
     } = input;
+    let eval_options = EvalOptions {
+        from,
+        plain: language == Language::Gcode,
+        ..options.eval.clone()
+    };
     let (program, parse_diagnostics) = crate::syntax::egc::parse_program_as(text, file, language);
     diagnostics.extend(parse_diagnostics);
     clock.lap("parse");
@@ -248,11 +263,11 @@ fn run<'a>(
     let eval_diagnostics = match wizards {
         Some(host) => eval::eval_program(
             &program,
-            &options.eval,
+            &eval_options,
             Some(&mut *host as &mut dyn WizardHost),
             &mut backend,
         ),
-        None => eval::eval_program(&program, &options.eval, None, &mut backend),
+        None => eval::eval_program(&program, &eval_options, None, &mut backend),
     };
     diagnostics.extend(eval_diagnostics);
     drop(program);

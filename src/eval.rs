@@ -31,6 +31,48 @@ pub struct EvalOptions {
     pub batch: usize,
     /// `--units`: the units of a program that states none.
     pub units: Option<ir::Units>,
+    /// `--from`: whose meaning holds where controllers disagree.
+    pub from: Flavour,
+    /// The program is plain G-code (not `.egc`, whose rules are ger's own
+    /// and need no warning where controllers disagree).
+    pub plain: bool,
+}
+
+/// The controller family a program was written for (`--from`, SPEC §1):
+/// it settles the codes controllers read differently.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum Flavour {
+    /// `G4 P` without a decimal point in milliseconds, with one in seconds
+    /// (a warning says which was taken).
+    #[default]
+    Generic,
+    /// `G4 P` in seconds.
+    LinuxCnc,
+    /// `G4 P` in milliseconds, `G4 X` in seconds.
+    Fanuc,
+    /// `G4 P` in seconds.
+    Grbl,
+    /// `G4 P` in seconds (Mach3's default setting).
+    Mach3,
+}
+
+impl Flavour {
+    pub const ALL: [(&'static str, Flavour); 5] = [
+        ("generic", Flavour::Generic),
+        ("linuxcnc", Flavour::LinuxCnc),
+        ("fanuc", Flavour::Fanuc),
+        ("grbl", Flavour::Grbl),
+        ("mach3", Flavour::Mach3),
+    ];
+
+    /// The default for a file: `.ngc` is LinuxCNC's.
+    pub fn of_file(name: &str) -> Flavour {
+        if name.to_ascii_lowercase().ends_with(".ngc") {
+            Flavour::LinuxCnc
+        } else {
+            Flavour::Generic
+        }
+    }
 }
 
 impl Default for EvalOptions {
@@ -41,6 +83,8 @@ impl Default for EvalOptions {
             max_call_depth: 64,
             batch: 1024,
             units: None,
+            from: Flavour::Generic,
+            plain: false,
         }
     }
 }
@@ -153,6 +197,8 @@ struct Evaluator<'a> {
     passed_home: std::collections::BTreeSet<u32>,
     /// The line being run was written after a block-delete `/`.
     block_delete: bool,
+    /// A dwell's unit was warned about.
+    warned_dwell: bool,
     /// A controller command was warned about.
     passed_command: bool,
     /// G53 in the current line: its motion is in machine coordinates.
@@ -200,6 +246,7 @@ impl<'a> Evaluator<'a> {
             passed_home: Default::default(),
             machine_coordinates: false,
             passed_command: false,
+            warned_dwell: false,
             block_delete: false,
             diagnostics: Vec::new(),
             errors: 0,

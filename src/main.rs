@@ -75,6 +75,10 @@ struct Options {
     /// The source language; default: `.egc` is ger's, any other file plain G-code.
     #[arg(long = "input", id = "language", value_name = "LANGUAGE", value_enum)]
     language: Option<InputArg>,
+    /// Whose meaning holds where controllers disagree (G4 P in s or ms);
+    /// default: linuxcnc for .ngc files, else generic.
+    #[arg(long, value_enum)]
+    from: Option<FromArg>,
     /// The units of a program that states none (no G20/G21, no SetUnits).
     #[arg(long, value_enum)]
     units: Option<UnitsArg>,
@@ -103,6 +107,15 @@ enum NumbersArg {
     Source,
     Seq,
     None,
+}
+
+#[derive(Clone, Copy, ValueEnum)]
+enum FromArg {
+    Generic,
+    Linuxcnc,
+    Fanuc,
+    Grbl,
+    Mach3,
 }
 
 #[derive(Clone, Copy, ValueEnum)]
@@ -322,6 +335,13 @@ fn run(
             ..Default::default()
         },
         lower: Default::default(),
+        from: options.from.map(|f| match f {
+            FromArg::Generic => ger::eval::Flavour::Generic,
+            FromArg::Linuxcnc => ger::eval::Flavour::LinuxCnc,
+            FromArg::Fanuc => ger::eval::Flavour::Fanuc,
+            FromArg::Grbl => ger::eval::Flavour::Grbl,
+            FromArg::Mach3 => ger::eval::Flavour::Mach3,
+        }),
         input: options.language.map(|i| match i {
             InputArg::Egc => ger::syntax::egc::Language::Egc,
             InputArg::Gcode => ger::syntax::egc::Language::Gcode,

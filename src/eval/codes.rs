@@ -453,9 +453,29 @@ impl Evaluator<'_> {
     }
 
     fn dwell(&mut self, w: &mut WordValues, at: Span) -> Result<Op, Diagnostic> {
+        use super::Flavour;
         let seconds = match (w.take_number(b'P'), w.take(b'X')) {
-            (Some((p, _, n)), None) if !n.has_point => p / 1000.0,
-            (Some((p, _, _)), None) => p,
+            (Some((p, pspan, n)), None) => match self.options.from {
+                Flavour::LinuxCnc | Flavour::Grbl | Flavour::Mach3 => p,
+                Flavour::Fanuc => p / 1000.0,
+                Flavour::Generic if n.has_point => p,
+                Flavour::Generic => {
+                    if self.options.plain && !self.warned_dwell && p > 0.0 {
+                        self.warned_dwell = true;
+                        self.report(
+                            warning(
+                                format!("G4 P{p} is read as {p} milliseconds"),
+                                pspan,
+                                "a P without a decimal point is in ms (Fanuc)",
+                            )
+                            .with_help(
+                                "LinuxCNC, grbl and Mach3 read it in seconds: pass --from linuxcnc (or grbl, mach3), or write `P0.5`",
+                            ),
+                        );
+                    }
+                    p / 1000.0
+                }
+            },
             (None, Some((x, _))) => x,
             (Some(_), Some((_, xspan))) => {
                 return Err(error("G4 with both P and X", xspan, "give the dwell once"))
