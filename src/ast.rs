@@ -97,6 +97,8 @@ pub enum StmtKind {
     /// A controller command line of plain G-code (grbl's `$H`), passed
     /// through as written.
     Command(Symbol),
+    /// A comment of plain G-code, kept for the output.
+    Comment(Symbol),
     /// A statement the parser could not read; its error is already reported.
     Error,
 }

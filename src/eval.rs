@@ -33,6 +33,9 @@ pub struct EvalOptions {
     pub units: Option<ir::Units>,
     /// `--from`: whose meaning holds where controllers disagree.
     pub from: Flavour,
+    /// `--comments keep` (the default): a plain program's comments go to
+    /// the output in their place.
+    pub keep_comments: bool,
     /// The program is plain G-code (not `.egc`, whose rules are ger's own
     /// and need no warning where controllers disagree).
     pub plain: bool,
@@ -85,6 +88,7 @@ impl Default for EvalOptions {
             units: None,
             from: Flavour::Generic,
             plain: false,
+            keep_comments: true,
         }
     }
 }
@@ -497,6 +501,19 @@ impl<'a> Evaluator<'a> {
             }
             StmtKind::While(w) => self.exec_while(&w.cond, &w.body, stmt.span),
             StmtKind::Error => Flow::Next,
+            StmtKind::Comment(c) => {
+                if !self.options.keep_comments {
+                    return Flow::Next;
+                }
+                let op = ir::Op::Comment(self.names.text(*c).to_string());
+                match self.emit(op, stmt.span) {
+                    Ok(()) => Flow::Next,
+                    Err(d) => {
+                        self.report(d);
+                        Flow::Abort
+                    }
+                }
+            }
             StmtKind::Command(c) => {
                 let text = self.names.text(*c).to_string();
                 if !self.passed_command {

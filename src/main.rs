@@ -72,6 +72,9 @@ struct Options {
     /// The output flavour.
     #[arg(long, alias = "dialect", value_enum, default_value_t = TargetArg::Generic)]
     target: TargetArg,
+    /// Comments of a plain G-code program in the output.
+    #[arg(long, value_enum, default_value_t = CommentsArg::Keep)]
+    comments: CommentsArg,
     /// The source language; default: `.egc` is ger's, any other file plain G-code.
     #[arg(long = "input", id = "language", value_name = "LANGUAGE", value_enum)]
     language: Option<InputArg>,
@@ -107,6 +110,12 @@ enum NumbersArg {
     Source,
     Seq,
     None,
+}
+
+#[derive(Clone, Copy, PartialEq, Eq, ValueEnum)]
+enum CommentsArg {
+    Keep,
+    Drop,
 }
 
 #[derive(Clone, Copy, ValueEnum)]
@@ -328,6 +337,7 @@ fn run(
     let compile_options = CompileOptions {
         eval: ger::eval::EvalOptions {
             max_iterations: options.max_iterations,
+            keep_comments: options.comments == CommentsArg::Keep,
             units: options.units.map(|u| match u {
                 UnitsArg::Mm => Units::Mm,
                 UnitsArg::Inch => Units::Inch,

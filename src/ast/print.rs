@@ -96,6 +96,10 @@ impl AstPrinter<'_> {
                 self.line("}");
             }
             StmtKind::Error => self.line("<error>"),
+            StmtKind::Comment(c) => {
+                let text = format!("({})", self.names.text(*c));
+                self.line(&text)
+            }
             StmtKind::Command(c) => {
                 let text = self.names.text(*c).to_string();
                 self.line(&text)

@@ -135,6 +135,9 @@ pub enum Tok {
     Str(Symbol),
     /// A controller command line of plain G-code (grbl's `$H`), whole.
     Command(Symbol),
+    /// A comment of plain G-code, kept for the output; it ends the line
+    /// it was on and is its own statement after it.
+    Comment(Symbol),
     If,
     Else,
     While,
@@ -179,6 +182,7 @@ impl Tok {
             Tok::Number(_) => "a number".into(),
             Tok::Str(_) => "a string".into(),
             Tok::Command(_) => "a controller command".into(),
+            Tok::Comment(_) => "a comment".into(),
             Tok::Term => "end of statement".into(),
             other => format!("`{}`", other.text()),
         }
@@ -284,6 +288,8 @@ struct Lexer<'a> {
     /// A statement end seen but not yet emitted: dropped if `{` or `else`
     /// comes next, so braces and `else` may start a new line.
     pending_term: Option<(usize, usize)>,
+    /// Comments of the current line (plain G-code), sent after it.
+    line_comments: Vec<(usize, Symbol, usize)>,
     /// The current statement passed `MAX_STATEMENT_TOKENS`: its remaining
     /// tokens are dropped.
     too_long: bool,
@@ -310,6 +316,7 @@ impl<'a> Lexer<'a> {
             syms: Vec::new(),
             braces: Vec::new(),
             pending_term: None,
+            line_comments: Vec::new(),
             too_long: false,
             stopped: false,
         }
@@ -368,8 +375,20 @@ impl<'a> Lexer<'a> {
         let first_on_line = self.text[at_line_start..start].trim().is_empty();
         match raw {
             // `;` to the end of the line is a comment.
-            Ok(Raw::Semi) => Some(line_end),
-            Ok(Raw::LParen) => Some(self.nested_comment(start, line_end)),
+            Ok(Raw::Semi) => {
+                self.keep_comment(start + 1, line_end);
+                Some(line_end)
+            }
+            Ok(Raw::LParen) => {
+                let end = self.nested_comment(start, line_end);
+                let inner_end = if self.text[..end].ends_with(')') {
+                    end - 1
+                } else {
+                    end
+                };
+                self.keep_comment(start + 1, inner_end);
+                Some(end)
+            }
             // `%` starts and ends a tape; text after it is a note.
             Ok(Raw::Percent) if first_on_line => Some(line_end),
             // grbl's `$H`, `$X`, `$$`: a command to the controller.
@@ -440,6 +459,25 @@ impl<'a> Lexer<'a> {
         line_end
     }
 
+    /// Keep the text of a comment to send after its line.
+    fn keep_comment(&mut self, start: usize, end: usize) {
+        let text = self.text[start..end].trim();
+        if text.is_empty() {
+            return;
+        }
+        let symbol = self.names.intern(text);
+        self.line_comments.push((start, symbol, end));
+    }
+
+    /// The comments of the line that ends here, each a statement of its own.
+    fn flush_comments(&mut self, at: (usize, usize)) {
+        for (start, symbol, end) in std::mem::take(&mut self.line_comments) {
+            self.pending_term.get_or_insert(at);
+            self.push(start, Tok::Comment(symbol), end);
+            self.pending_term = Some(at);
+        }
+    }
+
     /// A word the plain G-code rules read, as `Raw::Word` would be.
     fn push_word(&mut self, word: WordTok, start: usize, end: usize) {
         let index = self.words.len() as u32;
@@ -462,6 +500,10 @@ impl<'a> Lexer<'a> {
 
     fn finish(mut self) -> Lexed {
         let eof = self.text.len();
+        if !self.line_comments.is_empty() {
+            self.pending_term.get_or_insert((eof, eof));
+            self.flush_comments((eof, eof));
+        }
         if let Some(&(open, _)) = self.syms.first() {
             self.unclosed_sym(open);
         }
@@ -611,6 +653,10 @@ impl<'a> Lexer<'a> {
                 }
                 self.pending_term.get_or_insert((start, end));
                 self.shape = Shape::Empty;
+                if !self.line_comments.is_empty() {
+                    self.flush_comments((start, end));
+                    self.shape = Shape::Empty;
+                }
                 return;
             }
             Raw::Word => {
