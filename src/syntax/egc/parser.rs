@@ -410,8 +410,13 @@ fn split_subprograms(top: Vec<Stmt>, diagnostics: &mut Vec<Diagnostic>) -> Progr
         subprograms: Vec::new(),
         names: Names::default(),
     };
-    let numbers_main =
-        top.first().and_then(program_number).is_some() && !block_has_m99(top[1..].iter());
+    // The program's own number: its first statement but comments.
+    let first = top
+        .iter()
+        .position(|s| !matches!(s.kind, StmtKind::Comment(_)))
+        .unwrap_or(0);
+    let numbers_main = top.get(first).and_then(program_number).is_some()
+        && !block_has_m99(top[first + 1..].iter());
     let mut open: Option<Subprogram> = None;
     for (index, stmt) in top.into_iter().enumerate() {
         if let Some((value, span)) = program_number(&stmt) {
@@ -436,7 +441,7 @@ fn split_subprograms(top: Vec<Stmt>, diagnostics: &mut Vec<Diagnostic>) -> Progr
                 );
                 program.subprograms.push(sub);
             }
-            if index == 0 && numbers_main {
+            if index == first && numbers_main {
                 program.main_number = Some(number);
                 continue;
             }
