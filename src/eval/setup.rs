@@ -92,174 +92,122 @@ impl SetupBuilder {
         arg_spans: &[Span],
         names: &Names,
     ) -> Result<(), Diagnostic> {
-        let arity_error = |wanted: &str| {
-            error(
-                format!(
-                    "wrong arguments for {}",
-                    Directive::NAMES[directive as usize]
-                ),
-                arg_spans
-                    .first()
-                    .map_or(span, |first| first.to(*arg_spans.last().unwrap_or(first))),
-                format!("{wanted}, {} given", args.len()),
-            )
-            .with_note(format!("usage: {}", directive.signature()))
+        let a = Args {
+            directive,
+            values: args,
+            span,
+            spans: arg_spans,
+            names,
         };
-        let number = |i: usize| -> Result<f64, Diagnostic> {
-            match args[i] {
-                Value::Number(n) if !ir::is_length(n) => Err(super::out_of_range(
-                    "out of range".into(),
-                    "numbers here",
-                    n,
-                    arg_spans[i],
-                )),
-                Value::Number(n) => Ok(n),
-                other => Err(error(
-                    "expected a number",
-                    arg_spans[i],
-                    format!("this is {}", other.type_name()),
-                )
-                .with_note(format!("usage: {}", directive.signature()))),
-            }
-        };
-        let text = |i: usize| -> Result<&str, Diagnostic> {
-            match args[i] {
-                Value::Str(s) => Ok(names.text(s)),
-                other => Err(error(
-                    "expected a string",
-                    arg_spans[i],
-                    format!("this is {}", other.type_name()),
-                )
-                .with_note(format!("usage: {}", directive.signature()))),
-            }
-        };
-        let positive = |i: usize, what: &str| -> Result<f64, Diagnostic> {
-            let v = number(i)?;
-            if v > 0.0 {
-                Ok(v)
-            } else {
-                Err(error(
-                    format!("{what} must be positive"),
-                    arg_spans[i],
-                    "not > 0",
+        match directive {
+            Directive::Units => self.units(&a),
+            Directive::Margin => self.margin(&a),
+            Directive::Part | Directive::Zero => self.part_or_zero(&a),
+            Directive::Tool => self.tool(&a),
+            Directive::Offset => self.offset(&a),
+        }
+    }
+
+    /// `SetUnits "inch"|"mm"`.
+    fn units(&mut self, a: &Args<'_>) -> Result<(), Diagnostic> {
+        a.arity(1..=1, "1 argument")?;
+        let units = match a.text(0)?.to_ascii_lowercase().as_str() {
+            "inch" | "in" => Units::Inch,
+            "mm" => Units::Mm,
+            other => {
+                return Err(error(
+                    format!("unknown units \"{other}\""),
+                    a.spans[0],
+                    "expected \"inch\" or \"mm\"",
                 ))
             }
         };
-        let key = match directive {
-            Directive::Units => {
-                if args.len() != 1 {
-                    return Err(arity_error("1 argument"));
+        self.define((a.directive, 0), a.span)?;
+        self.setup.units = Some(units);
+        Ok(())
+    }
+
+    /// `SetMargin m`.
+    fn margin(&mut self, a: &Args<'_>) -> Result<(), Diagnostic> {
+        a.arity(1..=1, "1 argument")?;
+        let m = a.number(0)?;
+        if m < 0.0 {
+            return Err(error("negative margin", a.spans[0], "must be 0 or more"));
+        }
+        self.setup.margin = Some(m);
+        self.define((a.directive, 0), a.span)
+    }
+
+    /// `SetPart x y z` (the stock) or `SetZero x y z`.
+    fn part_or_zero(&mut self, a: &Args<'_>) -> Result<(), Diagnostic> {
+        a.arity(3..=3, "3 arguments")?;
+        if a.directive == Directive::Part {
+            let size = |i| a.positive(i, "the stock size");
+            self.setup.part = Some([size(0)?, size(1)?, size(2)?]);
+        } else {
+            self.setup.zero = Some([a.number(0)?, a.number(1)?, a.number(2)?]);
+        }
+        self.define((a.directive, 0), a.span)
+    }
+
+    /// `SetTool n diameter [length] [shape]`; without a length, the
+    /// tool's length is not known (a G43 for it passes through).
+    fn tool(&mut self, a: &Args<'_>) -> Result<(), Diagnostic> {
+        a.arity(2..=4, "2 to 4 arguments")?;
+        let n = a.number(0)?;
+        if n < 0.0 || n.fract() != 0.0 || n > 99_999.0 {
+            return Err(error(
+                "invalid tool number",
+                a.spans[0],
+                "a whole number from 0",
+            ));
+        }
+        let diameter = a.positive(1, "the tool diameter")?;
+        let mut length = None;
+        let mut shape = ToolShape::Flat;
+        for i in 2..a.values.len() {
+            match a.values[i] {
+                Value::Number(_) if i == 2 => length = Some(a.number(2)?),
+                Value::Str(s) if i == a.values.len() - 1 => {
+                    shape = ToolShape::from_name(a.names.text(s)).ok_or_else(|| {
+                        error(
+                            format!("unknown tool shape \"{}\"", a.names.text(s)),
+                            a.spans[i],
+                            "expected \"flat\", \"ball\", \"drill\" or \"vee\"",
+                        )
+                    })?
                 }
-                let units = match text(0)?.to_ascii_lowercase().as_str() {
-                    "inch" | "in" => Units::Inch,
-                    "mm" => Units::Mm,
-                    other => {
-                        return Err(error(
-                            format!("unknown units \"{other}\""),
-                            arg_spans[0],
-                            "expected \"inch\" or \"mm\"",
-                        ))
-                    }
-                };
-                self.define((directive, 0), span)?;
-                self.setup.units = Some(units);
-                return Ok(());
+                _ => return Err(a.arity_error("number, diameter, [length], [shape]")),
             }
-            Directive::Margin => {
-                if args.len() != 1 {
-                    return Err(arity_error("1 argument"));
-                }
-                let m = number(0)?;
-                if m < 0.0 {
-                    return Err(error("negative margin", arg_spans[0], "must be 0 or more"));
-                }
-                self.setup.margin = Some(m);
-                (directive, 0)
-            }
-            Directive::Part | Directive::Zero => {
-                if args.len() != 3 {
-                    return Err(arity_error("3 arguments"));
-                }
-                let v = if directive == Directive::Part {
-                    [
-                        positive(0, "the stock size")?,
-                        positive(1, "the stock size")?,
-                        positive(2, "the stock size")?,
-                    ]
-                } else {
-                    [number(0)?, number(1)?, number(2)?]
-                };
-                if directive == Directive::Part {
-                    self.setup.part = Some(v);
-                } else {
-                    self.setup.zero = Some(v);
-                }
-                (directive, 0)
-            }
-            Directive::Tool => {
-                if !(2..=4).contains(&args.len()) {
-                    return Err(arity_error("2 to 4 arguments"));
-                }
-                let n = number(0)?;
-                if n < 0.0 || n.fract() != 0.0 || n > 99_999.0 {
-                    return Err(error(
-                        "invalid tool number",
-                        arg_spans[0],
-                        "a whole number from 0",
-                    ));
-                }
-                let diameter = positive(1, "the tool diameter")?;
-                let mut length = 0.0;
-                let mut shape = ToolShape::Flat;
-                for i in 2..args.len() {
-                    match args[i] {
-                        Value::Number(l) if i == 2 => length = l,
-                        Value::Str(s) if i == args.len() - 1 => {
-                            shape = ToolShape::from_name(names.text(s)).ok_or_else(|| {
-                                error(
-                                    format!("unknown tool shape \"{}\"", names.text(s)),
-                                    arg_spans[i],
-                                    "expected \"flat\", \"ball\", \"drill\" or \"vee\"",
-                                )
-                            })?
-                        }
-                        _ => return Err(arity_error("number, diameter, [length], [shape]")),
-                    }
-                }
-                let key = (directive, n as u32);
-                self.define(key, span)?;
-                self.setup.tools.insert(
-                    n as u32,
-                    Tool {
-                        diameter,
-                        length: Some(length),
-                        shape,
-                    },
-                );
-                return Ok(());
-            }
-            Directive::Offset => {
-                if args.len() != 4 {
-                    return Err(arity_error("4 arguments"));
-                }
-                let n = number(0)?;
-                if !(55.0..=59.0).contains(&n) || n.fract() != 0.0 {
-                    return Err(error(
-                        "invalid work offset",
-                        arg_spans[0],
-                        "SetOffset takes 55 to 59 (G54 is the program zero itself)",
-                    ));
-                }
-                let index = (n as u32 - 53) as u8;
-                let key = (directive, index as u32);
-                self.define(key, span)?;
-                self.setup
-                    .work_offsets
-                    .insert(index, [number(1)?, number(2)?, number(3)?]);
-                return Ok(());
-            }
-        };
-        self.define(key, span)
+        }
+        self.define((a.directive, n as u32), a.span)?;
+        self.setup.tools.insert(
+            n as u32,
+            Tool {
+                diameter,
+                length,
+                shape,
+            },
+        );
+        Ok(())
+    }
+
+    /// `SetOffset 55..59 x y z`.
+    fn offset(&mut self, a: &Args<'_>) -> Result<(), Diagnostic> {
+        a.arity(4..=4, "4 arguments")?;
+        let n = a.number(0)?;
+        if !(55.0..=59.0).contains(&n) || n.fract() != 0.0 {
+            return Err(error(
+                "invalid work offset",
+                a.spans[0],
+                "SetOffset takes 55 to 59 (G54 is the program zero itself)",
+            ));
+        }
+        let index = (n as u32 - 53) as u8;
+        self.define((a.directive, index as u32), a.span)?;
+        let origin = [a.number(1)?, a.number(2)?, a.number(3)?];
+        self.setup.work_offsets.insert(index, origin);
+        Ok(())
     }
 
     fn define(&mut self, key: (Directive, u32), span: Span) -> Result<(), Diagnostic> {
@@ -273,5 +221,87 @@ impl SetupBuilder {
         }
         self.defined.insert(key, span);
         Ok(())
+    }
+}
+
+/// The arguments of one directive call, with the checks every directive
+/// makes.
+struct Args<'a> {
+    directive: Directive,
+    values: &'a [Value],
+    span: Span,
+    spans: &'a [Span],
+    names: &'a Names,
+}
+
+impl Args<'_> {
+    fn arity(
+        &self,
+        count: std::ops::RangeInclusive<usize>,
+        wanted: &str,
+    ) -> Result<(), Diagnostic> {
+        if count.contains(&self.values.len()) {
+            Ok(())
+        } else {
+            Err(self.arity_error(wanted))
+        }
+    }
+
+    fn arity_error(&self, wanted: &str) -> Diagnostic {
+        let at = self.spans.first().map_or(self.span, |first| {
+            first.to(*self.spans.last().unwrap_or(first))
+        });
+        error(
+            format!(
+                "wrong arguments for {}",
+                Directive::NAMES[self.directive as usize]
+            ),
+            at,
+            format!("{wanted}, {} given", self.values.len()),
+        )
+        .with_note(format!("usage: {}", self.directive.signature()))
+    }
+
+    fn number(&self, i: usize) -> Result<f64, Diagnostic> {
+        match self.values[i] {
+            Value::Number(n) if !ir::is_length(n) => Err(super::out_of_range(
+                "out of range".into(),
+                "numbers here",
+                n,
+                self.spans[i],
+            )),
+            Value::Number(n) => Ok(n),
+            other => Err(error(
+                "expected a number",
+                self.spans[i],
+                format!("this is {}", other.type_name()),
+            )
+            .with_note(format!("usage: {}", self.directive.signature()))),
+        }
+    }
+
+    fn text(&self, i: usize) -> Result<&str, Diagnostic> {
+        match self.values[i] {
+            Value::Str(s) => Ok(self.names.text(s)),
+            other => Err(error(
+                "expected a string",
+                self.spans[i],
+                format!("this is {}", other.type_name()),
+            )
+            .with_note(format!("usage: {}", self.directive.signature()))),
+        }
+    }
+
+    fn positive(&self, i: usize, what: &str) -> Result<f64, Diagnostic> {
+        let v = self.number(i)?;
+        if v > 0.0 {
+            Ok(v)
+        } else {
+            Err(error(
+                format!("{what} must be positive"),
+                self.spans[i],
+                "not > 0",
+            ))
+        }
     }
 }
