@@ -601,64 +601,8 @@ impl<'a> Lexer<'a> {
         let text = &self.text[start..end];
         let tok = match raw {
             Raw::LineComment | Raw::LParen => return,
-            Raw::Newline if !self.groups.is_empty() => {
-                // A line may go on inside parentheses after `,`, `(` or an
-                // operator; otherwise the `(` was never closed.
-                let continues = matches!(
-                    self.out.last(),
-                    Some((
-                        _,
-                        Tok::Comma
-                            | Tok::LParen
-                            | Tok::CallOpen
-                            | Tok::Plus
-                            | Tok::Minus
-                            | Tok::Star
-                            | Tok::Slash
-                            | Tok::Percent
-                            | Tok::Caret
-                            | Tok::AndAnd
-                            | Tok::OrOr
-                            | Tok::EqEq
-                            | Tok::NotEq
-                            | Tok::Lt
-                            | Tok::Le
-                            | Tok::Gt
-                            | Tok::Ge
-                            | Tok::Bang,
-                        _
-                    ))
-                );
-                if continues {
-                    return;
-                }
-                let open = self.groups[0];
-                self.errors.push(
-                    error(
-                        "unclosed `(`",
-                        self.span(open, open + 1),
-                        "this parenthesis is not closed on its line",
-                    )
-                    .with_help("add the matching `)`"),
-                );
-                self.groups.clear();
-                self.syms.clear();
-                self.pending_term.get_or_insert((start, end));
-                self.shape = Shape::Empty;
-                return;
-            }
-            Raw::Newline | Raw::Semi => {
-                if let Some(&(open, _)) = self.syms.first() {
-                    self.unclosed_sym(open);
-                }
-                self.pending_term.get_or_insert((start, end));
-                self.shape = Shape::Empty;
-                if !self.line_comments.is_empty() {
-                    self.flush_comments((start, end));
-                    self.shape = Shape::Empty;
-                }
-                return;
-            }
+            Raw::Newline if !self.groups.is_empty() => return self.newline_in_group(start, end),
+            Raw::Newline | Raw::Semi => return self.statement_end(start, end),
             Raw::Word => {
                 self.push_word(word(text), start, end);
                 return;
@@ -679,33 +623,7 @@ impl<'a> Lexer<'a> {
                 Tok::SymOpen(text.as_bytes()[0].to_ascii_uppercase())
             }
             Raw::Ident => self.ident(text),
-            Raw::Letter => {
-                let in_expression = !self.groups.is_empty()
-                    || !self.syms.is_empty()
-                    || matches!(self.shape, Shape::Assign | Shape::Keyword);
-                let diag = if in_expression {
-                    error(
-                        format!("`{text}` is not a variable name"),
-                        self.span(start, end),
-                        "a single letter is a G-code address, not a name",
-                    )
-                    .with_help(format!(
-                        "a variable name needs at least two characters: `{text}{text}`, `{text}_`"
-                    ))
-                } else {
-                    error(
-                        format!("`{text}` without a number"),
-                        self.span(start, end),
-                        "a word needs a number directly after its letter",
-                    )
-                    .with_help(format!(
-                        "write `{u}10` or `{u}<expression>`, with no space after `{u}`",
-                        u = text.to_ascii_uppercase()
-                    ))
-                };
-                self.errors.push(diag);
-                return;
-            }
+            Raw::Letter => return self.lone_letter(start, end),
             Raw::Number => Tok::Number(parse_decimal(text)),
             Raw::Str => Tok::Str(self.names.intern(&text[1..text.len() - 1])),
             Raw::OpenStr => {
@@ -730,36 +648,14 @@ impl<'a> Lexer<'a> {
                 }
                 Tok::RParen
             }
-            Raw::LBrace => {
-                if self.braces.len() >= MAX_BLOCK_DEPTH {
-                    self.errors.push(
-                        error(
-                            format!("blocks nested more than {MAX_BLOCK_DEPTH} deep"),
-                            self.span(start, end),
-                            "this block is too deep",
-                        )
-                        .with_help("the rest of the file was not read; flatten the nesting"),
-                    );
-                    self.stopped = true;
-                    return;
-                }
-                self.braces.push(start);
-                Tok::LBrace
-            }
-            Raw::RBrace => {
-                if self.braces.pop().is_none() {
-                    self.errors.push(
-                        error(
-                            "unmatched `}`",
-                            self.span(start, end),
-                            "no block is open here",
-                        )
-                        .with_help("remove it, or add the `{` that opens the block"),
-                    );
-                    return;
-                }
-                Tok::RBrace
-            }
+            Raw::LBrace => match self.open_brace(start, end) {
+                Some(tok) => tok,
+                None => return,
+            },
+            Raw::RBrace => match self.close_brace(start, end) {
+                Some(tok) => tok,
+                None => return,
+            },
             Raw::Gt => match self.syms.last() {
                 Some(&(_, depth)) if depth == self.groups.len() => {
                     self.syms.pop();
@@ -791,6 +687,130 @@ impl<'a> Lexer<'a> {
             Raw::Caret => Tok::Caret,
         };
         self.push(start, tok, end);
+    }
+
+    /// A line end inside parentheses: the line goes on after `,`, `(` or an
+    /// operator; otherwise the `(` was never closed.
+    fn newline_in_group(&mut self, start: usize, end: usize) {
+        // A line may go on inside parentheses after `,`, `(` or an
+        // operator; otherwise the `(` was never closed.
+        let continues = matches!(
+            self.out.last(),
+            Some((
+                _,
+                Tok::Comma
+                    | Tok::LParen
+                    | Tok::CallOpen
+                    | Tok::Plus
+                    | Tok::Minus
+                    | Tok::Star
+                    | Tok::Slash
+                    | Tok::Percent
+                    | Tok::Caret
+                    | Tok::AndAnd
+                    | Tok::OrOr
+                    | Tok::EqEq
+                    | Tok::NotEq
+                    | Tok::Lt
+                    | Tok::Le
+                    | Tok::Gt
+                    | Tok::Ge
+                    | Tok::Bang,
+                _
+            ))
+        );
+        if continues {}
+        let open = self.groups[0];
+        self.errors.push(
+            error(
+                "unclosed `(`",
+                self.span(open, open + 1),
+                "this parenthesis is not closed on its line",
+            )
+            .with_help("add the matching `)`"),
+        );
+        self.groups.clear();
+        self.syms.clear();
+        self.pending_term.get_or_insert((start, end));
+        self.shape = Shape::Empty;
+    }
+
+    /// A line end or `;`: the statement ends (and a plain program's
+    /// comments of the line follow it).
+    fn statement_end(&mut self, start: usize, end: usize) {
+        if let Some(&(open, _)) = self.syms.first() {
+            self.unclosed_sym(open);
+        }
+        self.pending_term.get_or_insert((start, end));
+        self.shape = Shape::Empty;
+        if !self.line_comments.is_empty() {
+            self.flush_comments((start, end));
+            self.shape = Shape::Empty;
+        }
+    }
+
+    /// A letter with no number: an address without its value, or a
+    /// one-letter name in an expression.
+    fn lone_letter(&mut self, start: usize, end: usize) {
+        let text = &self.text[start..end];
+        let in_expression = !self.groups.is_empty()
+            || !self.syms.is_empty()
+            || matches!(self.shape, Shape::Assign | Shape::Keyword);
+        let diag = if in_expression {
+            error(
+                format!("`{text}` is not a variable name"),
+                self.span(start, end),
+                "a single letter is a G-code address, not a name",
+            )
+            .with_help(format!(
+                "a variable name needs at least two characters: `{text}{text}`, `{text}_`"
+            ))
+        } else {
+            error(
+                format!("`{text}` without a number"),
+                self.span(start, end),
+                "a word needs a number directly after its letter",
+            )
+            .with_help(format!(
+                "write `{u}10` or `{u}<expression>`, with no space after `{u}`",
+                u = text.to_ascii_uppercase()
+            ))
+        };
+        self.errors.push(diag);
+    }
+
+    /// `{`, unless blocks are nested too deep (then the rest is not read).
+    fn open_brace(&mut self, start: usize, end: usize) -> Option<Tok> {
+        if self.braces.len() >= MAX_BLOCK_DEPTH {
+            self.errors.push(
+                error(
+                    format!("blocks nested more than {MAX_BLOCK_DEPTH} deep"),
+                    self.span(start, end),
+                    "this block is too deep",
+                )
+                .with_help("the rest of the file was not read; flatten the nesting"),
+            );
+            self.stopped = true;
+            return None;
+        }
+        self.braces.push(start);
+        Some(Tok::LBrace)
+    }
+
+    /// `}`, if a block is open.
+    fn close_brace(&mut self, start: usize, end: usize) -> Option<Tok> {
+        if self.braces.pop().is_none() {
+            self.errors.push(
+                error(
+                    "unmatched `}`",
+                    self.span(start, end),
+                    "no block is open here",
+                )
+                .with_help("remove it, or add the `{` that opens the block"),
+            );
+            return None;
+        }
+        Some(Tok::RBrace)
     }
 
     fn ident(&mut self, text: &str) -> Tok {
