@@ -719,7 +719,9 @@ impl<'a> Lexer<'a> {
                 _
             ))
         );
-        if continues {}
+        if continues {
+            return;
+        }
         let open = self.groups[0];
         self.errors.push(
             error(
@@ -986,6 +988,17 @@ fn scan_decimal(text: &str) -> (f64, u8, bool) {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_line_goes_on_inside_parentheses_after_an_operator() {
+        let mut names = Names::default();
+        let src = "Aa = (1 +\n2)\nG0 X<Aa>\n";
+        let lexed = lex(src, &Locator::new(0, src), &mut names);
+        assert!(lexed.errors.is_empty(), "{:?}", lexed.errors);
+        let src = "Aa = (1\n2)\n";
+        let lexed = lex(src, &Locator::new(0, src), &mut names);
+        assert_eq!(lexed.errors.len(), 1);
+    }
 
     fn kinds(src: &str) -> Vec<Tok> {
         let mut names = Names::default();
