@@ -147,7 +147,7 @@ impl Evaluator<'_> {
         span: Span,
         code: Code,
     ) -> Result<(), Diagnostic> {
-        let has_axes = [b'X', b'Y', b'Z'].iter().any(|&l| w.has(l));
+        let has_axes = Axis::ALL.iter().any(|a| w.has(a.letter()));
         let arc_words = [b'I', b'J', b'K', b'R'].iter().any(|&l| w.has(l));
         if has_axes || (arc_words && self.motion.is_some_and(Motion::is_arc)) {
             let Some(motion) = self.motion else {
@@ -193,7 +193,7 @@ impl Evaluator<'_> {
         w: &mut WordValues,
         span: Span,
     ) -> Result<ir::Move, Diagnostic> {
-        let to = take_xyz(w);
+        let to = axis_words(w);
         let arc = if motion.is_arc() {
             let center: ir::Center = [b'I', b'J', b'K'].map(|l| w.take(l).map(|v| v.0));
             let radius = w.take(b'R');
@@ -271,7 +271,7 @@ impl Evaluator<'_> {
             200 => Op::Units(ir::Units::Inch),
             210 => Op::Units(ir::Units::Mm),
             280 | 300 => {
-                let via = take_xyz(w);
+                let via = axis_words(w);
                 if self.passed_home.insert(t) {
                     self.report(
                         warning(
@@ -544,7 +544,7 @@ impl Evaluator<'_> {
         name: &str,
         may_be_empty: bool,
     ) -> Result<Axes, Diagnostic> {
-        let axes = take_xyz(w);
+        let axes = axis_words(w);
         if axes.is_empty() && !may_be_empty {
             return Err(error(format!("{name} without axes"), at, "give X, Y or Z"));
         }
@@ -632,10 +632,10 @@ impl Evaluator<'_> {
     }
 }
 
-/// The X, Y and Z words of a statement.
-fn take_xyz(w: &mut WordValues) -> Axes {
+/// The axis words of a statement: X Y Z, A B C (degrees), U V W.
+fn axis_words(w: &mut WordValues) -> Axes {
     let mut axes = Axes::default();
-    for axis in [Axis::X, Axis::Y, Axis::Z] {
+    for axis in Axis::ALL {
         if let Some((v, _)) = w.take(axis.letter()) {
             axes.set(axis, v);
         }
