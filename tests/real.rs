@@ -34,7 +34,7 @@ const NOT_YET: &[&str] = &[
 const KNOWN: &[(&str, &str)] = &[
     (
         "002_",
-        "`G20 F6`: rs274 runs F before G20 in the units its machine starts in (mm); the feed is the machine's, ger keeps the number",
+        "`G20 F6`: rs274 runs F before G20 in the units its machine starts in (mm); the feed is the machine's: ger keeps the number and warns",
     ),
     (
         "040_",

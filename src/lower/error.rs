@@ -75,6 +75,10 @@ pub enum LowerErrorKind {
     WorkOffsetSetByMachine {
         index: u8,
     },
+    /// Warning: a feed given before the program states its units (LinuxCNC
+    /// runs F before G20/G21 of the same line): it is in the machine's
+    /// units, whatever the output's are.
+    FeedInMachineUnits,
     /// Warning: the program has no M2/M30; one is added after its last
     /// statement.
     NoProgramEnd,
@@ -91,6 +95,7 @@ impl LowerError {
             LowerErrorKind::ToolLengthUnknown { .. }
                 | LowerErrorKind::WorkOffsetUnknown { .. }
                 | LowerErrorKind::NoProgramEnd
+                | LowerErrorKind::FeedInMachineUnits
                 | LowerErrorKind::WorkOffsetSetByMachine { .. }
         )
     }
@@ -222,6 +227,13 @@ impl LowerError {
                 "the machine sets this offset",
             )
             .with_note("coordinates after it are in that offset, as the machine sets it"),
+            FeedInMachineUnits => warning(
+                "this feed comes before the program states its units",
+                span,
+                "in the machine's units, which ger does not know",
+            )
+            .with_note("LinuxCNC sets F before G20/G21 of the same line: the number is kept as it is")
+            .with_help("put G20/G21 on a line before the first F, or pass --units"),
             NoProgramEnd => warning(
                 "the program has no end (M2 or M30)",
                 span,

@@ -9,7 +9,7 @@
 //! G21 stays where it is (the moves before it run in the machine's units)
 //! and fixes the output units from there on.
 
-use super::{Context, Out, Pass, PassInfo};
+use super::{Context, LowerError, LowerErrorKind, Out, Pass, PassInfo};
 use crate::ir::{self, ArcGeometry, Axis, CompRadius, Op, Stmt, Units};
 
 pub const PASS: PassInfo = PassInfo {
@@ -25,6 +25,8 @@ struct UnitsPass {
     /// Under G16 the plane's second axis word is an angle, not a length.
     polar: bool,
     plane: ir::Plane,
+    /// A feed in the machine's units was warned about.
+    warned_feed: bool,
 }
 
 impl UnitsPass {
@@ -34,6 +36,7 @@ impl UnitsPass {
             current: cx.start.program_units,
             polar: false,
             plane: ir::Plane::XY,
+            warned_feed: false,
         }
     }
 
@@ -96,7 +99,16 @@ impl Pass for UnitsPass {
             | Op::SetWorkOffsetHere { at: a, .. }
             | Op::LocalOffset(a)
             | Op::SetPosition(a) => *a = a.map_lengths(|v| v * k),
-            Op::Feed(f) => scale(f),
+            Op::Feed(f) => {
+                if self.current.is_none() && self.output.is_some() && !self.warned_feed {
+                    self.warned_feed = true;
+                    out.report(LowerError::new(
+                        LowerErrorKind::FeedInMachineUnits,
+                        stmt.span,
+                    ));
+                }
+                scale(f)
+            }
             Op::Comp {
                 radius: CompRadius::Diameter(d),
                 ..
