@@ -359,6 +359,11 @@ fn register_settings(engine: &mut Engine, session: &Rc<RefCell<Session>>) {
         if text.contains('\n') {
             return fail("gcode() takes one line");
         }
+        // A line that does not parse is the script's error, at its line.
+        let (_, problems) = crate::syntax::egc::parse_program(text, 0);
+        if let Some(first) = problems.first() {
+            return fail(format!("gcode(\"{text}\"): {}", first.message));
+        }
         shared.borrow_mut().push(Action::Source(text.to_string()))
     });
 }
