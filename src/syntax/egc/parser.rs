@@ -511,14 +511,19 @@ pub(crate) fn push_words(
     at: &Locator,
 ) {
     let (first, len) = (run.0 as usize, run.1 as usize);
-    line.extend(words[first..first + len].iter().map(|w| Word {
+    let run = &words[first..first + len];
+    // A run of words never crosses a line end: one line lookup for all.
+    let number = run
+        .first()
+        .map_or(0, |w| at.span(w.start as usize, w.end as usize).line);
+    line.extend(run.iter().map(|w| Word {
         letter: w.word.letter,
         value: WordValue::Number(Number {
             value: w.word.value,
             int_digits: w.word.int_digits,
             has_point: w.word.has_point,
         }),
-        span: at.span(w.start as usize, w.end as usize),
+        span: Span::new(at.file(), number, w.start as usize, w.end as usize),
     }));
 }
 
