@@ -48,7 +48,6 @@ pub struct CompileOptions {
     pub input: Option<crate::syntax::egc::Language>,
     /// `--from`; `None`: from the file name (`.ngc` is LinuxCNC's).
     pub from: Option<eval::Flavour>,
-    pub lower: lower::LowerOptions,
     pub emit: EmitOptions,
     /// Print the program after this stage instead of the final output.
     pub stage: Option<Stage>,
@@ -340,10 +339,7 @@ impl<'s> Backend<'s> {
             Some(Stage::Parse | Stage::Expand) => None,
             None => Some(lower::PASSES.len() - 1),
         };
-        let context = lower::Context {
-            start,
-            options: &self.options.lower,
-        };
+        let context = lower::Context { start };
         // What the first pass starts from is what is printed, unless the
         // units pass has run.
         let units = match last {

@@ -162,11 +162,6 @@ impl Axes {
             .filter_map(move |a| self.get(a).map(|v| (a, v)))
     }
 
-    /// Any axis but X, Y and Z?
-    pub fn has_extra(&self) -> bool {
-        self.present & !0b111 != 0
-    }
-
     /// Apply `f` to every present length (not to A B C).
     pub fn map_lengths(mut self, f: impl Fn(f64) -> f64) -> Axes {
         for axis in Axis::ALL {
@@ -486,6 +481,56 @@ pub enum Op {
     CompOff,
     Comment(String),
     Passthrough(Passthrough),
+}
+
+impl Op {
+    /// The axes whose position ger no longer knows after this statement:
+    /// the machine moved them on its own (G53, G28/G30: the axes named,
+    /// or all), or their coordinates changed meaning by an offset passed
+    /// through (a work offset: all; a tool length: Z). Every pass and
+    /// printer that tracks the position forgets exactly these.
+    pub fn unknown_after(&self) -> impl Fn(Axis) -> bool + '_ {
+        move |axis| match self {
+            Op::MachineMove(m) => m.to.has(axis),
+            Op::Home { via, .. } => via.is_empty() || via.has(axis),
+            Op::SelectWorkOffset(_) | Op::SetWorkOffsetHere { .. } => true,
+            Op::ToolLength { .. } | Op::CancelToolLength => axis == Axis::Z,
+            Op::Move(_)
+            | Op::Feed(_)
+            | Op::Speed(_)
+            | Op::SelectTool(_)
+            | Op::ChangeTool
+            | Op::Spindle(_)
+            | Op::Coolant(_)
+            | Op::Dwell(_)
+            | Op::Stop(_)
+            | Op::End
+            | Op::Units(_)
+            | Op::Distance(_)
+            | Op::Plane(_)
+            | Op::SetWorkOffset { .. }
+            | Op::LocalOffset(_)
+            | Op::SetPosition(_)
+            | Op::CancelPosition
+            | Op::Polar(_)
+            | Op::DiameterMode(_)
+            | Op::ReturnLevel(_)
+            | Op::Cycle(_)
+            | Op::CycleOff
+            | Op::Comp { .. }
+            | Op::CompOff
+            | Op::Comment(_)
+            | Op::Passthrough(_) => false,
+        }
+    }
+}
+
+/// G54..G59.3 for the work offsets 1..=9 (`None` for any other number).
+pub fn work_offset_code(index: u8) -> Option<&'static str> {
+    const CODES: [&str; 9] = [
+        "G54", "G55", "G56", "G57", "G58", "G59", "G59.1", "G59.2", "G59.3",
+    ];
+    CODES.get(usize::from(index).checked_sub(1)?).copied()
 }
 
 /// The machine as the setup directives (SPEC §3) describe it. Lengths are

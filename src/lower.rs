@@ -44,12 +44,7 @@ pub trait Pass {
 /// What a pass is made from.
 pub struct Context<'a> {
     pub start: &'a ir::Start,
-    pub options: &'a LowerOptions,
 }
-
-/// Choices of the user that passes follow.
-#[derive(Clone, Debug, Default)]
-pub struct LowerOptions {}
 
 /// A pass in the registry: its stage name and how to make it.
 pub struct PassInfo {

@@ -344,7 +344,6 @@ fn run(
             }),
             ..Default::default()
         },
-        lower: Default::default(),
         from: options.from.map(|f| match f {
             FromArg::Generic => ger::eval::Flavour::Generic,
             FromArg::Linuxcnc => ger::eval::Flavour::LinuxCnc,

@@ -203,14 +203,13 @@ impl Builder {
                 } else {
                     self.move_to(MoveKind::Rapid, via, stmt.span, false);
                 }
-                let home = ir::Axes::default();
-                let mut all = home;
-                for axis in Axis::ALL {
-                    if via.is_empty() || via.has(axis) {
-                        all.set(axis, 0.0);
-                    }
+                // The homed axes go to the machine's home, zero here.
+                let homed = stmt.op.unknown_after();
+                let mut home = ir::Axes::default();
+                for axis in Axis::ALL.into_iter().filter(|&a| homed(a)) {
+                    home.set(axis, 0.0);
                 }
-                self.move_to(MoveKind::Rapid, &all, stmt.span, true);
+                self.move_to(MoveKind::Rapid, &home, stmt.span, true);
             }
             Op::Feed(f) => self.state.feed = f * k,
             Op::Speed(s) => self.state.rpm = *s,

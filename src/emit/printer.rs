@@ -256,7 +256,7 @@ impl Printer {
                     ir::Plane::YZ => "G19",
                 })
             }
-            Op::SelectWorkOffset(i) => self.code(work_offset_code(*i)),
+            Op::SelectWorkOffset(i) => self.code(ir::work_offset_code(*i).unwrap_or_default()),
             Op::SetWorkOffset { index, origin } => {
                 self.code("G10 L2");
                 self.int_word(b'P', *index as u32);
@@ -383,20 +383,5 @@ pub(super) fn motion_code(m: Motion) -> &'static str {
         Motion::Linear => "G1",
         Motion::ArcCw => "G2",
         Motion::ArcCcw => "G3",
-    }
-}
-
-/// G54..G59.3 from their index 1..=9.
-pub(super) fn work_offset_code(index: u8) -> &'static str {
-    match index {
-        1 => "G54",
-        2 => "G55",
-        3 => "G56",
-        4 => "G57",
-        5 => "G58",
-        6 => "G59",
-        7 => "G59.1",
-        8 => "G59.2",
-        _ => "G59.3",
     }
 }

@@ -83,13 +83,12 @@ impl ProgramPrinter {
                 Op::ChangeTool | Op::Stop(_) => self.printed = [None; 9],
                 // Where the tool is, in program coordinates, is no longer
                 // known (the absolute pass forgets the same axes).
-                Op::MachineMove(m) => self.forget(|a| m.to.has(a)),
-                Op::Home { via, .. } => {
-                    let all = via.is_empty();
-                    self.forget(|a| all || via.has(a));
-                }
-                Op::SelectWorkOffset(_) | Op::SetWorkOffsetHere { .. } => self.forget(|_| true),
-                Op::ToolLength { .. } | Op::CancelToolLength => self.forget(|a| a == Axis::Z),
+                Op::MachineMove(_)
+                | Op::Home { .. }
+                | Op::SelectWorkOffset(_)
+                | Op::SetWorkOffsetHere { .. }
+                | Op::ToolLength { .. }
+                | Op::CancelToolLength => self.forget(stmt.op.unknown_after()),
                 Op::Speed(_)
                 | Op::SelectTool(_)
                 | Op::Spindle(_)

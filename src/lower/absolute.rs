@@ -44,9 +44,15 @@ impl AbsolutePass {
         }
     }
 
-    fn forget(&mut self, axis: usize, at: Span) {
-        self.position[axis] = None;
-        self.lost_at[axis] = Some(at);
+    /// Forget the axes `op` leaves unknown ([`Op::unknown_after`]).
+    fn forget_after(&mut self, op: &Op, at: Span) {
+        let unknown = op.unknown_after();
+        for axis in Axis::ALL {
+            if unknown(axis) {
+                self.position[axis.index()] = None;
+                self.lost_at[axis.index()] = Some(at);
+            }
+        }
     }
 
     fn unknown(&self, axis: usize, what: &'static str, span: Span) -> LowerError {
@@ -127,7 +133,7 @@ impl Pass for AbsolutePass {
                     return;
                 }
             }
-            Op::MachineMove(m) => {
+            Op::MachineMove(_) => {
                 if self.distance == Distance::Incremental {
                     out.report(LowerError::new(
                         LowerErrorKind::MachineMoveIncremental,
@@ -135,9 +141,7 @@ impl Pass for AbsolutePass {
                     ));
                     return;
                 }
-                for (axis, _) in m.to.iter() {
-                    self.forget(axis.index(), span);
-                }
+                self.forget_after(&stmt.op, span);
             }
             Op::Home {
                 via, incremental, ..
@@ -150,9 +154,7 @@ impl Pass for AbsolutePass {
                     // Home straight from an unknown point: kept relative.
                     Err(_) if zero_steps => {
                         *incremental = true;
-                        for (axis, _) in via.iter() {
-                            self.forget(axis.index(), span);
-                        }
+                        self.forget_after(&stmt.op, span);
                         out.push(stmt);
                         return;
                     }
@@ -161,26 +163,19 @@ impl Pass for AbsolutePass {
                         return;
                     }
                 };
-                let all = via.is_empty();
                 let mut absolute = Axes::default();
                 for (axis, _) in via.iter() {
                     absolute.put(axis, end[axis.index()]);
                 }
                 *via = absolute;
-                for axis in 0..9 {
-                    if all || via.has(Axis::ALL[axis]) {
-                        self.forget(axis, span);
-                    }
-                }
+                self.forget_after(&stmt.op, span);
             }
             // A work offset or tool length passed through to the machine:
             // where the tool is in its coordinates is not known.
-            Op::SelectWorkOffset(_) | Op::SetWorkOffsetHere { .. } => {
-                for axis in 0..9 {
-                    self.forget(axis, span);
-                }
-            }
-            Op::ToolLength { .. } | Op::CancelToolLength => self.forget(2, span),
+            Op::SelectWorkOffset(_)
+            | Op::SetWorkOffsetHere { .. }
+            | Op::ToolLength { .. }
+            | Op::CancelToolLength => self.forget_after(&stmt.op, span),
             // Nothing to cancel: the front end refuses G41/G42 and the
             // cycles until their passes exist.
             Op::CycleOff | Op::CompOff => return,

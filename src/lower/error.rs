@@ -267,11 +267,7 @@ impl LowerError {
 
 /// `G54` … `G59`, `G59.1` … `G59.3` for the indices 1..=9.
 pub fn work_offset_name(index: u8) -> String {
-    match index {
-        1..=6 => format!("G{}", 53 + index as u32),
-        7..=9 => format!("G59.{}", index - 6),
-        _ => format!("work offset {index}"),
-    }
+    crate::ir::work_offset_code(index).map_or_else(|| format!("work offset {index}"), String::from)
 }
 
 fn fmt(v: f64) -> String {

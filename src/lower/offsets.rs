@@ -115,6 +115,16 @@ impl OffsetsPass {
         }
     }
 
+    /// Forget the axes a machine move leaves unknown.
+    fn forget_after(&mut self, op: &Op) {
+        let unknown = op.unknown_after();
+        for axis in Axis::ALL {
+            if unknown(axis) {
+                self.position[axis.index()] = None;
+            }
+        }
+    }
+
     /// Switch the output to G54 (from the machine's initial frame or a
     /// passed-through one): nothing is known of the position there.
     fn enter_g54(&mut self, stmt: &Stmt, out: &mut Out<'_>) {
@@ -185,19 +195,12 @@ impl Pass for OffsetsPass {
                 if let Some(z) = m.to.get(Axis::Z) {
                     m.to.set(Axis::Z, z + self.tool_length);
                 }
-                for (axis, _) in m.to.iter() {
-                    self.position[axis.index()] = None;
-                }
+                self.forget_after(&stmt.op);
                 true
             }
             Op::Home { via, .. } => {
-                let all = via.is_empty();
                 self.place(via);
-                for axis in Axis::ALL {
-                    if all || via.has(axis) {
-                        self.position[axis.index()] = None;
-                    }
-                }
+                self.forget_after(&stmt.op);
                 true
             }
             Op::SelectWorkOffset(i) => {
