@@ -149,16 +149,7 @@ pub fn compile_to(
     let mut diagnostics = Vec::new();
     let mut clock = Clock::new();
     let write_error = run(
-        Input {
-            text: sources.text(file),
-            file,
-            language: options
-                .input
-                .unwrap_or_else(|| Language::of_file(sources.name(file))),
-            from: options
-                .from
-                .unwrap_or_else(|| eval::Flavour::of_file(sources.name(file))),
-        },
+        Input::of(sources, file, options),
         options,
         wizards,
         Output::Text(out),
@@ -189,16 +180,7 @@ pub fn tool_path(
     };
     // Nothing is written: no write can fail.
     let _ = run(
-        Input {
-            text: sources.text(file),
-            file,
-            language: options
-                .input
-                .unwrap_or_else(|| Language::of_file(sources.name(file))),
-            from: options
-                .from
-                .unwrap_or_else(|| eval::Flavour::of_file(sources.name(file))),
-        },
+        Input::of(sources, file, &options),
         &options,
         wizards,
         Output::Path(&mut path),
@@ -217,9 +199,7 @@ enum Output<'a> {
     Path(&'a mut Option<ToolPath>),
 }
 
-/// The stages in order, writing to `out`; they stop at the first stage
-/// that reports an error.
-/// The file to compile: its text, id and language.
+/// The file to compile: its text, id, language and flavour.
 struct Input<'a> {
     text: &'a str,
     file: FileId,
@@ -227,6 +207,21 @@ struct Input<'a> {
     from: eval::Flavour,
 }
 
+impl<'a> Input<'a> {
+    /// The file's language and flavour are the options', else its name's.
+    fn of(sources: &'a Sources, file: FileId, options: &CompileOptions) -> Input<'a> {
+        let name = sources.name(file);
+        Input {
+            text: sources.text(file),
+            file,
+            language: options.input.unwrap_or_else(|| Language::of_file(name)),
+            from: options.from.unwrap_or_else(|| eval::Flavour::of_file(name)),
+        }
+    }
+}
+
+/// The stages in order, writing to `out`; they stop at the first stage
+/// that reports an error.
 fn run<'a>(
     input: Input<'a>,
     options: &'a CompileOptions,
