@@ -368,11 +368,23 @@ impl<'a> Lexer<'a> {
     /// The rules of plain G-code that differ from `.egc`, for the raw token
     /// at `start..end`: where it took the text, the offset to go on from.
     fn plain_gcode(&mut self, raw: Result<Raw, ()>, start: usize, end: usize) -> Option<usize> {
+        // Words, numbers and line ends (nearly every token) are as in
+        // `.egc`: decided before the line is looked at.
+        let dollar_or_colon = raw.is_err() && self.text[start..].starts_with(['$', ':']);
+        if !matches!(
+            raw,
+            Ok(Raw::Semi | Raw::LParen | Raw::Percent | Raw::Letter)
+        ) && !dollar_or_colon
+        {
+            return None;
+        }
         let line_end = self.text[start..]
             .find('\n')
             .map_or(self.text.len(), |i| start + i);
-        let at_line_start = self.text[..start].rfind('\n').map_or(0, |i| i + 1);
-        let first_on_line = self.text[at_line_start..start].trim().is_empty();
+        let first_on_line = || {
+            let line_start = self.text[..start].rfind('\n').map_or(0, |i| i + 1);
+            self.text[line_start..start].trim().is_empty()
+        };
         match raw {
             // `;` to the end of the line is a comment.
             Ok(Raw::Semi) => {
@@ -390,16 +402,16 @@ impl<'a> Lexer<'a> {
                 Some(end)
             }
             // `%` starts and ends a tape; text after it is a note.
-            Ok(Raw::Percent) if first_on_line => Some(line_end),
+            Ok(Raw::Percent) if first_on_line() => Some(line_end),
             // grbl's `$H`, `$X`, `$$`: a command to the controller.
-            Err(()) if first_on_line && self.text[start..].starts_with('$') => {
+            Err(()) if self.text[start..].starts_with('$') && first_on_line() => {
                 let command = self.text[start..line_end].trim_end();
                 let symbol = self.names.intern(command);
                 self.push(start, Tok::Command(symbol), start + command.len());
                 Some(line_end)
             }
             // Fanuc's `:0097` is the program number `O0097`.
-            Err(()) if first_on_line && self.text[start..].starts_with(':') => {
+            Err(()) if first_on_line() => {
                 let digits = self.text[start + 1..line_end]
                     .find(|c: char| !c.is_ascii_digit())
                     .map_or(line_end, |i| start + 1 + i);
@@ -474,8 +486,8 @@ impl<'a> Lexer<'a> {
         for (start, symbol, end) in std::mem::take(&mut self.line_comments) {
             self.pending_term.get_or_insert(at);
             self.push(start, Tok::Comment(symbol), end);
-            self.pending_term = Some(at);
         }
+        self.pending_term.get_or_insert(at);
     }
 
     /// A word the plain G-code rules read, as `Raw::Word` would be.
@@ -501,7 +513,6 @@ impl<'a> Lexer<'a> {
     fn finish(mut self) -> Lexed {
         let eof = self.text.len();
         if !self.line_comments.is_empty() {
-            self.pending_term.get_or_insert((eof, eof));
             self.flush_comments((eof, eof));
         }
         if let Some(&(open, _)) = self.syms.first() {
@@ -744,11 +755,8 @@ impl<'a> Lexer<'a> {
             self.unclosed_sym(open);
         }
         self.pending_term.get_or_insert((start, end));
+        self.flush_comments((start, end));
         self.shape = Shape::Empty;
-        if !self.line_comments.is_empty() {
-            self.flush_comments((start, end));
-            self.shape = Shape::Empty;
-        }
     }
 
     /// A letter with no number: an address without its value, or a
