@@ -60,14 +60,6 @@ pub enum Flavour {
 }
 
 impl Flavour {
-    pub const ALL: [(&'static str, Flavour); 5] = [
-        ("generic", Flavour::Generic),
-        ("linuxcnc", Flavour::LinuxCnc),
-        ("fanuc", Flavour::Fanuc),
-        ("grbl", Flavour::Grbl),
-        ("mach3", Flavour::Mach3),
-    ];
-
     /// The default for a file: `.ngc` is LinuxCNC's.
     pub fn of_file(name: &str) -> Flavour {
         if name.to_ascii_lowercase().ends_with(".ngc") {
@@ -196,15 +188,11 @@ struct Evaluator<'a> {
     first_units: Option<ir::Units>,
     /// The sink has been told the start ([`ir::Sink::start`]).
     started: bool,
-    /// M codes and G28/G30 already warned about (once each).
-    passed_m_codes: std::collections::BTreeSet<u32>,
-    passed_home: std::collections::BTreeSet<u32>,
+    /// The warnings said once per program, by what they are about: a
+    /// code (letter and number in tenths), `$` for controller commands.
+    warned_once: std::collections::BTreeSet<(u8, u32)>,
     /// The line being run was written after a block-delete `/`.
     block_delete: bool,
-    /// A dwell's unit was warned about.
-    warned_dwell: bool,
-    /// A controller command was warned about.
-    passed_command: bool,
     /// G53 in the current line: its motion is in machine coordinates.
     machine_coordinates: bool,
     diagnostics: Vec<Diagnostic>,
@@ -246,11 +234,8 @@ impl<'a> Evaluator<'a> {
             first_move: None,
             first_units: None,
             started: false,
-            passed_m_codes: Default::default(),
-            passed_home: Default::default(),
+            warned_once: Default::default(),
             machine_coordinates: false,
-            passed_command: false,
-            warned_dwell: false,
             block_delete: false,
             diagnostics: Vec::new(),
             errors: 0,
@@ -327,7 +312,7 @@ impl<'a> Evaluator<'a> {
             ir::Op::Units(u) if self.first_units.is_none() => self.first_units = Some(u),
             _ => {}
         }
-        if self.first_move == Some(span) && !self.started {
+        if !self.started && self.first_move.is_some() {
             self.start(span);
         }
         self.out.push(ir::Stmt {
@@ -340,6 +325,26 @@ impl<'a> Evaluator<'a> {
             self.send();
         }
         Ok(())
+    }
+
+    /// A statement of its own (not from a G-code line): a limit reached
+    /// here stops the program.
+    fn emit_or_abort(&mut self, op: ir::Op, span: Span) -> Flow {
+        match self.emit(op, span) {
+            Ok(()) => Flow::Next,
+            Err(d) => {
+                self.report(d);
+                Flow::Abort
+            }
+        }
+    }
+
+    /// Report the warning `make` builds, unless one about `key` was
+    /// already given.
+    fn warn_once(&mut self, key: (u8, u32), make: impl FnOnce() -> Diagnostic) {
+        if self.warned_once.insert(key) {
+            self.report(make());
+        }
     }
 
     /// The setup is complete (the first move, or the end of a program
@@ -506,35 +511,20 @@ impl<'a> Evaluator<'a> {
                     return Flow::Next;
                 }
                 let op = ir::Op::Comment(self.names.text(*c).to_string());
-                match self.emit(op, stmt.span) {
-                    Ok(()) => Flow::Next,
-                    Err(d) => {
-                        self.report(d);
-                        Flow::Abort
-                    }
-                }
+                self.emit_or_abort(op, stmt.span)
             }
             StmtKind::Command(c) => {
                 let text = self.names.text(*c).to_string();
-                if !self.passed_command {
-                    self.passed_command = true;
-                    self.report(
-                        warning(
-                            format!("`{text}` is passed through"),
-                            stmt.span,
-                            "a command to the controller, not G-code",
-                        )
-                        .with_note("ger writes controller commands as they are, in their place"),
-                    );
-                }
+                self.warn_once((b'$', 0), || {
+                    warning(
+                        format!("`{text}` is passed through"),
+                        stmt.span,
+                        "a command to the controller, not G-code",
+                    )
+                    .with_note("ger writes controller commands as they are, in their place")
+                });
                 let op = ir::Op::Passthrough(ir::Passthrough::Line(text));
-                match self.emit(op, stmt.span) {
-                    Ok(()) => Flow::Next,
-                    Err(d) => {
-                        self.report(d);
-                        Flow::Abort
-                    }
-                }
+                self.emit_or_abort(op, stmt.span)
             }
         }
     }

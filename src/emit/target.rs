@@ -12,20 +12,6 @@ pub enum Target {
 }
 
 impl Target {
-    pub const ALL: [(&'static str, Target); 4] = [
-        ("generic", Target::Generic),
-        ("fanuc", Target::Fanuc),
-        ("grbl", Target::Grbl),
-        ("linuxcnc", Target::LinuxCnc),
-    ];
-
-    pub fn from_name(name: &str) -> Option<Target> {
-        Target::ALL
-            .iter()
-            .find(|(n, _)| n.eq_ignore_ascii_case(name))
-            .map(|&(_, t)| t)
-    }
-
     /// Lines before the program: Fanuc's tape start and program number.
     pub fn prologue(self, program_number: u32) -> Option<String> {
         match self {

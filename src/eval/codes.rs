@@ -272,18 +272,16 @@ impl Evaluator<'_> {
             210 => Op::Units(ir::Units::Mm),
             280 | 300 => {
                 let via = axis_words(w);
-                if self.passed_home.insert(t) {
-                    self.report(
-                        warning(
-                            format!("{} is passed through", name()),
-                            at,
-                            "the machine moves to the home position it stores",
-                        )
-                        .with_note(
-                            "the position after it is not known to ger: the next moves must be absolute",
-                        ),
-                    );
-                }
+                self.warn_once((b'G', t), || {
+                    warning(
+                        format!("{} is passed through", name()),
+                        at,
+                        "the machine moves to the home position it stores",
+                    )
+                    .with_note(
+                        "the position after it is not known to ger: the next moves must be absolute",
+                    )
+                });
                 Op::Home {
                     home: if t == 280 {
                         ir::Home::G28
@@ -424,16 +422,14 @@ impl Evaluator<'_> {
                         words.push((letter, v));
                     }
                 }
-                if self.passed_m_codes.insert(number) {
-                    self.report(
-                        warning(
-                            format!("M{number} is passed through"),
-                            at,
-                            "ger does not know what this code does on your machine",
-                        )
-                        .with_note("it is written to the output as it is, in its place"),
-                    );
-                }
+                self.warn_once((b'M', t), || {
+                    warning(
+                        format!("M{number} is passed through"),
+                        at,
+                        "ger does not know what this code does on your machine",
+                    )
+                    .with_note("it is written to the output as it is, in its place")
+                });
                 (
                     Op::Passthrough(ir::Passthrough::MCode { number, words }),
                     Flow::Next,
@@ -460,9 +456,8 @@ impl Evaluator<'_> {
                 Flavour::Fanuc => p / 1000.0,
                 Flavour::Generic if n.has_point => p,
                 Flavour::Generic => {
-                    if self.options.plain && !self.warned_dwell && p > 0.0 {
-                        self.warned_dwell = true;
-                        self.report(
+                    if self.options.plain && p > 0.0 {
+                        self.warn_once((b'G', 40), || {
                             warning(
                                 format!("G4 P{p} is read as {p} milliseconds"),
                                 pspan,
@@ -470,8 +465,8 @@ impl Evaluator<'_> {
                             )
                             .with_help(
                                 "LinuxCNC, grbl and Mach3 read it in seconds: pass --from linuxcnc (or grbl, mach3), or write `P0.5`",
-                            ),
-                        );
+                            )
+                        });
                     }
                     p / 1000.0
                 }
