@@ -114,8 +114,8 @@ pub struct WizardCall<'a> {
 
 /// What a wizard may do to the program being built.
 pub trait WizardContext {
-    /// Run one line of extended G-code as if written at the call.
-    fn run_source(&mut self, text: &str) -> Result<(), Vec<Diagnostic>>;
+    /// Run one parsed line of extended G-code as if written at the call.
+    fn run_line(&mut self, line: &ast::Program) -> Result<(), Vec<Diagnostic>>;
     fn emit(&mut self, op: ir::Op) -> Result<(), Diagnostic>;
     fn state(&self) -> MachineState;
 }
@@ -697,8 +697,8 @@ struct Context<'e, 'a> {
 }
 
 impl WizardContext for Context<'_, '_> {
-    fn run_source(&mut self, text: &str) -> Result<(), Vec<Diagnostic>> {
-        codes::run_wizard_line(self.ev, text, self.span)
+    fn run_line(&mut self, line: &ast::Program) -> Result<(), Vec<Diagnostic>> {
+        codes::run_wizard_line(self.ev, line, self.span)
     }
 
     fn emit(&mut self, op: ir::Op) -> Result<(), Diagnostic> {

@@ -117,7 +117,8 @@ impl Library {
 /// What a script asked for, in order.
 enum Action {
     Op(Op),
-    Source(String),
+    /// A `gcode()` line, parsed when the script gave it.
+    Line(crate::ast::Program),
 }
 
 /// The state a running script shares with the API functions.
@@ -360,11 +361,11 @@ fn register_settings(engine: &mut Engine, session: &Rc<RefCell<Session>>) {
             return fail("gcode() takes one line");
         }
         // A line that does not parse is the script's error, at its line.
-        let (_, problems) = crate::syntax::egc::parse_program(text, 0);
+        let (line, problems) = crate::syntax::egc::parse_program(text, 0);
         if let Some(first) = problems.first() {
             return fail(format!("gcode(\"{text}\"): {}", first.message));
         }
-        shared.borrow_mut().push(Action::Source(text.to_string()))
+        shared.borrow_mut().push(Action::Line(line))
     });
 }
 
@@ -659,7 +660,7 @@ impl WizardEngine {
         for action in actions {
             match action {
                 Action::Op(op) => ctx.emit(op).map_err(|d| vec![d])?,
-                Action::Source(text) => ctx.run_source(&text)?,
+                Action::Line(line) => ctx.run_line(&line)?,
             }
         }
         if state.polar {

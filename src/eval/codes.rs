@@ -650,17 +650,14 @@ fn whole(value: f64, span: Span, what: &str) -> Result<u32, Diagnostic> {
     Ok(value as u32)
 }
 
-/// Run one line of extended G-code that a wizard produced; its statements
-/// take the wizard call's span.
+/// Run one line of extended G-code that a wizard produced (parsed, without
+/// errors, where the script gave it); its statements take the wizard
+/// call's span.
 pub(super) fn run_wizard_line(
     ev: &mut Evaluator<'_>,
-    text: &str,
+    program: &ast::Program,
     span: Span,
 ) -> Result<(), Vec<Diagnostic>> {
-    let (program, diagnostics) = crate::syntax::egc::parse_program(text, span.file_id());
-    if !diagnostics.is_empty() {
-        return Err(diagnostics);
-    }
     for stmt in &program.main {
         let ast::StmtKind::Line(line) = &stmt.kind else {
             return Err(vec![error(
