@@ -8,7 +8,7 @@ use crate::emit::{self, EmitOptions};
 use crate::eval::{self, EvalOptions, WizardHost};
 use crate::ir;
 use crate::lower::{self, Pipeline};
-use crate::source::{FileId, Sources};
+use crate::source::{FileId, Locator, Sources};
 use crate::syntax::egc::Language;
 use crate::toolpath::{Builder as ToolPathBuilder, ToolPath};
 use std::io::Write;
@@ -203,6 +203,7 @@ enum Output<'a> {
 struct Input<'a> {
     text: &'a str,
     file: FileId,
+    locator: Locator,
     language: Language,
     from: eval::Flavour,
 }
@@ -214,6 +215,7 @@ impl<'a> Input<'a> {
         Input {
             text: sources.text(file),
             file,
+            locator: sources.locator(file),
             language: options.input.unwrap_or_else(|| Language::of_file(name)),
             from: options.from.unwrap_or_else(|| eval::Flavour::of_file(name)),
         }
@@ -233,6 +235,7 @@ fn run<'a>(
     let Input {
         text,
         file,
+        locator,
         language,
         from,
     } = input;
@@ -241,7 +244,8 @@ fn run<'a>(
         plain: language == Language::Gcode,
         ..options.eval.clone()
     };
-    let (program, parse_diagnostics) = crate::syntax::egc::parse_program_as(text, file, language);
+    let (program, parse_diagnostics) =
+        crate::syntax::egc::parse_program_at(text, &locator, language);
     diagnostics.extend(parse_diagnostics);
     clock.lap("parse");
     if diagnostics.iter().any(is_error) {

@@ -4,6 +4,8 @@
 //! ([`decode`]): UTF-8, else Latin-1 per line, and binary input is refused.
 //! This module does no I/O: callers hand it the bytes they have read.
 
+use std::sync::Arc;
+
 /// Index of a file in [`Sources`].
 pub type FileId = usize;
 
@@ -61,7 +63,8 @@ pub struct Sources {
 pub struct SourceFile {
     pub name: String,
     pub text: String,
-    lines: LineIndex,
+    /// Shared with the parser's [`Locator`]: built once per file.
+    lines: Arc<LineIndex>,
 }
 
 impl Sources {
@@ -73,10 +76,21 @@ impl Sources {
         let text = text.into();
         self.files.push(SourceFile {
             name: name.into(),
-            lines: LineIndex::new(&text),
+            lines: Arc::new(LineIndex::new(&text)),
             text,
         });
         self.files.len() - 1
+    }
+
+    /// The span maker of a file, on the line index built when it was added.
+    pub fn locator(&self, file: FileId) -> Locator {
+        Locator {
+            file,
+            lines: self
+                .files
+                .get(file)
+                .map_or_else(|| Arc::new(LineIndex::new("")), |f| Arc::clone(&f.lines)),
+        }
     }
 
     pub fn text(&self, file: FileId) -> &str {
@@ -107,14 +121,14 @@ impl SourceFile {
 /// Makes the spans of one file: byte ranges with their line.
 pub struct Locator {
     file: FileId,
-    lines: LineIndex,
+    lines: Arc<LineIndex>,
 }
 
 impl Locator {
     pub fn new(file: FileId, text: &str) -> Locator {
         Locator {
             file,
-            lines: LineIndex::new(text),
+            lines: Arc::new(LineIndex::new(text)),
         }
     }
 

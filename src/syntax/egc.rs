@@ -6,4 +6,6 @@ pub mod lexer;
 pub mod parser;
 
 pub use lexer::Language;
-pub use parser::{parse_program, parse_program_as, parse_program_with_fast_path, with_fast_path};
+pub use parser::{
+    parse_program, parse_program_as, parse_program_at, parse_program_with_fast_path, with_fast_path,
+};

@@ -39,22 +39,31 @@ pub fn parse_program_as(
     file: FileId,
     language: Language,
 ) -> (Program, Vec<Diagnostic>) {
+    parse_program_at(text, &Locator::new(file, text), language)
+}
+
+/// [`parse_program_as`] with the span maker of the file (from
+/// [`crate::source::Sources::locator`], so its line index is not built again).
+pub fn parse_program_at(
+    text: &str,
+    at: &Locator,
+    language: Language,
+) -> (Program, Vec<Diagnostic>) {
     let mut names = Names::default();
-    let at = Locator::new(file, text);
     let Lexed {
         tokens,
         words,
         errors: lex_errors,
         unclosed_brace,
         call_groups,
-    } = lexer::lex_as(text, &at, &mut names, language);
+    } = lexer::lex_as(text, at, &mut names, language);
     let mut problems: Vec<Problem> = lex_errors
         .into_iter()
         .map(|d| Problem::new(ProblemKind::Read, d))
         .collect();
 
     let context = ErrorContext {
-        at: &at,
+        at,
         text,
         names: &names,
         call_groups: &call_groups,
@@ -73,7 +82,7 @@ pub fn parse_program_as(
                 kind: StmtKind::Line(Line {
                     words: {
                         let mut v = Vec::with_capacity(run.1 as usize);
-                        push_words(&mut v, &words, run, &at);
+                        push_words(&mut v, &words, run, at);
                         v
                     },
                     block_delete: false,
@@ -83,7 +92,7 @@ pub fn parse_program_as(
             Piece::Grammar(slice) => {
                 let mut recovered = Vec::new();
                 let result = grammar::ProgramParser::new().parse(
-                    &at,
+                    at,
                     &names,
                     &words,
                     &mut recovered,
