@@ -318,7 +318,7 @@ fn run(
             return ExitCode::from(2);
         }
     };
-    let text = match ger::source::decode(&bytes) {
+    let text = match ger::source::decode(bytes) {
         Ok(text) => text,
         Err(why) => {
             let (what, at) = match why {

@@ -196,24 +196,42 @@ pub enum NotText {
 /// line ends) becomes LF, and a DOS end-of-file `^Z` with anything after
 /// it is dropped. NUL bytes or other control characters mean the file is
 /// not text: refused before any parsing. Every span refers to this text.
-pub fn decode(bytes: &[u8]) -> Result<String, NotText> {
-    let bytes = bytes.strip_prefix(b"\xef\xbb\xbf").unwrap_or(bytes);
-    let bytes = match bytes.iter().position(|&b| b == 0x1a) {
-        Some(eof) if bytes[eof + 1..].iter().all(|b| b.is_ascii_whitespace()) => &bytes[..eof],
-        _ => bytes,
-    };
-    if let Some(at) = bytes.iter().position(|&b| b == 0) {
-        return Err(NotText::Nul(at));
+pub fn decode(mut bytes: Vec<u8>) -> Result<String, NotText> {
+    if bytes.starts_with(b"\xef\xbb\xbf") {
+        bytes.drain(..3);
     }
-    if let Some(at) = bytes
-        .iter()
-        .position(|&b| b < 0x20 && !matches!(b, b'\n' | b'\r' | b'\t' | 0x0c))
-    {
+    if let Some(eof) = bytes.iter().position(|&b| b == 0x1a) {
+        if bytes[eof + 1..].iter().all(|b| b.is_ascii_whitespace()) {
+            bytes.truncate(eof);
+        }
+    }
+    // One pass: a NUL anywhere says "binary" before any other control byte.
+    let mut control = None;
+    for (at, &b) in bytes.iter().enumerate() {
+        match b {
+            0 => return Err(NotText::Nul(at)),
+            b'\n' | b'\r' | b'\t' | 0x0c => {}
+            _ if b < 0x20 => {
+                control.get_or_insert(at);
+            }
+            _ => {}
+        }
+    }
+    if let Some(at) = control {
         return Err(NotText::Control(at));
     }
-    let mut text = match std::str::from_utf8(bytes) {
-        Ok(text) => text.to_string(),
-        Err(_) => {
+    // A lone CR is a line end (same length: offsets do not move).
+    if bytes.contains(&b'\r') {
+        for i in 0..bytes.len() {
+            if bytes[i] == b'\r' && bytes.get(i + 1) != Some(&b'\n') {
+                bytes[i] = b'\n';
+            }
+        }
+    }
+    match String::from_utf8(bytes) {
+        Ok(text) => Ok(text),
+        Err(e) => {
+            let bytes = e.into_bytes();
             let mut text = String::with_capacity(bytes.len() + bytes.len() / 8);
             for line in bytes.split_inclusive(|&b| b == b'\n') {
                 match std::str::from_utf8(line) {
@@ -221,20 +239,9 @@ pub fn decode(bytes: &[u8]) -> Result<String, NotText> {
                     Err(_) => text.extend(line.iter().map(|&b| b as char)),
                 }
             }
-            text
+            Ok(text)
         }
-    };
-    if text.contains('\r') {
-        // Same length: offsets do not move.
-        let mut bytes = text.into_bytes();
-        for i in 0..bytes.len() {
-            if bytes[i] == b'\r' && bytes.get(i + 1) != Some(&b'\n') {
-                bytes[i] = b'\n';
-            }
-        }
-        text = String::from_utf8(bytes).unwrap_or_default();
     }
-    Ok(text)
 }
 
 #[cfg(test)]
@@ -244,19 +251,22 @@ mod tests {
     #[test]
     fn latin1_lines_survive_and_utf8_stays() {
         let bytes = b"G0 X1 (25\xb0)\nG1 Y2 (\xc3\xa9)\n";
-        assert_eq!(decode(bytes).unwrap(), "G0 X1 (25°)\nG1 Y2 (é)\n");
+        assert_eq!(decode(bytes.to_vec()).unwrap(), "G0 X1 (25°)\nG1 Y2 (é)\n");
     }
 
     #[test]
     fn cr_line_ends_and_bom() {
-        assert_eq!(decode(b"\xef\xbb\xbfG0\rG1\r\nG2").unwrap(), "G0\nG1\r\nG2");
+        assert_eq!(
+            decode(b"\xef\xbb\xbfG0\rG1\r\nG2".to_vec()).unwrap(),
+            "G0\nG1\r\nG2"
+        );
     }
 
     #[test]
     fn binary_is_refused_and_ctrl_z_ends_the_file() {
-        assert_eq!(decode(b"G0\x00X1"), Err(NotText::Nul(2)));
-        assert_eq!(decode(b"G0 X1\n\x1a").unwrap(), "G0 X1\n");
-        assert_eq!(decode(b"G0\x01"), Err(NotText::Control(2)));
+        assert_eq!(decode(b"G0\x00X1".to_vec()), Err(NotText::Nul(2)));
+        assert_eq!(decode(b"G0 X1\n\x1a".to_vec()).unwrap(), "G0 X1\n");
+        assert_eq!(decode(b"G0\x01".to_vec()), Err(NotText::Control(2)));
     }
 
     #[test]

@@ -11,7 +11,7 @@ use ger::wizard::{standard_library, Library, WizardEngine};
 use libfuzzer_sys::fuzz_target;
 
 fuzz_target!(|bytes: &[u8]| {
-    let Ok(text) = decode(bytes) else { return };
+    let Ok(text) = decode(bytes.to_vec()) else { return };
     let mut sources = Sources::new();
     let file = sources.add("fuzz.egc", text);
     let mut engine = WizardEngine::new(Library::new(standard_library(), &mut sources));
