@@ -57,25 +57,19 @@ fn run_case(case: &Path) -> Result<(), Failed> {
     let work = std::env::temp_dir().join(format!("ger-oracle-{}-{stem}", std::process::id()));
     std::fs::create_dir_all(&work).map_err(|e| e.to_string())?;
     let table = case.with_extension("tbl");
+    let tools = match std::fs::read_to_string(&table) {
+        Ok(text) => rs274::read_tool_table(&text),
+        Err(_) => Vec::new(),
+    };
     let mut input = case.to_path_buf();
-    if table.exists() {
+    if !tools.is_empty() {
         // ger reads its tool table from SetTool directives (in mm here).
-        let tbl = std::fs::read_to_string(&table).map_err(|e| e.to_string())?;
         let mut text = String::from("SetUnits \"mm\"\n");
-        for line in tbl.lines() {
-            let fields = line.split(';').next().unwrap_or("");
-            let get = |k: char| {
-                fields
-                    .split_whitespace()
-                    .find(|f| f.starts_with(k))
-                    .map(|f| f[1..].to_string())
-            };
-            if let (Some(t), Some(d)) = (get('T'), get('D')) {
-                text.push_str(&format!(
-                    "SetTool {t} {d} {}\n",
-                    get('Z').unwrap_or("0".into())
-                ));
-            }
+        for t in &tools {
+            text.push_str(&format!(
+                "SetTool {} {} {}\n",
+                t.number, t.diameter, t.length
+            ));
         }
         text.push_str(&std::fs::read_to_string(case).map_err(|e| e.to_string())?);
         input = work.join(format!("{stem}.egc"));
@@ -88,10 +82,6 @@ fn run_case(case: &Path) -> Result<(), Failed> {
     let reference = match case.with_extension("ngc") {
         r if r.exists() => r,
         _ => case.to_path_buf(),
-    };
-    let tools = match std::fs::read_to_string(&table) {
-        Ok(text) => rs274::read_tool_table(&text),
-        Err(_) => Vec::new(),
     };
     let a = rs274::tool_path(&reference, &tools)
         .map_err(|e| format!("the reference {} fails: {e}", reference.display()))?;
