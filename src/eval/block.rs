@@ -36,21 +36,19 @@ pub fn in_order(line: &Line) -> Option<Vec<Owned>> {
     if codes.len() < 2 {
         return None;
     }
-    let mut groups = Vec::with_capacity(codes.len());
-    for code in &codes {
-        let kind = kind_of(code)?;
+    let kinds: Vec<Kind> = codes.iter().map(|c| kind_of(c)).collect::<Option<_>>()?;
+    for (i, kind) in kinds.iter().enumerate() {
         let group = kind.group();
-        if group != Group::Alone && groups.contains(&group) {
+        if group != Group::Alone && kinds[..i].iter().any(|k| k.group() == group) {
             return None;
         }
-        groups.push(group);
     }
     let mut stmts: Vec<(u8, Owned)> = codes
         .iter()
-        .map(|&c| {
-            let rank = kind_of(c).map_or(u8::MAX, Kind::rank);
+        .zip(&kinds)
+        .map(|(&c, kind)| {
             (
-                rank,
+                kind.rank(),
                 Owned {
                     code: Some(c.clone()),
                     args: Vec::new(),
@@ -69,7 +67,7 @@ pub fn in_order(line: &Line) -> Option<Vec<Owned>> {
         args: Vec::new(),
     };
     for w in line.words.iter().filter(|w| !w.is_code()) {
-        match taker(w.letter, &codes) {
+        match taker(w.letter, &kinds) {
             Some(i) => stmts[i].1.args.push(w.clone()),
             None if matches!(w.letter, b'F' | b'S' | b'T' | b'N') => first.args.push(w.clone()),
             None => moves.args.push(w.clone()),
@@ -87,13 +85,8 @@ pub fn in_order(line: &Line) -> Option<Vec<Owned>> {
 
 /// Which code of the line takes a word with this letter: the first that
 /// uses it, in the order of preference of rs274.
-fn taker(letter: u8, codes: &[&Word]) -> Option<usize> {
-    let kinds: Vec<Option<Kind>> = codes.iter().map(|c| kind_of(c)).collect();
-    let find = |wanted: &[Kind]| {
-        kinds
-            .iter()
-            .position(|k| k.is_some_and(|k| wanted.contains(&k)))
-    };
+fn taker(letter: u8, kinds: &[Kind]) -> Option<usize> {
+    let find = |wanted: &[Kind]| kinds.iter().position(|k| wanted.contains(k));
     match letter {
         b'X' | b'Y' | b'Z' | b'A' | b'B' | b'C' | b'U' | b'V' | b'W' => {
             find(&[Kind::AxisUser]).or_else(|| find(&[Kind::Motion]))
