@@ -154,6 +154,56 @@ enum ArcsArg {
     Lines,
 }
 
+impl Options {
+    /// The library's options for these command-line choices.
+    fn compile_options(&self, stage: Option<Stage>) -> CompileOptions {
+        CompileOptions {
+            eval: ger::eval::EvalOptions {
+                max_iterations: self.max_iterations,
+                keep_comments: self.comments == CommentsArg::Keep,
+                units: self.units.map(|u| match u {
+                    UnitsArg::Mm => Units::Mm,
+                    UnitsArg::Inch => Units::Inch,
+                }),
+                ..Default::default()
+            },
+            from: self.from.map(|f| match f {
+                FromArg::Generic => ger::eval::Flavour::Generic,
+                FromArg::Linuxcnc => ger::eval::Flavour::LinuxCnc,
+                FromArg::Fanuc => ger::eval::Flavour::Fanuc,
+                FromArg::Grbl => ger::eval::Flavour::Grbl,
+                FromArg::Mach3 => ger::eval::Flavour::Mach3,
+            }),
+            input: self.language.map(|i| match i {
+                InputArg::Egc => ger::syntax::egc::Language::Egc,
+                InputArg::Gcode => ger::syntax::egc::Language::Gcode,
+            }),
+            emit: ger::emit::EmitOptions {
+                numbering: match self.numbers {
+                    NumbersArg::Source => Numbering::Source,
+                    NumbersArg::Seq => Numbering::Seq,
+                    NumbersArg::None => Numbering::None,
+                },
+                target: match self.target {
+                    TargetArg::Generic => Target::Generic,
+                    TargetArg::Fanuc => Target::Fanuc,
+                    TargetArg::Grbl => Target::Grbl,
+                    TargetArg::Linuxcnc => Target::LinuxCnc,
+                },
+                arcs: match self.arcs {
+                    ArcsArg::Ij => ArcFormat::Ij,
+                    ArcsArg::R => ArcFormat::R,
+                    ArcsArg::Lines => ArcFormat::Lines,
+                },
+                decimals: self.decimals,
+                tolerance: self.tolerance,
+                ..Default::default()
+            },
+            stage,
+        }
+    }
+}
+
 fn main() -> ExitCode {
     // The evaluator and the grammar's trees recurse; the lexer bounds the
     // nesting, and a big stack gives the bounded recursion ample room.
@@ -334,50 +384,7 @@ fn run(
     let mut sources = Sources::new();
     let name = if input == "-" { "<stdin>" } else { input };
     let file = sources.add(name, text);
-    let compile_options = CompileOptions {
-        eval: ger::eval::EvalOptions {
-            max_iterations: options.max_iterations,
-            keep_comments: options.comments == CommentsArg::Keep,
-            units: options.units.map(|u| match u {
-                UnitsArg::Mm => Units::Mm,
-                UnitsArg::Inch => Units::Inch,
-            }),
-            ..Default::default()
-        },
-        from: options.from.map(|f| match f {
-            FromArg::Generic => ger::eval::Flavour::Generic,
-            FromArg::Linuxcnc => ger::eval::Flavour::LinuxCnc,
-            FromArg::Fanuc => ger::eval::Flavour::Fanuc,
-            FromArg::Grbl => ger::eval::Flavour::Grbl,
-            FromArg::Mach3 => ger::eval::Flavour::Mach3,
-        }),
-        input: options.language.map(|i| match i {
-            InputArg::Egc => ger::syntax::egc::Language::Egc,
-            InputArg::Gcode => ger::syntax::egc::Language::Gcode,
-        }),
-        emit: ger::emit::EmitOptions {
-            numbering: match options.numbers {
-                NumbersArg::Source => Numbering::Source,
-                NumbersArg::Seq => Numbering::Seq,
-                NumbersArg::None => Numbering::None,
-            },
-            target: match options.target {
-                TargetArg::Generic => Target::Generic,
-                TargetArg::Fanuc => Target::Fanuc,
-                TargetArg::Grbl => Target::Grbl,
-                TargetArg::Linuxcnc => Target::LinuxCnc,
-            },
-            arcs: match options.arcs {
-                ArcsArg::Ij => ArcFormat::Ij,
-                ArcsArg::R => ArcFormat::R,
-                ArcsArg::Lines => ArcFormat::Lines,
-            },
-            decimals: options.decimals,
-            tolerance: options.tolerance,
-            ..Default::default()
-        },
-        stage,
-    };
+    let compile_options = options.compile_options(stage);
     if !options.tolerance.is_finite()
         || options.tolerance <= 0.0
         || options.decimals.is_some_and(|d| d > 9)
