@@ -49,6 +49,7 @@ pub struct CompileOptions {
     /// `--from`; `None`: from the file name (`.ngc` is LinuxCNC's).
     pub from: Option<eval::Flavour>,
     pub emit: EmitOptions,
+    pub lower: lower::LowerOptions,
     /// Print the program after this stage instead of the final output.
     pub stage: Option<Stage>,
 }
@@ -338,7 +339,13 @@ impl<'s> Backend<'s> {
             Some(Stage::Parse | Stage::Expand) => None,
             None => Some(lower::PASSES.len() - 1),
         };
-        let context = lower::Context { start };
+        // A tool path is built from moves: cycles are always expanded.
+        let path_options = lower::LowerOptions::default();
+        let options = match self.out {
+            Output::Path(_) => &path_options,
+            _ => &self.options.lower,
+        };
+        let context = lower::Context { start, options };
         // What the first pass starts from is what is printed, unless the
         // units pass has run.
         let units = match last {

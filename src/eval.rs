@@ -7,6 +7,8 @@
 
 mod block;
 mod codes;
+mod cycle;
+pub use cycle::{count_pecks, MAX_PECKS};
 mod setup;
 pub mod value;
 
@@ -199,6 +201,14 @@ struct Evaluator<'a> {
     errors: usize,
     /// Current motion mode, for words written without a G code.
     motion: Option<ir::Motion>,
+    /// The canned cycle axis words repeat (it stands before `motion`).
+    cycle: Option<ir::CycleKind>,
+    /// A run of cycles is open (its first block set the G98 level).
+    cycle_run: bool,
+    /// The cycle words a repeat may leave out.
+    sticky: cycle::Sticky,
+    plane: ir::Plane,
+    spindle: ir::Spindle,
     /// Subprograms being run, innermost last: (number, call span).
     calls: Vec<(u32, Span)>,
     setup: setup::SetupBuilder,
@@ -240,6 +250,11 @@ impl<'a> Evaluator<'a> {
             diagnostics: Vec::new(),
             errors: 0,
             motion: None,
+            cycle: None,
+            cycle_run: false,
+            sticky: cycle::Sticky::default(),
+            plane: ir::Plane::XY,
+            spindle: ir::Spindle::Off,
             calls: Vec::new(),
             setup: setup::SetupBuilder::default(),
             tool: 1,
@@ -414,6 +429,8 @@ impl<'a> Evaluator<'a> {
                 }
             }
             ir::Op::Units(u) => self.units = Some(*u),
+            ir::Op::Plane(p) => self.plane = *p,
+            ir::Op::Spindle(s) => self.spindle = *s,
             ir::Op::Distance(d) => self.distance = *d,
             ir::Op::Polar(on) => self.polar = *on,
             ir::Op::SetPosition(a) => {

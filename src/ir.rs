@@ -356,22 +356,37 @@ impl CycleKind {
     }
 }
 
-/// One block of a canned cycle, as written: the words it gives. Missing
-/// R, Z, Q, P keep the values of the previous block of the run.
+/// One block of a canned cycle. The front end fills in what rs274 lets a
+/// block leave out (R, the depth, Q, P, I/J/K of the previous block of the
+/// same cycle), so every block is complete. Under G91 the plane words are
+/// the step per repeat, R is measured from the run's start level and the
+/// depth from R, as in rs274.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Cycle {
     pub kind: CycleKind,
-    /// The hole position (plane axes) and the bottom (the normal axis).
+    /// The hole position (plane axes, as written) and the bottom (the
+    /// plane's normal axis, always given).
     pub at: Axes,
-    pub r: Option<f64>,
+    /// The R level, on the normal axis.
+    pub r: f64,
     /// Peck depth (G73, G83).
     pub q: Option<f64>,
-    /// Dwell at the bottom, seconds.
+    /// Dwell at the bottom, seconds (G82, G84, G74, G86, G88, G89).
     pub dwell: Option<f64>,
-    /// Repeats (L, or Fanuc's K).
+    /// Holes drilled (L, or Fanuc's K), from 1.
     pub repeats: u32,
     /// G87's I, J (back-bore offset) and K (back-bore level).
     pub ijk: Center,
+    /// The first block of a run of cycles (after any other motion code or
+    /// G80): where the tool is before it is the G98 level of the run.
+    pub starts_run: bool,
+    /// The number of pecks (G73, G83) as rs274 counts them, by repeated
+    /// subtraction in the program's own units and coordinates; known when
+    /// the front end can count them (G90).
+    pub pecks: Option<u32>,
+    /// Set by the cycles pass on a cycle it keeps (`--cycles keep`): the
+    /// level of the normal axis the cycle ends at.
+    pub ends_at: Option<f64>,
 }
 
 /// Which side of the path the tool runs on (G41 left, G42 right).

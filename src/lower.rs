@@ -15,9 +15,11 @@
 //! last, on absolute machine coordinates.
 
 mod absolute;
+mod cycles;
 mod error;
 mod offsets;
 mod polar;
+mod position;
 mod units;
 
 pub use error::{LowerError, LowerErrorKind};
@@ -44,6 +46,14 @@ pub trait Pass {
 /// What a pass is made from.
 pub struct Context<'a> {
     pub start: &'a ir::Start,
+    pub options: &'a LowerOptions,
+}
+
+/// How the passes lower what controllers differ on.
+#[derive(Clone, Debug, Default)]
+pub struct LowerOptions {
+    /// `--cycles keep`: canned cycles stay in the output, normalised.
+    pub keep_cycles: bool,
 }
 
 /// A pass in the registry: its stage name and how to make it.
@@ -54,7 +64,13 @@ pub struct PassInfo {
 
 /// Every lowering pass, in the order it runs. `--stage NAME` stops after
 /// the pass of that name. A new pass is a file and a line here.
-pub const PASSES: &[PassInfo] = &[units::PASS, polar::PASS, offsets::PASS, absolute::PASS];
+pub const PASSES: &[PassInfo] = &[
+    units::PASS,
+    polar::PASS,
+    offsets::PASS,
+    cycles::PASS,
+    absolute::PASS,
+];
 
 /// The index in [`PASSES`] of the pass named `name`.
 pub fn pass_index(name: &str) -> Option<usize> {

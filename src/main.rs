@@ -85,6 +85,10 @@ struct Options {
     /// The units of a program that states none (no G20/G21, no SetUnits).
     #[arg(long, value_enum)]
     units: Option<UnitsArg>,
+    /// Canned cycles: expanded to moves, or kept for a controller that has
+    /// them (--target fanuc or linuxcnc).
+    #[arg(long, value_enum, default_value_t = CyclesArg::Expand)]
+    cycles: CyclesArg,
     /// How arcs are written.
     #[arg(long, value_enum, default_value_t = ArcsArg::Ij)]
     arcs: ArcsArg,
@@ -147,6 +151,12 @@ enum TargetArg {
     Linuxcnc,
 }
 
+#[derive(Clone, Copy, PartialEq, Eq, ValueEnum)]
+enum CyclesArg {
+    Expand,
+    Keep,
+}
+
 #[derive(Clone, Copy, ValueEnum)]
 enum ArcsArg {
     Ij,
@@ -178,6 +188,9 @@ impl Options {
                 InputArg::Egc => ger::syntax::egc::Language::Egc,
                 InputArg::Gcode => ger::syntax::egc::Language::Gcode,
             }),
+            lower: ger::lower::LowerOptions {
+                keep_cycles: self.cycles == CyclesArg::Keep,
+            },
             emit: ger::emit::EmitOptions {
                 numbering: match self.numbers {
                     NumbersArg::Source => Numbering::Source,
@@ -390,6 +403,12 @@ fn run(
         || options.decimals.is_some_and(|d| d > 9)
     {
         eprintln!("error: --tolerance must be positive and --decimals at most 9");
+        return ExitCode::from(2);
+    }
+    if options.cycles == CyclesArg::Keep
+        && !matches!(options.target, TargetArg::Fanuc | TargetArg::Linuxcnc)
+    {
+        eprintln!("error: --cycles keep needs a controller with canned cycles: --target fanuc or linuxcnc");
         return ExitCode::from(2);
     }
     let started = std::time::Instant::now();

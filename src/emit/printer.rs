@@ -346,7 +346,7 @@ impl Printer {
         self.line.push(b'G');
         push_int(&mut self.line, c.kind.code() as i64);
         self.axes(&c.at);
-        for (letter, v) in [(b'R', c.r), (b'Q', c.q), (b'P', c.dwell)] {
+        for (letter, v) in [(b'R', Some(c.r)), (b'Q', c.q), (b'P', c.dwell)] {
             if let Some(v) = v {
                 self.word(letter, v);
             }

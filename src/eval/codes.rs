@@ -148,6 +148,10 @@ impl Evaluator<'_> {
         code: Code,
     ) -> Result<(), Diagnostic> {
         let has_axes = Axis::ALL.iter().any(|a| w.has(a.letter()));
+        if let Some(kind) = self.cycle.filter(|_| has_axes && !self.machine_coordinates) {
+            self.cycle_block(kind, None, w, span)?;
+            return self.unused_words(w, code);
+        }
         let arc_words = [b'I', b'J', b'K', b'R'].iter().any(|&l| w.has(l));
         if has_axes || (arc_words && self.motion.is_some_and(Motion::is_arc)) {
             let Some(motion) = self.motion else {
@@ -173,6 +177,11 @@ impl Evaluator<'_> {
                 self.emit(Op::Move(m), span)?;
             }
         }
+        self.unused_words(w, code)
+    }
+
+    /// Words no code of the statement took: an error at the first.
+    fn unused_words(&self, w: &WordValues, code: Code) -> Result<(), Diagnostic> {
         if let Some((letter, at)) = w.remaining().next() {
             let label = match code {
                 None => "no code on this line uses it".to_string(),
@@ -259,6 +268,8 @@ impl Evaluator<'_> {
                     _ => Motion::ArcCcw,
                 };
                 self.motion = Some(motion);
+                self.cycle = None;
+                self.cycle_run = false;
                 return self.leftover_move(w, span, code).map(|_| Flow::Next);
             }
             40 => self.dwell(w, at)?,
@@ -329,17 +340,30 @@ impl Evaluator<'_> {
                 ));
                 return self.leftover_move(w, span, code).map(|_| Flow::Next);
             }
-            730 | 740 | 760 | 810..=890 if t.is_multiple_of(10) => {
+            730 | 740 | 810..=890 if t.is_multiple_of(10) => {
+                if let Some(kind) = super::cycle::kind_of(t) {
+                    self.cycle_block(kind, Some(at), w, span)?;
+                    return self.unused_words(w, code).map(|_| Flow::Next);
+                }
                 return Err(error(
-                    format!("canned cycles ({}) are not supported yet", name()),
+                    format!("unsupported code {}", name()),
                     at,
-                    "ger cannot lower this code yet",
-                )
-                .with_help(
-                    "write the drilling moves out with G0/G1, or use a wizard such as `holesLine`",
-                ))
+                    "no such cycle",
+                ));
             }
-            800 => Op::CycleOff,
+            760 => {
+                return Err(error(
+                    "G76 is not supported",
+                    at,
+                    "G76 is fine boring on Fanuc and threading on LinuxCNC",
+                )
+                .with_help("use G86 or G89 to bore"))
+            }
+            800 => {
+                self.cycle = None;
+                self.cycle_run = false;
+                Op::CycleOff
+            }
             900 => Op::Distance(ir::Distance::Absolute),
             910 => Op::Distance(ir::Distance::Incremental),
             911 => return self.leftover_move(w, span, code).map(|_| Flow::Next),
@@ -353,7 +377,8 @@ impl Evaluator<'_> {
             }
             921 | 922 => Op::CancelPosition,
             940 => return self.leftover_move(w, span, code).map(|_| Flow::Next),
-            980 | 990 => return self.leftover_move(w, span, code).map(|_| Flow::Next),
+            980 => Op::ReturnLevel(ir::ReturnLevel::Initial),
+            990 => Op::ReturnLevel(ir::ReturnLevel::R),
             _ => {
                 let why = match t {
                     120 | 130 => "circle milling (G12/G13) is a Fanuc option; use G2/G3 or a CirclePocket wizard",
@@ -449,28 +474,8 @@ impl Evaluator<'_> {
     }
 
     fn dwell(&mut self, w: &mut WordValues, at: Span) -> Result<Op, Diagnostic> {
-        use super::Flavour;
         let seconds = match (w.take_number(b'P'), w.take(b'X')) {
-            (Some((p, pspan, n)), None) => match self.options.from {
-                Flavour::LinuxCnc | Flavour::Grbl | Flavour::Mach3 => p,
-                Flavour::Fanuc => p / 1000.0,
-                Flavour::Generic if n.has_point => p,
-                Flavour::Generic => {
-                    if self.options.plain && p > 0.0 {
-                        self.warn_once((b'G', 40), || {
-                            warning(
-                                format!("G4 P{p} is read as {p} milliseconds"),
-                                pspan,
-                                "a P without a decimal point is in ms (Fanuc)",
-                            )
-                            .with_help(
-                                "LinuxCNC, grbl and Mach3 read it in seconds: pass --from linuxcnc (or grbl, mach3), or write `P0.5`",
-                            )
-                        });
-                    }
-                    p / 1000.0
-                }
-            },
+            (Some((p, pspan, n)), None) => self.seconds(p, pspan, n)?,
             (None, Some((x, _))) => x,
             (Some(_), Some((_, xspan))) => {
                 return Err(error("G4 with both P and X", xspan, "give the dwell once"))
@@ -484,6 +489,42 @@ impl Evaluator<'_> {
             return Err(error("negative dwell", at, "a dwell time is positive"));
         }
         Ok(Op::Dwell(seconds))
+    }
+
+    /// A dwell's P in seconds: seconds on LinuxCNC, grbl and Mach3,
+    /// milliseconds on Fanuc; from an unknown controller, milliseconds
+    /// unless written with a decimal point (with a warning).
+    pub(super) fn seconds(
+        &mut self,
+        p: f64,
+        pspan: Span,
+        n: ast::Number,
+    ) -> Result<f64, Diagnostic> {
+        use super::Flavour;
+        let seconds = match self.options.from {
+            Flavour::LinuxCnc | Flavour::Grbl | Flavour::Mach3 => p,
+            Flavour::Fanuc => p / 1000.0,
+            Flavour::Generic if n.has_point => p,
+            Flavour::Generic => {
+                if self.options.plain && p > 0.0 {
+                    self.warn_once((b'G', 40), || {
+                        warning(
+                            format!("P{p} is read as {p} milliseconds"),
+                            pspan,
+                            "a P without a decimal point is in ms (Fanuc)",
+                        )
+                        .with_help(
+                            "LinuxCNC, grbl and Mach3 read it in seconds: pass --from linuxcnc (or grbl, mach3), or write `P0.5`",
+                        )
+                    });
+                }
+                p / 1000.0
+            }
+        };
+        if seconds < 0.0 {
+            return Err(error("negative dwell", pspan, "a dwell time is positive"));
+        }
+        Ok(seconds)
     }
 
     fn g10(&mut self, w: &mut WordValues, at: Span) -> Result<Op, Diagnostic> {

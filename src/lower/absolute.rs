@@ -10,9 +10,10 @@
 //! the axes a machine move (G28, G30, G53) or a passed-through offset left
 //! unknown. An incremental move or an arc on an unknown axis is an error.
 
+use super::position::Tracker;
 use super::{Context, LowerError, LowerErrorKind, Out, Pass, PassInfo};
 use crate::geometry::{self, ArcError, Point};
-use crate::ir::{self, ArcGeometry, Axes, Axis, Distance, Op, Plane, Position, Stmt};
+use crate::ir::{self, ArcGeometry, Axes, Axis, Distance, Op, Position, Stmt};
 use crate::source::Span;
 
 pub const PASS: PassInfo = PassInfo {
@@ -21,12 +22,7 @@ pub const PASS: PassInfo = PassInfo {
 };
 
 struct AbsolutePass {
-    distance: Distance,
-    plane: Plane,
-    position: Position,
-    /// Where each unknown axis became unknown (a machine move), if it was
-    /// ever known.
-    lost_at: [Option<Span>; 9],
+    at: Tracker,
     /// An M2/M30 went by, and the span of the last statement.
     ended: bool,
     last: Option<Span>,
@@ -35,64 +31,22 @@ struct AbsolutePass {
 impl AbsolutePass {
     fn new() -> AbsolutePass {
         AbsolutePass {
-            distance: Distance::Absolute,
-            plane: Plane::XY,
-            position: [None; 9],
-            lost_at: [None; 9],
+            at: Tracker::new(),
             ended: false,
             last: None,
         }
     }
 
-    /// Forget the axes `op` leaves unknown ([`Op::unknown_after`]).
-    fn forget_after(&mut self, op: &Op, at: Span) {
-        let unknown = op.unknown_after();
-        for axis in Axis::ALL {
-            if unknown(axis) {
-                self.position[axis.index()] = None;
-                self.lost_at[axis.index()] = Some(at);
-            }
-        }
-    }
-
-    fn unknown(&self, axis: usize, what: &'static str, span: Span) -> LowerError {
-        LowerError::new(
-            LowerErrorKind::UnknownPosition {
-                axis: Axis::ALL[axis],
-                what,
-                since: self.lost_at[axis],
-            },
-            span,
-        )
-    }
-
-    /// The end point of axis words under the distance mode, or the error.
-    fn end_of(&self, to: &Axes, what: &'static str, span: Span) -> Result<Position, LowerError> {
-        let mut end = self.position;
-        for (axis, v) in to.iter() {
-            let i = axis.index();
-            let e = match self.distance {
-                Distance::Absolute => v,
-                Distance::Incremental => match self.position[i] {
-                    Some(p) => p + v,
-                    None => return Err(self.unknown(i, what, span)),
-                },
-            };
-            if !ir::is_position(e) {
-                return Err(LowerError::new(
-                    LowerErrorKind::PositionOutOfRange { axis, value: e },
-                    span,
-                ));
-            }
-            end[i] = Some(e);
-        }
-        Ok(end)
-    }
-
     fn lower_move(&mut self, m: &mut ir::Move, span: Span) -> Result<(), LowerError> {
-        let end = self.end_of(&m.to, "an incremental move", span)?;
+        let end = self.at.end_of(&m.to, "an incremental move", span)?;
         if let Some(arc) = &mut m.arc {
-            let center = resolve_arc(self, end, arc.geometry, m.motion == ir::Motion::ArcCw, span)?;
+            let center = resolve_arc(
+                &self.at,
+                end,
+                arc.geometry,
+                m.motion == ir::Motion::ArcCw,
+                span,
+            )?;
             arc.geometry = ArcGeometry::Center(center);
         }
         // Only the axes the statement wrote: a Z retract stays a Z move.
@@ -101,7 +55,7 @@ impl AbsolutePass {
             written.put(axis, end[axis.index()]);
         }
         m.to = written;
-        self.position = end;
+        self.at.position = end;
         Ok(())
     }
 }
@@ -122,10 +76,10 @@ impl Pass for AbsolutePass {
         self.last = Some(span);
         match &mut stmt.op {
             Op::Distance(d) => {
-                self.distance = *d;
+                self.at.distance = *d;
                 return;
             }
-            Op::Plane(p) => self.plane = *p,
+            Op::Plane(p) => self.at.plane = *p,
             Op::End => self.ended = true,
             Op::Move(m) => {
                 if let Err(e) = self.lower_move(m, span) {
@@ -134,27 +88,27 @@ impl Pass for AbsolutePass {
                 }
             }
             Op::MachineMove(_) => {
-                if self.distance == Distance::Incremental {
+                if self.at.distance == Distance::Incremental {
                     out.report(LowerError::new(
                         LowerErrorKind::MachineMoveIncremental,
                         span,
                     ));
                     return;
                 }
-                self.forget_after(&stmt.op, span);
+                self.at.forget_after(&stmt.op, span);
             }
             Op::Home {
                 via, incremental, ..
             } => {
-                let zero_steps = self.distance == Distance::Incremental
+                let zero_steps = self.at.distance == Distance::Incremental
                     && via.iter().all(|(_, v)| v == 0.0)
                     && !via.is_empty();
-                let end = match self.end_of(via, "an incremental G28/G30", span) {
+                let end = match self.at.end_of(via, "an incremental G28/G30", span) {
                     Ok(end) => end,
                     // Home straight from an unknown point: kept relative.
                     Err(_) if zero_steps => {
                         *incremental = true;
-                        self.forget_after(&stmt.op, span);
+                        self.at.forget_after(&stmt.op, span);
                         out.push(stmt);
                         return;
                     }
@@ -168,17 +122,27 @@ impl Pass for AbsolutePass {
                     absolute.put(axis, end[axis.index()]);
                 }
                 *via = absolute;
-                self.forget_after(&stmt.op, span);
+                self.at.forget_after(&stmt.op, span);
             }
             // A work offset or tool length passed through to the machine:
             // where the tool is in its coordinates is not known.
             Op::SelectWorkOffset(_)
             | Op::SetWorkOffsetHere { .. }
             | Op::ToolLength { .. }
-            | Op::CancelToolLength => self.forget_after(&stmt.op, span),
-            // Nothing to cancel: the front end refuses G41/G42 and the
-            // cycles until their passes exist.
-            Op::CycleOff | Op::CompOff => return,
+            | Op::CancelToolLength => self.at.forget_after(&stmt.op, span),
+            // Nothing to cancel: the front end refuses G41/G42 until the
+            // comp pass exists.
+            Op::CompOff => return,
+            // Only a kept cycle comes this far: it is absolute already.
+            Op::Cycle(c) => {
+                let (a, b, n) = self.at.plane.axes();
+                for i in [a, b] {
+                    if let Some(v) = c.at.get(Axis::ALL[i]) {
+                        self.at.position[i] = Some(v);
+                    }
+                }
+                self.at.position[n] = c.ends_at;
+            }
             Op::Feed(_)
             | Op::Speed(_)
             | Op::SelectTool(_)
@@ -195,7 +159,7 @@ impl Pass for AbsolutePass {
             | Op::Polar(_)
             | Op::DiameterMode(_)
             | Op::ReturnLevel(_)
-            | Op::Cycle(_)
+            | Op::CycleOff
             | Op::Comp { .. }
             | Op::Comment(_)
             | Op::Passthrough(_) => {}
@@ -206,7 +170,7 @@ impl Pass for AbsolutePass {
 
 /// The centre of an arc, relative to its start, in the plane's two axes.
 fn resolve_arc(
-    pass: &AbsolutePass,
+    pass: &Tracker,
     end: Position,
     geometry: ArcGeometry,
     clockwise: bool,

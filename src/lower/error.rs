@@ -26,6 +26,20 @@ pub enum LowerErrorKind {
         axis: Axis,
         value: f64,
     },
+    /// G87 or G88 expanded: they need the operator or an oriented spindle.
+    CycleNeedsOperator {
+        code: u32,
+    },
+    /// G84/G74 outside G17 (rs274 feeds to the wrong axes there).
+    TappingOutsideXy {
+        code: u32,
+    },
+    /// G73/G83 where the units are not known: the clearance is 0.254 mm.
+    PeckUnits {
+        code: u32,
+    },
+    /// More pecks in one hole than [`crate::eval::MAX_PECKS`].
+    TooManyPecks,
     /// R smaller than half the chord.
     ArcRadiusTooSmall {
         radius: f64,
@@ -104,6 +118,9 @@ impl LowerError {
         use LowerErrorKind::*;
         let span = self.span;
         match &self.kind {
+            CycleNeedsOperator { .. } | TappingOutsideXy { .. } | PeckUnits { .. } | TooManyPecks => {
+                self.cycle_diagnostic()
+            }
             UnknownPosition { axis, what, since } => {
                 let letter = axis.letter() as char;
                 let d = error(
@@ -274,4 +291,46 @@ fn fmt(v: f64) -> String {
     let mut s = String::new();
     crate::emit::number::push_fixed(&mut s, v, 4);
     s
+}
+
+impl LowerError {
+    /// The wording of the cycles pass's errors.
+    fn cycle_diagnostic(&self) -> Diagnostic {
+        use LowerErrorKind::*;
+        let span = self.span;
+        match self.kind {
+            CycleNeedsOperator { code: 87 } => error(
+                "G87 cannot be expanded",
+                span,
+                "back boring needs oriented spindle stops (M19), which the output cannot express",
+            )
+            .with_help("keep the cycle for a controller that has it (`--cycles keep`)"),
+            CycleNeedsOperator { code } => error(
+                format!("G{code} cannot be expanded"),
+                span,
+                "the operator takes the tool out by hand: where it is after the stop is not known",
+            )
+            .with_help(
+                "use G86 or G89, or keep the cycle for a controller that has it (`--cycles keep`)",
+            ),
+            TappingOutsideXy { code } => error(
+                format!("G{code} tapping outside the XY plane (G17)"),
+                span,
+                "LinuxCNC feeds these taps to the wrong axes; ger does not pick a meaning",
+            )
+            .with_help("tap in G17, or write the moves out"),
+            PeckUnits { code } => error(
+                format!("G{code} in unknown units"),
+                span,
+                "the peck clearance is 0.254 mm (0.010 in): it needs the units",
+            )
+            .with_help("state G20 or G21 in the program, or pass --units"),
+            TooManyPecks => error(
+                format!("more than {} pecks in one hole", crate::eval::MAX_PECKS),
+                span,
+                "Q is very small for this depth",
+            ),
+            _ => error("internal: not a cycle error", span, "here"),
+        }
+    }
 }

@@ -179,11 +179,18 @@ impl Pass for OffsetsPass {
                 if self.distance == Distance::Absolute {
                     // R lies on the drilling axis: the plane's normal.
                     let normal = self.plane.axes().2;
-                    for v in c.r.iter_mut() {
-                        *v += self.shift(normal);
-                    }
+                    c.r += self.shift(normal);
                 }
                 self.place(&mut c.at);
+                // Where a cycle leaves the tool is the cycles pass's
+                // business: the drilling axis, and the holes under G91,
+                // are not known here.
+                let (a, b, n) = self.plane.axes();
+                self.position[n] = None;
+                if self.distance == Distance::Incremental {
+                    self.position[a] = None;
+                    self.position[b] = None;
+                }
                 true
             }
             Op::Plane(p) => {

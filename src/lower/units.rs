@@ -89,7 +89,8 @@ impl Pass for UnitsPass {
             }
             Op::Cycle(c) => {
                 c.at = self.scale_axes(c.at, k);
-                for v in [&mut c.r, &mut c.q].into_iter().flatten() {
+                scale(&mut c.r);
+                for v in c.q.iter_mut() {
                     scale(v);
                 }
                 c.ijk = c.ijk.map(|v| v.map(|v| v * k));

@@ -98,6 +98,7 @@ pub fn compare(a: &ToolPath, b: &ToolPath, o: &Options) -> Result<usize, Differe
             });
         }
     }
+    compare_pauses(a, b, o)?;
     Ok(ma.len())
 }
 
@@ -112,6 +113,50 @@ fn tool_changes(path: &ToolPath) -> Vec<u32> {
         .collect();
     tools.dedup();
     tools
+}
+
+/// The dwells and stops of a path, in order, each with where the tool is
+/// when it happens (the end of the move before it).
+fn pauses(path: &ToolPath) -> Vec<(EventKind, Point)> {
+    path.events
+        .iter()
+        .filter(|e| matches!(e.kind, EventKind::Dwell(_) | EventKind::Stop(_)))
+        .map(|e| {
+            let at = match e.after_move.checked_sub(1) {
+                Some(i) => path.moves.get(i).map_or([0.0; 3], |m| m.end),
+                None => [0.0; 3],
+            };
+            (e.kind, at)
+        })
+        .collect()
+}
+
+/// Dwells (their seconds) and stops must come in the same order at the
+/// same places. The program end is not compared: ger adds one where the
+/// input has none.
+fn compare_pauses(a: &ToolPath, b: &ToolPath, o: &Options) -> Result<(), Difference> {
+    let (pa, pb) = (pauses(a), pauses(b));
+    for (i, ((ka, at_a), (kb, at_b))) in pa.iter().zip(&pb).enumerate() {
+        let same_kind = match (ka, kb) {
+            (EventKind::Dwell(x), EventKind::Dwell(y)) => (x - y).abs() <= 1e-3 * x.abs().max(1.0),
+            (x, y) => x == y,
+        };
+        if !same_kind || distance(*at_a, *at_b) > o.tol {
+            return Err(Difference {
+                message: format!("pause {}: {ka:?} at {at_a:?} vs {kb:?} at {at_b:?}", i + 1),
+                a: None,
+                b: None,
+            });
+        }
+    }
+    if pa.len() != pb.len() {
+        return Err(Difference {
+            message: format!("{} dwells and stops vs {}", pa.len(), pb.len()),
+            a: None,
+            b: None,
+        });
+    }
+    Ok(())
 }
 
 /// Moves longer than the tolerance (or that turn a rotary axis), merged

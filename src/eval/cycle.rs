@@ -1,0 +1,343 @@
+//! Canned cycle blocks (G73, G74, G81–G89): the words a block gives, the
+//! words it may leave out, and the checks rs274 makes before it drills.
+//! What the block does to the tool is the cycles pass's business
+//! (`lower/cycles.rs`); here each block becomes one complete
+//! [`ir::Cycle`].
+//!
+//! rs274's rules (LinuxCNC 2.9, `interp_convert.cc` / `interp_cycles.cc`):
+//! R and the depth may be left out only by a block of the same cycle as
+//! the one before it (a repeat), and so may Q (G73, G83), P (G82, G86,
+//! G88, G89) and I/J/K (G87); the values kept are shared by all cycles
+//! (G84 and G74 dwell for the last P given to any cycle, 0 at first). A
+//! run of cycles starts at the first cycle block after any other motion
+//! code or G80; where the tool is then is the G98 level of the run.
+
+use super::{Evaluator, WordValues};
+use crate::diagnostic::{error, Diagnostic, DiagnosticExt};
+use crate::ir::{self, Axis, CycleKind, Op};
+use crate::source::Span;
+
+/// More pecks than this in one hole is a mistake (a tiny Q).
+pub const MAX_PECKS: u32 = 10_000;
+
+/// What rs274 remembers between cycle blocks (`cycle_r`, `cycle_cc`, …),
+/// in the numbers the program wrote.
+#[derive(Clone, Copy, Debug, Default)]
+pub(super) struct Sticky {
+    r: f64,
+    depth: f64,
+    q: f64,
+    p: f64,
+    ijk: [f64; 3],
+}
+
+/// The cycle a G code in tenths names.
+pub(super) fn kind_of(t: u32) -> Option<CycleKind> {
+    Some(match t {
+        730 => CycleKind::G73,
+        740 => CycleKind::G74,
+        810 => CycleKind::G81,
+        820 => CycleKind::G82,
+        830 => CycleKind::G83,
+        840 => CycleKind::G84,
+        850 => CycleKind::G85,
+        860 => CycleKind::G86,
+        870 => CycleKind::G87,
+        880 => CycleKind::G88,
+        890 => CycleKind::G89,
+        _ => return None,
+    })
+}
+
+fn takes_dwell(kind: CycleKind) -> bool {
+    matches!(
+        kind,
+        CycleKind::G82
+            | CycleKind::G84
+            | CycleKind::G74
+            | CycleKind::G86
+            | CycleKind::G88
+            | CycleKind::G89
+    )
+}
+
+/// Cycles whose first block must give P (G84 and G74 need not).
+fn needs_dwell(kind: CycleKind) -> bool {
+    matches!(
+        kind,
+        CycleKind::G82 | CycleKind::G86 | CycleKind::G88 | CycleKind::G89
+    )
+}
+
+fn pecks(kind: CycleKind) -> bool {
+    matches!(kind, CycleKind::G73 | CycleKind::G83)
+}
+
+/// The spindle direction a cycle needs, if it needs one.
+fn spindle_needed(kind: CycleKind) -> Option<Option<ir::Spindle>> {
+    match kind {
+        CycleKind::G84 => Some(Some(ir::Spindle::Clockwise)),
+        CycleKind::G74 => Some(Some(ir::Spindle::CounterClockwise)),
+        CycleKind::G86 | CycleKind::G87 | CycleKind::G88 => Some(None),
+        _ => None,
+    }
+}
+
+/// The pecks of one hole, as rs274 counts them: the depth goes down by Q
+/// from R while it is above the bottom, in the program's numbers (so a
+/// Q that divides the depth exactly in decimal may give one more peck
+/// than arithmetic says, as it does on LinuxCNC). `None` past
+/// [`MAX_PECKS`].
+pub fn count_pecks(r: f64, bottom: f64, q: f64) -> Option<u32> {
+    let mut n = 0;
+    let mut d = r - q;
+    while d > bottom {
+        n += 1;
+        if n > MAX_PECKS {
+            return None;
+        }
+        d -= q;
+    }
+    Some(n)
+}
+
+impl Evaluator<'_> {
+    /// A cycle block: `kind` given by its G code (`code` is its span), or
+    /// repeated by axis words (`code` is `None`).
+    pub(super) fn cycle_block(
+        &mut self,
+        kind: CycleKind,
+        code: Option<Span>,
+        w: &mut WordValues,
+        span: Span,
+    ) -> Result<(), Diagnostic> {
+        let at_code = code.unwrap_or(span);
+        let name = format!("G{}", kind.code());
+        // A block of the same cycle may leave out what the last one gave.
+        let repeat = self.cycle == Some(kind);
+        if let Some((letter, at)) = [b'A', b'B', b'C', b'U', b'V', b'W']
+            .into_iter()
+            .find_map(|l| w.given(l).map(|s| (l, s)))
+        {
+            return Err(error(
+                format!("`{}` in a canned cycle", letter as char),
+                at,
+                "a cycle moves only X, Y and Z",
+            ));
+        }
+        let (a, b, n) = self.plane.axes();
+        let [a, b, n] = [a, b, n].map(|i| Axis::ALL[i]);
+        let mut at = ir::Axes::default();
+        for axis in [a, b, n] {
+            if let Some((v, _)) = w.take(axis.letter()) {
+                at.set(axis, v);
+            }
+        }
+        if at.is_empty() {
+            return Err(error(
+                format!("{name} without a hole"),
+                at_code,
+                "no X, Y or Z here",
+            )
+            .with_help("give the hole's position and depth: `G81 X10 Y5 Z-3 R1`"));
+        }
+        let sticky = self.sticky;
+        let missing = |what: String, help: &str| {
+            error(
+                format!("{name} without {what}"),
+                at_code,
+                "the first block of a cycle gives it",
+            )
+            .with_help(help.to_string())
+        };
+        let r = match w.take(b'R') {
+            Some((r, _)) => r,
+            None if repeat => sticky.r,
+            None => {
+                return Err(missing(
+                    "R".into(),
+                    "R is the level the hole starts from: `G81 X10 Y5 Z-3 R1`",
+                ))
+            }
+        };
+        let depth = match at.get(n) {
+            Some(d) => d,
+            None if repeat => sticky.depth,
+            None => {
+                return Err(missing(
+                    format!("{}", n.letter() as char),
+                    "the normal axis of the plane gives the hole's bottom",
+                ))
+            }
+        };
+        at.set(n, depth);
+        let q = if pecks(kind) {
+            let q = match w.take(b'Q') {
+                Some((q, qspan)) => {
+                    if q <= 0.0 {
+                        return Err(error(
+                            "a peck depth that is not positive",
+                            qspan,
+                            "Q must be more than 0",
+                        ));
+                    }
+                    q
+                }
+                None if repeat => sticky.q,
+                None => {
+                    return Err(missing(
+                        "Q".into(),
+                        "Q is the depth of each peck: `G83 X10 Z-12 R1 Q3`",
+                    ))
+                }
+            };
+            Some(q)
+        } else {
+            None
+        };
+        let dwell = if takes_dwell(kind) {
+            match w.take_number(b'P') {
+                Some((p, pspan, written)) => Some(self.seconds(p, pspan, written)?),
+                None if repeat || !needs_dwell(kind) => Some(sticky.p),
+                None => {
+                    return Err(missing(
+                        "P".into(),
+                        "P is the dwell at the bottom in seconds: `G82 X10 Z-3 R1 P0.5`",
+                    ))
+                }
+            }
+        } else {
+            None
+        };
+        let mut ijk: ir::Center = [None; 3];
+        let mut fanuc_k = None;
+        if kind == CycleKind::G87 {
+            for (i, letter) in [b'I', b'J', b'K'].into_iter().enumerate() {
+                ijk[i] = match w.take(letter) {
+                    Some((v, _)) => Some(v),
+                    None if repeat => Some(sticky.ijk[i]),
+                    None => return Err(missing(
+                        format!("{}", letter as char),
+                        "G87 needs I, J (the offset to pass the bar) and K (the back-bore level)",
+                    )),
+                };
+            }
+        } else {
+            fanuc_k = w.take(b'K');
+        }
+        let repeats = match (w.take(b'L'), fanuc_k) {
+            (Some(_), Some((_, kspan))) => {
+                return Err(error(
+                    "both L and K",
+                    kspan,
+                    "L and Fanuc's K both count the holes; give one",
+                ))
+            }
+            (Some((l, lspan)), None) | (None, Some((l, lspan))) => {
+                if l < 1.0 || l.fract() != 0.0 || l > MAX_PECKS as f64 {
+                    return Err(error(
+                        "a repeat count that is not a whole number from 1",
+                        lspan,
+                        format!("the count of holes, 1 to {MAX_PECKS}"),
+                    ));
+                }
+                l as u32
+            }
+            (None, None) => 1,
+        };
+        if r < depth && self.distance == ir::Distance::Absolute {
+            return Err(error(
+                "R below the hole's bottom",
+                at_code,
+                format!("R{r} is below {}{depth}", n.letter() as char),
+            )
+            .with_help("R is the level the hole starts from, above its bottom"));
+        }
+        if self.distance == ir::Distance::Incremental && depth > 0.0 {
+            return Err(error(
+                "R below the hole's bottom",
+                at_code,
+                format!(
+                    "under G91 {}{depth} is measured from R, and goes up",
+                    n.letter() as char
+                ),
+            ));
+        }
+        if let Some(needed) = spindle_needed(kind) {
+            self.check_spindle(kind, needed, at_code)?;
+        }
+        if !self.feed_set {
+            return Err(error(
+                "a canned cycle before any feed rate",
+                at_code,
+                "no F word has been given yet",
+            )
+            .with_help("set the feed on this line or before it: `G81 X10 Z-3 R1 F100`"));
+        }
+        let pecks = match q {
+            Some(q) if self.distance == ir::Distance::Absolute => {
+                Some(count_pecks(r, depth, q).ok_or_else(|| {
+                    error(
+                        format!("more than {MAX_PECKS} pecks in one hole"),
+                        at_code,
+                        "Q is very small for this depth",
+                    )
+                })?)
+            }
+            _ => None,
+        };
+        self.sticky = Sticky {
+            r,
+            depth,
+            q: q.unwrap_or(sticky.q),
+            p: dwell.unwrap_or(sticky.p),
+            ijk: if kind == CycleKind::G87 {
+                ijk.map(|v| v.unwrap_or(0.0))
+            } else {
+                sticky.ijk
+            },
+        };
+        let starts_run = !self.cycle_run;
+        self.cycle_run = true;
+        let cycle = ir::Cycle {
+            kind,
+            at,
+            r,
+            q,
+            dwell,
+            repeats,
+            ijk,
+            starts_run,
+            pecks,
+            ends_at: None,
+        };
+        self.cycle = Some(kind);
+        self.emit(Op::Cycle(cycle), span)
+    }
+
+    fn check_spindle(
+        &self,
+        kind: CycleKind,
+        needed: Option<ir::Spindle>,
+        at: Span,
+    ) -> Result<(), Diagnostic> {
+        let turning = self.spindle != ir::Spindle::Off;
+        let label = match needed {
+            _ if !turning => "the spindle is not turning here",
+            Some(dir) if dir != self.spindle => match dir {
+                ir::Spindle::Clockwise => "the spindle turns counter-clockwise (M4) here",
+                _ => "the spindle turns clockwise (M3) here",
+            },
+            _ => return Ok(()),
+        };
+        let help = match kind {
+            CycleKind::G84 => "G84 taps right-hand: start the spindle with M3",
+            CycleKind::G74 => "G74 taps left-hand: start the spindle with M4",
+            _ => "start the spindle with M3 or M4 before the cycle",
+        };
+        Err(
+            error(format!("G{} needs the spindle", kind.code()), at, label)
+                .with_help(help.to_string()),
+        )
+    }
+}
