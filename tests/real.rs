@@ -1,8 +1,8 @@
 //! Real programs (`../shared/real/`, third-party files read from there and
 //! never copied here): where that folder is present, each program that
 //! rs274 runs must compile with ger to the same tool path, or be refused
-//! for a reason of its own line that a later issue lifts (canned cycles,
-//! cutter compensation, the `#`/`o`-word macro languages), or differ for
+//! for a reason of its own line that a later issue lifts (cutter
+//! compensation, the `#`/`o`-word macro languages), or differ for
 //! a reason written down below. Without the folder the tests are skipped
 //! (they are not ger's data); without rs274 they follow `tests/oracle.rs`.
 //!
@@ -23,7 +23,6 @@ use support::rs274;
 /// Refusals a later issue lifts: the program's first error says one of
 /// these.
 const NOT_YET: &[&str] = &[
-    "canned cycles",
     "cutter compensation",
     "unexpected character `#`",
     "unexpected name `sub`",
@@ -35,6 +34,10 @@ const KNOWN: &[(&str, &str)] = &[
     (
         "002_",
         "`G20 F6`: rs274 runs F before G20 in the units its machine starts in (mm); the feed is the machine's: ger keeps the number and warns",
+    ),
+    (
+        "029_",
+        "`G4 P4000` in a .nc file: ger reads a P without a decimal point as milliseconds (Fanuc) and warns; rs274 dwells 4000 s (`--from linuxcnc` gives its reading)",
     ),
     (
         "040_",
