@@ -384,9 +384,17 @@ pub struct Cycle {
     /// subtraction in the program's own units and coordinates; known when
     /// the front end can count them (G90).
     pub pecks: Option<u32>,
-    /// Set by the cycles pass on a cycle it keeps (`--cycles keep`): the
-    /// level of the normal axis the cycle ends at.
-    pub ends_at: Option<f64>,
+    /// Set by the cycles pass on a cycle it keeps (`--cycles keep`).
+    pub kept: Option<KeptCycle>,
+}
+
+/// A cycle block the output keeps, normalised: absolute, one hole.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct KeptCycle {
+    /// Written on the block (G98/G99).
+    pub level: ReturnLevel,
+    /// The level of the normal axis the cycle ends at.
+    pub ends_at: f64,
 }
 
 /// Which side of the path the tool runs on (G41 left, G42 right).

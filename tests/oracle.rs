@@ -37,6 +37,24 @@ fn main() {
             trials.push(trial.with_ignored_flag(!have_oracle && !required));
         }
     }
+    // `--cycles keep`: the kept cycles must run on LinuxCNC as the
+    // original does.
+    for case in support::egc_files(&support::manifest().join("tests/oracle/cycles")) {
+        if case.with_extension("ngc").exists() {
+            continue;
+        }
+        let name = format!(
+            "cycles-keep/{}",
+            case.file_stem().unwrap().to_string_lossy()
+        );
+        let trial = Trial::test(name, move || {
+            if !have_oracle {
+                return Err(rs274::missing().into());
+            }
+            run_kept(&case)
+        });
+        trials.push(trial.with_ignored_flag(!have_oracle && !required));
+    }
     // The shipped examples have no reference: their output must use only
     // the allowed codes and be a program rs274 runs.
     for case in support::egc_files(&support::manifest().join("examples")) {
@@ -104,6 +122,25 @@ fn run_case(case: &Path) -> Result<(), Failed> {
         )
         .into()),
     }
+}
+
+fn run_kept(case: &Path) -> Result<(), Failed> {
+    let stem = case.file_stem().unwrap().to_string_lossy().into_owned();
+    let out = std::env::temp_dir().join(format!("ger-kept-{}-{stem}.nc", std::process::id()));
+    support::compile_with(case, &out, &["--cycles", "keep", "--target", "linuxcnc"])?;
+    let text = std::fs::read_to_string(&out).map_err(|e| e.to_string())?;
+    let a = rs274::tool_path(case, &[]).map_err(|e| format!("the input fails: {e}"))?;
+    let b = rs274::tool_path(&out, &[]).map_err(|e| format!("ger's output fails: {e}"))?;
+    let _ = std::fs::remove_file(&out);
+    rs274::same_path(&a, &b, &Default::default())
+        .map(|_| ())
+        .map_err(|why| {
+            format!(
+                "{} and ger's kept cycles move differently: {why}\n--- ger output ---\n{text}",
+                case.display()
+            )
+            .into()
+        })
 }
 
 fn own_tool_path(input: &Path) -> Result<ger::toolpath::ToolPath, Failed> {

@@ -342,13 +342,26 @@ impl Printer {
     }
 
     fn cycle_words(&mut self, c: &ir::Cycle) {
+        if let Some(kept) = c.kept {
+            self.code(match kept.level {
+                ir::ReturnLevel::Initial => "G98",
+                ir::ReturnLevel::R => "G99",
+            });
+        }
         self.separate();
         self.line.push(b'G');
         push_int(&mut self.line, c.kind.code() as i64);
         self.axes(&c.at);
-        for (letter, v) in [(b'R', Some(c.r)), (b'Q', c.q), (b'P', c.dwell)] {
+        for (letter, v) in [(b'R', Some(c.r)), (b'Q', c.q)] {
             if let Some(v) = v {
                 self.word(letter, v);
+            }
+        }
+        if let Some(seconds) = c.dwell {
+            match self.target {
+                // Fanuc's cycle P is in milliseconds.
+                Target::Fanuc => self.int_word(b'P', (seconds * 1000.0).round() as u32),
+                Target::Generic | Target::Grbl | Target::LinuxCnc => self.word(b'P', seconds),
             }
         }
         for (letter, v) in [b'I', b'J', b'K'].into_iter().zip(c.ijk) {

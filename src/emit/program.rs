@@ -71,6 +71,10 @@ impl ProgramPrinter {
                     }
                     continue;
                 }
+                Op::Cycle(c) => {
+                    self.kept_cycle(stmt, c);
+                    continue;
+                }
                 // The header selected G17; repeat a plane only when it changes.
                 Op::Plane(plane) if *plane == self.p.plane => continue,
                 // F goes on the next cutting move's line (and only if it changed).
@@ -105,7 +109,6 @@ impl ProgramPrinter {
                 | Op::Polar(_)
                 | Op::DiameterMode(_)
                 | Op::ReturnLevel(_)
-                | Op::Cycle(_)
                 | Op::CycleOff
                 | Op::Comp { .. }
                 | Op::CompOff
@@ -222,6 +225,22 @@ impl ProgramPrinter {
             });
             self.linear(stmt, Motion::Linear, q);
         }
+    }
+
+    /// A cycle the output keeps (`--cycles keep`): on one line with its
+    /// feed; the controller leaves the tool over the hole at the level
+    /// the cycle ends at, and the next move writes every axis again.
+    fn kept_cycle(&mut self, stmt: &ir::Stmt, c: &ir::Cycle) {
+        self.p.begin(stmt.span, stmt.block_delete);
+        self.p.op(&stmt.op);
+        self.feed_word();
+        self.p.end();
+        for (axis, v) in c.at.iter() {
+            self.position[axis.index()] = Some(v);
+        }
+        let (_, _, n) = self.p.plane.axes();
+        self.position[n] = c.kept.map(|k| k.ends_at);
+        self.printed = [None; 9];
     }
 
     /// Write the pending feed on a cutting move's line, if it changed.

@@ -309,7 +309,7 @@ impl Evaluator<'_> {
             ijk,
             starts_run,
             pecks,
-            ends_at: None,
+            kept: None,
         };
         self.cycle = Some(kind);
         self.emit(Op::Cycle(cycle), span)

@@ -141,7 +141,7 @@ impl Pass for AbsolutePass {
                         self.at.position[i] = Some(v);
                     }
                 }
-                self.at.position[n] = c.ends_at;
+                self.at.position[n] = c.kept.map(|k| k.ends_at);
             }
             Op::Feed(_)
             | Op::Speed(_)

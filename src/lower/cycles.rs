@@ -200,7 +200,6 @@ impl CyclesPass {
             }
         }
         emit.absolute();
-        emit.push(Op::ReturnLevel(self.level));
         emit.push(Op::Cycle(ir::Cycle {
             at,
             r: block.r,
@@ -208,7 +207,10 @@ impl CyclesPass {
             ijk,
             starts_run: c.starts_run && first,
             pecks: None,
-            ends_at: Some(block.clear),
+            kept: Some(ir::KeptCycle {
+                level: self.level,
+                ends_at: block.clear,
+            }),
             ..*c
         }));
         emit.now = [Some(hole[0]), Some(hole[1]), Some(block.clear)];
@@ -369,11 +371,10 @@ impl Pass for CyclesPass {
                 }
                 return;
             }
+            // Kept cycles carry their own.
             Op::ReturnLevel(level) => {
                 self.level = *level;
-                if !self.keep {
-                    return;
-                }
+                return;
             }
             Op::CycleOff if !self.keep => return,
             Op::Spindle(s) => self.spindle = *s,

@@ -29,11 +29,17 @@ pub fn egc_files(dir: &Path) -> Vec<PathBuf> {
 /// `ger compile input -o out`: its warnings (stderr) when it succeeds, its
 /// diagnostics as the error when it does not.
 pub fn compile(input: &Path, out: &Path) -> Result<String, String> {
+    compile_with(input, out, &[])
+}
+
+/// [`compile`] with more command-line options.
+pub fn compile_with(input: &Path, out: &Path, options: &[&str]) -> Result<String, String> {
     let ger = Command::new(env!("CARGO_BIN_EXE_ger"))
         .arg("compile")
         .arg(input)
         .arg("-o")
         .arg(out)
+        .args(options)
         .output()
         .map_err(|e| format!("cannot run ger: {e}"))?;
     let stderr = String::from_utf8_lossy(&ger.stderr).into_owned();
