@@ -144,10 +144,28 @@ fn run_kept(case: &Path) -> Result<(), Failed> {
 }
 
 fn own_tool_path(input: &Path) -> Result<ger::toolpath::ToolPath, Failed> {
+    use ger::wizard::{standard_library, Library, WizardEngine, WizardSource};
     let text = std::fs::read_to_string(input).map_err(|e| e.to_string())?;
     let mut sources = ger::source::Sources::new();
+    // The wizards beside the case, as the command line finds them.
+    let mut found = Vec::new();
+    let folder = input.parent().unwrap().join("wizards");
+    if let Ok(entries) = std::fs::read_dir(&folder) {
+        for path in entries.filter_map(|e| e.ok().map(|e| e.path())) {
+            if path.extension().is_some_and(|x| x == "rhai") {
+                found.push(WizardSource {
+                    name: path.file_stem().unwrap().to_string_lossy().into_owned(),
+                    text: std::fs::read_to_string(&path).map_err(|e| e.to_string())?,
+                    origin: path.display().to_string(),
+                });
+            }
+        }
+    }
+    found.extend(standard_library());
+    let mut engine = WizardEngine::new(Library::new(found, &mut sources));
     let file = sources.add(input.display().to_string(), text);
-    let (path, diagnostics) = ger::compile::tool_path(&sources, file, &Default::default(), None);
+    let (path, diagnostics) =
+        ger::compile::tool_path(&sources, file, &Default::default(), Some(&mut engine));
     path.ok_or_else(|| ger::diagnostic::render(&sources, &diagnostics).into())
 }
 

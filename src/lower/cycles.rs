@@ -263,7 +263,9 @@ impl CyclesPass {
                 emit.feed(k.bottom);
                 emit.push(Op::Spindle(Spindle::Off));
                 emit.push(Op::Spindle(back));
-                emit.push(Op::Dwell(dwell));
+                if dwell > 0.0 {
+                    emit.push(Op::Dwell(dwell));
+                }
                 emit.feed(k.clear);
                 emit.push(Op::Spindle(Spindle::Off));
                 emit.push(Op::Spindle(turn));

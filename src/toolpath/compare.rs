@@ -120,7 +120,12 @@ fn tool_changes(path: &ToolPath) -> Vec<u32> {
 fn pauses(path: &ToolPath) -> Vec<(EventKind, Point)> {
     path.events
         .iter()
-        .filter(|e| matches!(e.kind, EventKind::Dwell(_) | EventKind::Stop(_)))
+        // A dwell of no time is no pause (rs274's G84 writes one).
+        .filter(|e| match e.kind {
+            EventKind::Dwell(seconds) => seconds > 0.0,
+            EventKind::Stop(_) => true,
+            EventKind::ToolChange(_) | EventKind::End => false,
+        })
         .map(|e| {
             let at = match e.after_move.checked_sub(1) {
                 Some(i) => path.moves.get(i).map_or([0.0; 3], |m| m.end),

@@ -1,0 +1,30 @@
+G21 G90 G17
+N1 (the drilling program of README's Canned cycles section)
+N3 S1500.
+N3 M3
+N4 G0 X0. Y0. Z10.
+N5 G0 X10. Y10.
+N5 G0 Z2.
+N5 G1 Z-3. F120.
+N5 G0 Z10.
+N6 G0 X20.
+N6 G0 Z2.
+N6 G1 Z-2.
+N6 G0 Z2.
+N6 G0 Z-1.746
+N6 G1 Z-6.
+N6 G0 Z2.
+N6 G0 Z-5.746
+N6 G1 Z-10.
+N6 G0 Z2.
+N6 G0 Z-9.746
+N6 G1 Z-12.
+N6 G0 Z2.
+N7 G0 X25.
+N7 G1 Z-1.
+N7 G0 Z2.
+N7 G0 X30.
+N7 G1 Z-1.
+N7 G0 Z2.
+N9 G0 Z10.
+N10 M30
