@@ -389,14 +389,15 @@ impl<'s> Backend<'s> {
         };
         let mut diagnostics = Vec::new();
         if let Some(mut lowering) = lowering {
-            let mut rest = Vec::new();
-            lowering.finish(&mut rest);
+            lowering.finish(&mut |rest| {
+                printer.print(rest);
+                rest.clear();
+            });
             let failed = lowering.failed();
             diagnostics = lowering.diagnostics();
             if failed {
                 return (diagnostics, written);
             }
-            printer.print(&rest);
         }
         match (printer.finish(), self.out) {
             (Ok(rest), Output::Text(out)) => {
@@ -481,34 +482,42 @@ impl ir::Sink for Backend<'_> {
             return;
         };
         let t0 = Instant::now();
-        if let Some(lowering) = &mut started.lowering {
-            lowering.run(batch);
-            // The output will be thrown away: lower on, for the errors,
-            // but print nothing more.
-            if lowering.failed() {
-                batch.clear();
-                self.lower_time += t0.elapsed();
-                return;
-            }
-        }
-        let t1 = Instant::now();
-        let text = started.printer.print(batch);
-        batch.clear();
-        let Some(text) = text else {
-            self.lower_time += t1 - t0;
-            self.emit_time += t1.elapsed();
-            return;
+        let mut emit_time = Duration::ZERO;
+        let (printer, out, write_error) =
+            (&mut started.printer, &mut self.out, &mut self.write_error);
+        let mut print = |stmts: &mut Vec<ir::Stmt>| {
+            let t = Instant::now();
+            print_and_write(printer, out, write_error, stmts);
+            emit_time += t.elapsed();
         };
-        // Hand the text on in large writes.
-        if text.len() >= WRITE_AT {
-            if let (None, Output::Text(out)) = (&self.write_error, &mut self.out) {
-                if let Err(e) = out.write_all(text) {
-                    self.write_error = Some(e);
-                }
-            }
-            text.clear();
+        match &mut started.lowering {
+            Some(lowering) => lowering.run(batch, &mut print),
+            None => print(batch),
         }
-        self.lower_time += t1 - t0;
-        self.emit_time += t1.elapsed();
+        batch.clear();
+        self.lower_time += t0.elapsed() - emit_time;
+        self.emit_time += emit_time;
+    }
+}
+
+/// Print statements (and empty them); hand the text on in large writes.
+fn print_and_write(
+    printer: &mut Printer,
+    out: &mut Output<'_>,
+    write_error: &mut Option<std::io::Error>,
+    stmts: &mut Vec<ir::Stmt>,
+) {
+    let text = printer.print(stmts);
+    stmts.clear();
+    let Some(text) = text else {
+        return;
+    };
+    if text.len() >= WRITE_AT {
+        if let (None, Output::Text(out)) = (&write_error, out) {
+            if let Err(e) = out.write_all(text) {
+                *write_error = Some(e);
+            }
+        }
+        text.clear();
     }
 }

@@ -83,11 +83,21 @@ pub fn pass_index(name: &str) -> Option<usize> {
 pub struct Out<'a> {
     stmts: &'a mut Vec<Stmt>,
     problems: &'a mut Problems,
+    /// Takes the statements on when there are [`CHUNK`] of them.
+    full: &'a mut dyn FnMut(&mut Vec<Stmt>),
 }
 
 impl Out<'_> {
     pub fn push(&mut self, stmt: Stmt) {
         self.stmts.push(stmt);
+        if self.stmts.len() >= CHUNK {
+            if self.problems.errors > 0 {
+                // The output is thrown away.
+                self.stmts.clear();
+            } else {
+                (self.full)(self.stmts);
+            }
+        }
     }
 
     pub fn report(&mut self, e: LowerError) {
@@ -141,32 +151,25 @@ impl Pipeline {
         Pipeline { passes, buffers }
     }
 
-    /// Lower the next statements of the program: `batch` is replaced by
-    /// what comes out of the last pass.
-    pub fn run(&mut self, batch: &mut Vec<Stmt>) {
-        self.flow(batch, false);
+    /// Lower the next statements of the program (`batch` is emptied): what
+    /// comes out of the last pass goes to `sink`, in pieces of at most
+    /// [`CHUNK`] statements or so, and only while no pass has failed. A
+    /// pass that makes many statements of one (a cycle with many pecks)
+    /// is passed on as it goes, so memory stays bounded.
+    pub fn run(&mut self, batch: &mut Vec<Stmt>, sink: &mut dyn FnMut(&mut Vec<Stmt>)) {
+        flow(&mut self.passes, &mut self.buffers, batch, false, sink);
     }
 
-    /// The end of the program: the passes flush in order; `batch` gets the
-    /// rest of the output.
-    pub fn finish(&mut self, batch: &mut Vec<Stmt>) {
-        self.flow(batch, true);
-    }
-
-    fn flow(&mut self, batch: &mut Vec<Stmt>, last: bool) {
-        for ((pass, problems), buffer) in self.passes.iter_mut().zip(&mut self.buffers) {
-            let mut out = Out {
-                stmts: buffer,
-                problems,
-            };
-            for stmt in batch.drain(..) {
-                pass.feed(stmt, &mut out);
-            }
-            if last {
-                pass.finish(&mut out);
-            }
-            std::mem::swap(batch, buffer);
-        }
+    /// The end of the program: the passes flush in order, the rest goes to
+    /// `sink`.
+    pub fn finish(&mut self, sink: &mut dyn FnMut(&mut Vec<Stmt>)) {
+        flow(
+            &mut self.passes,
+            &mut self.buffers,
+            &mut Vec::new(),
+            true,
+            sink,
+        );
     }
 
     /// Has a pass reported an error? Then the output will be thrown away.
@@ -188,4 +191,52 @@ impl Pipeline {
         }
         out
     }
+}
+
+/// A pass's output is handed on once it holds this many statements.
+pub const CHUNK: usize = 4096;
+
+/// Run `input` through `passes` (and flush them if `last`), depth first:
+/// a pass's output goes on to the next pass whenever it reaches [`CHUNK`]
+/// statements (even in the middle of one statement's expansion), and the
+/// last pass's to `sink`. After a pass has failed nothing more comes out
+/// of it: the later passes' problems would only follow from its own, and
+/// are not reported.
+fn flow(
+    passes: &mut [(Box<dyn Pass>, Problems)],
+    buffers: &mut [Vec<Stmt>],
+    input: &mut Vec<Stmt>,
+    last: bool,
+    sink: &mut dyn FnMut(&mut Vec<Stmt>),
+) {
+    let (Some(((pass, problems), later)), Some((buffer, later_buffers))) =
+        (passes.split_first_mut(), buffers.split_first_mut())
+    else {
+        if !input.is_empty() {
+            sink(input);
+        }
+        input.clear();
+        return;
+    };
+    let mut output = std::mem::take(buffer);
+    {
+        let mut next = |o: &mut Vec<Stmt>| flow(later, later_buffers, o, false, sink);
+        let mut out = Out {
+            stmts: &mut output,
+            problems,
+            full: &mut next,
+        };
+        for stmt in input.drain(..) {
+            pass.feed(stmt, &mut out);
+        }
+        if last {
+            pass.finish(&mut out);
+        }
+    }
+    if problems.errors > 0 {
+        output.clear();
+    } else if last || !output.is_empty() {
+        flow(later, later_buffers, &mut output, last, sink);
+    }
+    *buffer = output;
 }

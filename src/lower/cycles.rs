@@ -31,6 +31,9 @@ pub const PASS: PassInfo = PassInfo {
     make: |cx| Box::new(CyclesPass::new(cx)),
 };
 
+/// The most statements the cycles of one program may expand to.
+pub const MAX_EXPANDED: u64 = 20_000_000;
+
 /// G73's back-off and G83's re-entry clearance: rs274's 0.010 in.
 const PECK_CLEARANCE_MM: f64 = 0.254;
 
@@ -44,6 +47,8 @@ struct CyclesPass {
     /// The G98 level of the current run.
     initial: Option<f64>,
     spindle: Spindle,
+    /// Statements the cycles expanded to so far (about).
+    expanded: u64,
 }
 
 /// One expanded block: where its holes are and how deep, in output
@@ -67,6 +72,7 @@ impl CyclesPass {
             level: ReturnLevel::R,
             initial: None,
             spindle: Spindle::Off,
+            expanded: 0,
         }
     }
 
@@ -154,6 +160,19 @@ impl CyclesPass {
             bottom,
             clear,
         };
+        let pecks = match (c.kind, c.pecks) {
+            (CycleKind::G73 | CycleKind::G83, None) => {
+                let q = c.q.unwrap_or(r - bottom);
+                let n = crate::eval::count_pecks(r, bottom, q)
+                    .ok_or_else(|| LowerError::new(LowerErrorKind::TooManyPecks, span))?;
+                Some(n)
+            }
+            (_, known) => known,
+        };
+        self.expanded += u64::from(c.repeats) * (3 * u64::from(pecks.unwrap_or(0)) + 8);
+        if self.expanded > MAX_EXPANDED {
+            return Err(LowerError::new(LowerErrorKind::CyclesTooLarge, span));
+        }
         for i in 0..c.repeats {
             hole = [hole[0] + step[0], hole[1] + step[1]];
             if self.keep {
@@ -166,7 +185,7 @@ impl CyclesPass {
                 emit.rapid(Some(hole), Some(clear));
             }
             emit.rapid(None, Some(r));
-            self.body(c, &block, &mut emit, span)?;
+            self.body(c, &block, pecks.unwrap_or(0), &mut emit);
         }
         emit.done();
         for (k, &i) in axes.iter().enumerate() {
@@ -217,13 +236,7 @@ impl CyclesPass {
     }
 
     /// One hole's cycle, from R over the hole.
-    fn body(
-        &mut self,
-        c: &ir::Cycle,
-        k: &Block,
-        emit: &mut Emitter<'_, '_, '_>,
-        span: Span,
-    ) -> Result<(), LowerError> {
+    fn body(&mut self, c: &ir::Cycle, k: &Block, pecks: u32, emit: &mut Emitter<'_, '_, '_>) {
         let dwell = c.dwell.unwrap_or(0.0);
         match c.kind {
             CycleKind::G81 => {
@@ -238,11 +251,6 @@ impl CyclesPass {
             CycleKind::G73 | CycleKind::G83 => {
                 let q = c.q.unwrap_or(k.r - k.bottom);
                 let clearance = self.clearance.unwrap_or(PECK_CLEARANCE_MM);
-                let pecks = match c.pecks {
-                    Some(n) => n,
-                    None => crate::eval::count_pecks(k.r, k.bottom, q)
-                        .ok_or_else(|| LowerError::new(LowerErrorKind::TooManyPecks, span))?,
-                };
                 let mut depth = k.r - q;
                 for _ in 0..pecks {
                     emit.feed(depth);
@@ -290,7 +298,6 @@ impl CyclesPass {
             // Refused by `check` unless kept.
             CycleKind::G87 | CycleKind::G88 => {}
         }
-        Ok(())
     }
 }
 

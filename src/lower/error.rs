@@ -40,6 +40,9 @@ pub enum LowerErrorKind {
     },
     /// More pecks in one hole than [`crate::eval::MAX_PECKS`].
     TooManyPecks,
+    /// The cycles of the program expand to more than
+    /// `cycles::MAX_EXPANDED` statements.
+    CyclesTooLarge,
     /// R smaller than half the chord.
     ArcRadiusTooSmall {
         radius: f64,
@@ -118,7 +121,11 @@ impl LowerError {
         use LowerErrorKind::*;
         let span = self.span;
         match &self.kind {
-            CycleNeedsOperator { .. } | TappingOutsideXy { .. } | PeckUnits { .. } | TooManyPecks => {
+            CycleNeedsOperator { .. }
+            | TappingOutsideXy { .. }
+            | PeckUnits { .. }
+            | TooManyPecks
+            | CyclesTooLarge => {
                 self.cycle_diagnostic()
             }
             UnknownPosition { axis, what, since } => {
@@ -330,6 +337,15 @@ impl LowerError {
                 span,
                 "Q is very small for this depth",
             ),
+            CyclesTooLarge => error(
+                format!(
+                    "the canned cycles make more than {} moves",
+                    super::cycles::MAX_EXPANDED
+                ),
+                span,
+                "the limit was reached here",
+            )
+            .with_help("check the repeat counts (L, K) and the peck depths (Q)"),
             _ => error("internal: not a cycle error", span, "here"),
         }
     }
