@@ -33,6 +33,30 @@ const PAIRS: &[(&str, &str, &str, &str)] = &[
         "",
     ),
     (
+        "dwell_time_differs",
+        "G21 G0 X0 Y0 Z5\nG1 Z-1 F100\nG4 P1\nG0 Z5\nM2\n",
+        "G21 G0 X0 Y0 Z5\nG1 Z-1 F100\nG4 P2\nG0 Z5\nM2\n",
+        "pause 1",
+    ),
+    (
+        "dwell_place_differs",
+        "G21 G0 X0 Y0 Z5\nG1 Z-1 F100\nG4 P1\nG0 Z5\nM2\n",
+        "G21 G0 X0 Y0 Z5\nG1 Z-1 F100\nG0 Z5\nG4 P1\nM2\n",
+        "pause 1",
+    ),
+    (
+        "stop_missing",
+        "G21 G0 X0 Y0 Z5\nM0\nG1 Z-1 F100\nM2\n",
+        "G21 G0 X0 Y0 Z5\nG1 Z-1 F100\nM2\n",
+        "dwells and stops",
+    ),
+    (
+        "g81_is_its_moves",
+        "G21 G90 G17 G0 X0 Y0 Z5\nF100\nG98 G81 X10 Y10 Z-2 R1\nG80\nM2\n",
+        "G21 G90 G17 G0 X0 Y0 Z5\nG0 X10 Y10\nG0 Z1\nG1 Z-2 F100\nG0 Z5\nM2\n",
+        "",
+    ),
+    (
         "feed_differs",
         "G21 G0 X0 Y0\nG1 X4 F100\nM2\n",
         "G21 G0 X0 Y0\nG1 X4 F110\nM2\n",
