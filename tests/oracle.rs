@@ -39,7 +39,11 @@ fn main() {
     }
     // `--cycles keep`: the kept cycles must run on LinuxCNC as the
     // original does.
-    for case in support::egc_files(&support::manifest().join("tests/oracle/cycles")) {
+    let root = support::manifest().join("tests/oracle");
+    let kept = support::egc_files(&root.join("cycles"))
+        .into_iter()
+        .chain(support::egc_files(&root.join("cycles_keep")));
+    for case in kept {
         if case.with_extension("ngc").exists() {
             continue;
         }
