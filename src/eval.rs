@@ -35,6 +35,8 @@ pub struct EvalOptions {
     pub units: Option<ir::Units>,
     /// `--from`: whose meaning holds where controllers disagree.
     pub from: Flavour,
+    /// `--tool-table`: tools known before the program's `SetTool`s.
+    pub tools: std::collections::BTreeMap<u32, ir::Tool>,
     /// `--comments keep` (the default): a plain program's comments go to
     /// the output in their place.
     pub keep_comments: bool,
@@ -83,6 +85,7 @@ impl Default for EvalOptions {
             from: Flavour::Generic,
             plain: false,
             keep_comments: true,
+            tools: Default::default(),
         }
     }
 }
@@ -256,7 +259,7 @@ impl<'a> Evaluator<'a> {
             plane: ir::Plane::XY,
             spindle: ir::Spindle::Off,
             calls: Vec::new(),
-            setup: setup::SetupBuilder::default(),
+            setup: setup::SetupBuilder::with_tools(&options.tools),
             tool: 1,
             selected: None,
             units: None,

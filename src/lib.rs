@@ -19,5 +19,6 @@ pub mod eval;
 pub mod geometry;
 pub mod ir;
 pub mod lower;
+pub mod tool_table;
 pub mod toolpath;
 pub mod wizard;

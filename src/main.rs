@@ -82,6 +82,10 @@ struct Options {
     /// default: linuxcnc for .ngc files, else generic.
     #[arg(long, value_enum)]
     from: Option<FromArg>,
+    /// A LinuxCNC tool table (`T1 P1 D6.35 Z75`), in the output's units;
+    /// the program's `SetTool` lines win over it.
+    #[arg(long = "tool-table", value_name = "FILE")]
+    tool_table: Option<PathBuf>,
     /// The units of a program that states none (no G20/G21, no SetUnits).
     #[arg(long, value_enum)]
     units: Option<UnitsArg>,
@@ -397,7 +401,28 @@ fn run(
     let mut sources = Sources::new();
     let name = if input == "-" { "<stdin>" } else { input };
     let file = sources.add(name, text);
-    let compile_options = options.compile_options(stage);
+    let mut compile_options = options.compile_options(stage);
+    if let Some(path) = &options.tool_table {
+        let text = match std::fs::read(path).map(ger::source::decode) {
+            Ok(Ok(text)) => text,
+            Ok(Err(_)) => {
+                eprintln!("error: `{}` is not a text file", path.display());
+                return ExitCode::from(2);
+            }
+            Err(e) => {
+                eprintln!("error: cannot read `{}`: {e}", path.display());
+                return ExitCode::from(2);
+            }
+        };
+        let table = sources.add(path.display().to_string(), text);
+        match ger::tool_table::parse(sources.text(table), table) {
+            Ok(tools) => compile_options.eval.tools = tools,
+            Err(diagnostics) => {
+                eprint!("{}", ger::diagnostic::render(&sources, &diagnostics));
+                return ExitCode::from(1);
+            }
+        }
+    }
     if !options.tolerance.is_finite()
         || options.tolerance <= 0.0
         || options.decimals.is_some_and(|d| d > 9)

@@ -196,3 +196,42 @@ fn an_unwritable_output_still_shows_the_diagnostics() {
     assert_eq!(r.status.code(), Some(2), "{stderr}");
     assert!(stderr.contains("cannot write output"), "{stderr}");
 }
+
+/// `--tool-table`: LinuxCNC's format fills the table `SetTool` fills (a
+/// length folds G43); the program's `SetTool` wins; a wrong line is an
+/// error at its line of the table, and nothing is written.
+#[test]
+fn tool_table() {
+    let dir = scratch("tool-table");
+    std::fs::write(
+        dir.join("tools.tbl"),
+        "T1 P1 D6.35 Z75 ;end mill\nT2 P2 D3 Z40\n\nT7 P7 D0 X0 Z10 ; probe\n",
+    )
+    .unwrap();
+    std::fs::write(dir.join("bad.tbl"), "T1 P1 D6.35 Z75\nT2 P2 D3 Q\n").unwrap();
+    let program = "G21 G90\nT2 M6\nG43 H2\nG0 X0 Y0 Z10\nM30\n";
+    std::fs::write(dir.join("tl.nc"), program).unwrap();
+    std::fs::write(dir.join("own.egc"), format!("SetTool 2 3 5\n{program}")).unwrap();
+    let out = ger(&["compile", "tl.nc", "--tool-table", "tools.tbl"], &dir);
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    assert!(text.contains("Z50."), "{text}");
+    assert!(!text.contains("G43"), "{text}");
+    let out = ger(&["compile", "own.egc", "--tool-table", "tools.tbl"], &dir);
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(text.contains("Z15."), "{text}");
+    let out = ger(
+        &["compile", "tl.nc", "--tool-table", "bad.tbl", "-o", "x.nc"],
+        &dir,
+    );
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(1));
+    assert!(stderr.contains("bad.tbl:2:"), "{stderr}");
+    assert!(!dir.join("x.nc").exists());
+    let out = ger(&["compile", "tl.nc", "--tool-table", "missing.tbl"], &dir);
+    assert_eq!(out.status.code(), Some(2));
+}

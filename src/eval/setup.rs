@@ -69,6 +69,14 @@ pub struct SetupBuilder {
 }
 
 impl SetupBuilder {
+    /// A setup whose tool table starts with `tools` (`--tool-table`); the
+    /// program's `SetTool` may redefine them.
+    pub fn with_tools(tools: &std::collections::BTreeMap<u32, ir::Tool>) -> SetupBuilder {
+        let mut builder = SetupBuilder::default();
+        builder.setup.tools = tools.clone();
+        builder
+    }
+
     /// The setup as defined so far.
     pub fn get(&self) -> &ir::Setup {
         &self.setup
