@@ -7,6 +7,7 @@
 
 mod block;
 mod codes;
+mod comp;
 mod cycle;
 pub use cycle::{count_pecks, MAX_PECKS};
 mod setup;
@@ -212,6 +213,8 @@ struct Evaluator<'a> {
     sticky: cycle::Sticky,
     plane: ir::Plane,
     spindle: ir::Spindle,
+    /// Cutter compensation is on: its side and where it was turned on.
+    comp: Option<(ir::Side, Span)>,
     /// Subprograms being run, innermost last: (number, call span).
     calls: Vec<(u32, Span)>,
     setup: setup::SetupBuilder,
@@ -258,6 +261,7 @@ impl<'a> Evaluator<'a> {
             sticky: cycle::Sticky::default(),
             plane: ir::Plane::XY,
             spindle: ir::Spindle::Off,
+            comp: None,
             calls: Vec::new(),
             setup: setup::SetupBuilder::with_tools(&options.tools),
             tool: 1,
@@ -312,7 +316,10 @@ impl<'a> Evaluator<'a> {
             )
             .with_help("check the loops and subprogram repeats"));
         }
+        self.check_under_comp(&op, span)?;
         match &op {
+            ir::Op::Comp { side, .. } => self.comp = Some((*side, span)),
+            ir::Op::CompOff | ir::Op::End => self.comp = None,
             ir::Op::Feed(_) => self.feed_set = true,
             ir::Op::Move(m) if m.motion != ir::Motion::Rapid && !self.feed_set => {
                 return Err(error(

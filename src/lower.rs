@@ -15,6 +15,7 @@
 //! last, on absolute machine coordinates.
 
 mod absolute;
+mod comp;
 mod cycles;
 mod error;
 mod offsets;
@@ -70,6 +71,7 @@ pub const PASSES: &[PassInfo] = &[
     offsets::PASS,
     cycles::PASS,
     absolute::PASS,
+    comp::PASS,
 ];
 
 /// The index in [`PASSES`] of the pass named `name`.

@@ -24,7 +24,7 @@ fn main() {
     let args = Arguments::from_args();
     let (have_oracle, required) = (rs274::available(), rs274::required());
     let mut trials = Vec::new();
-    for area in ["eval", "lower", "cycles"] {
+    for area in ["eval", "lower", "cycles", "comp"] {
         let cases = support::egc_files(&support::manifest().join("tests/oracle").join(area));
         for case in cases {
             let name = format!("{area}/{}", case.file_stem().unwrap().to_string_lossy());

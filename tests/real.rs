@@ -1,8 +1,7 @@
 //! Real programs (`../shared/real/`, third-party files read from there and
 //! never copied here): where that folder is present, each program that
 //! rs274 runs must compile with ger to the same tool path, or be refused
-//! for a reason of its own line that a later issue lifts (cutter
-//! compensation, the `#`/`o`-word macro languages), or differ for
+//! for a reason of its own line that a later issue lifts (the the `#`/`o`-word macro languages), or differ for
 //! a reason written down below. Without the folder the tests are skipped
 //! (they are not ger's data); without rs274 they follow `tests/oracle.rs`.
 //!
@@ -23,11 +22,15 @@ use support::rs274;
 /// Refusals a later issue lifts: the program's first error says one of
 /// these.
 const NOT_YET: &[&str] = &[
-    "cutter compensation",
     "unexpected character `#`",
     "unexpected name `sub`",
     "unexpected character `[`",
 ];
+
+/// Tool tables (mm, LinuxCNC's format) for the programs that compensate:
+/// the same table for rs274 and for ger (`--tool-table`), with the cutter
+/// the program's own comments name.
+const TOOL_TABLES: &[(&str, &str)] = &[("020_", "T34 P34 D3 Z0 ;3MM CRB 2FL\n")];
 
 /// Programs whose path differs for a reason that is not ger's to fix.
 const KNOWN: &[(&str, &str)] = &[
@@ -116,9 +119,22 @@ fn run(path: &Path) -> Result<(), Failed> {
     let bytes = std::fs::read(path).map_err(|e| e.to_string())?;
     let reference = work.join("ref.ngc");
     std::fs::write(&reference, clean_for_rs274(&bytes)).map_err(|e| e.to_string())?;
-    let a = rs274::tool_path(&reference, &[]);
+    let table = TOOL_TABLES
+        .iter()
+        .find(|(prefix, _)| name.starts_with(prefix))
+        .map(|(_, text)| *text);
+    let tools = table.map(rs274::read_tool_table).unwrap_or_default();
+    let a = rs274::tool_path(&reference, &tools);
     let out = work.join("out.nc");
-    let compiled = support::compile(path, &out);
+    let compiled = match table {
+        Some(text) => {
+            let file = work.join("tools.tbl");
+            std::fs::write(&file, text).map_err(|e| e.to_string())?;
+            let file = file.to_string_lossy().into_owned();
+            support::compile_with(path, &out, &["--tool-table", &file])
+        }
+        None => support::compile(path, &out),
+    };
     let result = match (a, compiled) {
         // rs274 refuses the program: nothing to compare with.
         (Err(_), _) => Ok(()),
@@ -132,7 +148,7 @@ fn run(path: &Path) -> Result<(), Failed> {
         }
         (Ok(a), Ok(_)) => {
             let known = KNOWN.iter().find(|(prefix, _)| name.starts_with(prefix));
-            let b = rs274::tool_path(&out, &[]);
+            let b = rs274::tool_path(&out, &tools);
             let same = b
                 .map_err(|e| format!("ger's output fails in rs274: {e}"))
                 .and_then(|b| {

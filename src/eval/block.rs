@@ -1,7 +1,7 @@
 //! The order of execution inside one block (SPEC §2.2), rs274's: whatever
 //! order a line writes its codes in, feed, speed and tool come first, then
 //! the tool change, spindle, coolant, dwell, the modes (plane, units,
-//! compensation, length offset, work offset, path mode, distance, return
+//! distance, compensation, length offset, work offset, path mode, return
 //! level), the non-modal codes that take axes (G10, G28, G30, G52, G92), the
 //! motion, and last the stops and program end. So `G1 Y40 M8` turns the
 //! coolant on before the move and `G28 G91 Z0` goes home through a point
@@ -161,7 +161,10 @@ impl Kind {
             Kind::WorkOffset => 11,
             Kind::PathMode => 12,
             Kind::Polar => 13,
-            Kind::Distance => 14,
+            // Before the offsets (rs274 runs it after them): no offset
+            // depends on it, and `G90 G54` must not change offsets under
+            // a G91 the line itself ends.
+            Kind::Distance => 8,
             Kind::ReturnLevel => 15,
             Kind::AxisUser => 16,
             Kind::MachineCoordinates => 17,

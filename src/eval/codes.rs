@@ -309,14 +309,7 @@ impl Evaluator<'_> {
                 return self.leftover_move(w, span, code).map(|_| Flow::Next);
             }
             400 => Op::CompOff,
-            410 | 420 | 411 | 421 => {
-                return Err(error(
-                    format!("cutter compensation ({}) is not supported yet", name()),
-                    at,
-                    "ger cannot lower this code yet",
-                )
-                .with_help("program the tool-centre path, or wait for ger's cutter compensation"))
-            }
+            410 | 420 | 411 | 421 => self.comp_on(t, at, w)?,
             430 | 440 => {
                 let tool = match w.take(b'H') {
                     Some((h, hspan)) => whole(h, hspan, "a tool number")?,

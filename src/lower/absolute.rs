@@ -130,9 +130,6 @@ impl Pass for AbsolutePass {
             | Op::SetWorkOffsetHere { .. }
             | Op::ToolLength { .. }
             | Op::CancelToolLength => self.at.forget_after(&stmt.op, span),
-            // Nothing to cancel: the front end refuses G41/G42 until the
-            // comp pass exists.
-            Op::CompOff => return,
             // Only a kept cycle comes this far: it is absolute already.
             Op::Cycle(c) => {
                 let (a, b, n) = self.at.plane.axes();
@@ -161,6 +158,7 @@ impl Pass for AbsolutePass {
             | Op::ReturnLevel(_)
             | Op::CycleOff
             | Op::Comp { .. }
+            | Op::CompOff
             | Op::Comment(_)
             | Op::Passthrough(_) => {}
         }

@@ -38,6 +38,38 @@ pub enum LowerErrorKind {
     PeckUnits {
         code: u32,
     },
+    /// G41/G42 without D and no tool loaded.
+    CompNoTool,
+    /// G41/G42 D`tool` not in the tool table.
+    CompUnknownTool {
+        tool: u32,
+    },
+    /// The entry move is not longer than the radius.
+    CompEntryTooShort {
+        radius: f64,
+    },
+    /// An arc the tool is inside of, not larger than the radius.
+    CompArcTooSmall,
+    /// A corner the tool cannot reach without cutting into the part; the
+    /// held move's line.
+    CompGouge {
+        what: &'static str,
+        held: Option<Span>,
+    },
+    /// An arc right after G40.
+    CompArcAfterOff {
+        off: Span,
+    },
+    /// The program ends with compensation on.
+    CompStillOn {
+        since: Span,
+    },
+    /// A near-tangent corner into an arc makes rs274 start the arc off its
+    /// circle: radii differ.
+    CompSpiral {
+        start: f64,
+        end: f64,
+    },
     /// More pecks in one hole than [`crate::eval::MAX_PECKS`].
     TooManyPecks,
     /// The cycles of the program expand to more than
@@ -125,9 +157,15 @@ impl LowerError {
             | TappingOutsideXy { .. }
             | PeckUnits { .. }
             | TooManyPecks
-            | CyclesTooLarge => {
-                self.cycle_diagnostic()
-            }
+            | CyclesTooLarge => self.cycle_diagnostic(),
+            CompNoTool
+            | CompUnknownTool { .. }
+            | CompEntryTooShort { .. }
+            | CompArcTooSmall
+            | CompGouge { .. }
+            | CompArcAfterOff { .. }
+            | CompStillOn { .. }
+            | CompSpiral { .. } => self.comp_diagnostic(),
             UnknownPosition { axis, what, since } => {
                 let letter = axis.letter() as char;
                 let d = error(
@@ -347,6 +385,76 @@ impl LowerError {
             )
             .with_help("check the repeat counts (L, K) and the peck depths (Q)"),
             _ => error("internal: not a cycle error", span, "here"),
+        }
+    }
+}
+
+impl LowerError {
+    /// The wording of the comp pass's errors.
+    fn comp_diagnostic(&self) -> Diagnostic {
+        use LowerErrorKind::*;
+        let span = self.span;
+        match &self.kind {
+            CompNoTool => error(
+                "cutter compensation without a tool",
+                span,
+                "no D here and no tool loaded (M6)",
+            )
+            .with_help("name the tool (`G41 D1`) or load it first (`T1 M6`)"),
+            CompUnknownTool { tool } => error(
+                format!("tool {tool} is not in the tool table"),
+                span,
+                "compensation needs its diameter",
+            )
+            .with_help(format!(
+                "give it with `SetTool {tool} diameter` or --tool-table; D names a tool (LinuxCNC), not a radius register"
+            )),
+            CompEntryTooShort { radius } => error(
+                "the move that starts compensation is too short",
+                span,
+                format!("it must be longer than the tool radius ({radius})"),
+            )
+            .with_help("start compensation farther from the part, on a move in the plane"),
+            CompArcTooSmall => error(
+                "an inside arc not larger than the tool radius",
+                span,
+                "the tool cannot follow this arc",
+            )
+            .with_help("use a smaller tool or a larger radius"),
+            CompGouge { what, held } => {
+                let d = error(
+                    format!("the tool cannot reach this corner without gouging ({what})"),
+                    span,
+                    "the tool radius does not fit in this inside corner",
+                )
+                .with_help("use a smaller tool, or lengthen the short move");
+                match held {
+                    Some(at) if *at != span => d.with_secondary(*at, "the move before it"),
+                    _ => d,
+                }
+            }
+            CompArcAfterOff { off } => error(
+                "an arc right after G40",
+                span,
+                "the move after compensation ends must be straight",
+            )
+            .with_secondary(*off, "compensation ended here"),
+            CompStillOn { since } => error(
+                "the program ends with cutter compensation on",
+                span,
+                "no G40 before the end",
+            )
+            .with_secondary(*since, "compensation turned on here")
+            .with_help("end the profile with a G40 move"),
+            CompSpiral { start, end } => error(
+                "a near-tangent corner into this arc",
+                span,
+                format!(
+                    "compensated, the arc would start {start:.4} and end {end:.4} from its centre"
+                ),
+            )
+            .with_help("LinuxCNC makes a spiral here; make the corner sharper or tangent"),
+            _ => error("internal: not a comp error", span, "here"),
         }
     }
 }

@@ -1,0 +1,103 @@
+//! Cutter compensation blocks (G40, G41/G42 [D], G41.1/G42.1 D): the
+//! radius they name and what may not happen while compensation is on
+//! (rs274's rules). The geometry is the comp pass's (`lower/comp.rs`).
+
+use super::{Evaluator, WordValues};
+use crate::diagnostic::{error, Diagnostic, DiagnosticExt};
+use crate::ir::{self, CompRadius, Op, Side};
+use crate::source::Span;
+
+impl Evaluator<'_> {
+    /// G41/G42 (`t` 410/420) or G41.1/G42.1 (411/421).
+    pub(super) fn comp_on(
+        &mut self,
+        t: u32,
+        at: Span,
+        w: &mut WordValues,
+    ) -> Result<Op, Diagnostic> {
+        let name = match t {
+            410 => "G41",
+            420 => "G42",
+            411 => "G41.1",
+            _ => "G42.1",
+        };
+        if let Some((_, since)) = self.comp {
+            return Err(error(
+                format!("{name} while cutter compensation is on"),
+                at,
+                "compensation is already on",
+            )
+            .with_secondary(since, "turned on here")
+            .with_help("turn it off with G40 first, also to change sides"));
+        }
+        if self.plane == ir::Plane::YZ {
+            return Err(error(
+                format!("{name} in the YZ plane (G19)"),
+                at,
+                "compensation works in G17 (XY) and G18 (XZ)",
+            ));
+        }
+        let side = if t == 410 || t == 411 {
+            Side::Left
+        } else {
+            Side::Right
+        };
+        let radius = match (t, w.take(b'D')) {
+            (410 | 420, None) => CompRadius::LoadedTool,
+            (410 | 420, Some((d, dspan))) => {
+                if d < 0.0 || (d - d.round()).abs() > 1e-4 || d > 99_999.0 {
+                    return Err(error(
+                        format!("{name} D must be a tool number"),
+                        dspan,
+                        "D names a tool of the tool table (LinuxCNC), a whole number",
+                    )
+                    .with_help("G41.1 D… takes the cutter's diameter instead"));
+                }
+                match d.round() as u32 {
+                    0 => CompRadius::LoadedTool,
+                    n => CompRadius::Tool(n),
+                }
+            }
+            (_, Some((d, _))) => CompRadius::Diameter(d),
+            (_, None) => {
+                return Err(error(
+                    format!("{name} without D"),
+                    at,
+                    "D gives the cutter's diameter",
+                ))
+            }
+        };
+        Ok(Op::Comp { side, radius })
+    }
+
+    /// What may not happen under compensation: an error naming it, with
+    /// the line that turned compensation on.
+    pub(super) fn check_under_comp(&self, op: &Op, span: Span) -> Result<(), Diagnostic> {
+        let Some((_, since)) = self.comp else {
+            return Ok(());
+        };
+        let what = match op {
+            Op::ChangeTool => "a tool change",
+            Op::Cycle(_) => "a canned cycle",
+            Op::Home { .. } => "G28/G30",
+            Op::MachineMove(_) => "a G53 move",
+            Op::SelectWorkOffset(_)
+            | Op::SetWorkOffset { .. }
+            | Op::SetWorkOffsetHere { .. }
+            | Op::LocalOffset(_)
+            | Op::SetPosition(_)
+            | Op::CancelPosition => "a change of work offset",
+            Op::ToolLength { .. } | Op::CancelToolLength => "a change of tool length offset",
+            Op::Plane(p) if *p != self.plane => "a change of plane",
+            Op::Polar(true) => "polar coordinates (G16)",
+            _ => return Ok(()),
+        };
+        Err(error(
+            format!("{what} under cutter compensation"),
+            span,
+            "not allowed while compensation is on",
+        )
+        .with_secondary(since, "compensation turned on here")
+        .with_help("turn compensation off with G40 before it"))
+    }
+}
