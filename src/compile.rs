@@ -339,7 +339,8 @@ impl<'s> Backend<'s> {
             Some(Stage::Parse | Stage::Expand) => None,
             None => Some(lower::PASSES.len() - 1),
         };
-        // A tool path is built from moves: cycles are always expanded.
+        // A tool path is built from moves: cycles are always expanded and
+        // compensation resolved.
         let path_options = lower::LowerOptions::default();
         let options = match self.out {
             Output::Path(_) => &path_options,

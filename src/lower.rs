@@ -55,6 +55,8 @@ pub struct Context<'a> {
 pub struct LowerOptions {
     /// `--cycles keep`: canned cycles stay in the output, normalised.
     pub keep_cycles: bool,
+    /// `--comp keep`: G41/G42/G40 stay in the output, for the controller.
+    pub keep_comp: bool,
 }
 
 /// A pass in the registry: its stage name and how to make it.

@@ -93,6 +93,10 @@ struct Options {
     /// them (--target fanuc or linuxcnc).
     #[arg(long, value_enum, default_value_t = CyclesArg::Expand)]
     cycles: CyclesArg,
+    /// Cutter compensation: resolved into the tool-centre path, or kept for
+    /// a controller that compensates itself (--target fanuc or linuxcnc).
+    #[arg(long, value_enum, default_value_t = CompArg::Resolve)]
+    comp: CompArg,
     /// How arcs are written.
     #[arg(long, value_enum, default_value_t = ArcsArg::Ij)]
     arcs: ArcsArg,
@@ -161,6 +165,12 @@ enum CyclesArg {
     Keep,
 }
 
+#[derive(Clone, Copy, PartialEq, Eq, ValueEnum)]
+enum CompArg {
+    Resolve,
+    Keep,
+}
+
 #[derive(Clone, Copy, ValueEnum)]
 enum ArcsArg {
     Ij,
@@ -194,6 +204,7 @@ impl Options {
             }),
             lower: ger::lower::LowerOptions {
                 keep_cycles: self.cycles == CyclesArg::Keep,
+                keep_comp: self.comp == CompArg::Keep,
             },
             emit: ger::emit::EmitOptions {
                 numbering: match self.numbers {
@@ -434,6 +445,14 @@ fn run(
         && !matches!(options.target, TargetArg::Fanuc | TargetArg::Linuxcnc)
     {
         eprintln!("error: --cycles keep needs a controller with canned cycles: --target fanuc or linuxcnc");
+        return ExitCode::from(2);
+    }
+    if options.comp == CompArg::Keep
+        && !matches!(options.target, TargetArg::Fanuc | TargetArg::Linuxcnc)
+    {
+        eprintln!(
+            "error: --comp keep needs a controller that compensates: --target fanuc or linuxcnc"
+        );
         return ExitCode::from(2);
     }
     let started = std::time::Instant::now();

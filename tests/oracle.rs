@@ -40,24 +40,30 @@ fn main() {
     // `--cycles keep`: the kept cycles must run on LinuxCNC as the
     // original does.
     let root = support::manifest().join("tests/oracle");
-    let kept = support::egc_files(&root.join("cycles"))
-        .into_iter()
-        .chain(support::egc_files(&root.join("cycles_keep")));
-    for case in kept {
-        if case.with_extension("ngc").exists() {
-            continue;
-        }
-        let name = format!(
-            "cycles-keep/{}",
-            case.file_stem().unwrap().to_string_lossy()
-        );
-        let trial = Trial::test(name, move || {
-            if !have_oracle {
-                return Err(rs274::missing().into());
+    let kept = [
+        ("cycles", "cycles-keep"),
+        ("cycles_keep", "cycles-keep"),
+        ("comp", "comp-keep"),
+    ];
+    for (folder, label) in kept {
+        for case in support::egc_files(&root.join(folder)) {
+            if case.with_extension("ngc").exists() {
+                continue;
             }
-            run_kept(&case)
-        });
-        trials.push(trial.with_ignored_flag(!have_oracle && !required));
+            let name = format!("{label}/{}", case.file_stem().unwrap().to_string_lossy());
+            let keep = if label == "comp-keep" {
+                "--comp"
+            } else {
+                "--cycles"
+            };
+            let trial = Trial::test(name, move || {
+                if !have_oracle {
+                    return Err(rs274::missing().into());
+                }
+                run_kept(&case, keep)
+            });
+            trials.push(trial.with_ignored_flag(!have_oracle && !required));
+        }
     }
     // The shipped examples have no reference: their output must use only
     // the allowed codes and be a program rs274 runs.
@@ -116,6 +122,13 @@ fn run_case(case: &Path) -> Result<(), Failed> {
     };
     rs274::same_path(&b, &own, &Default::default())
         .map_err(|why| format!("ger's tool path is not its output's: {why}"))?;
+    // Compiling ger's output again changes nothing.
+    let again = rs274::Reference {
+        path: own_tool_path(&out)?,
+        inch: b.inch,
+    };
+    rs274::same_path(&b, &again, &Default::default())
+        .map_err(|why| format!("ger's output compiled again moves differently: {why}"))?;
     let _ = std::fs::remove_dir_all(&work);
     match rs274::same_path(&a, &b, &Default::default()) {
         Ok(_) => Ok(()),
@@ -128,19 +141,25 @@ fn run_case(case: &Path) -> Result<(), Failed> {
     }
 }
 
-fn run_kept(case: &Path) -> Result<(), Failed> {
+/// `--cycles keep` or `--comp keep` (`keep`): rs274 must run ger's output
+/// as it runs the input.
+fn run_kept(case: &Path, keep: &str) -> Result<(), Failed> {
     let stem = case.file_stem().unwrap().to_string_lossy().into_owned();
     let out = std::env::temp_dir().join(format!("ger-kept-{}-{stem}.nc", std::process::id()));
-    support::compile_with(case, &out, &["--cycles", "keep", "--target", "linuxcnc"])?;
+    support::compile_with(case, &out, &[keep, "keep", "--target", "linuxcnc"])?;
     let text = std::fs::read_to_string(&out).map_err(|e| e.to_string())?;
-    let a = rs274::tool_path(case, &[]).map_err(|e| format!("the input fails: {e}"))?;
-    let b = rs274::tool_path(&out, &[]).map_err(|e| format!("ger's output fails: {e}"))?;
+    let tools = match std::fs::read_to_string(case.with_extension("tbl")) {
+        Ok(text) => rs274::read_tool_table(&text),
+        Err(_) => Vec::new(),
+    };
+    let a = rs274::tool_path(case, &tools).map_err(|e| format!("the input fails: {e}"))?;
+    let b = rs274::tool_path(&out, &tools).map_err(|e| format!("ger's output fails: {e}"))?;
     let _ = std::fs::remove_file(&out);
     rs274::same_path(&a, &b, &Default::default())
         .map(|_| ())
         .map_err(|why| {
             format!(
-                "{} and ger's kept cycles move differently: {why}\n--- ger output ---\n{text}",
+                "{} and ger's output ({keep} keep) move differently: {why}\n--- ger output ---\n{text}",
                 case.display()
             )
             .into()

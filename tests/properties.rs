@@ -387,3 +387,106 @@ proptest! {
         prop_assert_eq!(a.diagnostics.len(), b.diagnostics.len());
     }
 }
+
+/// The distance from `p` to the segment `a`–`b` (XY).
+fn segment_distance(p: [f64; 2], a: [f64; 2], b: [f64; 2]) -> f64 {
+    let (dx, dy) = (b[0] - a[0], b[1] - a[1]);
+    let len2 = dx * dx + dy * dy;
+    let t = (((p[0] - a[0]) * dx + (p[1] - a[1]) * dy) / len2).clamp(0.0, 1.0);
+    (p[0] - a[0] - t * dx).hypot(p[1] - a[1] - t * dy)
+}
+
+/// A convex polygon (its corners on a circle, clockwise, every corner
+/// turning more than rs274's 0.05 rad), its outside milled with G41 (climb)
+/// by a tool of radius `r`: the returned program and its corners.
+fn compensated_polygon(gaps: &[f64], radius: f64, r: f64) -> (String, Vec<[f64; 2]>) {
+    let total: f64 = gaps.iter().sum();
+    let mut angle: f64 = 0.0;
+    let mut corners = Vec::new();
+    for g in gaps {
+        corners.push([radius * angle.cos(), radius * angle.sin()]);
+        // Clockwise.
+        angle -= g / total * std::f64::consts::TAU;
+    }
+    let (v0, v1) = (corners[0], corners[1]);
+    let mid = [(v0[0] + v1[0]) / 2.0, (v0[1] + v1[1]) / 2.0];
+    // Outside of a clockwise edge is its left: the edge direction turned
+    // +90°.
+    let len = (v1[0] - v0[0]).hypot(v1[1] - v0[1]);
+    let out = [-(v1[1] - v0[1]) / len, (v1[0] - v0[0]) / len];
+    let start = [
+        mid[0] + out[0] * (3.0 * r + 5.0),
+        mid[1] + out[1] * (3.0 * r + 5.0),
+    ];
+    let mut text = format!(
+        "SetTool 1 {}\nG21 G90 G17\nT1 M6\nS5000 M3\nG0 X{:.6} Y{:.6} Z5\nG1 Z-1 F100\nG41 D1 G1 X{:.6} Y{:.6}\n",
+        2.0 * r, start[0], start[1], mid[0], mid[1]
+    );
+    for c in corners.iter().skip(1).chain(std::iter::once(&corners[0])) {
+        text.push_str(&format!("G1 X{:.6} Y{:.6}\n", c[0], c[1]));
+    }
+    text.push_str(&format!("G1 X{:.6} Y{:.6}\n", mid[0], mid[1]));
+    text.push_str(&format!(
+        "G40 G1 X{:.6} Y{:.6}\nG0 Z5\nM30\n",
+        start[0], start[1]
+    ));
+    (text, corners)
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig { cases: 200, ..ProptestConfig::default() })]
+
+    /// Outside a convex polygon, the compensated path keeps exactly the
+    /// tool radius from the outline everywhere between the entry and the
+    /// exit: on the offset edges and on the corner arcs (sampled).
+    #[test]
+    fn compensation_keeps_the_radius(
+        gaps in proptest::collection::vec(0.35f64..1.0, 3..9),
+        radius in 10.0f64..60.0,
+        r_part in 0.05f64..0.4,
+    ) {
+        // The tool radius: a part of the shortest half edge, so that the
+        // entry (offset along the first edge) does not overshoot it.
+        let (_, corners) = compensated_polygon(&gaps, radius, 1.0);
+        let shortest = (0..corners.len())
+            .map(|i| {
+                let (a, b) = (corners[i], corners[(i + 1) % corners.len()]);
+                (a[0] - b[0]).hypot(a[1] - b[1])
+            })
+            .fold(f64::INFINITY, f64::min);
+        let r = r_part * shortest / 2.0;
+        let (text, corners) = compensated_polygon(&gaps, radius, r);
+        let mut sources = Sources::new();
+        let file = sources.add("poly.egc", text.clone());
+        let (path, diagnostics) =
+            ger::compile::tool_path(&sources, file, &CompileOptions::default(), None);
+        let path = path.unwrap_or_else(|| panic!("{}\n{text}", ger::diagnostic::render(&sources, &diagnostics)));
+        // Lines 8.. are the profile (line 7 is the entry, the G40 line the exit).
+        let last = 8 + corners.len() as u32;
+        let outline = |p: [f64; 2]| {
+            (0..corners.len())
+                .map(|i| segment_distance(p, corners[i], corners[(i + 1) % corners.len()]))
+                .fold(f64::INFINITY, f64::min)
+        };
+        let mut checked = 0;
+        for m in path.moves.iter().filter(|m| (8..=last).contains(&m.span.line)) {
+            for k in 0..=8 {
+                let f = k as f64 / 8.0;
+                let p = match m.kind {
+                    ger::toolpath::MoveKind::Arc(a) => {
+                        let (c, s) = (a.center, m.start);
+                        let a0 = (s[1] - c[1]).atan2(s[0] - c[0]);
+                        let sweep = m.sweep() * if a.clockwise { -1.0 } else { 1.0 };
+                        let rr = (s[0] - c[0]).hypot(s[1] - c[1]);
+                        [c[0] + rr * (a0 + f * sweep).cos(), c[1] + rr * (a0 + f * sweep).sin()]
+                    }
+                    _ => [m.start[0] + f * (m.end[0] - m.start[0]), m.start[1] + f * (m.end[1] - m.start[1])],
+                };
+                let d = outline(p);
+                prop_assert!((d - r).abs() < 1e-6, "{d} from the outline, not {r}, at {p:?} (line {})\n{text}", m.span.line);
+                checked += 1;
+            }
+        }
+        prop_assert!(checked > 9 * corners.len());
+    }
+}

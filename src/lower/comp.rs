@@ -116,6 +116,8 @@ struct On {
 }
 
 struct CompPass {
+    /// `--comp keep`: everything passes through.
+    keep: bool,
     tools: BTreeMap<u32, ir::Tool>,
     selected: Option<u32>,
     loaded: Option<u32>,
@@ -136,6 +138,7 @@ struct CompPass {
 impl CompPass {
     fn new(cx: &Context<'_>) -> CompPass {
         CompPass {
+            keep: cx.options.keep_comp,
             tools: cx.start.setup.tools.clone(),
             selected: None,
             loaded: None,
@@ -782,6 +785,10 @@ impl CompPass {
 
 impl Pass for CompPass {
     fn feed(&mut self, stmt: Stmt, out: &mut Out<'_>) {
+        if self.keep {
+            out.push(stmt);
+            return;
+        }
         if let Err(e) = CompPass::feed(self, stmt, out) {
             out.report(e);
             // One error per profile: the rest of it would repeat it.
