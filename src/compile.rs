@@ -341,7 +341,11 @@ impl<'s> Backend<'s> {
         };
         // A tool path is built from moves: cycles are always expanded and
         // compensation resolved.
-        let path_options = lower::LowerOptions::default();
+        let path_options = lower::LowerOptions {
+            keep_cycles: false,
+            keep_comp: false,
+            ..self.options.lower.clone()
+        };
         let options = match self.out {
             Output::Path(_) => &path_options,
             _ => &self.options.lower,

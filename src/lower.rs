@@ -57,6 +57,9 @@ pub struct LowerOptions {
     pub keep_cycles: bool,
     /// `--comp keep`: G41/G42/G40 stay in the output, for the controller.
     pub keep_comp: bool,
+    /// `--comp-entry lookahead`: the entry move goes straight to the
+    /// offset start of the move after it (Ger's entry), not rs274's.
+    pub comp_entry_lookahead: bool,
 }
 
 /// A pass in the registry: its stage name and how to make it.

@@ -97,6 +97,11 @@ struct Options {
     /// a controller that compensates itself (--target fanuc or linuxcnc).
     #[arg(long, value_enum, default_value_t = CompArg::Resolve)]
     comp: CompArg,
+    /// The move that starts compensation: rs274's (offset square to itself
+    /// at its end, then a corner) or lookahead (straight to the offset start
+    /// of the next move, as Ger does).
+    #[arg(long = "comp-entry", value_enum, default_value_t = CompEntryArg::Rs274)]
+    comp_entry: CompEntryArg,
     /// How arcs are written.
     #[arg(long, value_enum, default_value_t = ArcsArg::Ij)]
     arcs: ArcsArg,
@@ -171,6 +176,12 @@ enum CompArg {
     Keep,
 }
 
+#[derive(Clone, Copy, PartialEq, Eq, ValueEnum)]
+enum CompEntryArg {
+    Rs274,
+    Lookahead,
+}
+
 #[derive(Clone, Copy, ValueEnum)]
 enum ArcsArg {
     Ij,
@@ -205,6 +216,7 @@ impl Options {
             lower: ger::lower::LowerOptions {
                 keep_cycles: self.cycles == CyclesArg::Keep,
                 keep_comp: self.comp == CompArg::Keep,
+                comp_entry_lookahead: self.comp_entry == CompEntryArg::Lookahead,
             },
             emit: ger::emit::EmitOptions {
                 numbering: match self.numbers {

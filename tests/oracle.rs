@@ -104,7 +104,14 @@ fn run_case(case: &Path) -> Result<(), Failed> {
         std::fs::write(&input, text).map_err(|e| e.to_string())?;
     }
     let out = work.join(format!("{stem}.nc"));
-    support::compile(&input, &out)?;
+    // The case's wizards, wherever its input is written.
+    let wizards = case.parent().unwrap().join("wizards");
+    if wizards.is_dir() {
+        let dir = wizards.to_string_lossy().into_owned();
+        support::compile_with(&input, &out, &["--wizards", &dir])?;
+    } else {
+        support::compile(&input, &out)?;
+    }
     let text = std::fs::read_to_string(&out).map_err(|e| e.to_string())?;
     check_allowed_codes(&text)?;
     let reference = match case.with_extension("ngc") {
@@ -115,7 +122,7 @@ fn run_case(case: &Path) -> Result<(), Failed> {
         .map_err(|e| format!("the reference {} fails: {e}", reference.display()))?;
     let b = rs274::tool_path(&out, &tools).map_err(|e| format!("ger's output fails: {e}"))?;
     // ger's own tool path (from its IR) is the one its output makes.
-    let own = own_tool_path(&input)?;
+    let own = own_tool_path(&input, &wizards)?;
     let own = rs274::Reference {
         path: own,
         inch: b.inch,
@@ -124,7 +131,7 @@ fn run_case(case: &Path) -> Result<(), Failed> {
         .map_err(|why| format!("ger's tool path is not its output's: {why}"))?;
     // Compiling ger's output again changes nothing.
     let again = rs274::Reference {
-        path: own_tool_path(&out)?,
+        path: own_tool_path(&out, &wizards)?,
         inch: b.inch,
     };
     rs274::same_path(&b, &again, &Default::default())
@@ -166,14 +173,14 @@ fn run_kept(case: &Path, keep: &str) -> Result<(), Failed> {
         })
 }
 
-fn own_tool_path(input: &Path) -> Result<ger::toolpath::ToolPath, Failed> {
+/// ger's own tool path of `input`, with the wizards of `folder`.
+fn own_tool_path(input: &Path, folder: &Path) -> Result<ger::toolpath::ToolPath, Failed> {
     use ger::wizard::{standard_library, Library, WizardEngine, WizardSource};
     let text = std::fs::read_to_string(input).map_err(|e| e.to_string())?;
     let mut sources = ger::source::Sources::new();
     // The wizards beside the case, as the command line finds them.
     let mut found = Vec::new();
-    let folder = input.parent().unwrap().join("wizards");
-    if let Ok(entries) = std::fs::read_dir(&folder) {
+    if let Ok(entries) = std::fs::read_dir(folder) {
         for path in entries.filter_map(|e| e.ok().map(|e| e.path())) {
             if path.extension().is_some_and(|x| x == "rhai") {
                 found.push(WizardSource {

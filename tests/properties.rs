@@ -444,6 +444,7 @@ proptest! {
         gaps in proptest::collection::vec(0.35f64..1.0, 3..9),
         radius in 10.0f64..60.0,
         r_part in 0.05f64..0.4,
+        lookahead in any::<bool>(),
     ) {
         // The tool radius: a part of the shortest half edge, so that the
         // entry (offset along the first edge) does not overshoot it.
@@ -458,8 +459,9 @@ proptest! {
         let (text, corners) = compensated_polygon(&gaps, radius, r);
         let mut sources = Sources::new();
         let file = sources.add("poly.egc", text.clone());
-        let (path, diagnostics) =
-            ger::compile::tool_path(&sources, file, &CompileOptions::default(), None);
+        let mut options = CompileOptions::default();
+        options.lower.comp_entry_lookahead = lookahead;
+        let (path, diagnostics) = ger::compile::tool_path(&sources, file, &options, None);
         let path = path.unwrap_or_else(|| panic!("{}\n{text}", ger::diagnostic::render(&sources, &diagnostics)));
         // Lines 8.. are the profile (line 7 is the entry, the G40 line the exit).
         let last = 8 + corners.len() as u32;

@@ -113,11 +113,16 @@ struct On {
     queue: Vec<Queued>,
     /// Where the held move starts, for the gouge checks.
     s: Option<P2>,
+    /// `--comp-entry lookahead`: the held entry ends where the next move's
+    /// offset starts, once that move is known.
+    entry_waits: bool,
 }
 
 struct CompPass {
     /// `--comp keep`: everything passes through.
     keep: bool,
+    /// `--comp-entry lookahead`.
+    lookahead: bool,
     tools: BTreeMap<u32, ir::Tool>,
     selected: Option<u32>,
     loaded: Option<u32>,
@@ -139,6 +144,7 @@ impl CompPass {
     fn new(cx: &Context<'_>) -> CompPass {
         CompPass {
             keep: cx.options.keep_comp,
+            lookahead: cx.options.comp_entry_lookahead,
             tools: cx.start.setup.tools.clone(),
             selected: None,
             loaded: None,
@@ -218,6 +224,7 @@ impl CompPass {
                     c,
                     queue: Vec::new(),
                     s: None,
+                    entry_waits: false,
                 });
                 return Ok(());
             }
@@ -386,6 +393,26 @@ impl CompPass {
         let (c, r) = (on.c, on.r);
         let left = on.side == Side::Left;
         match arc {
+            None if self.lookahead => {
+                if dist(p, c) <= r {
+                    return Err(LowerError::new(
+                        LowerErrorKind::CompEntryTooShort { radius: r },
+                        span,
+                    ));
+                }
+                // Its end is the next move's offset start.
+                on.s = Some(c);
+                on.queue.push(Queued::Move(Held {
+                    stmt,
+                    start: c,
+                    end: p,
+                    shape: Shape::Line {
+                        dir: [p[0] - c[0], p[1] - c[1]],
+                    },
+                }));
+                on.c = p;
+                on.entry_waits = true;
+            }
             None => {
                 if dist(p, c) <= r {
                     return Err(LowerError::new(
@@ -482,6 +509,19 @@ impl CompPass {
         };
         let e = add(p, dir(alpha + gamma), r);
         let mid = add(op, dir(alpha + gamma), r);
+        if on.entry_waits {
+            self.end_entry(on, mid, out);
+            on.queue.push(Queued::Move(Held {
+                stmt,
+                start: mid,
+                end: e,
+                shape: Shape::Line {
+                    dir: [p[0] - op[0], p[1] - op[1]],
+                },
+            }));
+            on.c = e;
+            return Ok(());
+        }
         let front_arc = match on.queue.first() {
             Some(Queued::Move(Held {
                 shape: Shape::Arc { center, t, .. },
@@ -587,6 +627,22 @@ impl CompPass {
         };
         let e = add(p, dir(g), r);
         let sweep = find_turn(op, o, t, p);
+        if on.entry_waits {
+            let mid = add(op, dir(delta), r);
+            self.end_entry(on, mid, out);
+            on.queue.push(Queued::Move(Held {
+                stmt,
+                start: mid,
+                end: e,
+                shape: Shape::Arc {
+                    center: o,
+                    t,
+                    sweep,
+                },
+            }));
+            on.c = e;
+            return Ok(());
+        }
         let concave = !(-SMALL..=PI + SMALL).contains(&beta) || ((beta - PI).abs() < SMALL && !ins);
         if concave {
             let point = match on.queue.first() {
@@ -668,6 +724,17 @@ impl CompPass {
         }));
         on.c = e;
         Ok(())
+    }
+
+    /// `--comp-entry lookahead`: the held entry ends at `mid`, where the
+    /// next move's offset path starts, and goes out.
+    fn end_entry(&self, on: &mut On, mid: P2, out: &mut Out<'_>) {
+        on.entry_waits = false;
+        if let Some(Queued::Move(h)) = on.queue.first_mut() {
+            h.end = mid;
+        }
+        self.flush(on, out);
+        on.s = Some(mid);
     }
 
     fn gouge(&self, what: &'static str, on: &On, span: Span) -> LowerError {
