@@ -542,6 +542,7 @@ impl CompPass {
             out.push(corner);
             on.s = Some(mid);
         } else if concave {
+            self.held_for_trim(on, span)?;
             let point = match front_arc {
                 None => {
                     let retreat = r / ((beta + PI) / 2.0).tan();
@@ -645,6 +646,7 @@ impl CompPass {
         }
         let concave = !(-SMALL..=PI + SMALL).contains(&beta) || ((beta - PI).abs() < SMALL && !ins);
         if concave {
+            self.held_for_trim(on, span)?;
             let point = match on.queue.first() {
                 Some(Queued::Move(Held {
                     shape:
@@ -735,6 +737,16 @@ impl CompPass {
         }
         self.flush(on, out);
         on.s = Some(mid);
+    }
+
+    /// An inside corner trims the move before it, which must still be
+    /// held: after M0/M1 it has gone out (rs274 then reads a stale entry
+    /// and does not trim, which gouges).
+    fn held_for_trim(&self, on: &On, span: Span) -> Result<(), LowerError> {
+        match on.queue.first() {
+            Some(Queued::Move(_)) => Ok(()),
+            _ => Err(LowerError::new(LowerErrorKind::CompCornerAfterStop, span)),
+        }
     }
 
     fn gouge(&self, what: &'static str, on: &On, span: Span) -> LowerError {

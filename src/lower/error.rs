@@ -56,6 +56,9 @@ pub enum LowerErrorKind {
         what: &'static str,
         held: Option<Span>,
     },
+    /// An inside corner right after M0/M1 under compensation: the move
+    /// before it has gone out and cannot be trimmed.
+    CompCornerAfterStop,
     /// An arc right after G40.
     CompArcAfterOff {
         off: Span,
@@ -164,6 +167,7 @@ impl LowerError {
             | CompArcTooSmall
             | CompGouge { .. }
             | CompArcAfterOff { .. }
+            | CompCornerAfterStop
             | CompStillOn { .. }
             | CompSpiral { .. } => self.comp_diagnostic(),
             UnknownPosition { axis, what, since } => {
@@ -433,6 +437,12 @@ impl LowerError {
                     _ => d,
                 }
             }
+            CompCornerAfterStop => error(
+                "an inside corner right after a stop under compensation",
+                span,
+                "the move before the M0/M1 has been sent and cannot be trimmed",
+            )
+            .with_help("stop before the profile or after it, or on an outside corner (LinuxCNC gouges here)"),
             CompArcAfterOff { off } => error(
                 "an arc right after G40",
                 span,
