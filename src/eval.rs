@@ -215,6 +215,8 @@ struct Evaluator<'a> {
     spindle: ir::Spindle,
     /// Cutter compensation is on: its side and where it was turned on.
     comp: Option<(ir::Side, Span)>,
+    /// LinuxCNC's subroutine scope (`o… call`).
+    linuxcnc: LinuxCncNames,
     /// Subprograms being run, innermost last: (number, call span).
     calls: Vec<(u32, Span)>,
     setup: setup::SetupBuilder,
@@ -243,7 +245,8 @@ impl<'a> Evaluator<'a> {
             names: &program.names,
             options,
             wizards,
-            vars: vec![Slot::Unset; program.names.len()],
+            vars: numbered_parameters(&program.names),
+            linuxcnc: LinuxCncNames::of(&program.names),
             sink,
             out: Vec::with_capacity(options.batch.clamp(1, 1 << 16)),
             made: 0,
@@ -819,5 +822,98 @@ impl<'w> WordValues<'w> {
             left &= left - 1;
             self.given(letter).map(|s| (letter, s))
         })
+    }
+}
+
+/// The variables' first values: LinuxCNC's numbered parameters `#1`–`#5000`
+/// start at 0 (a fresh parameter file); every other name is unset.
+fn numbered_parameters(names: &Names) -> Vec<Slot> {
+    names
+        .iter()
+        .map(|(_, text)| {
+            let user = text
+                .strip_prefix('#')
+                .and_then(|n| n.parse::<u32>().ok())
+                .is_some_and(|n| (1..=5000).contains(&n));
+            if user {
+                Slot::Set(Value::Number(0.0))
+            } else {
+                Slot::Unset
+            }
+        })
+        .collect()
+}
+
+/// The variables of LinuxCNC's subroutine scope: `#1`–`#30` and the named
+/// parameters that do not start with `_`; and the call's argument slots.
+#[derive(Debug, Default)]
+struct LinuxCncNames {
+    /// `#<call>`: set by an `o… call` line to its number of arguments.
+    marker: Option<usize>,
+    /// `#<call:k>` for k = 1…30: the arguments, by k − 1.
+    args: [Option<usize>; 30],
+    /// `#k` for k = 1…30, by k − 1.
+    numbered: [Option<usize>; 30],
+    /// Local named parameters.
+    named: Vec<usize>,
+}
+
+impl LinuxCncNames {
+    fn of(names: &Names) -> LinuxCncNames {
+        let mut found = LinuxCncNames::default();
+        for (symbol, text) in names.iter() {
+            let i = symbol.0 as usize;
+            if text == "#<call>" {
+                found.marker = Some(i);
+            } else if let Some(k) = text
+                .strip_prefix("#<call:")
+                .and_then(|t| t.strip_suffix('>'))
+                .and_then(|k| k.parse::<usize>().ok())
+            {
+                if (1..=30).contains(&k) {
+                    found.args[k - 1] = Some(i);
+                }
+            } else if let Some(k) = text.strip_prefix('#').and_then(|k| k.parse::<usize>().ok()) {
+                if (1..=30).contains(&k) {
+                    found.numbered[k - 1] = Some(i);
+                }
+            } else if text.starts_with("#<") && !text.starts_with("#<_") {
+                found.named.push(i);
+            }
+        }
+        found
+    }
+}
+
+impl Evaluator<'_> {
+    /// Entering a subprogram from a LinuxCNC `o… call` (its marker set):
+    /// `#1`–`#30` take the call's arguments (0 where none is given) and the
+    /// local named parameters start unset, as on LinuxCNC. Returns the
+    /// caller's values, to be put back when the call returns; nothing for
+    /// an `M98` call.
+    fn linuxcnc_scope(&mut self) -> Vec<(usize, Slot)> {
+        let scope = &self.linuxcnc;
+        let Some(marker) = scope.marker else {
+            return Vec::new();
+        };
+        let count = match std::mem::replace(&mut self.vars[marker], Slot::Unset) {
+            Slot::Set(Value::Number(n)) => n as usize,
+            _ => return Vec::new(),
+        };
+        let mut saved = Vec::new();
+        for k in 0..30 {
+            let arg = scope.args[k].map(|a| std::mem::replace(&mut self.vars[a], Slot::Unset));
+            if let Some(i) = scope.numbered[k] {
+                let value = match arg {
+                    Some(slot @ Slot::Set(_)) if k < count => slot,
+                    _ => Slot::Set(Value::Number(0.0)),
+                };
+                saved.push((i, std::mem::replace(&mut self.vars[i], value)));
+            }
+        }
+        for &i in &scope.named {
+            saved.push((i, std::mem::replace(&mut self.vars[i], Slot::Unset)));
+        }
+        saved
     }
 }

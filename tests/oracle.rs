@@ -24,8 +24,14 @@ fn main() {
     let args = Arguments::from_args();
     let (have_oracle, required) = (rs274::available(), rs274::required());
     let mut trials = Vec::new();
-    for area in ["eval", "lower", "cycles", "comp"] {
-        let cases = support::egc_files(&support::manifest().join("tests/oracle").join(area));
+    // `linuxcnc/` holds plain G-code in LinuxCNC's macro language: the
+    // program is its own reference.
+    for area in ["eval", "lower", "cycles", "comp", "linuxcnc"] {
+        let dir = support::manifest().join("tests/oracle").join(area);
+        let cases = match area {
+            "linuxcnc" => support::files_with(&dir, "ngc"),
+            _ => support::egc_files(&dir),
+        };
         for case in cases {
             let name = format!("{area}/{}", case.file_stem().unwrap().to_string_lossy());
             let trial = Trial::test(name, move || {

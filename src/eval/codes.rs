@@ -646,6 +646,8 @@ impl Evaluator<'_> {
             return Err(d);
         }
         self.calls.push((number, at));
+        // A LinuxCNC `o… call` has its own parameters (see `linuxcnc_scope`).
+        let saved = self.linuxcnc_scope();
         let mut flow = Flow::Next;
         for _ in 0..count {
             flow = match self.exec_block(&sub.body) {
@@ -655,6 +657,9 @@ impl Evaluator<'_> {
             if flow != Flow::Next {
                 break;
             }
+        }
+        for (i, slot) in saved {
+            self.vars[i] = slot;
         }
         self.calls.pop();
         Ok(flow)

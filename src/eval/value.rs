@@ -70,6 +70,21 @@ impl ExprError {
         Some(match self {
             ExprError::Undefined { name, span } => {
                 let text = names.text(*name);
+                // LinuxCNC's machine state: #5001 and up, predefined `#<_…>`.
+                let machine = text
+                    .strip_prefix('#')
+                    .and_then(|n| n.parse::<u32>().ok())
+                    .is_some_and(|n| n > 5000);
+                if machine {
+                    return Some(
+                        error(
+                            format!("`{text}` is a parameter of the machine's state"),
+                            *span,
+                            "ger cannot know its value",
+                        )
+                        .with_help("LinuxCNC keeps positions and offsets in #5001 and up; give the value in the program"),
+                    );
+                }
                 let mut d = error(
                     format!("undefined variable `{text}`"),
                     *span,

@@ -14,11 +14,17 @@ pub fn manifest() -> &'static Path {
 
 /// The `.egc` files directly in `dir`, sorted.
 pub fn egc_files(dir: &Path) -> Vec<PathBuf> {
+    files_with(dir, "egc")
+}
+
+/// The files of `dir` whose extension is `extension`, sorted.
+#[allow(dead_code)]
+pub fn files_with(dir: &Path, extension: &str) -> Vec<PathBuf> {
     let mut files: Vec<PathBuf> = std::fs::read_dir(dir)
         .map(|d| {
             d.filter_map(|e| e.ok())
                 .map(|e| e.path())
-                .filter(|p| p.extension().is_some_and(|x| x == "egc"))
+                .filter(|p| p.extension().is_some_and(|x| x == extension))
                 .collect()
         })
         .unwrap_or_default();

@@ -295,6 +295,25 @@ struct Lexer<'a> {
     too_long: bool,
     /// Blocks nested too deep: the rest of the file is not read.
     stopped: bool,
+    /// A LinuxCNC `if`/`while` line: its block opens at the line's end.
+    block_at_line_end: bool,
+    /// Group depths of LinuxCNC `ATAN[` calls still at their first argument.
+    atan_groups: Vec<usize>,
+    /// An `o… call` line being read.
+    pending_call: Option<PendingCall>,
+    /// The labels of open `oN do` loops, innermost last.
+    do_labels: Vec<f64>,
+    /// The `oN while [c]` that ends a do loop: its block closes at the
+    /// line's end.
+    close_at_line_end: bool,
+}
+
+/// An `o… call` line: its subroutine, the arguments so far, where `call` is.
+#[derive(Clone, Copy, Debug)]
+struct PendingCall {
+    number: f64,
+    args: u32,
+    at: (usize, usize),
 }
 
 impl<'a> Lexer<'a> {
@@ -319,6 +338,11 @@ impl<'a> Lexer<'a> {
             line_comments: Vec::new(),
             too_long: false,
             stopped: false,
+            block_at_line_end: false,
+            atan_groups: Vec::new(),
+            pending_call: None,
+            do_labels: Vec::new(),
+            close_at_line_end: false,
         }
     }
 
@@ -368,6 +392,9 @@ impl<'a> Lexer<'a> {
     /// The rules of plain G-code that differ from `.egc`, for the raw token
     /// at `start..end`: where it took the text, the offset to go on from.
     fn plain_gcode(&mut self, raw: Result<Raw, ()>, start: usize, end: usize) -> Option<usize> {
+        if let Some(skip_to) = self.linuxcnc(raw, start, end) {
+            return Some(skip_to);
+        }
         // Words, numbers and line ends (nearly every token) are as in
         // `.egc`: decided before the line is looked at.
         let dollar_or_colon = raw.is_err() && self.text[start..].starts_with(['$', ':']);
@@ -441,6 +468,350 @@ impl<'a> Lexer<'a> {
                 Some(word_end)
             }
             _ => None,
+        }
+    }
+
+    /// LinuxCNC's parameters and expressions in plain G-code, read as the
+    /// `.egc` tokens they mean: `#<name>` and `#1` are names, `[ ]` groups
+    /// (`X[…]` and `X#1` are symbolic words, `sin[…]` a call), `EQ`…`LE`,
+    /// `AND`, `OR`, `MOD` and `**` operators; `O100 sub`/`endsub`/`call`
+    /// become `O100`/`M99`/`M98 P100`. Where it took the text, the offset
+    /// to go on from.
+    fn linuxcnc(&mut self, raw: Result<Raw, ()>, start: usize, end: usize) -> Option<usize> {
+        let rest = &self.text[start..];
+        match raw {
+            Err(()) if rest.starts_with('#') => Some(self.parameter(start)),
+            Err(()) if rest.starts_with('[') => {
+                if self.groups.is_empty() && self.syms.is_empty() {
+                    if let Some(pending) = &mut self.pending_call {
+                        // The next argument of an `o… call`.
+                        pending.args += 1;
+                        let name = format!("#<call:{}>", pending.args);
+                        if self.out.len() > self.stmt_start {
+                            self.pending_term = Some((start, start));
+                            self.shape = Shape::Empty;
+                        }
+                        let symbol = self.names.intern(&name);
+                        self.push(start, Tok::Name(symbol), start);
+                        self.push(start, Tok::Assign, start);
+                    }
+                }
+                let call = matches!(self.out.last(), Some(&(_, Tok::Name(n), e))
+                    if self.text[e..start].trim().is_empty()
+                        && Function::from_name(self.names.text(n)).is_some());
+                if call {
+                    if let Some((_, Tok::Name(n), e)) = self.out.last_mut() {
+                        // LinuxCNC's `ATAN[y]/[x]` is atan2(y, x).
+                        if self.names.text(*n).eq_ignore_ascii_case("atan") {
+                            *n = self.names.intern("atan2");
+                            self.atan_groups.push(self.groups.len() + 1);
+                        }
+                        *e = start;
+                    }
+                }
+                self.groups.push(start);
+                self.push(
+                    start,
+                    if call { Tok::CallOpen } else { Tok::LParen },
+                    start + 1,
+                );
+                Some(start + 1)
+            }
+            // `ATAN[y]/[x]`: the `]/[` between its arguments is a comma.
+            Err(())
+                if rest.starts_with(']') && self.atan_groups.last() == Some(&self.groups.len()) =>
+            {
+                self.atan_groups.pop();
+                let after = rest[1..].trim_start();
+                let Some(second) = after
+                    .strip_prefix('/')
+                    .map(str::trim_start)
+                    .filter(|a| a.starts_with('['))
+                else {
+                    self.errors.push(error(
+                        "ATAN needs two arguments",
+                        self.span(start, start + 1),
+                        "LinuxCNC writes `ATAN[y]/[x]`",
+                    ));
+                    self.groups.pop();
+                    self.push(start, Tok::RParen, start + 1);
+                    return Some(start + 1);
+                };
+                let open = self.text.len() - second.len();
+                self.push(start, Tok::Comma, open + 1);
+                Some(open + 1)
+            }
+            Err(()) if rest.starts_with(']') => {
+                match self.syms.last() {
+                    Some(&(_, depth)) if depth == self.groups.len() => {
+                        self.syms.pop();
+                        self.push(start, Tok::SymClose, start + 1);
+                    }
+                    _ if self.groups.pop().is_some() => self.push(start, Tok::RParen, start + 1),
+                    _ => self.errors.push(error(
+                        "unmatched `]`",
+                        self.span(start, start + 1),
+                        "no `[` is open here",
+                    )),
+                }
+                Some(start + 1)
+            }
+            Ok(Raw::Star) if self.text[end..].starts_with('*') => {
+                self.push(start, Tok::Caret, end + 1);
+                Some(end + 1)
+            }
+            // `X[…]`, `X#1`: a word whose value is an expression.
+            Ok(Raw::Letter) => {
+                let after = self.text[end..].trim_start_matches([' ', '\t']);
+                let at = self.text.len() - after.len();
+                let letter = rest.as_bytes()[0].to_ascii_uppercase();
+                if after.starts_with('[') {
+                    self.syms.push((start, self.groups.len()));
+                    self.push(start, Tok::SymOpen(letter), at + 1);
+                    Some(at + 1)
+                } else if after.starts_with('#') {
+                    self.push(start, Tok::SymOpen(letter), end);
+                    let name_end = self.parameter(at);
+                    self.push(name_end, Tok::SymClose, name_end);
+                    Some(name_end)
+                } else {
+                    None
+                }
+            }
+            Ok(Raw::Ident) => {
+                let text = &self.text[start..end];
+                if let Some(tok) = self.operator(text) {
+                    self.push(start, tok, end);
+                    return Some(end);
+                }
+                self.o_word(text, start, end)
+            }
+            _ => None,
+        }
+    }
+
+    /// `#<name>` or `#123` at `start`, pushed as a name; where it ends.
+    fn parameter(&mut self, start: usize) -> usize {
+        let rest = &self.text[start + 1..];
+        if let Some(inner) = rest.strip_prefix('<') {
+            let Some(close) = inner
+                .find(['>', '\n'])
+                .filter(|&i| inner[i..].starts_with('>'))
+            else {
+                self.errors.push(error(
+                    "unclosed parameter name",
+                    self.span(start, start + 2),
+                    "`#<` starts a name that ends with `>`",
+                ));
+                return start + 2;
+            };
+            // Names ignore case and spaces (LinuxCNC).
+            let name: String = inner[..close]
+                .chars()
+                .filter(|c| !c.is_whitespace())
+                .flat_map(char::to_lowercase)
+                .collect();
+            let end = start + 2 + close + 1;
+            let symbol = self.names.intern(&format!("#<{name}>"));
+            self.push(start, Tok::Name(symbol), end);
+            return end;
+        }
+        let digits = rest.len() - rest.trim_start_matches(|c: char| c.is_ascii_digit()).len();
+        if digits == 0 {
+            self.errors.push(
+                error(
+                    "unsupported parameter",
+                    self.span(start, start + 1),
+                    "ger reads `#123` and `#<name>`",
+                )
+                .with_help("indirect parameters (`#[…]`, `##1`) are not supported"),
+            );
+            return start + 1;
+        }
+        let end = start + 1 + digits;
+        let number = rest[..digits].trim_start_matches('0');
+        let symbol = self.names.intern(&format!(
+            "#{}",
+            if number.is_empty() { "0" } else { number }
+        ));
+        self.push(start, Tok::Name(symbol), end);
+        end
+    }
+
+    /// LinuxCNC's word operators, inside brackets.
+    fn operator(&self, text: &str) -> Option<Tok> {
+        if self.groups.is_empty() && self.syms.is_empty() {
+            return None;
+        }
+        const OPERATORS: [(&str, Tok); 9] = [
+            ("EQ", Tok::EqEq),
+            ("NE", Tok::NotEq),
+            ("GT", Tok::Gt),
+            ("GE", Tok::Ge),
+            ("LT", Tok::Lt),
+            ("LE", Tok::Le),
+            ("AND", Tok::AndAnd),
+            ("OR", Tok::OrOr),
+            ("MOD", Tok::Percent),
+        ];
+        OPERATORS
+            .iter()
+            .find(|(k, _)| k.eq_ignore_ascii_case(text))
+            .map(|&(_, t)| t)
+    }
+
+    /// The LinuxCNC o-word keyword after the O word of this line: `sub`,
+    /// `endsub` and `call` become `O100`, `M99` and `M98 P100`; `if`,
+    /// `elseif`, `else`, `endif`, `while`, `endwhile` become `.egc` blocks
+    /// (the O word is only their label).
+    fn o_word(&mut self, text: &str, start: usize, end: usize) -> Option<usize> {
+        const KEYWORDS: [&str; 15] = [
+            "sub",
+            "endsub",
+            "call",
+            "return",
+            "if",
+            "elseif",
+            "else",
+            "endif",
+            "while",
+            "endwhile",
+            "do",
+            "repeat",
+            "endrepeat",
+            "break",
+            "continue",
+        ];
+        let keyword = KEYWORDS.iter().find(|k| k.eq_ignore_ascii_case(text))?;
+        let line_start = self.text[..start].rfind('\n').map_or(0, |i| i + 1);
+        let last = self
+            .words
+            .last_mut()
+            .filter(|w| w.word.letter == b'O' && w.start as usize >= line_start)?;
+        let number = last.word.value;
+        match *keyword {
+            "sub" => {}
+            "endsub" => last.word = word("M99"),
+            "call" => {
+                // `#<call:k> = [arg]` for each argument, `#<call> = count`,
+                // then `M98 P100`: written at the line's end.
+                self.drop_label();
+                self.pending_call = Some(PendingCall {
+                    number,
+                    args: 0,
+                    at: (start, end),
+                });
+            }
+            // `oN do … oN while [c]`: `#<do:N> = true; while (#<do:N>) {
+            // … #<do:N> = [c] }`.
+            "do" => {
+                self.drop_label();
+                let flag = self.names.intern(&format!("#<do:{number}>"));
+                self.push(start, Tok::Name(flag), end);
+                self.push(start, Tok::Assign, end);
+                self.push(start, Tok::True, end);
+                self.pending_term = Some((start, start));
+                self.shape = Shape::Empty;
+                self.push(start, Tok::While, end);
+                self.push(start, Tok::LParen, end);
+                self.push(start, Tok::Name(flag), end);
+                self.push(start, Tok::RParen, end);
+                self.block_at_line_end = true;
+                self.do_labels.push(number);
+            }
+            "while" if self.do_labels.last() == Some(&number) => {
+                self.drop_label();
+                self.do_labels.pop();
+                let flag = self.names.intern(&format!("#<do:{number}>"));
+                self.push(start, Tok::Name(flag), end);
+                self.push(start, Tok::Assign, end);
+                self.close_at_line_end = true;
+            }
+            "if" | "while" => {
+                self.drop_label();
+                self.push(
+                    start,
+                    if *keyword == "if" {
+                        Tok::If
+                    } else {
+                        Tok::While
+                    },
+                    end,
+                );
+                self.block_at_line_end = true;
+            }
+            "elseif" | "else" => {
+                self.drop_label();
+                if let Some(tok) = self.close_brace(start, end) {
+                    self.push(start, tok, end);
+                }
+                self.push(start, Tok::Else, end);
+                if *keyword == "elseif" {
+                    self.push(start, Tok::If, end);
+                    self.block_at_line_end = true;
+                } else if let Some(tok) = self.open_brace(start, end) {
+                    self.push(start, tok, end);
+                }
+            }
+            "endif" | "endwhile" => {
+                self.drop_label();
+                if let Some(tok) = self.close_brace(start, end) {
+                    self.push(start, tok, end);
+                }
+            }
+            other => {
+                self.drop_label();
+                self.errors.push(
+                    error(
+                        format!("`{other}` is not supported"),
+                        self.span(start, end),
+                        "ger reads o-word sub/endsub/call, if/elseif/else/endif, while/endwhile and do/while",
+                    ),
+                );
+            }
+        }
+        Some(end)
+    }
+
+    /// The end of an `o… call` line: the argument count, then the call.
+    fn end_call(&mut self, call: PendingCall) {
+        let (start, end) = call.at;
+        if call.args > 30 {
+            self.errors.push(error(
+                "more than 30 arguments",
+                self.span(start, end),
+                "a subroutine takes #1 to #30",
+            ));
+        }
+        if self.out.len() > self.stmt_start {
+            self.pending_term = Some((start, start));
+            self.shape = Shape::Empty;
+        }
+        let marker = self.names.intern("#<call>");
+        self.push(start, Tok::Name(marker), end);
+        self.push(start, Tok::Assign, end);
+        self.push(start, Tok::Number(call.args as f64), end);
+        self.pending_term = Some((start, start));
+        self.shape = Shape::Empty;
+        self.push_word(word("M98"), start, end);
+        let number = format!("P{}", call.number);
+        self.push_word(word(&number), start, end);
+    }
+
+    /// Drop the O word just read: it only labels a block.
+    fn drop_label(&mut self) {
+        self.words.pop();
+        let index = self.words.len() as u32;
+        if let Some((_, Tok::Words(first, len), _)) = self.out.last_mut() {
+            if *first + *len == index + 1 {
+                *len -= 1;
+                if *len == 0 {
+                    self.out.pop();
+                }
+            }
+        }
+        if self.out.len() <= self.stmt_start {
+            self.shape = Shape::Empty;
         }
     }
 
@@ -753,6 +1124,20 @@ impl<'a> Lexer<'a> {
     fn statement_end(&mut self, start: usize, end: usize) {
         if let Some(&(open, _)) = self.syms.first() {
             self.unclosed_sym(open);
+        }
+        if let Some(call) = self.pending_call.take() {
+            self.end_call(call);
+        }
+        if std::mem::take(&mut self.block_at_line_end) {
+            if let Some(tok) = self.open_brace(start, end) {
+                self.push(start, tok, start);
+            }
+        }
+        if std::mem::take(&mut self.close_at_line_end) {
+            self.pending_term = Some((start, start));
+            if let Some(tok) = self.close_brace(start, end) {
+                self.push(start, tok, start);
+            }
         }
         self.pending_term.get_or_insert((start, end));
         self.flush_comments((start, end));

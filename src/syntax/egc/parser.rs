@@ -373,6 +373,10 @@ fn expected_list(expected: &[String]) -> String {
         })
         .collect();
     items.dedup();
+    // Where a value may start, the unary `+` (LinuxCNC's) goes unsaid.
+    if items.iter().any(|i| i == "`!`") {
+        items.retain(|i| i != "`+`");
+    }
     if items.len() > 8 {
         return "an expression or statement".to_string();
     }
