@@ -33,6 +33,14 @@ const PIECES: &[&str] = &[
     "true", "&&", "!", ",", "%\n", "N10", "X", "@", "P0X", "1.2.3",
 ];
 
+/// Pieces of LinuxCNC's macro language.
+const LINUXCNC: &[&str] = &[
+    "#1", "#<a>", "#<_b>", "=", "[", "]", "o100", "O200", "sub", "endsub", "call", "if", "elseif",
+    "else", "endif", "while", "endwhile", "do", "EQ", "GT", "AND", "MOD", "**", "ATAN", "/", "SIN",
+    "G1", "X", "Y#1", "Z[", "F100", "M2", "1", "-2.5", "(c)", ";x", "\n", "#", "##1", "#<",
+    "return", "M98", "P100", "M99",
+];
+
 proptest! {
     #![proptest_config(ProptestConfig { cases: 400, ..ProptestConfig::default() })]
 
@@ -49,6 +57,18 @@ proptest! {
             .map(|&(i, sep)| format!("{}{}", PIECES[i], [" ", "", "\n"][sep]))
             .collect();
         let _ = run(&text);
+    }
+
+    /// The same for plain G-code with LinuxCNC's macro language.
+    #[test]
+    fn random_linuxcnc_soups_never_panic(picks in proptest::collection::vec((0..LINUXCNC.len(), 0..3usize), 0..60)) {
+        let text: String = picks
+            .iter()
+            .map(|&(i, sep)| format!("{}{}", LINUXCNC[i], [" ", "", "\n"][sep]))
+            .collect();
+        let mut sources = Sources::new();
+        let file = sources.add("prop.ngc", text);
+        let _ = compile(&sources, file, &CompileOptions::default(), None);
     }
 }
 

@@ -684,10 +684,14 @@ impl<'a> Lexer<'a> {
         ];
         let keyword = KEYWORDS.iter().find(|k| k.eq_ignore_ascii_case(text))?;
         let line_start = self.text[..start].rfind('\n').map_or(0, |i| i + 1);
+        // The keyword must come right after its O word, the last token.
+        let count = self.words.len();
+        let right_after = matches!(self.out.last(), Some(&(_, Tok::Words(first, len), _))
+            if (first + len) as usize == count);
         let last = self
             .words
             .last_mut()
-            .filter(|w| w.word.letter == b'O' && w.start as usize >= line_start)?;
+            .filter(|w| right_after && w.word.letter == b'O' && w.start as usize >= line_start)?;
         let number = last.word.value;
         match *keyword {
             "sub" => {}
