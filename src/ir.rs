@@ -492,7 +492,8 @@ pub enum Op {
     /// G98 / G99.
     ReturnLevel(ReturnLevel),
     /// G73, G74, G81–G89 and the blocks that repeat them.
-    Cycle(Cycle),
+    /// Boxed: it is the largest op, and rare.
+    Cycle(Box<Cycle>),
     /// G80
     CycleOff,
     /// G41/G42 (G41.1/G42.1).

@@ -312,7 +312,7 @@ impl Evaluator<'_> {
             kept: None,
         };
         self.cycle = Some(kind);
-        self.emit(Op::Cycle(cycle), span)
+        self.emit(Op::Cycle(Box::new(cycle)), span)
     }
 
     fn check_spindle(

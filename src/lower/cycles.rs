@@ -219,7 +219,7 @@ impl CyclesPass {
             }
         }
         emit.absolute();
-        emit.push(Op::Cycle(ir::Cycle {
+        emit.push(Op::Cycle(Box::new(ir::Cycle {
             at,
             r: block.r,
             repeats: 1,
@@ -231,7 +231,7 @@ impl CyclesPass {
                 ends_at: block.clear,
             }),
             ..*c
-        }));
+        })));
         emit.now = [Some(hole[0]), Some(hole[1]), Some(block.clear)];
     }
 
@@ -374,7 +374,7 @@ impl Pass for CyclesPass {
     fn feed(&mut self, stmt: Stmt, out: &mut Out<'_>) {
         match &stmt.op {
             Op::Cycle(c) => {
-                let c = *c;
+                let c = **c;
                 if let Err(e) = self.cycle(&c, &stmt, out) {
                     out.report(e);
                 }
