@@ -868,6 +868,17 @@ impl Pass for CompPass {
             out.push(stmt);
             return;
         }
+        // Compensation off (nearly every statement of most programs): a
+        // move only moves the programmed point.
+        if self.on.is_none() && self.after_off.is_none() {
+            if let Op::Move(m) = &stmt.op {
+                for (axis, v) in m.to.iter() {
+                    self.program[axis.index()] = Some(v);
+                }
+                out.push(stmt);
+                return;
+            }
+        }
         if let Err(e) = CompPass::feed(self, stmt, out) {
             out.report(e);
             // One error per profile: the rest of it would repeat it.
