@@ -303,10 +303,17 @@ struct Lexer<'a> {
     pending_call: Option<PendingCall>,
     /// The labels of open `oN do` loops, innermost last.
     do_labels: Vec<f64>,
+    /// An `oN repeat` line: its counter, and where `repeat` is.
+    pending_repeat: Option<(Symbol, usize, usize)>,
+    /// LinuxCNC's named subroutines (`o<name>`), numbered as they come.
+    named_subs: Vec<String>,
     /// The `oN while [c]` that ends a do loop: its block closes at the
     /// line's end.
     close_at_line_end: bool,
 }
+
+/// The program numbers given to LinuxCNC's named subroutines (`o<name>`).
+pub const NAMED_SUB_BASE: u32 = 90_000_000;
 
 /// An `o… call` line: its subroutine, the arguments so far, where `call` is.
 #[derive(Clone, Copy, Debug)]
@@ -342,6 +349,8 @@ impl<'a> Lexer<'a> {
             atan_groups: Vec::new(),
             pending_call: None,
             do_labels: Vec::new(),
+            pending_repeat: None,
+            named_subs: Vec::new(),
             close_at_line_end: false,
         }
     }
@@ -584,7 +593,35 @@ impl<'a> Lexer<'a> {
                     self.push(start, tok, end);
                     return Some(end);
                 }
+                // LinuxCNC's FIX and FUP round down and up.
+                let rounding = [("fix", "floor"), ("fup", "ceil")]
+                    .iter()
+                    .find(|(k, _)| k.eq_ignore_ascii_case(text));
+                if let Some((_, name)) = rounding {
+                    if self.text[end..].trim_start().starts_with('[') {
+                        let symbol = self.names.intern(name);
+                        self.push(start, Tok::Name(symbol), end);
+                        return Some(end);
+                    }
+                }
                 self.o_word(text, start, end)
+            }
+            // `o<name>`: a named subroutine, given a number of its own.
+            Ok(Raw::SymOpen) if rest.starts_with(['o', 'O']) && self.first_on_line(start) => {
+                let close = rest
+                    .find(['>', '\n'])
+                    .filter(|&i| rest[i..].starts_with('>'))?;
+                let name = rest[2..close].trim().to_ascii_lowercase();
+                let index = match self.named_subs.iter().position(|n| *n == name) {
+                    Some(i) => i,
+                    None => {
+                        self.named_subs.push(name);
+                        self.named_subs.len() - 1
+                    }
+                };
+                let number = format!("O{}", NAMED_SUB_BASE + index as u32);
+                self.push_word(word(&number), start, start + close + 1);
+                Some(start + close + 1)
             }
             _ => None,
         }
@@ -723,6 +760,21 @@ impl<'a> Lexer<'a> {
                 self.block_at_line_end = true;
                 self.do_labels.push(number);
             }
+            // `oN repeat [n] … oN endrepeat`: `#<repeat:N> = [n]; while
+            // (#<repeat:N> >= 1) { #<repeat:N> = #<repeat:N> - 1 … }`.
+            "repeat" => {
+                self.drop_label();
+                let count = self.names.intern(&format!("#<repeat:{number}>"));
+                self.push(start, Tok::Name(count), end);
+                self.push(start, Tok::Assign, end);
+                self.pending_repeat = Some((count, start, end));
+            }
+            "endrepeat" => {
+                self.drop_label();
+                if let Some(tok) = self.close_brace(start, end) {
+                    self.push(start, tok, end);
+                }
+            }
             "while" if self.do_labels.last() == Some(&number) => {
                 self.drop_label();
                 self.do_labels.pop();
@@ -769,7 +821,7 @@ impl<'a> Lexer<'a> {
                     error(
                         format!("`{other}` is not supported"),
                         self.span(start, end),
-                        "ger reads o-word sub/endsub/call, if/elseif/else/endif, while/endwhile and do/while",
+                        "ger reads o-word sub/endsub/call, if/elseif/else/endif, while/endwhile, do/while and repeat/endrepeat",
                     ),
                 );
             }
@@ -798,8 +850,15 @@ impl<'a> Lexer<'a> {
         self.pending_term = Some((start, start));
         self.shape = Shape::Empty;
         self.push_word(word("M98"), start, end);
-        let number = format!("P{}", call.number);
+        // With a point: `P90000000` would be Fanuc's count-and-number form.
+        let number = format!("P{}.", call.number);
         self.push_word(word(&number), start, end);
+    }
+
+    /// Nothing but blanks before `start` on its line.
+    fn first_on_line(&self, start: usize) -> bool {
+        let line_start = self.text[..start].rfind('\n').map_or(0, |i| i + 1);
+        self.text[line_start..start].trim().is_empty()
     }
 
     /// Drop the O word just read: it only labels a block.
@@ -1131,6 +1190,33 @@ impl<'a> Lexer<'a> {
         }
         if let Some(call) = self.pending_call.take() {
             self.end_call(call);
+        }
+        if let Some((count, at, at_end)) = self.pending_repeat.take() {
+            self.pending_term = Some((at, at));
+            self.shape = Shape::Empty;
+            for tok in [
+                Tok::While,
+                Tok::LParen,
+                Tok::Name(count),
+                Tok::Ge,
+                Tok::Number(1.0),
+                Tok::RParen,
+            ] {
+                self.push(at, tok, at_end);
+            }
+            if let Some(tok) = self.open_brace(at, at_end) {
+                self.push(at, tok, at_end);
+            }
+            self.pending_term = Some((at, at));
+            for tok in [
+                Tok::Name(count),
+                Tok::Assign,
+                Tok::Name(count),
+                Tok::Minus,
+                Tok::Number(1.0),
+            ] {
+                self.push(at, tok, at_end);
+            }
         }
         if std::mem::take(&mut self.block_at_line_end) {
             if let Some(tok) = self.open_brace(start, end) {
