@@ -769,6 +769,9 @@ impl<'a> Lexer<'a> {
                 self.push(start, Tok::Assign, end);
                 self.pending_repeat = Some((count, start, end));
             }
+            // Inside a block an `M99` returns from the subroutine; at the
+            // top of one it would end its text there.
+            "return" if !self.braces.is_empty() => last.word = word("M99"),
             "endrepeat" => {
                 self.drop_label();
                 if let Some(tok) = self.close_brace(start, end) {
@@ -814,6 +817,14 @@ impl<'a> Lexer<'a> {
                 if let Some(tok) = self.close_brace(start, end) {
                     self.push(start, tok, end);
                 }
+            }
+            "return" => {
+                self.drop_label();
+                self.errors.push(error(
+                    "`return` outside an `if` or a loop is not supported",
+                    self.span(start, end),
+                    "the subroutine would end here anyway: end it with `endsub`",
+                ));
             }
             other => {
                 self.drop_label();
