@@ -823,7 +823,7 @@ impl<'a> Lexer<'a> {
                 self.errors.push(error(
                     "`return` outside an `if` or a loop is not supported",
                     self.span(start, end),
-                    "the subroutine would end here anyway: end it with `endsub`",
+                    "the rest of the subroutine would never run: remove it, or end the subroutine here with `endsub`",
                 ));
             }
             other => {
