@@ -230,6 +230,8 @@ pub enum BinaryOp {
     Mul,
     Div,
     Rem,
+    /// LinuxCNC's `MOD`: the remainder made non-negative (`-7 MOD 3` is 2).
+    Mod,
     Pow,
     Eq,
     Ne,
@@ -250,6 +252,7 @@ impl BinaryOp {
             Mul => "*",
             Div => "/",
             Rem => "%",
+            Mod => "MOD",
             Pow => "^",
             Eq => "==",
             Ne => "!=",

@@ -280,7 +280,7 @@ fn binary(op: BinaryOp, a: &Expr, b: &Expr, span: Span, vars: &[Slot]) -> Result
                 BinaryOp::Le => Ok(Value::Bool(x <= y)),
                 BinaryOp::Gt => Ok(Value::Bool(x > y)),
                 BinaryOp::Ge => Ok(Value::Bool(x >= y)),
-                BinaryOp::Div | BinaryOp::Rem if y == 0.0 => {
+                BinaryOp::Div | BinaryOp::Rem | BinaryOp::Mod if y == 0.0 => {
                     Err(ExprError::DivisionByZero { span })
                 }
                 _ => Ok(Value::Number(finite(arithmetic(op, x, y), span, what)?)),
@@ -323,6 +323,14 @@ fn arithmetic(op: BinaryOp, x: f64, y: f64) -> f64 {
         BinaryOp::Mul => x * y,
         BinaryOp::Div => x / y,
         BinaryOp::Rem => x % y,
+        BinaryOp::Mod => {
+            let r = x % y;
+            if r < 0.0 {
+                r + y.abs()
+            } else {
+                r
+            }
+        }
         BinaryOp::Pow => x.powf(y),
         _ => f64::NAN,
     }
@@ -386,12 +394,13 @@ pub fn fast_number(expr: &Expr, vars: &[Slot]) -> Option<f64> {
                     | BinaryOp::Mul
                     | BinaryOp::Div
                     | BinaryOp::Rem
+                    | BinaryOp::Mod
                     | BinaryOp::Pow
             ) {
                 return None;
             }
             let (x, y) = (fast_number(a, vars)?, fast_number(b, vars)?);
-            if y == 0.0 && matches!(op, BinaryOp::Div | BinaryOp::Rem) {
+            if y == 0.0 && matches!(op, BinaryOp::Div | BinaryOp::Rem | BinaryOp::Mod) {
                 return None;
             }
             arithmetic(*op, x, y)

@@ -169,6 +169,10 @@ pub enum Tok {
     Slash,
     Percent,
     Caret,
+    /// LinuxCNC's `MOD`, `**` and unary minus (their own meanings).
+    Mod,
+    PowLeft,
+    NegTight,
 }
 
 impl Tok {
@@ -216,6 +220,9 @@ impl Tok {
             Tok::Slash => "/",
             Tok::Percent => "%",
             Tok::Caret => "^",
+            Tok::Mod => "MOD",
+            Tok::PowLeft => "**",
+            Tok::NegTight => "-",
             _ => "?",
         }
     }
@@ -307,6 +314,8 @@ struct Lexer<'a> {
     pending_repeat: Option<(Symbol, usize, usize)>,
     /// LinuxCNC's named subroutines (`o<name>`), numbered as they come.
     named_subs: Vec<String>,
+    /// Per bracket depth: AND (1) and OR (2) seen there.
+    logic: Vec<u8>,
     /// The `oN while [c]` that ends a do loop: its block closes at the
     /// line's end.
     close_at_line_end: bool,
@@ -351,6 +360,7 @@ impl<'a> Lexer<'a> {
             do_labels: Vec::new(),
             pending_repeat: None,
             named_subs: Vec::new(),
+            logic: Vec::new(),
             close_at_line_end: false,
         }
     }
@@ -519,6 +529,7 @@ impl<'a> Lexer<'a> {
                     }
                 }
                 self.groups.push(start);
+                self.logic.truncate(self.groups.len());
                 self.push(
                     start,
                     if call { Tok::CallOpen } else { Tok::LParen },
@@ -566,8 +577,42 @@ impl<'a> Lexer<'a> {
                 Some(start + 1)
             }
             Ok(Raw::Star) if self.text[end..].starts_with('*') => {
-                self.push(start, Tok::Caret, end + 1);
+                self.push(start, Tok::PowLeft, end + 1);
                 Some(end + 1)
+            }
+            // A minus where a value starts, inside brackets: LinuxCNC's
+            // unary minus, which takes only the value right after it.
+            Ok(Raw::Minus)
+                if (!self.groups.is_empty() || !self.syms.is_empty())
+                    && matches!(
+                        self.out.last(),
+                        Some((
+                            _,
+                            Tok::LParen
+                                | Tok::CallOpen
+                                | Tok::SymOpen(_)
+                                | Tok::Comma
+                                | Tok::Plus
+                                | Tok::Minus
+                                | Tok::Star
+                                | Tok::Slash
+                                | Tok::Mod
+                                | Tok::PowLeft
+                                | Tok::NegTight
+                                | Tok::EqEq
+                                | Tok::NotEq
+                                | Tok::Lt
+                                | Tok::Le
+                                | Tok::Gt
+                                | Tok::Ge
+                                | Tok::AndAnd
+                                | Tok::OrOr,
+                            _
+                        ))
+                    ) =>
+            {
+                self.push(start, Tok::NegTight, end);
+                Some(end)
             }
             // `X[…]`, `X#1`: a word whose value is an expression.
             Ok(Raw::Letter) => {
@@ -590,6 +635,9 @@ impl<'a> Lexer<'a> {
             Ok(Raw::Ident) => {
                 let text = &self.text[start..end];
                 if let Some(tok) = self.operator(text) {
+                    if matches!(tok, Tok::AndAnd | Tok::OrOr) {
+                        self.mixed_logic(tok, start, end);
+                    }
                     self.push(start, tok, end);
                     return Some(end);
                 }
@@ -624,6 +672,27 @@ impl<'a> Lexer<'a> {
                 Some(start + close + 1)
             }
             _ => None,
+        }
+    }
+
+    /// LinuxCNC gives AND and OR one rank, read left to right; `.egc`
+    /// ranks `&&` above `||`. Both in one bracket would mean different
+    /// things: an error that asks for brackets.
+    fn mixed_logic(&mut self, tok: Tok, start: usize, end: usize) {
+        let depth = self.groups.len();
+        if self.logic.len() <= depth {
+            self.logic.resize(depth + 1, 0);
+        }
+        self.logic[depth] |= if tok == Tok::AndAnd { 1 } else { 2 };
+        if self.logic[depth] == 3 {
+            self.errors.push(
+                error(
+                    "AND and OR in one bracket",
+                    self.span(start, end),
+                    "LinuxCNC reads them left to right, as one rank",
+                )
+                .with_help("bracket them: `[[a OR b] AND c]`"),
+            );
         }
     }
 
@@ -689,7 +758,7 @@ impl<'a> Lexer<'a> {
             ("LE", Tok::Le),
             ("AND", Tok::AndAnd),
             ("OR", Tok::OrOr),
-            ("MOD", Tok::Percent),
+            ("MOD", Tok::Mod),
         ];
         OPERATORS
             .iter()
@@ -1199,6 +1268,7 @@ impl<'a> Lexer<'a> {
         if let Some(&(open, _)) = self.syms.first() {
             self.unclosed_sym(open);
         }
+        self.logic.clear();
         if let Some(call) = self.pending_call.take() {
             self.end_call(call);
         }
