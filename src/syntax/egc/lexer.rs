@@ -760,10 +760,7 @@ impl<'a> Lexer<'a> {
             ("OR", Tok::OrOr),
             ("MOD", Tok::Mod),
         ];
-        OPERATORS
-            .iter()
-            .find(|(k, _)| k.eq_ignore_ascii_case(text))
-            .map(|&(_, t)| t)
+        find_word(&OPERATORS, text)
     }
 
     /// The LinuxCNC o-word keyword after the O word of this line: `sub`,
@@ -1387,11 +1384,7 @@ impl<'a> Lexer<'a> {
             ("true", Tok::True),
             ("false", Tok::False),
         ];
-        KEYWORDS
-            .iter()
-            .find(|(k, _)| k.eq_ignore_ascii_case(text))
-            .map(|&(_, t)| t)
-            .unwrap_or_else(|| Tok::Name(self.names.intern(text)))
+        find_word(&KEYWORDS, text).unwrap_or_else(|| Tok::Name(self.names.intern(text)))
     }
 
     fn push(&mut self, start: usize, tok: Tok, end: usize) {
@@ -1491,6 +1484,14 @@ impl<'a> Lexer<'a> {
         self.out.push((from, Tok::Name(name), from + written.len()));
         self.shape = Shape::NameHead;
     }
+}
+
+/// The token a word of `table` stands for, matched without case.
+fn find_word(table: &[(&str, Tok)], text: &str) -> Option<Tok> {
+    table
+        .iter()
+        .find(|(k, _)| k.eq_ignore_ascii_case(text))
+        .map(|&(_, t)| t)
 }
 
 fn word(text: &str) -> WordTok {
