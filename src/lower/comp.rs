@@ -19,8 +19,9 @@
 //! A held move that a trim would reverse, or an arc whose sweep it would
 //! grow, is a gouge: an error at the line, with the held move's line.
 
+use super::position::Tracker;
 use super::{Context, LowerError, LowerErrorKind, Out, Pass, PassInfo};
-use crate::ir::{self, Axis, CompRadius, Motion, Op, Plane, Position, Side, Stmt};
+use crate::ir::{self, Axis, CompRadius, Motion, Op, Position, Side, Stmt};
 use crate::source::Span;
 use std::collections::BTreeMap;
 use std::f64::consts::{FRAC_PI_2, PI, TAU};
@@ -126,9 +127,9 @@ struct CompPass {
     tools: BTreeMap<u32, ir::Tool>,
     selected: Option<u32>,
     loaded: Option<u32>,
-    plane: Plane,
-    /// The programmed point (the tool point while compensation is off).
-    program: Position,
+    /// The plane, and the programmed point (the tool point while
+    /// compensation is off).
+    at: Tracker,
     on: Option<On>,
     /// After G40: the next move writes u and v (the tool is at the last
     /// offset point) and may not be an arc. The G40's span.
@@ -148,8 +149,7 @@ impl CompPass {
             tools: cx.start.setup.tools.clone(),
             selected: None,
             loaded: None,
-            plane: Plane::XY,
-            program: [None; 9],
+            at: Tracker::new(),
             on: None,
             after_off: None,
             sweep_tol: match cx.start.output_units {
@@ -165,23 +165,13 @@ impl CompPass {
 
     /// The plane's two axes (u, v) and the third.
     fn axes(&self) -> (usize, usize, usize) {
-        self.plane.axes()
+        self.at.plane.axes()
     }
 
-    fn uv(&self, p: &Position, what: &'static str, span: Span) -> Result<P2, LowerError> {
+    /// The plane coordinates of a point, or the error where one is unknown.
+    fn uv(&self, p: &Position, span: Span) -> Result<P2, LowerError> {
         let (u, v, _) = self.axes();
-        let get = |i: usize| {
-            p[i].ok_or_else(|| {
-                LowerError::new(
-                    LowerErrorKind::UnknownPosition {
-                        axis: Axis::ALL[i],
-                        what,
-                        since: None,
-                    },
-                    span,
-                )
-            })
-        };
+        let get = |i: usize| p[i].ok_or_else(|| self.at.unknown(i, "cutter compensation", span));
         Ok([get(u)?, get(v)?])
     }
 
@@ -212,7 +202,7 @@ impl CompPass {
                     };
                 }
                 let c = if r > 0.0 {
-                    self.uv(&self.program, "cutter compensation", span)?
+                    self.uv(&self.at.position, span)?
                 } else {
                     [0.0; 2]
                 };
@@ -261,7 +251,7 @@ impl CompPass {
                     self.on = Some(on);
                 }
             }
-            Op::Plane(p) => self.plane = *p,
+            Op::Plane(p) => self.at.plane = *p,
             Op::SelectTool(t) => {
                 self.selected = Some(*t);
                 // rs274 selects at once, before a held move.
@@ -274,14 +264,7 @@ impl CompPass {
             | Op::SelectWorkOffset(_)
             | Op::SetWorkOffsetHere { .. }
             | Op::ToolLength { .. }
-            | Op::CancelToolLength => {
-                let unknown = stmt.op.unknown_after();
-                for axis in Axis::ALL {
-                    if unknown(axis) {
-                        self.program[axis.index()] = None;
-                    }
-                }
-            }
+            | Op::CancelToolLength => self.at.forget_after(&stmt.op, span),
             Op::Feed(_)
             | Op::Speed(_)
             | Op::Spindle(_)
@@ -311,10 +294,8 @@ impl CompPass {
     /// A move: passed on (compensation off or radius 0), or compensated.
     fn motion(&mut self, stmt: Stmt, m: &ir::Move, out: &mut Out<'_>) -> Result<(), LowerError> {
         let span = stmt.span;
-        let mut end = self.program;
-        for (axis, v) in m.to.iter() {
-            end[axis.index()] = Some(v);
-        }
+        // After the absolute pass the written axes are absolute.
+        let end = self.at.end_of(&m.to, "cutter compensation", span)?;
         let active = matches!(&self.on, Some(on) if on.r > 0.0);
         if !active {
             let mut stmt = stmt;
@@ -335,7 +316,7 @@ impl CompPass {
                     }
                 }
             }
-            self.program = end;
+            self.at.position = end;
             out.push(stmt);
             return Ok(());
         }
@@ -344,7 +325,7 @@ impl CompPass {
         };
         let result = self.compensate(&mut on, stmt, m, &end, out);
         self.on = Some(on);
-        self.program = end;
+        self.at.position = end;
         result
     }
 
@@ -357,8 +338,8 @@ impl CompPass {
         out: &mut Out<'_>,
     ) -> Result<(), LowerError> {
         let span = stmt.span;
-        let op = self.uv(&self.program, "cutter compensation", span)?;
-        let p = self.uv(end, "cutter compensation", span)?;
+        let op = self.uv(&self.at.position, span)?;
+        let p = self.uv(end, span)?;
         let arc = match &m.arc {
             Some(a) => {
                 let (u, v, _) = self.axes();
@@ -871,10 +852,8 @@ impl Pass for CompPass {
         // Compensation off (nearly every statement of most programs): a
         // move only moves the programmed point.
         if self.on.is_none() && self.after_off.is_none() {
-            if let Op::Move(m) = &stmt.op {
-                for (axis, v) in m.to.iter() {
-                    self.program[axis.index()] = Some(v);
-                }
+            if let Op::Move(_) = &stmt.op {
+                self.at.follow(&stmt.op, stmt.span);
                 out.push(stmt);
                 return;
             }
