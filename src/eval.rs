@@ -825,21 +825,22 @@ impl<'w> WordValues<'w> {
     }
 }
 
+/// The number of a LinuxCNC numbered parameter's name (`#12` → 12).
+pub(crate) fn parameter_number(name: &str) -> Option<u32> {
+    name.strip_prefix('#')?.parse().ok()
+}
+
+/// The last of LinuxCNC's user parameters; those above hold machine state.
+pub(crate) const LAST_USER_PARAMETER: u32 = 5000;
+
 /// The variables' first values: LinuxCNC's numbered parameters `#1`–`#5000`
 /// start at 0 (a fresh parameter file); every other name is unset.
 fn numbered_parameters(names: &Names) -> Vec<Slot> {
     names
         .iter()
-        .map(|(_, text)| {
-            let user = text
-                .strip_prefix('#')
-                .and_then(|n| n.parse::<u32>().ok())
-                .is_some_and(|n| (1..=5000).contains(&n));
-            if user {
-                Slot::Set(Value::Number(0.0))
-            } else {
-                Slot::Unset
-            }
+        .map(|(_, text)| match parameter_number(text) {
+            Some(1..=LAST_USER_PARAMETER) => Slot::Set(Value::Number(0.0)),
+            _ => Slot::Unset,
         })
         .collect()
 }
@@ -873,9 +874,9 @@ impl LinuxCncNames {
                 if (1..=30).contains(&k) {
                     found.args[k - 1] = Some(i);
                 }
-            } else if let Some(k) = text.strip_prefix('#').and_then(|k| k.parse::<usize>().ok()) {
+            } else if let Some(k) = parameter_number(text) {
                 if (1..=30).contains(&k) {
-                    found.numbered[k - 1] = Some(i);
+                    found.numbered[k as usize - 1] = Some(i);
                 }
             } else if text.starts_with("#<") && !text.starts_with("#<_") {
                 found.named.push(i);

@@ -71,10 +71,8 @@ impl ExprError {
             ExprError::Undefined { name, span } => {
                 let text = names.text(*name);
                 // LinuxCNC's machine state: #5001 and up, predefined `#<_…>`.
-                let machine = text
-                    .strip_prefix('#')
-                    .and_then(|n| n.parse::<u32>().ok())
-                    .is_some_and(|n| n > 5000);
+                let machine =
+                    super::parameter_number(text).is_some_and(|n| n > super::LAST_USER_PARAMETER);
                 if machine {
                     return Some(
                         error(
