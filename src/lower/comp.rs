@@ -19,8 +19,9 @@
 //! A held move that a trim would reverse, or an arc whose sweep it would
 //! grow, is a gouge: an error at the line, with the held move's line.
 
+use super::error::CompError;
 use super::position::Tracker;
-use super::{Context, LowerError, LowerErrorKind, Out, Pass, PassInfo};
+use super::{Context, LowerError, Out, Pass, PassInfo};
 use crate::ir::{self, Axis, CompRadius, Motion, Op, Position, Side, Stmt};
 use crate::source::Span;
 use std::collections::BTreeMap;
@@ -181,12 +182,12 @@ impl CompPass {
             CompRadius::Tool(n) => n,
             CompRadius::LoadedTool => self
                 .loaded
-                .ok_or_else(|| LowerError::new(LowerErrorKind::CompNoTool, span))?,
+                .ok_or_else(|| LowerError::new(CompError::NoTool, span))?,
         };
         self.tools
             .get(&tool)
             .map(|t| t.diameter / 2.0)
-            .ok_or_else(|| LowerError::new(LowerErrorKind::CompUnknownTool { tool }, span))
+            .ok_or_else(|| LowerError::new(CompError::UnknownTool { tool }, span))
     }
 
     fn feed(&mut self, stmt: Stmt, out: &mut Out<'_>) -> Result<(), LowerError> {
@@ -244,7 +245,7 @@ impl CompPass {
                     if matches!(stmt.op, Op::End) {
                         out.push(stmt);
                         return Err(LowerError::new(
-                            LowerErrorKind::CompStillOn { since: on.since },
+                            CompError::StillOn { since: on.since },
                             span,
                         ));
                     }
@@ -301,10 +302,7 @@ impl CompPass {
             let mut stmt = stmt;
             if let Some(off) = self.after_off.take() {
                 if m.motion.is_arc() {
-                    return Err(LowerError::new(
-                        LowerErrorKind::CompArcAfterOff { off },
-                        span,
-                    ));
+                    return Err(LowerError::new(CompError::ArcAfterOff { off }, span));
                 }
                 // The tool is at the last offset point: give u and v.
                 let (u, v, _) = self.axes();
@@ -344,7 +342,7 @@ impl CompPass {
             Some(a) => {
                 let (u, v, _) = self.axes();
                 let ir::ArcGeometry::Center(rel) = a.geometry else {
-                    return Err(LowerError::new(LowerErrorKind::CompArcTooSmall, span));
+                    return Err(LowerError::new(CompError::ArcTooSmall, span));
                 };
                 let o = [op[0] + rel[u].unwrap_or(0.0), op[1] + rel[v].unwrap_or(0.0)];
                 let n = a.turns.min(i32::MAX as u32) as i32;
@@ -377,7 +375,7 @@ impl CompPass {
             None if self.lookahead => {
                 if dist(p, c) <= r {
                     return Err(LowerError::new(
-                        LowerErrorKind::CompEntryTooShort { radius: r },
+                        CompError::EntryTooShort { radius: r },
                         span,
                     ));
                 }
@@ -397,7 +395,7 @@ impl CompPass {
             None => {
                 if dist(p, c) <= r {
                     return Err(LowerError::new(
-                        LowerErrorKind::CompEntryTooShort { radius: r },
+                        CompError::EntryTooShort { radius: r },
                         span,
                     ));
                 }
@@ -415,13 +413,13 @@ impl CompPass {
             Some((o, t)) => {
                 if dist(p, c) <= r {
                     return Err(LowerError::new(
-                        LowerErrorKind::CompEntryTooShort { radius: r },
+                        CompError::EntryTooShort { radius: r },
                         span,
                     ));
                 }
                 let ins = inside(on.side, t);
                 if ins && dist(o, c) <= r {
-                    return Err(LowerError::new(LowerErrorKind::CompArcTooSmall, span));
+                    return Err(LowerError::new(CompError::ArcTooSmall, span));
                 }
                 let g = if ins { angle(p, o) } else { angle(o, p) };
                 let e = add(p, dir(g), r);
@@ -431,7 +429,7 @@ impl CompPass {
                 let ab = angle(e, o);
                 let a = angle(e, c) - ab;
                 if a.cos().abs() < 1e-4 {
-                    return Err(LowerError::new(LowerErrorKind::CompArcTooSmall, span));
+                    return Err(LowerError::new(CompError::ArcTooSmall, span));
                 }
                 let center = add(e, dir(ab), b / a.cos());
                 on.queue.push(Queued::Move(Held {
@@ -600,7 +598,7 @@ impl CompPass {
         let ins = inside(side, t);
         let g = if ins {
             if ra <= r {
-                return Err(LowerError::new(LowerErrorKind::CompArcTooSmall, span));
+                return Err(LowerError::new(CompError::ArcTooSmall, span));
             }
             angle(p, o)
         } else {
@@ -691,7 +689,7 @@ impl CompPass {
         let differ = (r0 - r1).abs();
         if differ > self.spiral_tol && differ > 0.001 * r0.max(r1) {
             return Err(LowerError::new(
-                LowerErrorKind::CompSpiral { start: r0, end: r1 },
+                CompError::Spiral { start: r0, end: r1 },
                 span,
             ));
         }
@@ -726,7 +724,7 @@ impl CompPass {
     fn held_for_trim(&self, on: &On, span: Span) -> Result<(), LowerError> {
         match on.queue.first() {
             Some(Queued::Move(_)) => Ok(()),
-            _ => Err(LowerError::new(LowerErrorKind::CompCornerAfterStop, span)),
+            _ => Err(LowerError::new(CompError::CornerAfterStop, span)),
         }
     }
 
@@ -735,7 +733,7 @@ impl CompPass {
             Some(Queued::Move(h)) => Some(h.stmt.span),
             _ => None,
         };
-        LowerError::new(LowerErrorKind::CompGouge { what, held }, span)
+        LowerError::new(CompError::Gouge { what, held }, span)
     }
 
     /// rs274's `move_endpoint_and_flush`: the held moves end at `to`
@@ -870,7 +868,7 @@ impl Pass for CompPass {
         if let Some(mut on) = self.on.take() {
             self.flush(&mut on, out);
             out.report(LowerError::new(
-                LowerErrorKind::CompStillOn { since: on.since },
+                CompError::StillOn { since: on.since },
                 on.since,
             ));
         }

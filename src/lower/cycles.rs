@@ -19,8 +19,9 @@
 //! are errors unless kept. So is tapping outside G17, where rs274 feeds to
 //! the wrong axes.
 
+use super::error::CycleError;
 use super::position::Tracker;
-use super::{Context, LowerError, LowerErrorKind, Out, Pass, PassInfo};
+use super::{Context, LowerError, Out, Pass, PassInfo};
 use crate::ir::{
     self, Axes, Axis, CycleKind, Distance, Motion, Op, Plane, ReturnLevel, Spindle, Stmt,
 };
@@ -83,16 +84,16 @@ impl CyclesPass {
 
     fn check(&self, c: &ir::Cycle, span: Span) -> Result<(), LowerError> {
         let problem = match c.kind {
-            CycleKind::G87 | CycleKind::G88 if !self.keep => LowerErrorKind::CycleNeedsOperator {
+            CycleKind::G87 | CycleKind::G88 if !self.keep => CycleError::NeedsOperator {
                 code: c.kind.code(),
             },
             CycleKind::G84 | CycleKind::G74 if !self.keep && self.at.plane != Plane::XY => {
-                LowerErrorKind::TappingOutsideXy {
+                CycleError::TappingOutsideXy {
                     code: c.kind.code(),
                 }
             }
             CycleKind::G73 | CycleKind::G83 if !self.keep && self.clearance.is_none() => {
-                LowerErrorKind::PeckUnits {
+                CycleError::PeckUnits {
                     code: c.kind.code(),
                 }
             }
@@ -164,14 +165,14 @@ impl CyclesPass {
             (CycleKind::G73 | CycleKind::G83, None) => {
                 let q = c.q.unwrap_or(r - bottom);
                 let n = crate::eval::count_pecks(r, bottom, q)
-                    .ok_or_else(|| LowerError::new(LowerErrorKind::TooManyPecks, span))?;
+                    .ok_or_else(|| LowerError::new(CycleError::TooManyPecks, span))?;
                 Some(n)
             }
             (_, known) => known,
         };
         self.expanded += u64::from(c.repeats) * (3 * u64::from(pecks.unwrap_or(0)) + 8);
         if self.expanded > MAX_EXPANDED {
-            return Err(LowerError::new(LowerErrorKind::CyclesTooLarge, span));
+            return Err(LowerError::new(CycleError::TooLarge, span));
         }
         for i in 0..c.repeats {
             hole = [hole[0] + step[0], hole[1] + step[1]];

@@ -26,58 +26,10 @@ pub enum LowerErrorKind {
         axis: Axis,
         value: f64,
     },
-    /// G87 or G88 expanded: they need the operator or an oriented spindle.
-    CycleNeedsOperator {
-        code: u32,
-    },
-    /// G84/G74 outside G17 (rs274 feeds to the wrong axes there).
-    TappingOutsideXy {
-        code: u32,
-    },
-    /// G73/G83 where the units are not known: the clearance is 0.254 mm.
-    PeckUnits {
-        code: u32,
-    },
-    /// G41/G42 without D and no tool loaded.
-    CompNoTool,
-    /// G41/G42 D`tool` not in the tool table.
-    CompUnknownTool {
-        tool: u32,
-    },
-    /// The entry move is not longer than the radius.
-    CompEntryTooShort {
-        radius: f64,
-    },
-    /// An arc the tool is inside of, not larger than the radius.
-    CompArcTooSmall,
-    /// A corner the tool cannot reach without cutting into the part; the
-    /// held move's line.
-    CompGouge {
-        what: &'static str,
-        held: Option<Span>,
-    },
-    /// An inside corner right after M0/M1 under compensation: the move
-    /// before it has gone out and cannot be trimmed.
-    CompCornerAfterStop,
-    /// An arc right after G40.
-    CompArcAfterOff {
-        off: Span,
-    },
-    /// The program ends with compensation on.
-    CompStillOn {
-        since: Span,
-    },
-    /// A near-tangent corner into an arc makes rs274 start the arc off its
-    /// circle: radii differ.
-    CompSpiral {
-        start: f64,
-        end: f64,
-    },
-    /// More pecks in one hole than [`crate::eval::MAX_PECKS`].
-    TooManyPecks,
-    /// The cycles of the program expand to more than
-    /// `cycles::MAX_EXPANDED` statements.
-    CyclesTooLarge,
+    /// A canned cycle ger cannot expand (the cycles pass).
+    Cycle(CycleError),
+    /// Compensation ger cannot compute (the comp pass).
+    Comp(CompError),
     /// R smaller than half the chord.
     ArcRadiusTooSmall {
         radius: f64,
@@ -136,9 +88,69 @@ pub enum LowerErrorKind {
     NoProgramEnd,
 }
 
+/// The cycles pass's errors.
+#[derive(Clone, Debug, PartialEq)]
+pub enum CycleError {
+    /// G87 or G88 expanded: they need the operator or an oriented spindle.
+    NeedsOperator { code: u32 },
+    /// G84/G74 outside G17 (rs274 feeds to the wrong axes there).
+    TappingOutsideXy { code: u32 },
+    /// G73/G83 where the units are not known: the clearance is 0.254 mm.
+    PeckUnits { code: u32 },
+    /// More pecks in one hole than [`crate::eval::MAX_PECKS`].
+    TooManyPecks,
+    /// The cycles of the program expand to more than
+    /// `cycles::MAX_EXPANDED` statements.
+    TooLarge,
+}
+
+/// The comp pass's errors.
+#[derive(Clone, Debug, PartialEq)]
+pub enum CompError {
+    /// G41/G42 without D and no tool loaded.
+    NoTool,
+    /// G41/G42 D`tool` not in the tool table.
+    UnknownTool { tool: u32 },
+    /// The entry move is not longer than the radius.
+    EntryTooShort { radius: f64 },
+    /// An arc the tool is inside of, not larger than the radius.
+    ArcTooSmall,
+    /// A corner the tool cannot reach without cutting into the part; the
+    /// held move's line.
+    Gouge {
+        what: &'static str,
+        held: Option<Span>,
+    },
+    /// An inside corner right after M0/M1 under compensation: the move
+    /// before it has gone out and cannot be trimmed.
+    CornerAfterStop,
+    /// An arc right after G40.
+    ArcAfterOff { off: Span },
+    /// The program ends with compensation on.
+    StillOn { since: Span },
+    /// A near-tangent corner into an arc makes rs274 start the arc off its
+    /// circle: radii differ.
+    Spiral { start: f64, end: f64 },
+}
+
+impl From<CycleError> for LowerErrorKind {
+    fn from(e: CycleError) -> LowerErrorKind {
+        LowerErrorKind::Cycle(e)
+    }
+}
+
+impl From<CompError> for LowerErrorKind {
+    fn from(e: CompError) -> LowerErrorKind {
+        LowerErrorKind::Comp(e)
+    }
+}
+
 impl LowerError {
-    pub fn new(kind: LowerErrorKind, span: Span) -> LowerError {
-        LowerError { kind, span }
+    pub fn new(kind: impl Into<LowerErrorKind>, span: Span) -> LowerError {
+        LowerError {
+            kind: kind.into(),
+            span,
+        }
     }
 
     pub fn is_error(&self) -> bool {
@@ -156,20 +168,8 @@ impl LowerError {
         use LowerErrorKind::*;
         let span = self.span;
         match &self.kind {
-            CycleNeedsOperator { .. }
-            | TappingOutsideXy { .. }
-            | PeckUnits { .. }
-            | TooManyPecks
-            | CyclesTooLarge => self.cycle_diagnostic(),
-            CompNoTool
-            | CompUnknownTool { .. }
-            | CompEntryTooShort { .. }
-            | CompArcTooSmall
-            | CompGouge { .. }
-            | CompArcAfterOff { .. }
-            | CompCornerAfterStop
-            | CompStillOn { .. }
-            | CompSpiral { .. } => self.comp_diagnostic(),
+            Cycle(e) => cycle_diagnostic(e, span),
+            Comp(e) => comp_diagnostic(e, span),
             UnknownPosition { axis, what, since } => {
                 let letter = axis.letter() as char;
                 let d = error(
@@ -342,70 +342,64 @@ fn fmt(v: f64) -> String {
     s
 }
 
-impl LowerError {
-    /// The wording of the cycles pass's errors.
-    fn cycle_diagnostic(&self) -> Diagnostic {
-        use LowerErrorKind::*;
-        let span = self.span;
-        match self.kind {
-            CycleNeedsOperator { code: 87 } => error(
-                "G87 cannot be expanded",
-                span,
-                "back boring needs oriented spindle stops (M19), which the output cannot express",
-            )
-            .with_help("keep the cycle for a controller that has it (`--cycles keep`)"),
-            CycleNeedsOperator { code } => error(
-                format!("G{code} cannot be expanded"),
-                span,
-                "the operator takes the tool out by hand: where it is after the stop is not known",
-            )
-            .with_help(
-                "use G86 or G89, or keep the cycle for a controller that has it (`--cycles keep`)",
+/// The wording of the cycles pass's errors.
+fn cycle_diagnostic(e: &CycleError, span: Span) -> Diagnostic {
+    use CycleError::*;
+    match *e {
+        NeedsOperator { code: 87 } => error(
+            "G87 cannot be expanded",
+            span,
+            "back boring needs oriented spindle stops (M19), which the output cannot express",
+        )
+        .with_help("keep the cycle for a controller that has it (`--cycles keep`)"),
+        NeedsOperator { code } => error(
+            format!("G{code} cannot be expanded"),
+            span,
+            "the operator takes the tool out by hand: where it is after the stop is not known",
+        )
+        .with_help(
+            "use G86 or G89, or keep the cycle for a controller that has it (`--cycles keep`)",
+        ),
+        TappingOutsideXy { code } => error(
+            format!("G{code} tapping outside the XY plane (G17)"),
+            span,
+            "LinuxCNC feeds these taps to the wrong axes; ger does not pick a meaning",
+        )
+        .with_help("tap in G17, or write the moves out"),
+        PeckUnits { code } => error(
+            format!("G{code} in unknown units"),
+            span,
+            "the peck clearance is 0.254 mm (0.010 in): it needs the units",
+        )
+        .with_help("state G20 or G21 in the program, or pass --units"),
+        TooManyPecks => error(
+            format!("more than {} pecks in one hole", crate::eval::MAX_PECKS),
+            span,
+            "Q is very small for this depth",
+        ),
+        TooLarge => error(
+            format!(
+                "the canned cycles make more than {} moves",
+                super::cycles::MAX_EXPANDED
             ),
-            TappingOutsideXy { code } => error(
-                format!("G{code} tapping outside the XY plane (G17)"),
-                span,
-                "LinuxCNC feeds these taps to the wrong axes; ger does not pick a meaning",
-            )
-            .with_help("tap in G17, or write the moves out"),
-            PeckUnits { code } => error(
-                format!("G{code} in unknown units"),
-                span,
-                "the peck clearance is 0.254 mm (0.010 in): it needs the units",
-            )
-            .with_help("state G20 or G21 in the program, or pass --units"),
-            TooManyPecks => error(
-                format!("more than {} pecks in one hole", crate::eval::MAX_PECKS),
-                span,
-                "Q is very small for this depth",
-            ),
-            CyclesTooLarge => error(
-                format!(
-                    "the canned cycles make more than {} moves",
-                    super::cycles::MAX_EXPANDED
-                ),
-                span,
-                "the limit was reached here",
-            )
-            .with_help("check the repeat counts (L, K) and the peck depths (Q)"),
-            _ => error("internal: not a cycle error", span, "here"),
-        }
+            span,
+            "the limit was reached here",
+        )
+        .with_help("check the repeat counts (L, K) and the peck depths (Q)"),
     }
 }
 
-impl LowerError {
-    /// The wording of the comp pass's errors.
-    fn comp_diagnostic(&self) -> Diagnostic {
-        use LowerErrorKind::*;
-        let span = self.span;
-        match &self.kind {
-            CompNoTool => error(
+/// The wording of the comp pass's errors.
+fn comp_diagnostic(e: &CompError, span: Span) -> Diagnostic {
+    use CompError::*;
+    match e {
+            NoTool => error(
                 "cutter compensation without a tool",
                 span,
                 "no D here and no tool loaded (M6)",
             )
             .with_help("name the tool (`G41 D1`) or load it first (`T1 M6`)"),
-            CompUnknownTool { tool } => error(
+            UnknownTool { tool } => error(
                 format!("tool {tool} is not in the tool table"),
                 span,
                 "compensation needs its diameter",
@@ -413,19 +407,19 @@ impl LowerError {
             .with_help(format!(
                 "give it with `SetTool {tool} diameter` or --tool-table; D names a tool (LinuxCNC), not a radius register"
             )),
-            CompEntryTooShort { radius } => error(
+            EntryTooShort { radius } => error(
                 "the move that starts compensation is too short",
                 span,
                 format!("it must be longer than the tool radius ({radius})"),
             )
             .with_help("start compensation farther from the part, on a move in the plane"),
-            CompArcTooSmall => error(
+            ArcTooSmall => error(
                 "an inside arc not larger than the tool radius",
                 span,
                 "the tool cannot follow this arc",
             )
             .with_help("use a smaller tool or a larger radius"),
-            CompGouge { what, held } => {
+            Gouge { what, held } => {
                 let d = error(
                     format!("the tool cannot reach this corner without gouging ({what})"),
                     span,
@@ -437,26 +431,26 @@ impl LowerError {
                     _ => d,
                 }
             }
-            CompCornerAfterStop => error(
+            CornerAfterStop => error(
                 "an inside corner right after a stop under compensation",
                 span,
                 "the move before the M0/M1 has been sent and cannot be trimmed",
             )
             .with_help("stop before the profile or after it, or on an outside corner (LinuxCNC gouges here)"),
-            CompArcAfterOff { off } => error(
+            ArcAfterOff { off } => error(
                 "an arc right after G40",
                 span,
                 "the move after compensation ends must be straight",
             )
             .with_secondary(*off, "compensation ended here"),
-            CompStillOn { since } => error(
+            StillOn { since } => error(
                 "the program ends with cutter compensation on",
                 span,
                 "no G40 before the end",
             )
             .with_secondary(*since, "compensation turned on here")
             .with_help("end the profile with a G40 move"),
-            CompSpiral { start, end } => error(
+            Spiral { start, end } => error(
                 "a near-tangent corner into this arc",
                 span,
                 format!(
@@ -464,7 +458,5 @@ impl LowerError {
                 ),
             )
             .with_help("LinuxCNC makes a spiral here; make the corner sharper or tangent"),
-            _ => error("internal: not a comp error", span, "here"),
         }
-    }
 }
