@@ -90,11 +90,7 @@ fn run_case(case: &Path) -> Result<(), Failed> {
     let stem = case.file_stem().unwrap().to_string_lossy().into_owned();
     let work = std::env::temp_dir().join(format!("ger-oracle-{}-{stem}", std::process::id()));
     std::fs::create_dir_all(&work).map_err(|e| e.to_string())?;
-    let table = case.with_extension("tbl");
-    let tools = match std::fs::read_to_string(&table) {
-        Ok(text) => rs274::read_tool_table(&text),
-        Err(_) => Vec::new(),
-    };
+    let tools = case_tools(case);
     let mut input = case.to_path_buf();
     if !tools.is_empty() {
         // ger reads its tool table from SetTool directives (in mm here).
@@ -154,6 +150,14 @@ fn run_case(case: &Path) -> Result<(), Failed> {
     }
 }
 
+/// The case's tool table (`<name>.tbl`, mm), if it has one.
+fn case_tools(case: &Path) -> Vec<rs274::Tool> {
+    match std::fs::read_to_string(case.with_extension("tbl")) {
+        Ok(text) => rs274::read_tool_table(&text),
+        Err(_) => Vec::new(),
+    }
+}
+
 /// `--cycles keep` or `--comp keep` (`keep`): rs274 must run ger's output
 /// as it runs the input.
 fn run_kept(case: &Path, keep: &str) -> Result<(), Failed> {
@@ -161,10 +165,7 @@ fn run_kept(case: &Path, keep: &str) -> Result<(), Failed> {
     let out = std::env::temp_dir().join(format!("ger-kept-{}-{stem}.nc", std::process::id()));
     support::compile_with(case, &out, &[keep, "keep", "--target", "linuxcnc"])?;
     let text = std::fs::read_to_string(&out).map_err(|e| e.to_string())?;
-    let tools = match std::fs::read_to_string(case.with_extension("tbl")) {
-        Ok(text) => rs274::read_tool_table(&text),
-        Err(_) => Vec::new(),
-    };
+    let tools = case_tools(case);
     let a = rs274::tool_path(case, &tools).map_err(|e| format!("the input fails: {e}"))?;
     let b = rs274::tool_path(&out, &tools).map_err(|e| format!("ger's output fails: {e}"))?;
     let _ = std::fs::remove_file(&out);
