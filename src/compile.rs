@@ -361,7 +361,7 @@ impl<'s> Backend<'s> {
             lowering: last.map(|last| Pipeline::new(&context, last)),
             printer: match self.options.stage {
                 _ if matches!(self.out, Output::Path(_)) => {
-                    Printer::Path(Box::new(ToolPathBuilder::new(units)))
+                    Printer::Path(Box::new(ToolPathBuilder::new(units, &start.setup)))
                 }
                 Some(_) => Printer::Stage(emit::StagePrinter::new(units, len, file)),
                 None => {
@@ -409,7 +409,7 @@ impl<'s> Backend<'s> {
                 (diagnostics, written.and_then(|()| out.write_all(&rest)))
             }
             (Err(path), Output::Path(slot)) => {
-                *slot = Some(path);
+                *slot = Some(*path);
                 (diagnostics, written)
             }
             (Ok(_), Output::Path(_)) | (Err(_), Output::Text(_)) => (diagnostics, written),
@@ -467,11 +467,11 @@ impl Printer {
     }
 
     /// The rest of the text, or the path.
-    fn finish(self) -> Result<Vec<u8>, ToolPath> {
+    fn finish(self) -> Result<Vec<u8>, Box<ToolPath>> {
         match self {
             Printer::Stage(p) => Ok(p.finish()),
             Printer::Program(p) => Ok(p.finish()),
-            Printer::Path(b) => Err(b.finish()),
+            Printer::Path(b) => Err(Box::new(b.finish())),
         }
     }
 }

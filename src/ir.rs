@@ -559,7 +559,7 @@ pub fn work_offset_code(index: u8) -> Option<&'static str> {
 
 /// The machine as the setup directives (SPEC §3) describe it. Lengths are
 /// in the output units.
-#[derive(Clone, Debug, Default)]
+#[derive(Clone, Debug, Default, PartialEq)]
 pub struct Setup {
     /// `SetUnits`: the output units, if given.
     pub units: Option<Units>,

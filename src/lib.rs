@@ -19,6 +19,7 @@ pub mod eval;
 pub mod geometry;
 pub mod ir;
 pub mod lower;
+pub mod render;
 pub mod tool_table;
 pub mod toolpath;
 pub mod wizard;

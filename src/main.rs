@@ -52,6 +52,19 @@ enum Command {
         #[command(flatten)]
         options: Options,
     },
+    /// Draw the part the program cuts: a depth (or --shade) PNG, the tool
+    /// path as SVG, or the part as STL, by the output's extension.
+    Render {
+        /// The program, or `-` for standard input.
+        input: String,
+        /// The picture: part.png, part.svg or part.stl.
+        #[arg(short, long)]
+        output: PathBuf,
+        #[command(flatten)]
+        options: Options,
+        #[command(flatten)]
+        picture: PictureArgs,
+    },
     /// List the wizards found, or show one wizard's signature and doc.
     Wizards {
         name: Option<String>,
@@ -120,6 +133,44 @@ struct Options {
     /// A folder of wizards (`<Name>.rhai`), searched first; repeatable.
     #[arg(long = "wizards", value_name = "DIR")]
     wizard_dirs: Vec<PathBuf>,
+}
+
+#[derive(clap::Args)]
+struct PictureArgs {
+    /// The cell size, in the program's units (default 0.001 in / 0.025 mm).
+    #[arg(long)]
+    resolution: Option<f64>,
+    /// Coarser cells when the stock would need more than this many.
+    #[arg(long, default_value_t = 40_000_000)]
+    max_cells: u64,
+    /// The stock's size X,Y,Z (placed as SetPart places it).
+    #[arg(long, value_name = "X,Y,Z")]
+    stock: Option<String>,
+    /// A hill-shaded colour PNG with a depth legend instead of the depth image.
+    #[arg(long)]
+    shade: bool,
+    /// What colours the feeds of an SVG.
+    #[arg(long, value_enum, default_value_t = ColorArg::Depth)]
+    color: ColorArg,
+    /// Rapids in an SVG.
+    #[arg(long, value_enum, default_value_t = RapidsArg::Show)]
+    rapids: RapidsArg,
+    /// Another program: the PNG shows where the two cut differently.
+    #[arg(long, value_name = "OTHER")]
+    diff: Option<String>,
+}
+
+#[derive(Clone, Copy, PartialEq, Eq, ValueEnum)]
+enum ColorArg {
+    Depth,
+    Feed,
+    Tool,
+}
+
+#[derive(Clone, Copy, PartialEq, Eq, ValueEnum)]
+enum RapidsArg {
+    Show,
+    Hide,
 }
 
 #[derive(Clone, Copy, ValueEnum)]
@@ -279,6 +330,12 @@ fn real_main() -> ExitCode {
             run(&input, output.as_deref(), &options, stage, true)
         }
         Command::Check { input, options } => run(&input, None, &options, None, false),
+        Command::Render {
+            input,
+            output,
+            options,
+            picture,
+        } => render_part(&input, &output, &options, &picture),
         Command::Wizards { name, dirs, part } => {
             list_wizards(name.as_deref(), &dirs, part.as_deref())
         }
@@ -388,6 +445,103 @@ fn list_wizards(name: Option<&str>, dirs: &[PathBuf], part: Option<&Path>) -> Ex
     }
 }
 
+/// A program read and ready to compile: its sources (with the tool table),
+/// the library's options, and the wizards found for it.
+struct Job {
+    sources: Sources,
+    file: ger::source::FileId,
+    options: CompileOptions,
+    engine: WizardEngine,
+}
+
+impl Job {
+    /// Read `input` and everything it needs; on failure the exit code,
+    /// with the problem printed.
+    fn load(input: &str, options: &Options, stage: Option<Stage>) -> Result<Job, ExitCode> {
+        let bytes = match read_input(input) {
+            Ok(bytes) => bytes,
+            Err(e) => {
+                eprintln!("error: cannot read `{input}`: {e}");
+                return Err(ExitCode::from(2));
+            }
+        };
+        let text = match ger::source::decode(bytes) {
+            Ok(text) => text,
+            Err(why) => {
+                let (what, at) = match why {
+                    ger::source::NotText::Nul(at) => ("a NUL byte", at),
+                    ger::source::NotText::Control(at) => ("a control character", at),
+                };
+                eprintln!(
+                    "error: `{input}` is not a text file: {what} at byte {at}\n  = note: ger reads G-code programs as text (UTF-8 or Latin-1)"
+                );
+                return Err(ExitCode::from(1));
+            }
+        };
+        let mut sources = Sources::new();
+        let name = if input == "-" { "<stdin>" } else { input };
+        let file = sources.add(name, text);
+        let mut compile_options = options.compile_options(stage);
+        if let Some(path) = &options.tool_table {
+            let text = match std::fs::read(path).map(ger::source::decode) {
+                Ok(Ok(text)) => text,
+                Ok(Err(_)) => {
+                    eprintln!("error: `{}` is not a text file", path.display());
+                    return Err(ExitCode::from(2));
+                }
+                Err(e) => {
+                    eprintln!("error: cannot read `{}`: {e}", path.display());
+                    return Err(ExitCode::from(2));
+                }
+            };
+            let table = sources.add(path.display().to_string(), text);
+            match ger::tool_table::parse(sources.text(table), table) {
+                Ok(tools) => compile_options.eval.tools = tools,
+                Err(diagnostics) => {
+                    eprint!("{}", ger::diagnostic::render(&sources, &diagnostics));
+                    return Err(ExitCode::from(1));
+                }
+            }
+        }
+        if !options.tolerance.is_finite()
+            || options.tolerance <= 0.0
+            || options.decimals.is_some_and(|d| d > 9)
+        {
+            eprintln!("error: --tolerance must be positive and --decimals at most 9");
+            return Err(ExitCode::from(2));
+        }
+        if options.cycles == CyclesArg::Keep
+            && !matches!(options.target, TargetArg::Fanuc | TargetArg::Linuxcnc)
+        {
+            eprintln!("error: --cycles keep needs a controller with canned cycles: --target fanuc or linuxcnc");
+            return Err(ExitCode::from(2));
+        }
+        if options.comp == CompArg::Keep
+            && !matches!(options.target, TargetArg::Fanuc | TargetArg::Linuxcnc)
+        {
+            eprintln!(
+                "error: --comp keep needs a controller that compensates: --target fanuc or linuxcnc"
+            );
+            return Err(ExitCode::from(2));
+        }
+        let part = (input != "-").then(|| Path::new(input));
+        let found = match discover_wizards(&options.wizard_dirs, part) {
+            Ok(found) => found,
+            Err(e) => {
+                eprintln!("error: {e}");
+                return Err(ExitCode::from(2));
+            }
+        };
+        let engine = WizardEngine::new(Library::new(found, &mut sources));
+        Ok(Job {
+            sources,
+            file,
+            options: compile_options,
+            engine,
+        })
+    }
+}
+
 fn run(
     input: &str,
     output: Option<&Path>,
@@ -401,84 +555,15 @@ fn run(
             return ExitCode::from(2);
         }
     }
-    let bytes = match read_input(input) {
-        Ok(bytes) => bytes,
-        Err(e) => {
-            eprintln!("error: cannot read `{input}`: {e}");
-            return ExitCode::from(2);
-        }
-    };
-    let text = match ger::source::decode(bytes) {
-        Ok(text) => text,
-        Err(why) => {
-            let (what, at) = match why {
-                ger::source::NotText::Nul(at) => ("a NUL byte", at),
-                ger::source::NotText::Control(at) => ("a control character", at),
-            };
-            eprintln!(
-                "error: `{input}` is not a text file: {what} at byte {at}\n  = note: ger reads G-code programs as text (UTF-8 or Latin-1)"
-            );
-            return ExitCode::from(1);
-        }
-    };
-    let mut sources = Sources::new();
-    let name = if input == "-" { "<stdin>" } else { input };
-    let file = sources.add(name, text);
-    let mut compile_options = options.compile_options(stage);
-    if let Some(path) = &options.tool_table {
-        let text = match std::fs::read(path).map(ger::source::decode) {
-            Ok(Ok(text)) => text,
-            Ok(Err(_)) => {
-                eprintln!("error: `{}` is not a text file", path.display());
-                return ExitCode::from(2);
-            }
-            Err(e) => {
-                eprintln!("error: cannot read `{}`: {e}", path.display());
-                return ExitCode::from(2);
-            }
-        };
-        let table = sources.add(path.display().to_string(), text);
-        match ger::tool_table::parse(sources.text(table), table) {
-            Ok(tools) => compile_options.eval.tools = tools,
-            Err(diagnostics) => {
-                eprint!("{}", ger::diagnostic::render(&sources, &diagnostics));
-                return ExitCode::from(1);
-            }
-        }
-    }
-    if !options.tolerance.is_finite()
-        || options.tolerance <= 0.0
-        || options.decimals.is_some_and(|d| d > 9)
-    {
-        eprintln!("error: --tolerance must be positive and --decimals at most 9");
-        return ExitCode::from(2);
-    }
-    if options.cycles == CyclesArg::Keep
-        && !matches!(options.target, TargetArg::Fanuc | TargetArg::Linuxcnc)
-    {
-        eprintln!("error: --cycles keep needs a controller with canned cycles: --target fanuc or linuxcnc");
-        return ExitCode::from(2);
-    }
-    if options.comp == CompArg::Keep
-        && !matches!(options.target, TargetArg::Fanuc | TargetArg::Linuxcnc)
-    {
-        eprintln!(
-            "error: --comp keep needs a controller that compensates: --target fanuc or linuxcnc"
-        );
-        return ExitCode::from(2);
-    }
     let started = std::time::Instant::now();
-    let part = (input != "-").then(|| Path::new(input));
-    let found = match discover_wizards(&options.wizard_dirs, part) {
-        Ok(found) => found,
-        Err(e) => {
-            eprintln!("error: {e}");
-            return ExitCode::from(2);
-        }
+    let mut job = match Job::load(input, options, stage) {
+        Ok(job) => job,
+        Err(code) => return code,
     };
-    let mut engine = WizardEngine::new(Library::new(found, &mut sources));
+    let (sources, file, compile_options) = (&job.sources, job.file, &job.options);
+    let engine = &mut job.engine;
     let mut compile =
-        |out: &mut dyn Write| compile_to(&sources, file, &compile_options, Some(&mut engine), out);
+        |out: &mut dyn Write| compile_to(sources, file, compile_options, Some(&mut *engine), out);
     // A file is written as the program is compiled; standard output gets
     // the program only once it is known to be whole (a pipe to a machine
     // must never see half of one).
@@ -488,7 +573,7 @@ fn run(
         (true, None) => compile(&mut text),
         (false, _) => compile(&mut std::io::sink()),
     };
-    eprint!("{}", render(&sources, &report.diagnostics));
+    eprint!("{}", render(sources, &report.diagnostics));
     if options.timings {
         for (stage, took) in &report.timings {
             eprintln!("{stage:>8}: {:8.2} ms", took.as_secs_f64() * 1e3);
@@ -509,6 +594,233 @@ fn run(
         }
     }
     ExitCode::SUCCESS
+}
+
+#[derive(Clone, Copy, PartialEq, Eq)]
+enum Picture {
+    Png,
+    Svg,
+    Stl,
+}
+
+/// `ger render`: compile, simulate, write the picture.
+fn render_part(input: &str, output: &Path, options: &Options, picture: &PictureArgs) -> ExitCode {
+    use ger::render::{image, stl, svg, RenderOptions, Scene};
+    if input != "-" && same_file(Path::new(input), output) {
+        eprintln!("error: the output file is the input file; refusing to overwrite it");
+        return ExitCode::from(2);
+    }
+    let extension = output
+        .extension()
+        .map(|e| e.to_string_lossy().to_ascii_lowercase());
+    let format = match extension.as_deref() {
+        Some("png") => Picture::Png,
+        Some("svg") => Picture::Svg,
+        Some("stl") => Picture::Stl,
+        _ => {
+            eprintln!(
+                "error: the picture's format comes from the output's name: .png, .svg or .stl"
+            );
+            return ExitCode::from(2);
+        }
+    };
+    if (picture.shade || picture.diff.is_some()) && format != Picture::Png {
+        eprintln!("error: --shade and --diff make a PNG: give -o NAME.png");
+        return ExitCode::from(2);
+    }
+    let stock = match picture.stock.as_deref().map(parse_stock) {
+        None => None,
+        Some(Some(size)) => Some(size),
+        Some(None) => {
+            eprintln!("error: --stock takes three positive sizes, X,Y,Z");
+            return ExitCode::from(2);
+        }
+    };
+    let render_options = RenderOptions {
+        resolution: picture.resolution,
+        max_cells: picture.max_cells,
+        stock,
+    };
+    let Some((job, path)) = compiled_path(input, options) else {
+        return ExitCode::from(1);
+    };
+    let scene = match Scene::new(&path, &render_options) {
+        Ok(scene) => scene,
+        Err(e) => {
+            eprintln!("error: {e}");
+            return ExitCode::from(1);
+        }
+    };
+    eprint!("{}", render(&job.sources, &scene.diagnostics));
+    let written = match format {
+        Picture::Svg => {
+            let title = |span: ger::source::Span| {
+                let text = job
+                    .sources
+                    .text(span.file_id())
+                    .get(span.range())
+                    .unwrap_or("");
+                let text: String = text.trim().chars().take(80).collect();
+                format!("line {}: {text}", span.line)
+            };
+            let svg_options = svg::SvgOptions {
+                color: match picture.color {
+                    ColorArg::Depth => svg::ColorBy::Depth,
+                    ColorArg::Feed => svg::ColorBy::Feed,
+                    ColorArg::Tool => svg::ColorBy::Tool,
+                },
+                rapids: picture.rapids == RapidsArg::Show,
+            };
+            write_file(output, |out| {
+                svg::write(&path, &scene, svg_options, &title, out)
+            })
+        }
+        Picture::Png | Picture::Stl => {
+            let (mut grid, note) = match scene.grid(&render_options) {
+                Ok(grid) => grid,
+                Err(e) => {
+                    eprintln!("error: {e}");
+                    return ExitCode::from(1);
+                }
+            };
+            if let Some(note) = note {
+                eprintln!("note: {note}");
+            }
+            let other = match &picture.diff {
+                Some(other) => {
+                    let Some((other_job, other_path)) = compiled_path(other, options) else {
+                        return ExitCode::from(1);
+                    };
+                    let other_scene = match Scene::new(&other_path, &render_options) {
+                        Ok(scene) => scene,
+                        Err(e) => {
+                            eprintln!("error: {other}: {e}");
+                            return ExitCode::from(1);
+                        }
+                    };
+                    let mut other_grid = grid.clone();
+                    let cuts = other_scene.carve(&mut other_grid, &other_path, &progress_bar());
+                    eprint!("{}", render(&other_job.sources, &cuts));
+                    Some(other_grid)
+                }
+                None => None,
+            };
+            let cuts = scene.carve(&mut grid, &path, &progress_bar());
+            eprint!("{}", render(&job.sources, &cuts));
+            let units = scene.units;
+            match (format, other) {
+                (Picture::Stl, _) => {
+                    if stl::block(&grid) > 1 {
+                        eprintln!(
+                            "note: the mesh takes the lowest of each {0}x{0} cells (at most {1} points)",
+                            stl::block(&grid),
+                            stl::MAX_CELLS
+                        );
+                    }
+                    write_file(output, |out| stl::write(&grid, out))
+                }
+                (_, Some(other)) => {
+                    let tolerance = grid.frame.cell * 0.01;
+                    write_file(output, |out| image::write_difference(&grid, &other, tolerance, units, out))
+                        .map(|(differ, largest)| {
+                            if differ == 0 {
+                                eprintln!("note: the two programs cut the same part");
+                            } else {
+                                eprintln!(
+                                    "note: {differ} cells differ, by up to {largest:.4} (red: `{input}` cuts deeper; blue: the other)"
+                                );
+                            }
+                        })
+                }
+                (_, None) if picture.shade => {
+                    write_file(output, |out| image::write_shaded(&grid, units, out))
+                }
+                (_, None) => write_file(output, |out| image::write_depth(&grid, units, out)),
+            }
+        }
+    };
+    match written {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(e) => {
+            eprintln!("error: cannot write `{}`: {e}", output.display());
+            ExitCode::from(2)
+        }
+    }
+}
+
+/// `X,Y,Z`, each positive.
+fn parse_stock(text: &str) -> Option<[f64; 3]> {
+    let values: Vec<f64> = text
+        .split(',')
+        .map(|v| {
+            v.trim()
+                .parse::<f64>()
+                .ok()
+                .filter(|v| v.is_finite() && *v > 0.0)
+        })
+        .collect::<Option<_>>()?;
+    values.try_into().ok()
+}
+
+/// Compile `input` to its tool path, printing the diagnostics; `None` when
+/// it has errors.
+fn compiled_path(input: &str, options: &Options) -> Option<(Job, ger::toolpath::ToolPath)> {
+    let mut job = Job::load(input, options, None).ok()?;
+    let (path, diagnostics) =
+        ger::compile::tool_path(&job.sources, job.file, &job.options, Some(&mut job.engine));
+    eprint!("{}", render(&job.sources, &diagnostics));
+    Some((job, path?))
+}
+
+/// The progress of a render, on stderr once it has run a second, and only
+/// on a terminal.
+fn progress_bar() -> impl Fn(usize, usize) + Sync {
+    use std::io::IsTerminal;
+    let terminal = std::io::stderr().is_terminal();
+    let started = std::time::Instant::now();
+    let bar = indicatif::ProgressBar::hidden();
+    move |done, total| {
+        if !terminal || started.elapsed() < std::time::Duration::from_secs(1) {
+            return;
+        }
+        if bar.is_hidden() {
+            bar.set_draw_target(indicatif::ProgressDrawTarget::stderr());
+        }
+        bar.set_length(total as u64);
+        bar.set_position(done as u64);
+        if done == total {
+            bar.finish_and_clear();
+        }
+    }
+}
+
+/// Write a file through `write`, atomically: into a temporary file beside
+/// it, renamed on success; on failure the old file stays.
+fn write_file<T>(
+    path: &Path,
+    write: impl FnOnce(&mut std::io::BufWriter<std::fs::File>) -> std::io::Result<T>,
+) -> std::io::Result<T> {
+    let dir = path
+        .parent()
+        .filter(|p| !p.as_os_str().is_empty())
+        .unwrap_or(Path::new("."));
+    let file_name = path
+        .file_name()
+        .map(|n| n.to_string_lossy().into_owned())
+        .unwrap_or_default();
+    let tmp = dir.join(format!(".{file_name}.{}.tmp", std::process::id()));
+    let result = std::fs::File::create(&tmp).and_then(|file| {
+        let mut out = std::io::BufWriter::new(file);
+        let value = write(&mut out)?;
+        let file = out.into_inner().map_err(|e| e.into_error())?;
+        file.sync_all()?;
+        std::fs::rename(&tmp, path)?;
+        Ok(value)
+    });
+    if result.is_err() {
+        let _ = std::fs::remove_file(&tmp);
+    }
+    result
 }
 
 fn read_input(input: &str) -> std::io::Result<Vec<u8>> {

@@ -23,6 +23,11 @@ pub type Point = [f64; 3];
 pub struct ToolPath {
     pub moves: Vec<Move>,
     pub events: Vec<Event>,
+    /// The output units (the program's numbers when `None`), for the
+    /// picture's scale.
+    pub units: Option<Units>,
+    /// The setup directives (stock, zero, tools), in the output units.
+    pub setup: ir::Setup,
 }
 
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -64,6 +69,10 @@ pub struct Move {
     pub state: State,
     /// The source line (for `rs274`'s path, the line its N word names).
     pub span: Span,
+    /// Which of X Y Z at the start the program never set, or lost to a
+    /// machine move (G28, G53): taken as 0 (or the machine's home) here,
+    /// where the real machine may be anywhere.
+    pub guessed: [bool; 3],
 }
 
 impl Move {
@@ -153,19 +162,26 @@ pub struct Builder {
     /// A work offset the program set at the machine (G10 L20 passed
     /// through), added to later coordinates.
     offset: [f64; 9],
+    /// X Y Z the program has set (and no machine move has lost since).
+    known: [bool; 3],
 }
 
 impl Builder {
     /// `units`: the units of the IR's lengths (the output units).
-    pub fn new(units: Option<Units>) -> Builder {
+    pub fn new(units: Option<Units>, setup: &ir::Setup) -> Builder {
         Builder {
-            path: ToolPath::default(),
+            path: ToolPath {
+                units,
+                setup: setup.clone(),
+                ..ToolPath::default()
+            },
             to_mm: units.map_or(1.0, |u| u.factor(Units::Mm)),
             position: [0.0; 9],
             plane: Plane::XY,
             state: State::default(),
             selected: 0,
             offset: [0.0; 9],
+            known: [false; 3],
         }
     }
 
@@ -271,8 +287,12 @@ impl Builder {
     /// `machine`).
     fn move_to(&mut self, kind: MoveKind, to: &ir::Axes, span: Span, machine: bool) {
         let start: Point = std::array::from_fn(|i| self.position[i]);
+        let guessed = self.known.map(|k| !k);
         for (axis, v) in to.iter() {
             let i = axis.index();
+            if let Some(known) = self.known.get_mut(i) {
+                *known = !machine;
+            }
             let offset = if machine { 0.0 } else { self.offset[i] };
             self.position[i] = offset + if axis.is_rotary() { v } else { v * self.to_mm };
         }
@@ -283,6 +303,7 @@ impl Builder {
             extra: std::array::from_fn(|i| self.position[i + 3]),
             state: self.state,
             span,
+            guessed,
         });
     }
 

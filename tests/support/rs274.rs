@@ -349,6 +349,7 @@ impl Machine {
             extra: [end[3], end[4], end[5], 0.0, 0.0, 0.0],
             state: self.state,
             span: span(line),
+            guessed: [false; 3],
         });
     }
 

@@ -1,0 +1,469 @@
+//! `ger render` (SPEC §7): the part the program will cut. The compiled
+//! tool path ([`crate::toolpath`]) is turned into segments of the tip's
+//! path with the cutter that runs them ([`Scene`]), carved into a
+//! heightmap of the stock ([`carve`]), and written as a depth or shaded
+//! PNG ([`image`]), an STL mesh ([`stl`]), or the tool path itself as SVG
+//! ([`svg`]). Everything here is in the program's output units; where the
+//! program states none, its numbers are taken as millimetres (SPEC §3).
+
+pub mod carve;
+pub mod cutter;
+pub mod image;
+pub mod stl;
+pub mod svg;
+
+use crate::diagnostic::{warning, Diagnostic, DiagnosticExt};
+use crate::ir::{Plane, Tool, ToolShape, Units};
+use crate::toolpath::{Move, MoveKind, ToolPath};
+use carve::{Frame, Grid, Segment, Shape};
+use cutter::{Arc, Cutter, Line};
+
+#[derive(Clone, Debug)]
+pub struct RenderOptions {
+    /// The cell size; default 0.001 in or 0.025 mm.
+    pub resolution: Option<f64>,
+    /// Coarser cells when the grid would have more.
+    pub max_cells: u64,
+    /// `--stock X,Y,Z`: the stock's size, placed as `SetPart` places it.
+    pub stock: Option<[f64; 3]>,
+}
+
+impl Default for RenderOptions {
+    fn default() -> RenderOptions {
+        RenderOptions {
+            resolution: None,
+            max_cells: 40_000_000,
+            stock: None,
+        }
+    }
+}
+
+/// The stock block, in program coordinates.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Stock {
+    pub min: [f64; 2],
+    pub max: [f64; 2],
+    pub top: f64,
+    pub bottom: f64,
+}
+
+/// What is drawn: the stock, the cutters, the tip's path as segments.
+#[derive(Clone, Debug)]
+pub struct Scene {
+    pub units: Option<Units>,
+    pub stock: Stock,
+    pub cutters: Vec<Cutter>,
+    pub segments: Vec<Segment>,
+    /// Warnings at source lines (unknown positions, cuts below the stock,
+    /// tools not in the table).
+    pub diagnostics: Vec<Diagnostic>,
+}
+
+/// The default tool (SPEC §3): a 1/4 in flat end mill.
+const DEFAULT_TOOL: Tool = Tool {
+    diameter: 6.35,
+    length: None,
+    shape: ToolShape::Flat,
+};
+
+/// At most this many segments: a program that needs more is refused.
+const MAX_SEGMENTS: usize = 10_000_000;
+
+/// How many warnings of one kind are shown one by one.
+const SHOWN: usize = 5;
+
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+pub enum RenderError {
+    #[error(
+        "nothing to draw: the program makes no cutting move and sets no stock (SetPart or --stock)"
+    )]
+    NothingToDraw,
+    #[error("the stock has no size: {0}")]
+    EmptyStock(String),
+    #[error("the grid of {cells} cells does not fit in memory; give a coarser --resolution")]
+    TooLarge { cells: u64 },
+    #[error("the tool path has more than {MAX_SEGMENTS} segments at this resolution; give a coarser --resolution")]
+    TooManySegments,
+    #[error("--resolution must be a positive number")]
+    BadResolution,
+}
+
+impl Scene {
+    /// The scene of a compiled tool path.
+    pub fn new(path: &ToolPath, options: &RenderOptions) -> Result<Scene, RenderError> {
+        let units = path.units;
+        // The tool path is in mm; the scene in the output units.
+        let scale = 1.0 / units.map_or(1.0, |u| u.factor(Units::Mm));
+        let mut diagnostics = Vec::new();
+        let (cutters, cutter_of) = cutters(path, scale, &mut diagnostics);
+        let stock = stock(path, options, scale, &cutters, &cutter_of)?;
+        let cell = resolution(units, options, &stock)?.0;
+        let segments = segments(path, scale, cell, &cutter_of, &mut diagnostics)?;
+        below_stock(&segments, &stock, path, &mut diagnostics);
+        Ok(Scene {
+            units,
+            stock,
+            cutters,
+            segments,
+            diagnostics,
+        })
+    }
+
+    /// The empty grid over the stock, and a note when the cells had to be
+    /// coarser than asked.
+    pub fn grid(&self, options: &RenderOptions) -> Result<(Grid, Option<String>), RenderError> {
+        let (cell, note) = resolution(self.units, options, &self.stock)?;
+        let s = &self.stock;
+        let frame = Frame {
+            x0: s.min[0],
+            y0: s.min[1],
+            cell,
+            nx: (((s.max[0] - s.min[0]) / cell).round() as usize).max(1),
+            ny: (((s.max[1] - s.min[1]) / cell).round() as usize).max(1),
+        };
+        let grid = Grid::new(frame, s.top, s.bottom).ok_or(RenderError::TooLarge {
+            cells: frame.nx as u64 * frame.ny as u64,
+        })?;
+        Ok((grid, note))
+    }
+
+    /// Carve the whole program; the warnings for rapids that cut.
+    pub fn carve(
+        &self,
+        grid: &mut Grid,
+        path: &ToolPath,
+        progress: &(dyn Fn(usize, usize) + Sync),
+    ) -> Vec<Diagnostic> {
+        let carved = carve::carve(grid, &self.segments, &self.cutters, progress);
+        let spans: Vec<_> = carved
+            .rapid_cuts
+            .iter()
+            .map(|&k| path.moves[k].span)
+            .collect();
+        repeated(
+            &spans,
+            "a rapid move cuts the stock",
+            "this rapid removes material",
+            "check the safe height before this move",
+        )
+    }
+}
+
+/// The cell size, and a note when `--max-cells` made it coarser.
+fn resolution(
+    units: Option<Units>,
+    options: &RenderOptions,
+    stock: &Stock,
+) -> Result<(f64, Option<String>), RenderError> {
+    let asked = options.resolution.unwrap_or(match units {
+        Some(Units::Inch) => 0.001,
+        Some(Units::Mm) | None => 0.025,
+    });
+    if !(asked.is_finite() && asked > 0.0) {
+        return Err(RenderError::BadResolution);
+    }
+    let area = (stock.max[0] - stock.min[0]) * (stock.max[1] - stock.min[1]);
+    let cells = area / (asked * asked);
+    let max = options.max_cells.max(1) as f64;
+    if cells <= max {
+        return Ok((asked, None));
+    }
+    // Round the coarser cell up to two significant digits.
+    let wanted = (area / max).sqrt();
+    let magnitude = 10f64.powf(wanted.log10().floor() - 1.0);
+    let cell = (wanted / magnitude).ceil() * magnitude;
+    Ok((
+        cell,
+        Some(format!(
+            "the stock at {asked} would be {cells:.0} cells; drawn with cells of {cell} instead (--max-cells {})",
+            options.max_cells
+        )),
+    ))
+}
+
+/// The cutters the program uses, and each move's cutter.
+fn cutters(
+    path: &ToolPath,
+    scale: f64,
+    diagnostics: &mut Vec<Diagnostic>,
+) -> (Vec<Cutter>, Vec<usize>) {
+    // Tool lengths in the setup are in the output units already.
+    let table_scale = 1.0;
+    let default = Cutter::of(&DEFAULT_TOOL, scale);
+    let mut cutters: Vec<Cutter> = Vec::new();
+    let mut index_of = |c: Cutter| match cutters.iter().position(|&k| k == c) {
+        Some(k) => k,
+        None => {
+            cutters.push(c);
+            cutters.len() - 1
+        }
+    };
+    let mut missing: Vec<u32> = Vec::new();
+    let mut of_move = Vec::with_capacity(path.moves.len());
+    for m in &path.moves {
+        // No tool loaded yet: tool 1 (SPEC §3).
+        let number = m.state.tool.max(1);
+        let cutter = match path.setup.tools.get(&number) {
+            Some(tool) => Cutter::of(tool, table_scale),
+            None => {
+                if m.state.tool != 0 && !missing.contains(&number) {
+                    missing.push(number);
+                    diagnostics.push(
+                        warning(
+                            format!("tool {number} is not in the tool table"),
+                            m.span,
+                            "drawn as a 1/4 in flat end mill",
+                        )
+                        .with_help(format!(
+                            "give its size with `SetTool {number} diameter` or --tool-table"
+                        )),
+                    );
+                }
+                default
+            }
+        };
+        of_move.push(index_of(cutter));
+    }
+    if cutters.is_empty() {
+        cutters.push(default);
+    }
+    (cutters, of_move)
+}
+
+/// The stock: `--stock`, else `SetPart` (placed by `SetZero`), else the
+/// cut's bounds plus `SetMargin` (default: the largest cutter's radius)
+/// all round, its top at Z=0.
+fn stock(
+    path: &ToolPath,
+    options: &RenderOptions,
+    scale: f64,
+    cutters: &[Cutter],
+    cutter_of: &[usize],
+) -> Result<Stock, RenderError> {
+    let zero = path.setup.zero.unwrap_or([0.0; 3]);
+    if let Some(size) = options.stock.or(path.setup.part) {
+        if !size.iter().all(|v| v.is_finite() && *v > 0.0) {
+            return Err(RenderError::EmptyStock(format!(
+                "{} x {} x {}",
+                size[0], size[1], size[2]
+            )));
+        }
+        return Ok(Stock {
+            min: [-zero[0], -zero[1]],
+            max: [size[0] - zero[0], size[1] - zero[1]],
+            top: zero[2],
+            bottom: zero[2] - size[2],
+        });
+    }
+    let mut b = [
+        f64::INFINITY,
+        f64::INFINITY,
+        f64::NEG_INFINITY,
+        f64::NEG_INFINITY,
+    ];
+    let mut lowest: f64 = 0.0;
+    let mut widest: f64 = 0.0;
+    for (index, (m, &c)) in path.moves.iter().zip(cutter_of).enumerate() {
+        let (before, after) = unknown_ends(path, index);
+        if matches!(m.kind, MoveKind::Rapid) || before.iter().chain(&after).any(|&g| g) {
+            continue;
+        }
+        let r = cutters[c].radius;
+        widest = widest.max(r);
+        for k in 0..=16 {
+            let p = m.at(f64::from(k) / 16.0).map(|v| v * scale);
+            b = [
+                b[0].min(p[0] - r),
+                b[1].min(p[1] - r),
+                b[2].max(p[0] + r),
+                b[3].max(p[1] + r),
+            ];
+            lowest = lowest.min(p[2]);
+        }
+    }
+    if !b[0].is_finite() {
+        return Err(RenderError::NothingToDraw);
+    }
+    let margin = path.setup.margin.unwrap_or(widest);
+    Ok(Stock {
+        min: [b[0] - margin, b[1] - margin],
+        max: [b[2] + margin, b[3] + margin],
+        top: 0.0,
+        bottom: lowest - margin.max(widest),
+    })
+}
+
+/// The tip's path as segments: level XY arcs exactly, other arcs as chords
+/// whose sag stays under a quarter cell, lines as they are. Rapids whose
+/// ends are not known are left out (the machine is somewhere else); other
+/// moves from an unknown position are drawn from where they end, with a
+/// warning.
+fn segments(
+    path: &ToolPath,
+    scale: f64,
+    cell: f64,
+    cutter_of: &[usize],
+    diagnostics: &mut Vec<Diagnostic>,
+) -> Result<Vec<Segment>, RenderError> {
+    let mut out: Vec<Segment> = Vec::with_capacity(path.moves.len());
+    let mut unknown = Vec::new();
+    let mut last_end: Option<([f64; 3], usize)> = None;
+    for (index, m) in path.moves.iter().enumerate() {
+        let (before, after) = unknown_ends(path, index);
+        let cutter = cutter_of[index];
+        let rapid = matches!(m.kind, MoveKind::Rapid);
+        let guessed = (0..3).any(|i| before[i] || after[i]);
+        if guessed {
+            if rapid {
+                last_end = None;
+                continue;
+            }
+            unknown.push(m.span);
+        }
+        let end = m.end.map(|v| v * scale);
+        let mut start = m.start.map(|v| v * scale);
+        for i in 0..3 {
+            if before[i] && !after[i] {
+                start[i] = end[i];
+            }
+        }
+        let continues = last_end == Some((start, cutter));
+        let level_xy = matches!(m.kind, MoveKind::Arc(a) if a.plane == Plane::XY)
+            && (end[2] - start[2]).abs() < 1e-12;
+        let chords = if level_xy { 1 } else { chords(m, scale, cell) };
+        if out.len().saturating_add(chords) > MAX_SEGMENTS {
+            return Err(RenderError::TooManySegments);
+        }
+        let mut push = |shape: Shape, continues: bool| {
+            out.push(Segment {
+                shape,
+                cutter,
+                rapid,
+                move_index: index,
+                continues,
+            });
+        };
+        match m.kind {
+            MoveKind::Arc(a) if level_xy => {
+                let center = [a.center[0] * scale, a.center[1] * scale];
+                let rel = |p: [f64; 3]| [p[0] - center[0], p[1] - center[1]];
+                let (from, to) = if a.clockwise {
+                    (rel(end), rel(start))
+                } else {
+                    (rel(start), rel(end))
+                };
+                push(
+                    Shape::Arc(Arc {
+                        center,
+                        radius: from[0].hypot(from[1]),
+                        z: start[2],
+                        from,
+                        to,
+                        sweep: m.sweep(),
+                    }),
+                    continues,
+                );
+            }
+            MoveKind::Arc(_) => {
+                let mut from = start;
+                for k in 1..=chords {
+                    let to = if k == chords {
+                        end
+                    } else {
+                        m.at(k as f64 / chords as f64).map(|v| v * scale)
+                    };
+                    push(Shape::Line(Line::new(from, to)), continues || k > 1);
+                    from = to;
+                }
+            }
+            MoveKind::Rapid | MoveKind::Feed => push(Shape::Line(Line::new(start, end)), continues),
+        }
+        last_end = Some((end, cutter));
+    }
+    diagnostics.extend(repeated(
+        &unknown,
+        "the tool position is not known here",
+        "this move starts or ends at an axis the program has not set (or a machine move lost)",
+        "drawn from where the move ends, with unset axes at 0; the machine may be elsewhere",
+    ));
+    Ok(out)
+}
+
+/// Which of X Y Z are unknown at the start and at the end of move
+/// `index` (at the end: as at the next move's start).
+fn unknown_ends(path: &ToolPath, index: usize) -> ([bool; 3], [bool; 3]) {
+    let before = path.moves[index].guessed;
+    let after = path
+        .moves
+        .get(index + 1)
+        .map_or(before, |next| next.guessed);
+    (before, after)
+}
+
+/// How many chords keep an arc's sag under a quarter cell.
+fn chords(m: &Move, scale: f64, cell: f64) -> usize {
+    let MoveKind::Arc(a) = m.kind else {
+        return 1;
+    };
+    let (p, q, _) = a.plane.axes();
+    let radius = (m.start[p] - a.center[p]).hypot(m.start[q] - a.center[q]) * scale;
+    let sag = cell / 4.0;
+    let step = if radius <= sag {
+        std::f64::consts::PI
+    } else {
+        2.0 * (1.0 - sag / radius).acos()
+    };
+    ((m.sweep() / step).ceil() as usize).max(1)
+}
+
+/// Warn about moves that take the tip below the stock's bottom (a move
+/// that climbs out from there is not warned again), once per source line.
+fn below_stock(
+    segments: &[Segment],
+    stock: &Stock,
+    path: &ToolPath,
+    diagnostics: &mut Vec<Diagnostic>,
+) {
+    let mut spans = Vec::new();
+    let mut seen = std::collections::HashSet::new();
+    for s in segments {
+        let descends = match &s.shape {
+            Shape::Line(l) => l.dz <= 0.0,
+            Shape::Arc(_) => true,
+        };
+        let span = path.moves[s.move_index].span;
+        if descends && s.lowest_tip() < stock.bottom - 1e-9 && seen.insert(span) {
+            spans.push(span);
+        }
+    }
+    diagnostics.extend(repeated(
+        &spans,
+        "the cut goes below the bottom of the stock",
+        "the tool reaches below the stock here",
+        format!(
+            "the stock's bottom is at Z{} (a through cut?)",
+            stock.bottom
+        ),
+    ));
+}
+
+/// One warning for each of the first few spans, and a count of the rest.
+fn repeated(
+    spans: &[crate::source::Span],
+    message: &str,
+    label: &str,
+    help: impl std::fmt::Display,
+) -> Vec<Diagnostic> {
+    let mut out: Vec<Diagnostic> = spans
+        .iter()
+        .take(SHOWN)
+        .map(|&span| warning(message, span, label).with_help(&help))
+        .collect();
+    if spans.len() > SHOWN {
+        if let Some(last) = out.last_mut() {
+            last.notes
+                .push(format!("{} more like it not shown", spans.len() - SHOWN));
+        }
+    }
+    out
+}

@@ -1,0 +1,353 @@
+//! The cutters the picture knows (SPEC §7) and the one question the
+//! simulation asks of them: over a point of the stock, how low does the
+//! cutter reach anywhere along one straight or circular move? Answered
+//! exactly, in closed form, for every shape: along a line, the height of
+//! the cutter's underside over a point is a convex function of the
+//! position on the line, so its minimum is the one stationary point, or an
+//! end of the stretch where the point is under the cutter.
+
+use crate::ir::{Tool, ToolShape};
+
+/// The underside of a cutter, as a height above its tip at a distance from
+/// its axis.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Profile {
+    Flat,
+    Ball,
+    /// A cone (vee cutters, drill points): `rise` is the height gained per
+    /// unit of distance from the axis, 1/tan(half the included angle).
+    Cone {
+        rise: f64,
+    },
+}
+
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Cutter {
+    pub radius: f64,
+    pub profile: Profile,
+}
+
+/// A drill's point angle (SPEC §7).
+const DRILL_POINT_DEGREES: f64 = 118.0;
+
+impl Cutter {
+    /// The cutter of a tool table entry, its lengths times `scale`.
+    pub fn of(tool: &Tool, scale: f64) -> Cutter {
+        let cone = |included: f64| Profile::Cone {
+            rise: 1.0 / (included.to_radians() / 2.0).tan(),
+        };
+        Cutter {
+            radius: tool.diameter * scale / 2.0,
+            profile: match tool.shape {
+                ToolShape::Flat => Profile::Flat,
+                ToolShape::Ball => Profile::Ball,
+                ToolShape::Drill => cone(DRILL_POINT_DEGREES),
+                ToolShape::Vee(angle) => cone(angle),
+            },
+        }
+    }
+
+    /// The height of the underside above the tip at distance `d` (at most
+    /// the radius) from the axis.
+    pub fn lift(&self, d: f64) -> f64 {
+        let r = self.radius;
+        match self.profile {
+            Profile::Flat => 0.0,
+            Profile::Ball => r - (r * r - d * d).max(0.0).sqrt(),
+            Profile::Cone { rise } => rise * d,
+        }
+    }
+
+    /// The lowest the cutter reaches over the point `(x, y)` while its tip
+    /// runs along `line`; `None` when the point is never under it.
+    pub fn lowest_on_line(&self, line: &Line, x: f64, y: f64) -> Option<f64> {
+        let r2 = self.radius * self.radius;
+        let (wx, wy) = (x - line.a[0], y - line.a[1]);
+        let w2 = wx * wx + wy * wy;
+        if line.length < 1e-12 {
+            // A plunge: the point stays at one distance from the axis.
+            return (w2 <= r2).then(|| line.a[2].min(line.a[2] + line.dz) + self.lift(w2.sqrt()));
+        }
+        // Along the line, u is the signed distance (in the plane) from the
+        // point's foot; h the point's distance from the line.
+        let along = (wx * line.v[0] + wy * line.v[1]) / line.length;
+        let h2 = (w2 - along * along).max(0.0);
+        if h2 > r2 {
+            return None;
+        }
+        let reach = (r2 - h2).sqrt();
+        let u0 = (-along).max(-reach);
+        let u1 = (line.length - along).min(reach);
+        if u0 > u1 {
+            return None;
+        }
+        // The tip's height at u is z_foot + slope * u.
+        let slope = line.dz / line.length;
+        let z_foot = line.a[2] + slope * along;
+        let lowest_u = |stationary: f64| stationary.clamp(u0, u1);
+        let z = match self.profile {
+            Profile::Flat => z_foot + slope * if slope >= 0.0 { u0 } else { u1 },
+            Profile::Ball => {
+                // slope*u - sqrt(rho² - u²) is least at u = -slope*rho/sqrt(1+slope²).
+                let rho2 = r2 - h2;
+                let u = lowest_u(-slope * rho2.sqrt() / (1.0 + slope * slope).sqrt());
+                z_foot + slope * u + self.radius - (rho2 - u * u).max(0.0).sqrt()
+            }
+            Profile::Cone { rise } => {
+                // slope*u + rise*sqrt(h² + u²): a stationary point only when
+                // the line is shallower than the cone's side.
+                let u = if slope.abs() < rise {
+                    lowest_u(-slope * h2.sqrt() / (rise * rise - slope * slope).sqrt())
+                } else if slope > 0.0 {
+                    u0
+                } else {
+                    u1
+                };
+                z_foot + slope * u + rise * (h2 + u * u).sqrt()
+            }
+        };
+        Some(z)
+    }
+
+    /// The lowest the cutter reaches over `(x, y)` while its tip runs
+    /// along the level arc `arc`.
+    pub fn lowest_on_arc(&self, arc: &Arc, x: f64, y: f64) -> Option<f64> {
+        let d = arc.distance(x, y);
+        (d <= self.radius).then(|| arc.z + self.lift(d))
+    }
+}
+
+/// A straight move of the tip from `a`, by `v` in the plane and `dz`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Line {
+    pub a: [f64; 3],
+    pub v: [f64; 2],
+    pub dz: f64,
+    /// |v|.
+    pub length: f64,
+}
+
+impl Line {
+    pub fn new(a: [f64; 3], b: [f64; 3]) -> Line {
+        let v = [b[0] - a[0], b[1] - a[1]];
+        Line {
+            a,
+            v,
+            dz: b[2] - a[2],
+            length: v[0].hypot(v[1]),
+        }
+    }
+
+    pub fn end(&self) -> [f64; 3] {
+        [
+            self.a[0] + self.v[0],
+            self.a[1] + self.v[1],
+            self.a[2] + self.dz,
+        ]
+    }
+
+    /// The x interval of the points within `r` of the line (in the plane)
+    /// on the row at `y`; `None` if there are none. The set is convex, so
+    /// it is the hull of its three parts: the discs at the ends and the
+    /// band between them.
+    pub fn span(&self, r: f64, y: f64) -> Option<(f64, f64)> {
+        let b = self.end();
+        let mut lo = f64::INFINITY;
+        let mut hi = f64::NEG_INFINITY;
+        for (cx, cy) in [(self.a[0], self.a[1]), (b[0], b[1])] {
+            if let Some(w) = chord_half(r, y - cy) {
+                lo = lo.min(cx - w);
+                hi = hi.max(cx + w);
+            }
+        }
+        if self.length > 0.0 {
+            let (nx, ny) = (-self.v[1] / self.length * r, self.v[0] / self.length * r);
+            let corners = [
+                (self.a[0] + nx, self.a[1] + ny),
+                (b[0] + nx, b[1] + ny),
+                (b[0] - nx, b[1] - ny),
+                (self.a[0] - nx, self.a[1] - ny),
+            ];
+            for k in 0..4 {
+                let (p, q) = (corners[k], corners[(k + 1) % 4]);
+                if (p.1 - y) * (q.1 - y) <= 0.0 && p.1 != q.1 {
+                    let x = p.0 + (y - p.1) * (q.0 - p.0) / (q.1 - p.1);
+                    lo = lo.min(x);
+                    hi = hi.max(x);
+                }
+            }
+        }
+        (lo <= hi).then_some((lo, hi))
+    }
+}
+
+/// Half the chord a circle of radius `r` cuts on a line `dy` from its
+/// centre.
+pub fn chord_half(r: f64, dy: f64) -> Option<f64> {
+    (dy.abs() <= r).then(|| (r * r - dy * dy).sqrt())
+}
+
+/// A level arc of the tip in the XY plane.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Arc {
+    pub center: [f64; 2],
+    pub radius: f64,
+    pub z: f64,
+    /// Start and end, from the centre, with the arc running
+    /// counter-clockwise from `from` to `to` (a clockwise arc is stored
+    /// the other way round).
+    pub from: [f64; 2],
+    pub to: [f64; 2],
+    /// The sweep in radians (positive).
+    pub sweep: f64,
+}
+
+impl Arc {
+    /// Whether the direction `(x, y)` from the centre is within the arc.
+    fn covers(&self, x: f64, y: f64) -> bool {
+        let cross = |a: [f64; 2], bx: f64, by: f64| a[0] * by - a[1] * bx;
+        if self.sweep >= std::f64::consts::TAU - 1e-12 {
+            true
+        } else if self.sweep <= std::f64::consts::PI {
+            cross(self.from, x, y) >= 0.0 && -cross(self.to, x, y) >= 0.0
+        } else {
+            // Outside the complement, which runs from `to` to `from`.
+            !(cross(self.to, x, y) > 0.0 && -cross(self.from, x, y) > 0.0)
+        }
+    }
+
+    /// The distance in the plane from `(x, y)` to the arc.
+    pub fn distance(&self, x: f64, y: f64) -> f64 {
+        let (dx, dy) = (x - self.center[0], y - self.center[1]);
+        // Plain square roots: `hypot` guards against overflow at a cost
+        // this inner loop cannot pay, and these lengths are small.
+        let length = |x: f64, y: f64| (x * x + y * y).sqrt();
+        if self.covers(dx, dy) {
+            (length(dx, dy) - self.radius).abs()
+        } else {
+            let (f, t) = (self.from, self.to);
+            length(dx - f[0], dy - f[1]).min(length(dx - t[0], dy - t[1]))
+        }
+    }
+
+    /// The x intervals that hold every point within `r` of the arc on the
+    /// row at `y` (they may overlap): the ring around the whole circle,
+    /// and the discs at the ends.
+    pub fn spans(&self, r: f64, y: f64) -> [Option<(f64, f64)>; 4] {
+        let [cx, cy] = self.center;
+        let dy = y - cy;
+        let mut out = [None; 4];
+        if let Some(outer) = chord_half(self.radius + r, dy) {
+            match chord_half(self.radius - r, dy).filter(|_| self.radius > r) {
+                Some(inner) => {
+                    out[0] = Some((cx - outer, cx - inner));
+                    out[1] = Some((cx + inner, cx + outer));
+                }
+                None => out[0] = Some((cx - outer, cx + outer)),
+            }
+        }
+        for (k, end) in [self.from, self.to].into_iter().enumerate() {
+            out[2 + k] = chord_half(r, dy - end[1]).map(|w| (cx + end[0] - w, cx + end[0] + w));
+        }
+        out
+    }
+
+    /// Its bounds in the plane: `[min x, min y, max x, max y]`.
+    pub fn bounds(&self) -> [f64; 4] {
+        let [cx, cy] = self.center;
+        let mut b = [
+            f64::INFINITY,
+            f64::INFINITY,
+            f64::NEG_INFINITY,
+            f64::NEG_INFINITY,
+        ];
+        let mut add = |x: f64, y: f64| {
+            b[0] = b[0].min(cx + x);
+            b[1] = b[1].min(cy + y);
+            b[2] = b[2].max(cx + x);
+            b[3] = b[3].max(cy + y);
+        };
+        add(self.from[0], self.from[1]);
+        add(self.to[0], self.to[1]);
+        let r = self.radius;
+        for (x, y) in [(r, 0.0), (0.0, r), (-r, 0.0), (0.0, -r)] {
+            if self.covers(x, y) {
+                add(x, y);
+            }
+        }
+        b
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The lowest point by sampling the line densely.
+    fn sampled(cutter: &Cutter, line: &Line, x: f64, y: f64) -> Option<f64> {
+        let b = line.end();
+        (0..=20_000)
+            .filter_map(|k| {
+                let t = f64::from(k) / 20_000.0;
+                let p: Vec<f64> = (0..3).map(|i| line.a[i] + (b[i] - line.a[i]) * t).collect();
+                let d = (x - p[0]).hypot(y - p[1]);
+                (d <= cutter.radius).then(|| p[2] + cutter.lift(d))
+            })
+            .reduce(f64::min)
+    }
+
+    #[test]
+    fn closed_form_agrees_with_sampling_on_sloped_lines() {
+        let shapes = [
+            Profile::Flat,
+            Profile::Ball,
+            Profile::Cone { rise: 1.0 },
+            Profile::Cone { rise: 0.3 },
+        ];
+        let lines = [
+            Line::new([0.0, 0.0, 0.0], [10.0, 3.0, -4.0]),
+            Line::new([2.0, 1.0, -3.0], [-5.0, 4.0, 2.0]),
+            Line::new([0.0, 0.0, 0.0], [0.5, 0.0, -9.0]),
+        ];
+        for profile in shapes {
+            let cutter = Cutter {
+                radius: 2.0,
+                profile,
+            };
+            for line in &lines {
+                for k in 0..200 {
+                    let (x, y) = (-6.0 + 0.09 * f64::from(k), -1.0 + 0.04 * f64::from(k));
+                    let exact = cutter.lowest_on_line(line, x, y);
+                    let dense = sampled(&cutter, line, x, y);
+                    match (exact, dense) {
+                        (Some(a), Some(b)) => assert!(
+                            a <= b + 1e-9 && b - a < 2e-3,
+                            "{profile:?} {line:?} at ({x}, {y}): {a} vs {b}"
+                        ),
+                        // Sampling may miss a point just inside the edge.
+                        (Some(_), None) | (None, None) => {}
+                        (None, Some(b)) => panic!("{profile:?} missed ({x}, {y}) at {b}"),
+                    }
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn arc_distance_inside_and_beyond_its_ends() {
+        // A quarter from (1, 0) counter-clockwise to (0, 1).
+        let arc = Arc {
+            center: [0.0, 0.0],
+            radius: 1.0,
+            z: 0.0,
+            from: [1.0, 0.0],
+            to: [0.0, 1.0],
+            sweep: std::f64::consts::FRAC_PI_2,
+        };
+        assert!((arc.distance(2.0, 2.0) - (8f64.sqrt() - 1.0)).abs() < 1e-12);
+        assert!((arc.distance(-1.0, 0.0) - 2f64.sqrt()).abs() < 1e-12);
+        assert!((arc.distance(1.0, -1.0) - 1.0).abs() < 1e-12);
+        let b = arc.bounds();
+        assert_eq!(b, [0.0, 0.0, 1.0, 1.0]);
+    }
+}

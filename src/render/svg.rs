@@ -1,0 +1,202 @@
+//! The tool path as SVG, seen from above (SPEC §7): the stock outline,
+//! feeds coloured by depth, feed rate or tool, rapids dashed (or hidden),
+//! each path element titled with the source line it comes from. The moves
+//! of one source line that look alike share one element.
+
+use super::image::depth_color;
+use super::Scene;
+use crate::ir::Plane;
+use crate::source::Span;
+use crate::toolpath::{Move, MoveKind, ToolPath};
+use std::fmt::Write as _;
+use std::io::Write;
+
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum ColorBy {
+    #[default]
+    Depth,
+    Feed,
+    Tool,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct SvgOptions {
+    pub color: ColorBy,
+    pub rapids: bool,
+}
+
+impl Default for SvgOptions {
+    fn default() -> SvgOptions {
+        SvgOptions {
+            color: ColorBy::Depth,
+            rapids: true,
+        }
+    }
+}
+
+/// Colours for tools, in turn.
+const TOOL_COLORS: [&str; 6] = [
+    "#1f77b4", "#d62728", "#2ca02c", "#9467bd", "#ff7f0e", "#17becf",
+];
+
+const RAPID: &str = "#8a8a8a";
+
+/// Write the picture. `title` names a source line (`line 12: G1 X10`).
+pub fn write(
+    path: &ToolPath,
+    scene: &Scene,
+    options: SvgOptions,
+    title: &dyn Fn(Span) -> String,
+    out: &mut impl Write,
+) -> std::io::Result<()> {
+    let scale = 1.0 / scene.units.map_or(1.0, |u| u.factor(crate::ir::Units::Mm));
+    let s = &scene.stock;
+    let (w, h) = (s.max[0] - s.min[0], s.max[1] - s.min[1]);
+    let stroke = w.max(h) / 600.0;
+    let mut text = String::new();
+    let _ = writeln!(
+        text,
+        r#"<svg xmlns="http://www.w3.org/2000/svg" viewBox="{} {} {} {}" width="{}mm" height="{}mm">"#,
+        num(s.min[0]),
+        num(-s.max[1]),
+        num(w),
+        num(h),
+        num(w * scene.units.map_or(1.0, |u| u.factor(crate::ir::Units::Mm))),
+        num(h * scene.units.map_or(1.0, |u| u.factor(crate::ir::Units::Mm))),
+    );
+    let _ = writeln!(
+        text,
+        r##"<rect x="{}" y="{}" width="{}" height="{}" fill="#f4f1ea" stroke="#b9b2a2" stroke-width="{}"/>"##,
+        num(s.min[0]),
+        num(-s.max[1]),
+        num(w),
+        num(h),
+        num(stroke)
+    );
+    let _ = writeln!(
+        text,
+        r#"<g fill="none" stroke-width="{}" stroke-linecap="round" stroke-linejoin="round">"#,
+        num(stroke)
+    );
+    out.write_all(text.as_bytes())?;
+    let feeds = path
+        .moves
+        .iter()
+        .filter(|m| !matches!(m.kind, MoveKind::Rapid))
+        .map(|m| m.state.feed);
+    let (slow, fast) = feeds.fold((f64::INFINITY, 0.0f64), |(a, b), f| (a.min(f), b.max(f)));
+    let color = |m: &Move| -> String {
+        match (m.kind, options.color) {
+            (MoveKind::Rapid, _) => RAPID.to_string(),
+            (_, ColorBy::Depth) => {
+                let z = m.start[2].min(m.end[2]) * scale;
+                hex(depth_color((s.top - z) / (s.top - s.bottom)))
+            }
+            (_, ColorBy::Feed) => {
+                let t = if fast > slow {
+                    (m.state.feed - slow) / (fast - slow)
+                } else {
+                    0.5
+                };
+                hex(colorous::PLASMA
+                    .eval_continuous(t.clamp(0.0, 1.0) * 0.9)
+                    .as_array())
+            }
+            (_, ColorBy::Tool) => {
+                TOOL_COLORS[m.state.tool as usize % TOOL_COLORS.len()].to_string()
+            }
+        }
+    };
+    let mut element: Option<(Span, String, String)> = None;
+    let flush = |element: &mut Option<(Span, String, String)>, out: &mut dyn Write| {
+        if let Some((span, color, d)) = element.take() {
+            let dash = if color == RAPID {
+                format!(
+                    r#" stroke-dasharray="{} {}""#,
+                    num(stroke * 4.0),
+                    num(stroke * 3.0)
+                )
+            } else {
+                String::new()
+            };
+            writeln!(
+                out,
+                r#"<path d="{d}" stroke="{color}"{dash}><title>{}</title></path>"#,
+                escape(&title(span))
+            )
+        } else {
+            Ok(())
+        }
+    };
+    for m in &path.moves {
+        if matches!(m.kind, MoveKind::Rapid) && !options.rapids {
+            continue;
+        }
+        let c = color(m);
+        let joins = matches!(&element, Some((span, color, _)) if *span == m.span && *color == c);
+        if !joins {
+            flush(&mut element, out)?;
+            let d = format!("M{} {}", num(m.start[0] * scale), num(-m.start[1] * scale));
+            element = Some((m.span, c, d));
+        }
+        if let Some((_, _, d)) = &mut element {
+            trace(m, scale, d);
+        }
+    }
+    flush(&mut element, out)?;
+    out.write_all(b"</g>\n</svg>\n")
+}
+
+/// Append the move's path (from its start) to `d`.
+fn trace(m: &Move, scale: f64, d: &mut String) {
+    match m.kind {
+        MoveKind::Arc(a) if a.plane == Plane::XY => {
+            // Pieces of at most a quarter turn, each an SVG arc; y is
+            // flipped, so a clockwise arc is SVG's positive sweep.
+            let r = (m.start[0] - a.center[0]).hypot(m.start[1] - a.center[1]) * scale;
+            let pieces = ((m.sweep() / std::f64::consts::FRAC_PI_2).ceil() as usize).clamp(1, 4096);
+            for k in 1..=pieces {
+                let p = m.at(k as f64 / pieces as f64);
+                let _ = write!(
+                    d,
+                    " A{} {} 0 0 {} {} {}",
+                    num(r),
+                    num(r),
+                    u8::from(a.clockwise),
+                    num(p[0] * scale),
+                    num(-p[1] * scale)
+                );
+            }
+        }
+        MoveKind::Arc(_) => {
+            for k in 1..=32 {
+                let p = m.at(f64::from(k) / 32.0);
+                let _ = write!(d, " L{} {}", num(p[0] * scale), num(-p[1] * scale));
+            }
+        }
+        MoveKind::Rapid | MoveKind::Feed => {
+            let _ = write!(d, " L{} {}", num(m.end[0] * scale), num(-m.end[1] * scale));
+        }
+    }
+}
+
+/// A coordinate: 4 decimals, no trailing zeros.
+fn num(v: f64) -> String {
+    let text = format!("{v:.4}");
+    let text = text.trim_end_matches('0').trim_end_matches('.');
+    match text {
+        "-0" | "" => "0".to_string(),
+        t => t.to_string(),
+    }
+}
+
+fn hex(c: [u8; 3]) -> String {
+    format!("#{:02x}{:02x}{:02x}", c[0], c[1], c[2])
+}
+
+fn escape(text: &str) -> String {
+    text.replace('&', "&amp;")
+        .replace('<', "&lt;")
+        .replace('>', "&gt;")
+        .replace('"', "&quot;")
+}
