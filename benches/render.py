@@ -9,7 +9,8 @@ writing the PNG included; best of --runs, peak memory of the largest run).
            (goal <= 0.25 ms; the seed took 250 ms).
 2. pocket: a 100 x 60 mm, 6 mm deep concentric pocket, 6 mm end mill,
            0.025 mm cells (goal <= 150 ms).
-3. moves:  a 200,000-move file (short lines over a 100 x 50 mm plate)
+3. moves:  a 200,000-move file: 0.1 mm lines over a 100 x 50 mm plate,
+           each bent a little (no two in line, as CAM writes them)
            (goal <= 0.5 s).
 4. ball:   a 50 x 50 mm ball-nose surface raster, 6 mm ball, 0.5 mm
            stepover and 0.5 mm segments (goal <= 1 s).
@@ -74,7 +75,8 @@ def moves_case(n=200_000):
     for i in range(n):
         row, k = divmod(i, per_row)
         x = k * 0.1 if row % 2 == 0 else 100 - k * 0.1
-        out.append("G1 X%.3f Y%.3f" % (x, (row % 200) * 0.25))
+        wobble = 0.02 * math.sin(k * 0.7)
+        out.append("G1 X%.3f Y%.3f" % (x, (row % 200) * 0.25 + wobble))
     out.append("M30")
     return "\n".join(out) + "\n"
 

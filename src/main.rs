@@ -636,6 +636,13 @@ fn render_part(input: &str, output: &Path, options: &Options, picture: &PictureA
             return ExitCode::from(2);
         }
     };
+    if picture
+        .resolution
+        .is_some_and(|r| !(r.is_finite() && r > 0.0))
+    {
+        eprintln!("error: --resolution must be a positive number");
+        return ExitCode::from(2);
+    }
     let render_options = RenderOptions {
         resolution: picture.resolution,
         max_cells: picture.max_cells,

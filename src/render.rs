@@ -99,7 +99,7 @@ impl Scene {
         let stock = stock(path, options, scale, &cutters, &cutter_of)?;
         let cell = resolution(units, options, &stock)?.0;
         let segments = segments(path, scale, cell, &cutter_of, &mut diagnostics)?;
-        below_stock(&segments, &stock, path, &mut diagnostics);
+        below_stock(path, scale, &stock, &mut diagnostics);
         Ok(Scene {
             units,
             stock,
@@ -335,13 +335,23 @@ fn segments(
             return Err(RenderError::TooManySegments);
         }
         let mut push = |shape: Shape, continues: bool| {
-            out.push(Segment {
+            let segment = Segment {
                 shape,
                 cutter,
                 rapid,
                 move_index: index,
                 continues,
-            });
+            };
+            match out.last_mut() {
+                Some(last) if continues && !rapid => {
+                    if let Some(merged) = extended(last, &segment) {
+                        *last = merged;
+                        return;
+                    }
+                    out.push(segment);
+                }
+                _ => out.push(segment),
+            }
         };
         match m.kind {
             MoveKind::Arc(a) if level_xy => {
@@ -389,9 +399,35 @@ fn segments(
     Ok(out)
 }
 
+/// `last` and `next` as one segment, when `next` carries straight on from
+/// `last` (a line split in collinear pieces sweeps what the whole does).
+fn extended(last: &Segment, next: &Segment) -> Option<Segment> {
+    let (Shape::Line(a), Shape::Line(b)) = (&last.shape, &next.shape) else {
+        return None;
+    };
+    if last.rapid || last.cutter != next.cutter {
+        return None;
+    }
+    let u = [a.v[0], a.v[1], a.dz];
+    let w = [b.v[0], b.v[1], b.dz];
+    let dot = u[0] * w[0] + u[1] * w[1] + u[2] * w[2];
+    let cross = [
+        u[1] * w[2] - u[2] * w[1],
+        u[2] * w[0] - u[0] * w[2],
+        u[0] * w[1] - u[1] * w[0],
+    ];
+    let sine = cross.iter().map(|c| c * c).sum::<f64>().sqrt();
+    let lengths = dot.abs().max(1e-300);
+    // Collinear to 1e-12 of the lengths, and the same way on.
+    (dot > 0.0 && sine <= 1e-12 * lengths).then(|| Segment {
+        shape: Shape::Line(Line::new(a.a, b.end())),
+        ..*last
+    })
+}
+
 /// Which of X Y Z are unknown at the start and at the end of move
 /// `index` (at the end: as at the next move's start).
-fn unknown_ends(path: &ToolPath, index: usize) -> ([bool; 3], [bool; 3]) {
+pub(crate) fn unknown_ends(path: &ToolPath, index: usize) -> ([bool; 3], [bool; 3]) {
     let before = path.moves[index].guessed;
     let after = path
         .moves
@@ -418,22 +454,17 @@ fn chords(m: &Move, scale: f64, cell: f64) -> usize {
 
 /// Warn about moves that take the tip below the stock's bottom (a move
 /// that climbs out from there is not warned again), once per source line.
-fn below_stock(
-    segments: &[Segment],
-    stock: &Stock,
-    path: &ToolPath,
-    diagnostics: &mut Vec<Diagnostic>,
-) {
+fn below_stock(path: &ToolPath, scale: f64, stock: &Stock, diagnostics: &mut Vec<Diagnostic>) {
     let mut spans = Vec::new();
     let mut seen = std::collections::HashSet::new();
-    for s in segments {
-        let descends = match &s.shape {
-            Shape::Line(l) => l.dz <= 0.0,
-            Shape::Arc(_) => true,
-        };
-        let span = path.moves[s.move_index].span;
-        if descends && s.lowest_tip() < stock.bottom - 1e-9 && seen.insert(span) {
-            spans.push(span);
+    for (index, m) in path.moves.iter().enumerate() {
+        let (before, after) = unknown_ends(path, index);
+        if before[2] || after[2] {
+            continue;
+        }
+        let (from, to) = (m.start[2] * scale, m.end[2] * scale);
+        if to <= from && to < stock.bottom - 1e-9 && seen.insert(m.span) {
+            spans.push(m.span);
         }
     }
     diagnostics.extend(repeated(

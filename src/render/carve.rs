@@ -5,7 +5,7 @@
 //! the moves that touch it in program order, so the bytes are the same on
 //! any number of cores.
 
-use super::cutter::{Arc, Cutter, Line, Profile};
+use super::cutter::{Arc, Cutter, Line, LineSweep, Profile};
 use rayon::prelude::*;
 
 /// Where the cells are. Cell `(i, j)` has its centre at
@@ -39,9 +39,23 @@ impl Frame {
     }
 
     fn clip(origin: f64, cell: f64, n: usize, lo: f64, hi: f64) -> Option<(usize, usize)> {
-        let first = ((lo - origin) / cell - 0.5).ceil().max(0.0);
-        let last = ((hi - origin) / cell - 0.5).floor().min(n as f64 - 1.0);
-        (first <= last).then_some((first as usize, last as usize))
+        // By truncating casts, not `ceil`/`floor`: without SSE4.1 those are
+        // library calls, and this runs for every row of every move.
+        let per_cell = 1.0 / cell;
+        let a = (lo - origin) * per_cell - 0.5;
+        let b = (hi - origin) * per_cell - 0.5;
+        // NaN bounds (from a NaN coordinate) select nothing.
+        if a.is_nan() || b.is_nan() || a > b || b < 0.0 || a > n as f64 - 1.0 {
+            return None;
+        }
+        let first = if a <= 0.0 {
+            0
+        } else {
+            let t = a as usize;
+            t + usize::from((t as f64) < a)
+        };
+        let last = (b as usize).min(n - 1);
+        (first <= last).then_some((first, last))
     }
 }
 
@@ -116,14 +130,6 @@ impl Segment {
                 ]
             }
             Shape::Arc(a) => a.bounds(),
-        }
-    }
-
-    /// The lowest tip height along the segment.
-    pub fn lowest_tip(&self) -> f64 {
-        match &self.shape {
-            Shape::Line(l) => l.a[2].min(l.a[2] + l.dz),
-            Shape::Arc(a) => a.z,
         }
     }
 }
@@ -213,16 +219,21 @@ impl Band<'_> {
         };
         let first = first.max(self.first_row);
         let last = last.min(self.first_row + rows_here - 1);
+        let sweep = match &seg.shape {
+            Shape::Line(line) => Some(LineSweep::new(*cutter, *line)),
+            Shape::Arc(_) => None,
+        };
         let mut cut = false;
         for row in first..=last {
             let y = frame.center_y(row);
             let at = (row - self.first_row) * frame.nx;
             let cells = &mut self.cells[at..at + frame.nx];
-            cut |= match &seg.shape {
-                Shape::Line(line) => {
-                    carve_line_row(frame, cells, line, cutter, y, seg, self.tolerance)
+            cut |= match (&seg.shape, &sweep) {
+                (_, Some(sweep)) => carve_line_row(frame, cells, sweep, y, seg, self.tolerance),
+                (Shape::Arc(arc), None) => {
+                    carve_arc_row(frame, cells, arc, cutter, y, self.tolerance)
                 }
-                Shape::Arc(arc) => carve_arc_row(frame, cells, arc, cutter, y, self.tolerance),
+                (Shape::Line(_), None) => false,
             };
         }
         cut
@@ -232,42 +243,46 @@ impl Band<'_> {
 fn carve_line_row(
     frame: &Frame,
     cells: &mut [f32],
-    line: &Line,
-    cutter: &Cutter,
+    sweep: &LineSweep,
     y: f64,
     seg: &Segment,
     tolerance: f64,
 ) -> bool {
-    let r = cutter.radius;
-    let Some((lo, hi)) = line.span(r, y) else {
+    let Some((lo, hi)) = sweep.span(y) else {
         return false;
     };
     let Some((i0, i1)) = frame.columns(lo, hi) else {
         return false;
     };
-    let flat = cutter.profile == Profile::Flat;
-    // A flat cutter that does not go down reaches, over the disc where it
-    // starts, no lower than where it starts: the segment before it carved
-    // that already.
     let mut pieces = [(i0, i1), (1, 0)];
-    if seg.continues && flat && line.dz >= -1e-12 {
-        if let Some(w) = super::cutter::chord_half(r, y - line.a[1]) {
-            let inset = frame.cell * 1e-6;
-            if let Some((d0, d1)) = frame.columns(line.a[0] - w + inset, line.a[0] + w - inset) {
-                pieces = [(i0, d0.saturating_sub(1)), (d1 + 1, i1)];
-                if d0 == 0 {
-                    pieces[0] = (1, 0);
-                }
-            }
+    if seg.continues {
+        let inset = frame.cell * 1e-6;
+        let before = sweep.carved_before(y);
+        if let Some((d0, d1)) = before.and_then(|(s0, s1)| frame.columns(s0 + inset, s1 - inset)) {
+            // The cells before and after the stretch carved already.
+            let before = if d0 > i0 {
+                (i0, (d0 - 1).min(i1))
+            } else {
+                (1, 0)
+            };
+            let after = if d1 < i1 {
+                ((d1 + 1).max(i0), i1)
+            } else {
+                (1, 0)
+            };
+            pieces = [before, after];
         }
     }
+    let line = &sweep.line;
+    let level_flat = sweep.cutter.profile == Profile::Flat && line.dz.abs() < 1e-12;
+    let floor = sweep.row_floor(y) as f32;
     let mut cut = false;
     for (p0, p1) in pieces {
         if p0 > p1 {
             continue;
         }
         let row = &mut cells[p0..=p1];
-        if flat && line.dz.abs() < 1e-12 {
+        if level_flat {
             let z = line.a[2] as f32;
             if seg.rapid {
                 cut |= row.iter().any(|&c| f64::from(c - z) > tolerance);
@@ -275,15 +290,23 @@ fn carve_line_row(
             for c in row.iter_mut() {
                 *c = c.min(z);
             }
-        } else {
-            for (k, c) in row.iter_mut().enumerate() {
-                if let Some(z) = cutter.lowest_on_line(line, frame.center_x(p0 + k), y) {
-                    let z = z as f32;
-                    if f64::from(*c - z) > tolerance {
-                        cut = true;
-                    }
-                    *c = c.min(z);
+            continue;
+        }
+        // Nothing on this row goes below the floor: where the stock is
+        // already there, the cutter cannot touch it.
+        if row.iter().fold(f32::NEG_INFINITY, |m, &c| m.max(c)) <= floor {
+            continue;
+        }
+        for (k, c) in row.iter_mut().enumerate() {
+            if *c <= floor {
+                continue;
+            }
+            if let Some(z) = sweep.lowest(frame.center_x(p0 + k), y) {
+                let z = z as f32;
+                if f64::from(*c - z) > tolerance {
+                    cut = true;
                 }
+                *c = c.min(z);
             }
         }
     }

@@ -58,57 +58,6 @@ impl Cutter {
         }
     }
 
-    /// The lowest the cutter reaches over the point `(x, y)` while its tip
-    /// runs along `line`; `None` when the point is never under it.
-    pub fn lowest_on_line(&self, line: &Line, x: f64, y: f64) -> Option<f64> {
-        let r2 = self.radius * self.radius;
-        let (wx, wy) = (x - line.a[0], y - line.a[1]);
-        let w2 = wx * wx + wy * wy;
-        if line.length < 1e-12 {
-            // A plunge: the point stays at one distance from the axis.
-            return (w2 <= r2).then(|| line.a[2].min(line.a[2] + line.dz) + self.lift(w2.sqrt()));
-        }
-        // Along the line, u is the signed distance (in the plane) from the
-        // point's foot; h the point's distance from the line.
-        let along = (wx * line.v[0] + wy * line.v[1]) / line.length;
-        let h2 = (w2 - along * along).max(0.0);
-        if h2 > r2 {
-            return None;
-        }
-        let reach = (r2 - h2).sqrt();
-        let u0 = (-along).max(-reach);
-        let u1 = (line.length - along).min(reach);
-        if u0 > u1 {
-            return None;
-        }
-        // The tip's height at u is z_foot + slope * u.
-        let slope = line.dz / line.length;
-        let z_foot = line.a[2] + slope * along;
-        let lowest_u = |stationary: f64| stationary.clamp(u0, u1);
-        let z = match self.profile {
-            Profile::Flat => z_foot + slope * if slope >= 0.0 { u0 } else { u1 },
-            Profile::Ball => {
-                // slope*u - sqrt(rho² - u²) is least at u = -slope*rho/sqrt(1+slope²).
-                let rho2 = r2 - h2;
-                let u = lowest_u(-slope * rho2.sqrt() / (1.0 + slope * slope).sqrt());
-                z_foot + slope * u + self.radius - (rho2 - u * u).max(0.0).sqrt()
-            }
-            Profile::Cone { rise } => {
-                // slope*u + rise*sqrt(h² + u²): a stationary point only when
-                // the line is shallower than the cone's side.
-                let u = if slope.abs() < rise {
-                    lowest_u(-slope * h2.sqrt() / (rise * rise - slope * slope).sqrt())
-                } else if slope > 0.0 {
-                    u0
-                } else {
-                    u1
-                };
-                z_foot + slope * u + rise * (h2 + u * u).sqrt()
-            }
-        };
-        Some(z)
-    }
-
     /// The lowest the cutter reaches over `(x, y)` while its tip runs
     /// along the level arc `arc`.
     pub fn lowest_on_arc(&self, arc: &Arc, x: f64, y: f64) -> Option<f64> {
@@ -145,31 +94,133 @@ impl Line {
             self.a[2] + self.dz,
         ]
     }
+}
 
-    /// The x interval of the points within `r` of the line (in the plane)
-    /// on the row at `y`; `None` if there are none. The set is convex, so
-    /// it is the hull of its three parts: the discs at the ends and the
-    /// band between them.
-    pub fn span(&self, r: f64, y: f64) -> Option<(f64, f64)> {
-        let b = self.end();
+/// A cutter running along a line, with what every cell asks of it worked
+/// out once.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct LineSweep {
+    pub cutter: Cutter,
+    pub line: Line,
+    r2: f64,
+    inv_length: f64,
+    /// Height per unit of travel in the plane.
+    slope: f64,
+    /// Where along the line the underside is lowest, before clamping: per
+    /// unit of `reach` for a ball, of the distance from the line for a
+    /// cone; `None` for a cone steeper than its side.
+    stationary: Option<f64>,
+    /// The band's corners (the line offset by the radius both ways).
+    corners: [(f64, f64); 4],
+    /// Lowest tip height, and the path's extent in y.
+    pub z_min: f64,
+    y_min: f64,
+    y_max: f64,
+}
+
+impl LineSweep {
+    pub fn new(cutter: Cutter, line: Line) -> LineSweep {
+        let r = cutter.radius;
+        let b = line.end();
+        let (inv_length, slope) = if line.length > 1e-12 {
+            (1.0 / line.length, line.dz / line.length)
+        } else {
+            (0.0, 0.0)
+        };
+        let stationary = match cutter.profile {
+            Profile::Flat => Some(0.0),
+            // slope*u - sqrt(rho² - u²) is least at u = -slope*rho/sqrt(1+slope²).
+            Profile::Ball => Some(-slope / (1.0 + slope * slope).sqrt()),
+            // slope*u + rise*sqrt(h² + u²) is least at u = -slope*h/sqrt(rise²-slope²),
+            // when the line is shallower than the cone's side.
+            Profile::Cone { rise } => {
+                (slope.abs() < rise).then(|| -slope / (rise * rise - slope * slope).sqrt())
+            }
+        };
+        let (nx, ny) = (-line.v[1] * inv_length * r, line.v[0] * inv_length * r);
+        LineSweep {
+            cutter,
+            line,
+            r2: r * r,
+            inv_length,
+            slope,
+            stationary,
+            corners: [
+                (line.a[0] + nx, line.a[1] + ny),
+                (b[0] + nx, b[1] + ny),
+                (b[0] - nx, b[1] - ny),
+                (line.a[0] - nx, line.a[1] - ny),
+            ],
+            z_min: line.a[2].min(b[2]),
+            y_min: line.a[1].min(b[1]),
+            y_max: line.a[1].max(b[1]),
+        }
+    }
+
+    /// The lowest the cutter reaches over the point `(x, y)`; `None` when
+    /// the point is never under it.
+    #[inline]
+    pub fn lowest(&self, x: f64, y: f64) -> Option<f64> {
+        let line = &self.line;
+        let (wx, wy) = (x - line.a[0], y - line.a[1]);
+        let w2 = wx * wx + wy * wy;
+        if self.inv_length == 0.0 {
+            // A plunge: the point stays at one distance from the axis.
+            return (w2 <= self.r2).then(|| self.z_min + self.cutter.lift(w2.sqrt()));
+        }
+        // Along the line, u is the signed distance (in the plane) from the
+        // point's foot; h the point's distance from the line.
+        let along = (wx * line.v[0] + wy * line.v[1]) * self.inv_length;
+        let h2 = (w2 - along * along).max(0.0);
+        if h2 > self.r2 {
+            return None;
+        }
+        let reach = (self.r2 - h2).sqrt();
+        let u0 = (-along).max(-reach);
+        let u1 = (line.length - along).min(reach);
+        if u0 > u1 {
+            return None;
+        }
+        // The tip's height at u is z_foot + slope * u.
+        let slope = self.slope;
+        let z_foot = line.a[2] + slope * along;
+        let z = match (self.cutter.profile, self.stationary) {
+            (Profile::Flat, _) => z_foot + slope * if slope >= 0.0 { u0 } else { u1 },
+            (Profile::Ball, k) => {
+                let u = (k.unwrap_or(0.0) * reach).clamp(u0, u1);
+                z_foot + slope * u + self.cutter.radius - (self.r2 - h2 - u * u).max(0.0).sqrt()
+            }
+            (Profile::Cone { rise }, k) => {
+                let u = match k {
+                    Some(k) => (k * h2.sqrt()).clamp(u0, u1),
+                    None if slope > 0.0 => u0,
+                    None => u1,
+                };
+                z_foot + slope * u + rise * (h2 + u * u).sqrt()
+            }
+        };
+        Some(z)
+    }
+
+    /// The x interval of the points within the radius of the line (in the
+    /// plane) on the row at `y`; `None` if there are none. The set is
+    /// convex, so it is the hull of its three parts: the discs at the ends
+    /// and the band between them.
+    pub fn span(&self, y: f64) -> Option<(f64, f64)> {
+        let r = self.cutter.radius;
+        let b = self.line.end();
         let mut lo = f64::INFINITY;
         let mut hi = f64::NEG_INFINITY;
-        for (cx, cy) in [(self.a[0], self.a[1]), (b[0], b[1])] {
+        for (cx, cy) in [(self.line.a[0], self.line.a[1]), (b[0], b[1])] {
             if let Some(w) = chord_half(r, y - cy) {
                 lo = lo.min(cx - w);
                 hi = hi.max(cx + w);
             }
         }
-        if self.length > 0.0 {
-            let (nx, ny) = (-self.v[1] / self.length * r, self.v[0] / self.length * r);
-            let corners = [
-                (self.a[0] + nx, self.a[1] + ny),
-                (b[0] + nx, b[1] + ny),
-                (b[0] - nx, b[1] - ny),
-                (self.a[0] - nx, self.a[1] - ny),
-            ];
+        if self.inv_length > 0.0 {
+            let c = &self.corners;
             for k in 0..4 {
-                let (p, q) = (corners[k], corners[(k + 1) % 4]);
+                let (p, q) = (c[k], c[(k + 1) % 4]);
                 if (p.1 - y) * (q.1 - y) <= 0.0 && p.1 != q.1 {
                     let x = p.0 + (y - p.1) * (q.0 - p.0) / (q.1 - p.1);
                     lo = lo.min(x);
@@ -178,6 +229,40 @@ impl Line {
             }
         }
         (lo <= hi).then_some((lo, hi))
+    }
+
+    /// No point of the row at `y` is cut lower than this.
+    pub fn row_floor(&self, y: f64) -> f64 {
+        let dy = (self.y_min - y).max(y - self.y_max).max(0.0);
+        self.z_min + self.cutter.lift(dy.min(self.cutter.radius))
+    }
+
+    /// On the row at `y`, the x interval of the points within the radius
+    /// of the start that lie behind it (on the far side of the normal
+    /// through it). A sweep that continues the one before it and does not
+    /// go down reaches no lower there than at its start, which the sweep
+    /// before it carved: the distance grows and the tip rises. A flat
+    /// cutter reaches no lower over its whole start disc.
+    pub fn carved_before(&self, y: f64) -> Option<(f64, f64)> {
+        if self.line.dz < 0.0 {
+            return None;
+        }
+        let [ax, ay, _] = self.line.a;
+        let w = chord_half(self.cutter.radius, y - ay)?;
+        let (mut lo, mut hi) = (ax - w, ax + w);
+        if self.cutter.profile != Profile::Flat {
+            let [vx, vy] = self.line.v;
+            // Behind: (x - ax)·vx + (y - ay)·vy <= 0.
+            let edge = -(y - ay) * vy;
+            if vx > 0.0 {
+                hi = hi.min(ax + edge / vx);
+            } else if vx < 0.0 {
+                lo = lo.max(ax + edge / vx);
+            } else if edge < 0.0 {
+                return None;
+            }
+        }
+        (lo < hi).then_some((lo, hi))
     }
 }
 
@@ -317,7 +402,7 @@ mod tests {
             for line in &lines {
                 for k in 0..200 {
                     let (x, y) = (-6.0 + 0.09 * f64::from(k), -1.0 + 0.04 * f64::from(k));
-                    let exact = cutter.lowest_on_line(line, x, y);
+                    let exact = LineSweep::new(cutter, *line).lowest(x, y);
                     let dense = sampled(&cutter, line, x, y);
                     match (exact, dense) {
                         (Some(a), Some(b)) => assert!(

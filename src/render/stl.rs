@@ -35,41 +35,47 @@ pub fn write(grid: &Grid, out: &mut impl Write) -> std::io::Result<()> {
     let depth = f.ny as f64 * f.cell;
     let x_of = |i: usize| (f.x0 + width * i as f64 / (px - 1) as f64) as f32;
     let y_of = |j: usize| (f.y0 + depth * j as f64 / (py - 1) as f64) as f32;
+    let bottom = grid.bottom as f32;
+    // A cut through the stock leaves a skin a thousandth of it thick, so
+    // that the top never meets the bottom and the mesh stays closed.
+    let floor = bottom + ((grid.top - grid.bottom) * 1e-3) as f32;
     let top = |i: usize, j: usize| {
         let h = heights[(j * my / py).min(my - 1) * mx + (i * mx / px).min(mx - 1)];
-        Vertex::new([x_of(i), y_of(j), h])
+        Vertex::new([x_of(i), y_of(j), h.max(floor)])
     };
-    let bottom = grid.bottom as f32;
     let low = |i: usize, j: usize| Vertex::new([x_of(i), y_of(j), bottom]);
-    let mut triangles: Vec<Triangle> = Vec::with_capacity(2 * px * py + 4 * (px + py));
-    let mut quad = |a: Vertex, b: Vertex, c: Vertex, d: Vertex| {
-        // a b c d counter-clockwise seen from outside.
-        triangles.push(facet(a, b, c));
-        triangles.push(facet(a, c, d));
-    };
+    let mut triangles: Vec<Triangle> = Vec::with_capacity(2 * px * py + 6 * (px + py));
+    // The top: a b c d counter-clockwise seen from above.
     for j in 0..py - 1 {
         for i in 0..px - 1 {
-            quad(top(i, j), top(i + 1, j), top(i + 1, j + 1), top(i, j + 1));
+            let (a, b, c, d) = (top(i, j), top(i + 1, j), top(i + 1, j + 1), top(i, j + 1));
+            triangles.push(facet(a, b, c));
+            triangles.push(facet(a, c, d));
         }
     }
-    for i in 0..px - 1 {
-        // South wall (facing -y) and north wall (facing +y).
-        quad(low(i, 0), low(i + 1, 0), top(i + 1, 0), top(i, 0));
-        let n = py - 1;
-        quad(low(i + 1, n), low(i, n), top(i, n), top(i + 1, n));
+    // The walls, each from its bottom edge p → q (counter-clockwise round
+    // the stock seen from above) up to the top; the bottom is a fan from
+    // its centre over the same edges, so each edge has exactly two faces.
+    let center = Vertex::new([
+        (f.x0 + width / 2.0) as f32,
+        (f.y0 + depth / 2.0) as f32,
+        bottom,
+    ]);
+    let mut wall = |(i, j): (usize, usize), (k, l): (usize, usize)| {
+        let (p, q) = (low(i, j), low(k, l));
+        triangles.push(facet(p, q, top(k, l)));
+        triangles.push(facet(p, top(k, l), top(i, j)));
+        triangles.push(facet(center, q, p));
+    };
+    let (n, e) = (py - 1, px - 1);
+    for i in 0..e {
+        wall((i, 0), (i + 1, 0));
+        wall((i + 1, n), (i, n));
     }
-    for j in 0..py - 1 {
-        // West wall (facing -x) and east wall (facing +x).
-        quad(low(0, j + 1), low(0, j), top(0, j), top(0, j + 1));
-        let n = px - 1;
-        quad(low(n, j), low(n, j + 1), top(n, j + 1), top(n, j));
+    for j in 0..n {
+        wall((e, j), (e, j + 1));
+        wall((0, j + 1), (0, j));
     }
-    quad(
-        low(0, 0),
-        low(0, py - 1),
-        low(px - 1, py - 1),
-        low(px - 1, 0),
-    );
     stl_io::write_stl(out, triangles.iter())
 }
 

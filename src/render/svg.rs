@@ -52,7 +52,7 @@ pub fn write(
     let scale = 1.0 / scene.units.map_or(1.0, |u| u.factor(crate::ir::Units::Mm));
     let s = &scene.stock;
     let (w, h) = (s.max[0] - s.min[0], s.max[1] - s.min[1]);
-    let stroke = w.max(h) / 600.0;
+    let stroke = w.max(h) / 400.0;
     let mut text = String::new();
     let _ = writeln!(
         text,
@@ -128,11 +128,18 @@ pub fn write(
             Ok(())
         }
     };
-    for m in &path.moves {
+    for (index, m) in path.moves.iter().enumerate() {
         if matches!(m.kind, MoveKind::Rapid) && !options.rapids {
             continue;
         }
         let c = color(m);
+        // From an unknown place (the first move, or after G28/G53): the
+        // path starts where the move ends.
+        let (before, _) = super::unknown_ends(path, index);
+        if before[0] || before[1] {
+            flush(&mut element, out)?;
+            continue;
+        }
         let joins = matches!(&element, Some((span, color, _)) if *span == m.span && *color == c);
         if !joins {
             flush(&mut element, out)?;
