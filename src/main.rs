@@ -648,9 +648,11 @@ fn render_part(input: &str, output: &Path, options: &Options, picture: &PictureA
         max_cells: picture.max_cells,
         stock,
     };
+    let mut clock = Laps::new(options.timings);
     let Some((job, path)) = compiled_path(input, options) else {
         return ExitCode::from(1);
     };
+    clock.lap("compile");
     let scene = match Scene::new(&path, &render_options) {
         Ok(scene) => scene,
         Err(e) => {
@@ -659,6 +661,7 @@ fn render_part(input: &str, output: &Path, options: &Options, picture: &PictureA
         }
     };
     eprint!("{}", render(&job.sources, &scene.diagnostics));
+    clock.lap("scene");
     let written = match format {
         Picture::Svg => {
             let title = |span: ger::source::Span| {
@@ -712,8 +715,10 @@ fn render_part(input: &str, output: &Path, options: &Options, picture: &PictureA
                 }
                 None => None,
             };
+            clock.lap("grid");
             let cuts = scene.carve(&mut grid, &path, &progress_bar());
             eprint!("{}", render(&job.sources, &cuts));
+            clock.lap("carve");
             let units = scene.units;
             match (format, other) {
                 (Picture::Stl, _) => {
@@ -746,11 +751,51 @@ fn render_part(input: &str, output: &Path, options: &Options, picture: &PictureA
             }
         }
     };
+    clock.lap("write");
+    clock.report();
     match written {
         Ok(()) => ExitCode::SUCCESS,
         Err(e) => {
             eprintln!("error: cannot write `{}`: {e}", output.display());
             ExitCode::from(2)
+        }
+    }
+}
+
+/// `--timings` for a render: the time of each step, on stderr.
+struct Laps {
+    on: bool,
+    started: std::time::Instant,
+    last: std::time::Instant,
+    laps: Vec<(&'static str, std::time::Duration)>,
+}
+
+impl Laps {
+    fn new(on: bool) -> Laps {
+        let now = std::time::Instant::now();
+        Laps {
+            on,
+            started: now,
+            last: now,
+            laps: Vec::new(),
+        }
+    }
+
+    fn lap(&mut self, name: &'static str) {
+        let now = std::time::Instant::now();
+        self.laps.push((name, now - self.last));
+        self.last = now;
+    }
+
+    fn report(&self) {
+        if self.on {
+            for (name, took) in &self.laps {
+                eprintln!("{name:>8}: {:8.2} ms", took.as_secs_f64() * 1e3);
+            }
+            eprintln!(
+                "   total: {:8.2} ms",
+                self.started.elapsed().as_secs_f64() * 1e3
+            );
         }
     }
 }

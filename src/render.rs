@@ -114,13 +114,13 @@ impl Scene {
     pub fn grid(&self, options: &RenderOptions) -> Result<(Grid, Option<String>), RenderError> {
         let (cell, note) = resolution(self.units, options, &self.stock)?;
         let s = &self.stock;
-        let frame = Frame {
-            x0: s.min[0],
-            y0: s.min[1],
+        let frame = Frame::new(
+            s.min[0],
+            s.min[1],
             cell,
-            nx: (((s.max[0] - s.min[0]) / cell).round() as usize).max(1),
-            ny: (((s.max[1] - s.min[1]) / cell).round() as usize).max(1),
-        };
+            (((s.max[0] - s.min[0]) / cell).round() as usize).max(1),
+            (((s.max[1] - s.min[1]) / cell).round() as usize).max(1),
+        );
         let grid = Grid::new(frame, s.top, s.bottom).ok_or(RenderError::TooLarge {
             cells: frame.nx as u64 * frame.ny as u64,
         })?;

@@ -222,7 +222,7 @@ proptest! {
     #[test]
     fn carving_agrees_with_brute_force(profile in profile(), radius in 0.3f64..2.0, points in proptest::collection::vec(point(), 2..6)) {
         let cutter = Cutter { radius, profile };
-        let frame = Frame { x0: 0.0, y0: 0.0, cell: 0.125, nx: 80, ny: 80 };
+        let frame = Frame::new(0.0, 0.0, 0.125, 80, 80);
         let mut grid = Grid::new(frame, 0.0, -5.0).unwrap();
         let lines: Vec<Line> = points.windows(2).map(|w| Line::new(w[0], w[1])).collect();
         let segments: Vec<Segment> = lines

@@ -17,9 +17,23 @@ pub struct Frame {
     pub cell: f64,
     pub nx: usize,
     pub ny: usize,
+    /// 1 / cell: a division per row of every move costs more than the
+    /// rest of the row's bookkeeping.
+    per_cell: f64,
 }
 
 impl Frame {
+    pub fn new(x0: f64, y0: f64, cell: f64, nx: usize, ny: usize) -> Frame {
+        Frame {
+            x0,
+            y0,
+            cell,
+            nx,
+            ny,
+            per_cell: 1.0 / cell,
+        }
+    }
+
     pub fn center_x(&self, i: usize) -> f64 {
         self.x0 + (i as f64 + 0.5) * self.cell
     }
@@ -30,32 +44,30 @@ impl Frame {
 
     /// The cells whose centres lie in `[lo, hi]`, clipped to the grid.
     pub fn columns(&self, lo: f64, hi: f64) -> Option<(usize, usize)> {
-        Self::clip(self.x0, self.cell, self.nx, lo, hi)
+        Self::clip(self.x0, self.per_cell, self.nx, lo, hi)
     }
 
     /// The rows whose centres lie in `[lo, hi]`, clipped to the grid.
     pub fn rows(&self, lo: f64, hi: f64) -> Option<(usize, usize)> {
-        Self::clip(self.y0, self.cell, self.ny, lo, hi)
+        Self::clip(self.y0, self.per_cell, self.ny, lo, hi)
     }
 
-    fn clip(origin: f64, cell: f64, n: usize, lo: f64, hi: f64) -> Option<(usize, usize)> {
+    #[inline]
+    fn clip(origin: f64, per_cell: f64, n: usize, lo: f64, hi: f64) -> Option<(usize, usize)> {
         // By truncating casts, not `ceil`/`floor`: without SSE4.1 those are
         // library calls, and this runs for every row of every move.
-        let per_cell = 1.0 / cell;
+        // Signed integers: unsigned conversions take several instructions.
         let a = (lo - origin) * per_cell - 0.5;
         let b = (hi - origin) * per_cell - 0.5;
         // NaN bounds (from a NaN coordinate) select nothing.
-        if a.is_nan() || b.is_nan() || a > b || b < 0.0 || a > n as f64 - 1.0 {
+        if a.is_nan() || b.is_nan() || a > b || b < 0.0 {
             return None;
         }
-        let first = if a <= 0.0 {
-            0
-        } else {
-            let t = a as usize;
-            t + usize::from((t as f64) < a)
-        };
-        let last = (b as usize).min(n - 1);
-        (first <= last).then_some((first, last))
+        let last_cell = n as i64 - 1;
+        let t = a.max(-1.0).min(last_cell as f64 + 1.0) as i64;
+        let first = (t + i64::from((t as f64) < a)).max(0);
+        let last = (b.min(last_cell as f64) as i64).min(last_cell);
+        (first <= last).then_some((first as usize, last as usize))
     }
 }
 
@@ -185,7 +197,11 @@ pub fn carve(
             let mut cut = Vec::new();
             for &k in list {
                 let seg = &segments[k as usize];
-                if band.carve(seg, &cutters[seg.cutter]) && seg.rapid {
+                // The sweep that carries on from this one, if it does.
+                let next = segments
+                    .get(k as usize + 1)
+                    .filter(|n| n.continues && !n.rapid && n.cutter == seg.cutter);
+                if band.carve(seg, next, &cutters[seg.cutter]) && seg.rapid {
                     cut.push(seg.move_index);
                 }
             }
@@ -209,7 +225,7 @@ struct Band<'a> {
 impl Band<'_> {
     /// Carve one segment into the band's rows; whether it lowered any cell
     /// by more than the tolerance.
-    fn carve(&mut self, seg: &Segment, cutter: &Cutter) -> bool {
+    fn carve(&mut self, seg: &Segment, next: Option<&Segment>, cutter: &Cutter) -> bool {
         let frame = self.frame;
         let r = cutter.radius;
         let b = seg.bounds();
@@ -223,13 +239,19 @@ impl Band<'_> {
             Shape::Line(line) => Some(LineSweep::new(*cutter, *line)),
             Shape::Arc(_) => None,
         };
+        let next = match next.map(|n| &n.shape) {
+            Some(Shape::Line(line)) if !seg.rapid => Some(LineSweep::new(*cutter, *line)),
+            _ => None,
+        };
         let mut cut = false;
         for row in first..=last {
             let y = frame.center_y(row);
             let at = (row - self.first_row) * frame.nx;
             let cells = &mut self.cells[at..at + frame.nx];
             cut |= match (&seg.shape, &sweep) {
-                (_, Some(sweep)) => carve_line_row(frame, cells, sweep, y, seg, self.tolerance),
+                (_, Some(sweep)) => {
+                    carve_line_row(frame, cells, sweep, next.as_ref(), y, seg, self.tolerance)
+                }
                 (Shape::Arc(arc), None) => {
                     carve_arc_row(frame, cells, arc, cutter, y, self.tolerance)
                 }
@@ -244,11 +266,12 @@ fn carve_line_row(
     frame: &Frame,
     cells: &mut [f32],
     sweep: &LineSweep,
+    next: Option<&LineSweep>,
     y: f64,
     seg: &Segment,
     tolerance: f64,
 ) -> bool {
-    let Some((lo, hi)) = sweep.span(y) else {
+    let Some(((lo, hi), start)) = sweep.spans(y) else {
         return false;
     };
     let Some((i0, i1)) = frame.columns(lo, hi) else {
@@ -257,8 +280,7 @@ fn carve_line_row(
     let mut pieces = [(i0, i1), (1, 0)];
     if seg.continues {
         let inset = frame.cell * 1e-6;
-        let before = sweep.carved_before(y);
-        if let Some((d0, d1)) = before.and_then(|(s0, s1)| frame.columns(s0 + inset, s1 - inset)) {
+        if let Some((d0, d1)) = start.and_then(|(s0, s1)| frame.columns(s0 + inset, s1 - inset)) {
             // The cells before and after the stretch carved already.
             let before = if d0 > i0 {
                 (i0, (d0 - 1).min(i1))
@@ -275,7 +297,6 @@ fn carve_line_row(
     }
     let line = &sweep.line;
     let level_flat = sweep.cutter.profile == Profile::Flat && line.dz.abs() < 1e-12;
-    let floor = sweep.row_floor(y) as f32;
     let mut cut = false;
     for (p0, p1) in pieces {
         if p0 > p1 {
@@ -294,6 +315,7 @@ fn carve_line_row(
         }
         // Nothing on this row goes below the floor: where the stock is
         // already there, the cutter cannot touch it.
+        let floor = sweep.row_floor(y) as f32;
         if row.iter().fold(f32::NEG_INFINITY, |m, &c| m.max(c)) <= floor {
             continue;
         }
@@ -301,7 +323,7 @@ fn carve_line_row(
             if *c <= floor {
                 continue;
             }
-            if let Some(z) = sweep.lowest(frame.center_x(p0 + k), y) {
+            if let Some(z) = sweep.lowest(frame.center_x(p0 + k), y, seg.continues, next) {
                 let z = z as f32;
                 if f64::from(*c - z) > tolerance {
                     cut = true;

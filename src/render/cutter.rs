@@ -96,6 +96,9 @@ impl Line {
     }
 }
 
+/// An x interval `(from, to)` on a row.
+pub type Interval = (f64, f64);
+
 /// A cutter running along a line, with what every cell asks of it worked
 /// out once.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -110,7 +113,15 @@ pub struct LineSweep {
     /// unit of `reach` for a ball, of the distance from the line for a
     /// cone; `None` for a cone steeper than its side.
     stationary: Option<f64>,
-    /// The band's corners (the line offset by the radius both ways).
+    /// sqrt(1 + slope²).
+    incline: f64,
+    /// For a cone, the rise of its lowest point per unit of distance from
+    /// the line: slope*k + rise*sqrt(1 + k²).
+    cone_side: f64,
+    /// The end of the line.
+    b: [f64; 3],
+    /// The band's long edges (the line offset by the radius both ways);
+    /// its short ends lie inside the discs at the ends.
     corners: [(f64, f64); 4],
     /// Lowest tip height, and the path's extent in y.
     pub z_min: f64,
@@ -138,6 +149,10 @@ impl LineSweep {
             }
         };
         let (nx, ny) = (-line.v[1] * inv_length * r, line.v[0] * inv_length * r);
+        let cone_side = match (cutter.profile, stationary) {
+            (Profile::Cone { rise }, Some(k)) => slope * k + rise * (1.0 + k * k).sqrt(),
+            _ => 0.0,
+        };
         LineSweep {
             cutter,
             line,
@@ -145,6 +160,9 @@ impl LineSweep {
             inv_length,
             slope,
             stationary,
+            incline: (1.0 + slope * slope).sqrt(),
+            cone_side,
+            b,
             corners: [
                 (line.a[0] + nx, line.a[1] + ny),
                 (b[0] + nx, b[1] + ny),
@@ -158,9 +176,21 @@ impl LineSweep {
     }
 
     /// The lowest the cutter reaches over the point `(x, y)`; `None` when
-    /// the point is never under it.
+    /// the point is never under it, or when another sweep carves it:
+    /// - `start_carved`: the sweep before this one ended where this starts,
+    ///   with this cutter, and the lowest is at the start: that sweep
+    ///   reached it already;
+    /// - `next`: a ball sweep that starts where this one ends, with this
+    ///   cutter, and the lowest here is at the end, but there it is not at
+    ///   its start: it reaches lower (it passes through this end).
     #[inline]
-    pub fn lowest(&self, x: f64, y: f64) -> Option<f64> {
+    pub fn lowest(
+        &self,
+        x: f64,
+        y: f64,
+        start_carved: bool,
+        next: Option<&LineSweep>,
+    ) -> Option<f64> {
         let line = &self.line;
         let (wx, wy) = (x - line.a[0], y - line.a[1]);
         let w2 = wx * wx + wy * wy;
@@ -169,37 +199,75 @@ impl LineSweep {
             return (w2 <= self.r2).then(|| self.z_min + self.cutter.lift(w2.sqrt()));
         }
         // Along the line, u is the signed distance (in the plane) from the
-        // point's foot; h the point's distance from the line.
+        // point's foot, from -along at the start to length - along at the
+        // end; the point is under the cutter for |u| <= reach.
         let along = (wx * line.v[0] + wy * line.v[1]) * self.inv_length;
         let h2 = (w2 - along * along).max(0.0);
-        if h2 > self.r2 {
+        let reach2 = self.r2 - h2;
+        let (start, end) = (-along, line.length - along);
+        if reach2 < 0.0
+            || (start > 0.0 && start * start > reach2)
+            || (end < 0.0 && end * end > reach2)
+        {
             return None;
         }
-        let reach = (self.r2 - h2).sqrt();
-        let u0 = (-along).max(-reach);
-        let u1 = (line.length - along).min(reach);
-        if u0 > u1 {
-            return None;
-        }
-        // The tip's height at u is z_foot + slope * u.
         let slope = self.slope;
+        let radius = self.cutter.radius;
+        if let (Profile::Ball, Some(k)) = (self.cutter.profile, self.stationary) {
+            // The lowest is at u = k*reach (|k| < 1, so within reach),
+            // clamped to the ends; placed without a square root.
+            return if at_most(k, reach2, start) {
+                // At the start: where the cutter stood, with the start disc.
+                (!start_carved).then(|| line.a[2] + radius - (self.r2 - w2).max(0.0).sqrt())
+            } else if !at_most(k, reach2, end) {
+                if next.is_some_and(|n| !n.ball_lowest_at_start(x, y)) {
+                    return None;
+                }
+                let (bx, by) = (wx - line.v[0], wy - line.v[1]);
+                Some(self.b[2] + radius - (self.r2 - bx * bx - by * by).max(0.0).sqrt())
+            } else {
+                // On the capsule: r - reach*sqrt(1 + slope²) above the foot.
+                Some(line.a[2] + slope * along + radius - reach2.sqrt() * self.incline)
+            };
+        }
+        let reach = reach2.sqrt();
+        let (u0, u1) = (start.max(-reach), end.min(reach));
+        // The tip's height at u is z_foot + slope * u.
         let z_foot = line.a[2] + slope * along;
-        let z = match (self.cutter.profile, self.stationary) {
-            (Profile::Flat, _) => z_foot + slope * if slope >= 0.0 { u0 } else { u1 },
-            (Profile::Ball, k) => {
-                let u = (k.unwrap_or(0.0) * reach).clamp(u0, u1);
-                z_foot + slope * u + self.cutter.radius - (self.r2 - h2 - u * u).max(0.0).sqrt()
+        let (u, z) = match (self.cutter.profile, self.stationary) {
+            (Profile::Flat, _) => {
+                let u = if slope >= 0.0 { u0 } else { u1 };
+                (u, z_foot + slope * u)
             }
             (Profile::Cone { rise }, k) => {
+                let h = h2.sqrt();
                 let u = match k {
-                    Some(k) => (k * h2.sqrt()).clamp(u0, u1),
+                    Some(k) if (u0..=u1).contains(&(k * h)) => {
+                        // The cone's side along the line: a fixed rise per h.
+                        return Some(z_foot + h * self.cone_side);
+                    }
+                    Some(k) => (k * h).clamp(u0, u1),
                     None if slope > 0.0 => u0,
                     None => u1,
                 };
-                z_foot + slope * u + rise * (h2 + u * u).sqrt()
+                (u, z_foot + slope * u + rise * (h2 + u * u).sqrt())
             }
+            (Profile::Ball, _) => (u0, z_foot + slope * u0 + radius),
         };
-        Some(z)
+        (!(start_carved && u == start)).then_some(z)
+    }
+
+    /// Whether a ball sweep is lowest over `(x, y)` at its start (false for
+    /// other cutters, and where it does not reach).
+    fn ball_lowest_at_start(&self, x: f64, y: f64) -> bool {
+        let (Profile::Ball, Some(k)) = (self.cutter.profile, self.stationary) else {
+            return false;
+        };
+        let line = &self.line;
+        let (wx, wy) = (x - line.a[0], y - line.a[1]);
+        let along = (wx * line.v[0] + wy * line.v[1]) * self.inv_length;
+        let reach2 = self.r2 - (wx * wx + wy * wy - along * along).max(0.0);
+        self.inv_length != 0.0 && reach2 >= 0.0 && at_most(k, reach2, -along)
     }
 
     /// The x interval of the points within the radius of the line (in the
@@ -207,20 +275,31 @@ impl LineSweep {
     /// convex, so it is the hull of its three parts: the discs at the ends
     /// and the band between them.
     pub fn span(&self, y: f64) -> Option<(f64, f64)> {
+        self.spans(y).map(|(span, _)| span)
+    }
+
+    /// [`LineSweep::span`], and on the same row the x interval of the
+    /// start disc that a sweep continuing the one before it need not carve
+    /// again (see [`LineSweep::start_carved`]).
+    #[inline]
+    pub fn spans(&self, y: f64) -> Option<(Interval, Option<Interval>)> {
         let r = self.cutter.radius;
-        let b = self.line.end();
+        let b = self.b;
         let mut lo = f64::INFINITY;
         let mut hi = f64::NEG_INFINITY;
-        for (cx, cy) in [(self.line.a[0], self.line.a[1]), (b[0], b[1])] {
-            if let Some(w) = chord_half(r, y - cy) {
-                lo = lo.min(cx - w);
-                hi = hi.max(cx + w);
-            }
+        let start =
+            chord_half(r, y - self.line.a[1]).map(|w| (self.line.a[0] - w, self.line.a[0] + w));
+        if let Some((s0, s1)) = start {
+            (lo, hi) = (s0, s1);
+        }
+        if let Some(w) = chord_half(r, y - b[1]) {
+            lo = lo.min(b[0] - w);
+            hi = hi.max(b[0] + w);
         }
         if self.inv_length > 0.0 {
             let c = &self.corners;
-            for k in 0..4 {
-                let (p, q) = (c[k], c[(k + 1) % 4]);
+            for k in [0, 2] {
+                let (p, q) = (c[k], c[k + 1]);
                 if (p.1 - y) * (q.1 - y) <= 0.0 && p.1 != q.1 {
                     let x = p.0 + (y - p.1) * (q.0 - p.0) / (q.1 - p.1);
                     lo = lo.min(x);
@@ -228,7 +307,7 @@ impl LineSweep {
                 }
             }
         }
-        (lo <= hi).then_some((lo, hi))
+        (lo <= hi).then_some(((lo, hi), start.filter(|_| self.start_carved())))
     }
 
     /// No point of the row at `y` is cut lower than this.
@@ -237,32 +316,22 @@ impl LineSweep {
         self.z_min + self.cutter.lift(dy.min(self.cutter.radius))
     }
 
-    /// On the row at `y`, the x interval of the points within the radius
-    /// of the start that lie behind it (on the far side of the normal
-    /// through it). A sweep that continues the one before it and does not
-    /// go down reaches no lower there than at its start, which the sweep
-    /// before it carved: the distance grows and the tip rises. A flat
-    /// cutter reaches no lower over its whole start disc.
-    pub fn carved_before(&self, y: f64) -> Option<(f64, f64)> {
-        if self.line.dz < 0.0 {
-            return None;
-        }
-        let [ax, ay, _] = self.line.a;
-        let w = chord_half(self.cutter.radius, y - ay)?;
-        let (mut lo, mut hi) = (ax - w, ax + w);
-        if self.cutter.profile != Profile::Flat {
-            let [vx, vy] = self.line.v;
-            // Behind: (x - ax)·vx + (y - ay)·vy <= 0.
-            let edge = -(y - ay) * vy;
-            if vx > 0.0 {
-                hi = hi.min(ax + edge / vx);
-            } else if vx < 0.0 {
-                lo = lo.max(ax + edge / vx);
-            } else if edge < 0.0 {
-                return None;
-            }
-        }
-        (lo < hi).then_some((lo, hi))
+    /// A flat cutter that does not go down reaches no lower over its start
+    /// disc than where it starts: a sweep that continues the one before it
+    /// (which ended there) has nothing to carve in that disc.
+    fn start_carved(&self) -> bool {
+        self.line.dz >= 0.0 && self.cutter.profile == Profile::Flat
+    }
+}
+
+/// Whether `k * sqrt(q) <= c` (q >= 0), without the square root.
+#[inline]
+fn at_most(k: f64, q: f64, c: f64) -> bool {
+    match (k <= 0.0, c >= 0.0) {
+        (true, true) => true,
+        (false, true) => k * k * q <= c * c,
+        (true, false) => k * k * q >= c * c,
+        (false, false) => false,
     }
 }
 
@@ -402,7 +471,7 @@ mod tests {
             for line in &lines {
                 for k in 0..200 {
                     let (x, y) = (-6.0 + 0.09 * f64::from(k), -1.0 + 0.04 * f64::from(k));
-                    let exact = LineSweep::new(cutter, *line).lowest(x, y);
+                    let exact = LineSweep::new(cutter, *line).lowest(x, y, false, None);
                     let dense = sampled(&cutter, line, x, y);
                     match (exact, dense) {
                         (Some(a), Some(b)) => assert!(

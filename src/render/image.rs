@@ -30,6 +30,10 @@ fn encoder<W: Write>(
     let mut encoder = png::Encoder::new(out, width, height);
     encoder.set_color(color);
     encoder.set_depth(depth);
+    // A heightmap is mostly flat runs: fast deflate packs them nearly as
+    // well as the default, in a fraction of the time (the PNG is written on
+    // one core, after the carving on all of them).
+    encoder.set_compression(png::Compression::Fast);
     let mm = units.map_or(1.0, |u| u.factor(Units::Mm));
     let per_metre = (1000.0 / (grid.frame.cell * mm))
         .round()
