@@ -60,6 +60,10 @@ pub struct LowerOptions {
     /// `--comp-entry lookahead`: the entry move goes straight to the
     /// offset start of the move after it (Ger's entry), not rs274's.
     pub comp_entry_lookahead: bool,
+    /// The path of the tool's tip (`ger render`): G43/G44 change nothing,
+    /// whether the length is known or not. Off, a known length is folded
+    /// into Z as the machine would apply it (rs274's controlled point).
+    pub tip_path: bool,
 }
 
 /// A pass in the registry: its stage name and how to make it.

@@ -268,6 +268,7 @@ impl Options {
                 keep_cycles: self.cycles == CyclesArg::Keep,
                 keep_comp: self.comp == CompArg::Keep,
                 comp_entry_lookahead: self.comp_entry == CompEntryArg::Lookahead,
+                tip_path: false,
             },
             emit: ger::emit::EmitOptions {
                 numbering: match self.numbers {
@@ -818,6 +819,8 @@ fn parse_stock(text: &str) -> Option<[f64; 3]> {
 /// it has errors.
 fn compiled_path(input: &str, options: &Options) -> Option<(Job, ger::toolpath::ToolPath)> {
     let mut job = Job::load(input, options, None).ok()?;
+    // The picture draws the tip: tool length offsets do not move it.
+    job.options.lower.tip_path = true;
     let (path, diagnostics) =
         ger::compile::tool_path(&job.sources, job.file, &job.options, Some(&mut job.engine));
     eprint!("{}", render(&job.sources, &diagnostics));

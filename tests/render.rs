@@ -19,10 +19,13 @@ use std::process::Command;
 
 /// Compile `program` (.egc) and carve it at `cell`.
 fn carved(program: &str, cell: f64) -> (Scene, Grid) {
+    carved_with(program, cell, &CompileOptions::default())
+}
+
+fn carved_with(program: &str, cell: f64, compile: &CompileOptions) -> (Scene, Grid) {
     let mut sources = Sources::new();
     let file = sources.add("part.egc", program.to_string());
-    let (path, diagnostics) =
-        ger::compile::tool_path(&sources, file, &CompileOptions::default(), None);
+    let (path, diagnostics) = ger::compile::tool_path(&sources, file, compile, None);
     let path =
         path.unwrap_or_else(|| panic!("{}", ger::diagnostic::render(&sources, &diagnostics)));
     let options = RenderOptions {
@@ -591,4 +594,34 @@ fn svg_goldens() {
         );
         assert!(drawn > 100, "{stem}: the path is drawn ({drawn} pixels)");
     }
+}
+
+#[test]
+fn the_picture_follows_the_tip_whatever_the_tool_length() {
+    // G43 moves the machine by the tool's length; the tip stays where the
+    // program puts it, and that is what is cut.
+    let plain =
+        format!("{STOCK}SetTool 1 6 50\nT1 M6\nG0 X10 Y20 Z1\nG1 Z-2 F100\nG1 X40\nG0 Z5\nM30\n");
+    let with_length = plain.replace("T1 M6\n", "T1 M6\nG43 H1\n");
+    let mut sources = Sources::new();
+    let file = sources.add("part.egc", with_length.clone());
+    let compiled = ger::compile::tool_path(&sources, file, &CompileOptions::default(), None)
+        .0
+        .unwrap();
+    assert!(
+        compiled.moves.iter().any(|m| m.end[2] > 40.0),
+        "compiled, the length is in Z"
+    );
+    let mut options = CompileOptions::default();
+    options.lower.tip_path = true;
+    let tip = ger::compile::tool_path(&sources, file, &options, None)
+        .0
+        .unwrap();
+    assert!(
+        tip.moves.iter().all(|m| m.end[2] < 10.0),
+        "the tip's path has no length in it"
+    );
+    let (_, a) = carved(&plain, 0.1);
+    let (_, b) = carved_with(&with_length, 0.1, &options);
+    assert_eq!(a.z, b.z);
 }

@@ -46,6 +46,8 @@ struct OffsetsPass {
     tool_length: f64,
     /// A G43/G44 with an unknown length is active in the output.
     passed_length: bool,
+    /// `LowerOptions::tip_path`: tool lengths are taken as zero.
+    tip_path: bool,
     plane: ir::Plane,
     tools: BTreeMap<u32, ir::Tool>,
     distance: Distance,
@@ -75,6 +77,7 @@ impl OffsetsPass {
             g92: [0.0; 9],
             tool_length: 0.0,
             passed_length: false,
+            tip_path: cx.options.tip_path,
             plane: ir::Plane::XY,
             tools: cx.start.setup.tools.clone(),
             distance: Distance::Absolute,
@@ -384,6 +387,12 @@ impl OffsetsPass {
         out: &mut Out<'_>,
     ) -> bool {
         let length = tool.and_then(|t| self.tools.get(&t)).and_then(|t| t.length);
+        if self.tip_path {
+            // The tip's path: whatever the length, the tip is where the
+            // program says.
+            self.tool_length = 0.0;
+            return false;
+        }
         if let Some(length) = length {
             self.tool_length = if negative { -length } else { length };
             if self.passed_length {
