@@ -114,13 +114,8 @@ impl Scene {
     pub fn grid(&self, options: &RenderOptions) -> Result<(Grid, Option<String>), RenderError> {
         let (cell, note) = resolution(self.units, options, &self.stock)?;
         let s = &self.stock;
-        let frame = Frame::new(
-            s.min[0],
-            s.min[1],
-            cell,
-            (((s.max[0] - s.min[0]) / cell).round() as usize).max(1),
-            (((s.max[1] - s.min[1]) / cell).round() as usize).max(1),
-        );
+        let (nx, ny) = dimensions(s, cell);
+        let frame = Frame::new(s.min[0], s.min[1], cell, nx, ny);
         let grid = Grid::new(frame, s.top, s.bottom).ok_or(RenderError::TooLarge {
             cells: frame.nx as u64 * frame.ny as u64,
         })?;
@@ -162,23 +157,48 @@ fn resolution(
     if !(asked.is_finite() && asked > 0.0) {
         return Err(RenderError::BadResolution);
     }
-    let area = (stock.max[0] - stock.min[0]) * (stock.max[1] - stock.min[1]);
-    let cells = area / (asked * asked);
     let max = options.max_cells.max(1) as f64;
-    if cells <= max {
+    let cells = |cell: f64| {
+        let (nx, ny) = dimensions(stock, cell);
+        nx as f64 * ny as f64
+    };
+    let wanted = cells(asked);
+    if wanted <= max {
         return Ok((asked, None));
     }
-    // Round the coarser cell up to two significant digits.
-    let wanted = (area / max).sqrt();
-    let magnitude = 10f64.powf(wanted.log10().floor() - 1.0);
-    let cell = (wanted / magnitude).ceil() * magnitude;
+    // Coarser until the grid fits (a thin stock keeps one row, so the
+    // area alone does not say), rounded up to two significant digits.
+    let mut cell = asked;
+    for _ in 0..64 {
+        let n = cells(cell);
+        if n <= max {
+            break;
+        }
+        cell *= (n / max).sqrt().max(1.01);
+        let magnitude = 10f64.powf(cell.log10().floor() - 1.0);
+        cell = (cell / magnitude).ceil() * magnitude;
+    }
+    if cells(cell) > max {
+        return Err(RenderError::TooLarge {
+            cells: wanted as u64,
+        });
+    }
     Ok((
         cell,
         Some(format!(
-            "the stock at {asked} would be {cells:.0} cells; drawn with cells of {cell} instead (--max-cells {})",
+            "the stock at {asked} would be {wanted:.0} cells; drawn with cells of {cell} instead (--max-cells {})",
             options.max_cells
         )),
     ))
+}
+
+/// The grid's columns and rows over the stock at `cell`.
+fn dimensions(stock: &Stock, cell: f64) -> (usize, usize) {
+    let count = |size: f64| ((size / cell).round().min(1e15) as usize).max(1);
+    (
+        count(stock.max[0] - stock.min[0]),
+        count(stock.max[1] - stock.min[1]),
+    )
 }
 
 /// The cutters the program uses, and each move's cutter.

@@ -9,7 +9,7 @@
 
 use ger::compile::CompileOptions;
 use ger::render::carve::{self, Frame, Grid, Segment, Shape};
-use ger::render::cutter::{Cutter, Line, Profile};
+use ger::render::cutter::{Arc, Cutter, Line, Profile};
 use ger::render::{RenderOptions, Scene};
 use ger::source::Sources;
 use proptest::prelude::*;
@@ -248,6 +248,50 @@ proptest! {
                 let step = lines.iter().map(|l| (l.length.powi(2) + l.dz.powi(2)).sqrt()).fold(0.0, f64::max) / f64::from(steps);
                 let steep = match profile { Profile::Cone { rise } => rise.max(1.0), _ => 1.0 };
                 let slack = 2.0 * step * (1.0 + steep) + if profile == Profile::Ball { (2.0 * radius * step).sqrt() } else { 0.0 };
+                if slow < 0.0 {
+                    prop_assert!(slow - fast <= slack + 1e-5, "({x}, {y}): carved {fast}, sampled {slow}");
+                }
+            }
+        }
+    }
+
+    /// Carving a level arc (either way round, up to a full turn) agrees
+    /// with sampling it densely.
+    #[test]
+    fn arcs_agree_with_brute_force(
+        profile in profile(),
+        radius in 0.3f64..2.0,
+        center in (3.0f64..7.0, 3.0f64..7.0),
+        arc_radius in 0.2f64..3.0,
+        start in 0.0f64..std::f64::consts::TAU,
+        sweep in -std::f64::consts::TAU..std::f64::consts::TAU,
+        z in -3.0f64..0.0,
+    ) {
+        let cutter = Cutter { radius, profile };
+        let frame = Frame::new(0.0, 0.0, 0.125, 80, 80);
+        let mut grid = Grid::new(frame, 0.0, -5.0).unwrap();
+        let at = |a: f64| [arc_radius * a.cos(), arc_radius * a.sin()];
+        // Stored counter-clockwise from `from` to `to`.
+        let (from, to) = if sweep >= 0.0 { (at(start), at(start + sweep)) } else { (at(start + sweep), at(start)) };
+        let arc = Arc { center: [center.0, center.1], radius: arc_radius, z, from, to, sweep: sweep.abs() };
+        let segment = Segment { shape: Shape::Arc(arc), cutter: 0, rapid: false, move_index: 0, continues: false };
+        carve::carve(&mut grid, &[segment], &[cutter], &|_, _| {});
+        let steps = 2000;
+        let step = arc_radius * sweep.abs() / f64::from(steps);
+        for j in 0..frame.ny {
+            for i in 0..frame.nx {
+                let (x, y) = (frame.center_x(i), frame.center_y(j));
+                let fast = f64::from(grid.at(i, j));
+                let slow = (0..=steps)
+                    .filter_map(|k| {
+                        let p = at(start + sweep * f64::from(k) / f64::from(steps));
+                        let d = (x - center.0 - p[0]).hypot(y - center.1 - p[1]);
+                        (d <= radius).then(|| z + cutter.lift(d))
+                    })
+                    .fold(0.0f64, f64::min);
+                prop_assert!(fast <= slow + 1e-5, "({x}, {y}): carved {fast} above sampled {slow}");
+                let steep = match profile { Profile::Cone { rise } => rise.max(1.0), _ => 1.0 };
+                let slack = 2.0 * step * steep + if profile == Profile::Ball { (2.0 * radius * step).sqrt() } else { 0.0 };
                 if slow < 0.0 {
                     prop_assert!(slow - fast <= slack + 1e-5, "({x}, {y}): carved {fast}, sampled {slow}");
                 }
