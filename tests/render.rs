@@ -255,6 +255,29 @@ proptest! {
         }
     }
 
+    /// A run of level lines of a flat cutter, carved as one polyline, cuts
+    /// the same cells as its segments carved one by one.
+    #[test]
+    fn flat_runs_carve_as_their_segments(radius in 0.3f64..2.0, z in -3.0f64..0.0, points in proptest::collection::vec((1.0f64..9.0, 1.0f64..9.0), 2..12)) {
+        let cutter = Cutter { radius, profile: Profile::Flat };
+        let frame = Frame::new(0.0, 0.0, 0.0625, 160, 160);
+        let lines: Vec<Line> = points.windows(2).map(|w| Line::new([w[0].0, w[0].1, z], [w[1].0, w[1].1, z])).collect();
+        let carve_with = |continues: bool| {
+            let segments: Vec<Segment> = lines
+                .iter()
+                .enumerate()
+                .map(|(k, &line)| Segment { shape: Shape::Line(line), cutter: 0, rapid: false, move_index: k, continues: continues && k > 0 })
+                .collect();
+            let mut grid = Grid::new(frame, 0.0, -5.0).unwrap();
+            carve::carve(&mut grid, &segments, &[cutter], &|_, _| {});
+            grid
+        };
+        let (run, one_by_one) = (carve_with(true), carve_with(false));
+        let differ = run.z.iter().zip(&one_by_one.z).filter(|(a, b)| a != b).count();
+        prop_assert_eq!(differ, 0);
+        prop_assert!(run.z.iter().any(|&c| c < 0.0) || lines.iter().all(|l| l.length == 0.0) || z == 0.0);
+    }
+
     /// Carving a level arc (either way round, up to a full turn) agrees
     /// with sampling it densely.
     #[test]

@@ -195,15 +195,26 @@ pub fn carve(
                 tolerance,
             };
             let mut cut = Vec::new();
-            for &k in list {
-                let seg = &segments[k as usize];
+            let mut at = 0;
+            while at < list.len() {
+                let k = list[at] as usize;
+                let seg = &segments[k];
+                // A run of level feeds of one flat cutter, each from where
+                // the one before ended, is carved as one polyline.
+                let run = flat_run(segments, cutters, &list[at..]);
+                if run >= 2 {
+                    band.carve_flat_run(&segments[k..k + run], &cutters[seg.cutter]);
+                    at += run;
+                    continue;
+                }
                 // The sweep that carries on from this one, if it does.
                 let next = segments
-                    .get(k as usize + 1)
+                    .get(k + 1)
                     .filter(|n| n.continues && !n.rapid && n.cutter == seg.cutter);
                 if band.carve(seg, next, &cutters[seg.cutter]) && seg.rapid {
                     cut.push(seg.move_index);
                 }
+                at += 1;
             }
             let n = done.fetch_add(1, std::sync::atomic::Ordering::Relaxed) + 1;
             progress(n, bands);
@@ -215,6 +226,31 @@ pub fn carve(
     Carved { rapid_cuts: found }
 }
 
+/// How many segments from the start of `list` form a run that
+/// [`Band::carve_flat_run`] can carve: level feeds along lines, with one
+/// flat cutter at one height, each continuing the one before, consecutive
+/// in the program.
+fn flat_run(segments: &[Segment], cutters: &[Cutter], list: &[u32]) -> usize {
+    let level = |s: &Segment| match &s.shape {
+        Shape::Line(l) if !s.rapid && l.dz == 0.0 => {
+            (cutters[s.cutter].profile == Profile::Flat).then_some((s.cutter, l.a[2]))
+        }
+        Shape::Line(_) | Shape::Arc(_) => None,
+    };
+    let Some(first) = list.first().and_then(|&k| level(&segments[k as usize])) else {
+        return 0;
+    };
+    let mut run = 1;
+    while let Some(&k) = list.get(run) {
+        let seg = &segments[k as usize];
+        if k != list[0] + run as u32 || !seg.continues || level(seg) != Some(first) {
+            break;
+        }
+        run += 1;
+    }
+    run
+}
+
 struct Band<'a> {
     frame: &'a Frame,
     first_row: usize,
@@ -223,6 +259,106 @@ struct Band<'a> {
 }
 
 impl Band<'_> {
+    /// Carve a run of level lines of one flat cutter at one height, each
+    /// starting where the one before ended (see [`flat_run`]): on each
+    /// row, the cells within the radius of the polyline, as the union of
+    /// the segments' spans. Per row, each joint's disc is worked out once
+    /// and the cells are filled once per stretch of the union, not once
+    /// per segment.
+    fn carve_flat_run(&mut self, run: &[Segment], cutter: &Cutter) {
+        let frame = self.frame;
+        let r = cutter.radius;
+        let r2 = r * r;
+        let lines: Vec<&Line> = run
+            .iter()
+            .filter_map(|s| match &s.shape {
+                Shape::Line(l) => Some(l),
+                Shape::Arc(_) => None,
+            })
+            .collect();
+        let Some(first) = lines.first() else {
+            return;
+        };
+        let z = first.a[2] as f32;
+        let (mut y_min, mut y_max) = (first.a[1], first.a[1]);
+        for l in &lines {
+            let end = l.a[1] + l.v[1];
+            y_min = y_min.min(end);
+            y_max = y_max.max(end);
+        }
+        let rows_here = self.cells.len() / frame.nx;
+        let Some((first_row, last_row)) = frame.rows(y_min - r, y_max + r) else {
+            return;
+        };
+        let first_row = first_row.max(self.first_row);
+        let last_row = last_row.min(self.first_row + rows_here - 1);
+        let chord = |dy: f64| {
+            let q = r2 - dy * dy;
+            (q >= 0.0).then(|| q.sqrt())
+        };
+        for row in first_row..=last_row {
+            let y = frame.center_y(row);
+            let at = (row - self.first_row) * frame.nx;
+            let cells = &mut self.cells[at..at + frame.nx];
+            let mut fill = |(lo, hi): (f64, f64)| {
+                if let Some((i0, i1)) = frame.columns(lo, hi) {
+                    for c in &mut cells[i0..=i1] {
+                        *c = c.min(z);
+                    }
+                }
+            };
+            let mut union: Option<(f64, f64)> = None;
+            let mut w_start = chord(y - first.a[1]);
+            for l in &lines {
+                let (ax, ay) = (l.a[0], l.a[1]);
+                let (bx, by) = (ax + l.v[0], ay + l.v[1]);
+                let w_end = chord(y - by);
+                let (dy_a, dy_b) = (y - ay, y - by);
+                // Far from the row on one side: nothing of it here.
+                if (dy_a > r && dy_b > r) || (dy_a < -r && dy_b < -r) {
+                    w_start = w_end;
+                    continue;
+                }
+                let mut lo = f64::INFINITY;
+                let mut hi = f64::NEG_INFINITY;
+                for (x, w) in [(ax, w_start), (bx, w_end)] {
+                    if let Some(w) = w {
+                        lo = lo.min(x - w);
+                        hi = hi.max(x + w);
+                    }
+                }
+                if l.length > 0.0 {
+                    // The band's long edges, the line offset by r each way.
+                    let (nx, ny) = (-l.v[1] / l.length * r, l.v[0] / l.length * r);
+                    for side in [1.0, -1.0] {
+                        let (py, qy) = (ay + side * ny, by + side * ny);
+                        if (py - y) * (qy - y) <= 0.0 && py != qy {
+                            let px = ax + side * nx;
+                            let x = px + (y - py) * l.v[0] / l.v[1];
+                            lo = lo.min(x);
+                            hi = hi.max(x);
+                        }
+                    }
+                }
+                w_start = w_end;
+                if lo > hi {
+                    continue;
+                }
+                union = match union {
+                    Some((u0, u1)) if lo <= u1 && hi >= u0 => Some((u0.min(lo), u1.max(hi))),
+                    Some(done) => {
+                        fill(done);
+                        Some((lo, hi))
+                    }
+                    None => Some((lo, hi)),
+                };
+            }
+            if let Some(done) = union {
+                fill(done);
+            }
+        }
+    }
+
     /// Carve one segment into the band's rows; whether it lowered any cell
     /// by more than the tolerance.
     fn carve(&mut self, seg: &Segment, next: Option<&Segment>, cutter: &Cutter) -> bool {
