@@ -44,15 +44,14 @@ pub fn write(grid: &Grid, out: &mut impl Write) -> std::io::Result<()> {
         Vertex::new([x_of(i), y_of(j), h.max(floor)])
     };
     let low = |i: usize, j: usize| Vertex::new([x_of(i), y_of(j), bottom]);
-    let mut triangles: Vec<Triangle> = Vec::with_capacity(2 * px * py + 6 * (px + py));
+    let (top, low) = (&top, &low);
     // The top: a b c d counter-clockwise seen from above.
-    for j in 0..py - 1 {
-        for i in 0..px - 1 {
+    let surface = (0..py - 1).flat_map(move |j| {
+        (0..px - 1).flat_map(move |i| {
             let (a, b, c, d) = (top(i, j), top(i + 1, j), top(i + 1, j + 1), top(i, j + 1));
-            triangles.push(facet(a, b, c));
-            triangles.push(facet(a, c, d));
-        }
-    }
+            [facet(a, b, c), facet(a, c, d)]
+        })
+    });
     // The walls, each from its bottom edge p → q (counter-clockwise round
     // the stock seen from above) up to the top; the bottom is a fan from
     // its centre over the same edges, so each edge has exactly two faces.
@@ -61,23 +60,56 @@ pub fn write(grid: &Grid, out: &mut impl Write) -> std::io::Result<()> {
         (f.y0 + depth / 2.0) as f32,
         bottom,
     ]);
-    let mut wall = |(i, j): (usize, usize), (k, l): (usize, usize)| {
-        let (p, q) = (low(i, j), low(k, l));
-        triangles.push(facet(p, q, top(k, l)));
-        triangles.push(facet(p, top(k, l), top(i, j)));
-        triangles.push(facet(center, q, p));
-    };
     let (n, e) = (py - 1, px - 1);
+    let mut edges = Vec::with_capacity(2 * (e + n));
     for i in 0..e {
-        wall((i, 0), (i + 1, 0));
-        wall((i + 1, n), (i, n));
+        edges.push(((i, 0), (i + 1, 0)));
+        edges.push(((i + 1, n), (i, n)));
     }
     for j in 0..n {
-        wall((e, j), (e, j + 1));
-        wall((0, j + 1), (0, j));
+        edges.push(((e, j), (e, j + 1)));
+        edges.push(((0, j + 1), (0, j)));
     }
-    stl_io::write_stl(out, triangles.iter())
+    let count = 2 * e * n + 3 * edges.len();
+    let walls = edges.into_iter().flat_map(move |((i, j), (k, l))| {
+        let (p, q) = (low(i, j), low(k, l));
+        [
+            facet(p, q, top(k, l)),
+            facet(p, top(k, l), top(i, j)),
+            facet(center, q, p),
+        ]
+    });
+    // Made as they are written: a million-point mesh is 100 MB of triangles.
+    stl_io::write_stl(
+        out,
+        Counted {
+            inner: surface.chain(walls),
+            left: count,
+        },
+    )
 }
+
+/// An iterator that knows its length (`write_stl` writes the count first).
+struct Counted<I> {
+    inner: I,
+    left: usize,
+}
+
+impl<I: Iterator<Item = Triangle>> Iterator for Counted<I> {
+    type Item = Triangle;
+
+    fn next(&mut self) -> Option<Triangle> {
+        let next = self.inner.next()?;
+        self.left = self.left.saturating_sub(1);
+        Some(next)
+    }
+
+    fn size_hint(&self) -> (usize, Option<usize>) {
+        (self.left, Some(self.left))
+    }
+}
+
+impl<I: Iterator<Item = Triangle>> ExactSizeIterator for Counted<I> {}
 
 /// A triangle with its normal (zero for a degenerate one).
 fn facet(a: Vertex, b: Vertex, c: Vertex) -> Triangle {
