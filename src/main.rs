@@ -839,6 +839,11 @@ fn progress_bar() -> impl Fn(usize, usize) + Sync {
             return;
         }
         if bar.is_hidden() {
+            if let Ok(style) =
+                indicatif::ProgressStyle::with_template("carving {bar:40} {percent:>3}% {eta}")
+            {
+                bar.set_style(style);
+            }
             bar.set_draw_target(indicatif::ProgressDrawTarget::stderr());
         }
         bar.set_length(total as u64);
