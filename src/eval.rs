@@ -182,6 +182,10 @@ struct Evaluator<'a> {
     options: &'a EvalOptions,
     wizards: Option<&'a mut dyn WizardHost>,
     vars: Vec<Slot>,
+    /// How many times a variable changed value (or a call's scope was
+    /// entered or left): a loop pass that leaves it as it was changed
+    /// nothing its condition can read, so it would run forever.
+    changes: u64,
     sink: &'a mut dyn ir::Sink,
     /// Statements not yet sent to the sink.
     out: Vec<ir::Stmt>,
@@ -246,6 +250,7 @@ impl<'a> Evaluator<'a> {
             options,
             wizards,
             vars: numbered_parameters(&program.names),
+            changes: 0,
             linuxcnc: LinuxCncNames::of(&program.names),
             sink,
             out: Vec::with_capacity(options.batch.clamp(1, 1 << 16)),
@@ -589,9 +594,27 @@ impl<'a> Evaluator<'a> {
                 );
                 return Flow::Abort;
             }
+            let changes = self.changes;
             match self.exec_block(body) {
                 Flow::Next => {}
                 other => return other,
+            }
+            // The condition reads only variables: if a pass changed none,
+            // every pass after it does the same, for ever.
+            if self.changes == changes {
+                let head = Span {
+                    end: cond.span.end + 1,
+                    ..span
+                };
+                self.report(
+                    error(
+                        "this loop never ends",
+                        head,
+                        "a pass through it changed no variable, so the condition stays true",
+                    )
+                    .with_help("change a variable the condition reads inside the loop"),
+                );
+                return Flow::Abort;
             }
         }
     }
@@ -616,7 +639,11 @@ impl<'a> Evaluator<'a> {
                 Slot::Poisoned
             }
         };
-        self.vars[name.0 as usize] = slot;
+        let var = &mut self.vars[name.0 as usize];
+        if *var != slot {
+            self.changes += 1;
+        }
+        *var = slot;
     }
 
     fn call(&mut self, name: Symbol, name_span: Span, args: &[ast::Expr], span: Span) -> Flow {
@@ -915,6 +942,7 @@ impl Evaluator<'_> {
         for &i in &scope.named {
             saved.push((i, std::mem::replace(&mut self.vars[i], Slot::Unset)));
         }
+        self.changes += 1;
         saved
     }
 }

@@ -658,6 +658,9 @@ impl Evaluator<'_> {
                 break;
             }
         }
+        if !saved.is_empty() {
+            self.changes += 1;
+        }
         for (i, slot) in saved {
             self.vars[i] = slot;
         }
