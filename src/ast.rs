@@ -86,6 +86,10 @@ pub enum StmtKind {
         name_span: Span,
         value: Box<Expr>,
     },
+    /// Several assignments on one line (LinuxCNC's `#1=2 #2=[#1+1]`): every
+    /// value is worked out first, with the variables as they were before
+    /// the line, then all are set, in order.
+    Assigns(Vec<Assignment>),
     /// A wizard or setup-directive call, in either written form.
     Call {
         name: Symbol,
@@ -101,6 +105,14 @@ pub enum StmtKind {
     Comment(Symbol),
     /// A statement the parser could not read; its error is already reported.
     Error,
+}
+
+/// One of the assignments of [`StmtKind::Assigns`].
+#[derive(Debug, Clone)]
+pub struct Assignment {
+    pub name: Symbol,
+    pub name_span: Span,
+    pub value: Expr,
 }
 
 #[derive(Debug, Clone)]
@@ -241,6 +253,18 @@ pub enum BinaryOp {
     Ge,
     And,
     Or,
+    /// LinuxCNC's word operators: numbers in, 1 or 0 out, as rs274
+    /// computes them (EQ and NE equal within 1e-6; AND, OR and XOR
+    /// read any non-zero number as true, and share one rank).
+    NumEq,
+    NumNe,
+    NumLt,
+    NumLe,
+    NumGt,
+    NumGe,
+    NumAnd,
+    NumOr,
+    NumXor,
 }
 
 impl BinaryOp {
@@ -262,6 +286,15 @@ impl BinaryOp {
             Ge => ">=",
             And => "&&",
             Or => "||",
+            NumEq => "EQ",
+            NumNe => "NE",
+            NumLt => "LT",
+            NumLe => "LE",
+            NumGt => "GT",
+            NumGe => "GE",
+            NumAnd => "AND",
+            NumOr => "OR",
+            NumXor => "XOR",
         }
     }
 }

@@ -514,6 +514,18 @@ impl<'a> Evaluator<'a> {
                 self.assign(*name, *name_span, value);
                 Flow::Next
             }
+            StmtKind::Assigns(all) => {
+                let values: Vec<Option<Slot>> = all
+                    .iter()
+                    .map(|a| self.assigned(a.name, a.name_span, &a.value))
+                    .collect();
+                for (a, slot) in all.iter().zip(values) {
+                    if let Some(slot) = slot {
+                        self.store(a.name, slot);
+                    }
+                }
+                Flow::Next
+            }
             StmtKind::Call {
                 name,
                 name_span,
@@ -525,7 +537,7 @@ impl<'a> Evaluator<'a> {
                     otherwise,
                 } = &**if_;
                 for (cond, body) in branches {
-                    match value::boolean(cond, &self.vars, &|| "the `if` condition".into()) {
+                    match self.condition(cond, "the `if` condition") {
                         Ok(true) => return self.exec_block(body),
                         Ok(false) => {}
                         Err(e) => {
@@ -564,10 +576,21 @@ impl<'a> Evaluator<'a> {
         }
     }
 
+    /// A condition: true or false, or in plain G-code (LinuxCNC's o-word
+    /// `if` and `while`) also a number, true when it is not 0.
+    fn condition(&self, cond: &ast::Expr, what: &str) -> Result<bool, value::ExprError> {
+        if self.options.plain {
+            if let Value::Number(n) = value::eval(cond, &self.vars)? {
+                return Ok(n != 0.0);
+            }
+        }
+        value::boolean(cond, &self.vars, &|| what.into())
+    }
+
     fn exec_while(&mut self, cond: &ast::Expr, body: &[ast::Stmt], span: Span) -> Flow {
         let mut count: u64 = 0;
         loop {
-            match value::boolean(cond, &self.vars, &|| "the `while` condition".into()) {
+            match self.condition(cond, "the `while` condition") {
                 Ok(true) => {}
                 Ok(false) => return Flow::Next,
                 Err(e) => {
@@ -620,25 +643,36 @@ impl<'a> Evaluator<'a> {
     }
 
     fn assign(&mut self, name: Symbol, name_span: Span, value: &ast::Expr) {
+        if let Some(slot) = self.assigned(name, name_span, value) {
+            self.store(name, slot);
+        }
+    }
+
+    /// What `name = value` would set `name` to (`None`: nothing, as
+    /// reported).
+    fn assigned(&mut self, name: Symbol, name_span: Span, value: &ast::Expr) -> Option<Slot> {
         if self.names.text(name) == "PI" {
             self.report(error(
                 "`PI` is a constant",
                 name_span,
                 "cannot assign to it",
             ));
-            return;
+            return None;
         }
         let result = match value::fast_number(value, &self.vars) {
             Some(n) => Ok(Value::Number(n)),
             None => value::eval(value, &self.vars),
         };
-        let slot = match result {
+        Some(match result {
             Ok(v) => Slot::Set(v),
             Err(e) => {
                 self.report_expr(e);
                 Slot::Poisoned
             }
-        };
+        })
+    }
+
+    fn store(&mut self, name: Symbol, slot: Slot) {
         let var = &mut self.vars[name.0 as usize];
         if *var != slot {
             self.changes += 1;

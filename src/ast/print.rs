@@ -66,6 +66,13 @@ impl AstPrinter<'_> {
                 let text = format!("{} = {}", self.names.text(*name), self.expr(value));
                 self.line(&text);
             }
+            StmtKind::Assigns(all) => {
+                let parts: Vec<String> = all
+                    .iter()
+                    .map(|a| format!("{} = {}", self.names.text(a.name), self.expr(&a.value)))
+                    .collect();
+                self.line(&parts.join(" "));
+            }
             StmtKind::Call { name, args, .. } => {
                 let args: Vec<String> = args.iter().map(|a| self.expr(a)).collect();
                 let text = format!("{}({})", self.names.text(*name), args.join(", "));

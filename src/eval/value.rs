@@ -330,7 +330,32 @@ fn arithmetic(op: BinaryOp, x: f64, y: f64) -> f64 {
             }
         }
         BinaryOp::Pow => x.powf(y),
+        // LinuxCNC's words, as the rs274 of LinuxCNC 2.9 (the reference)
+        // computes them: EQ and NE within a tolerance, the others exact
+        // (later versions give LE and GE the tolerance too).
+        BinaryOp::NumEq => truth((x - y).abs() < LINUXCNC_EQUAL),
+        BinaryOp::NumNe => truth((x - y).abs() >= LINUXCNC_EQUAL),
+        BinaryOp::NumLt => truth(x < y),
+        BinaryOp::NumLe => truth(x <= y),
+        BinaryOp::NumGt => truth(x > y),
+        BinaryOp::NumGe => truth(x >= y),
+        BinaryOp::NumAnd => truth(x != 0.0 && y != 0.0),
+        BinaryOp::NumOr => truth(x != 0.0 || y != 0.0),
+        BinaryOp::NumXor => truth((x != 0.0) != (y != 0.0)),
         _ => f64::NAN,
+    }
+}
+
+/// Two numbers LinuxCNC's EQ calls equal differ by less than this
+/// (rs274's TOLERANCE_EQUAL).
+const LINUXCNC_EQUAL: f64 = 1e-6;
+
+/// LinuxCNC's true and false: 1 and 0.
+fn truth(b: bool) -> f64 {
+    if b {
+        1.0
+    } else {
+        0.0
     }
 }
 

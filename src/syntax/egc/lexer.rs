@@ -4,7 +4,7 @@
 //! and newlines that only continue a statement (before `{` or `else`).
 //! It must not build syntax trees or know what a G code means.
 
-use crate::ast::{Function, Names, Symbol};
+use crate::ast::{BinaryOp, Function, Names, Symbol};
 use crate::diagnostic::{error, Diagnostic, DiagnosticExt};
 use crate::source::{Locator, Span};
 use logos::Logos;
@@ -173,6 +173,9 @@ pub enum Tok {
     Mod,
     PowLeft,
     NegTight,
+    /// LinuxCNC's relational and logical word operators (`GT`, `AND`, …),
+    /// which work on numbers.
+    Word(BinaryOp),
 }
 
 impl Tok {
@@ -188,6 +191,7 @@ impl Tok {
             Tok::Command(_) => "a controller command".into(),
             Tok::Comment(_) => "a comment".into(),
             Tok::Term => "end of statement".into(),
+            Tok::Word(op) => format!("`{}`", op.symbol()),
             other => format!("`{}`", other.text()),
         }
     }
@@ -606,7 +610,8 @@ impl<'a> Lexer<'a> {
                                 | Tok::Gt
                                 | Tok::Ge
                                 | Tok::AndAnd
-                                | Tok::OrOr,
+                                | Tok::OrOr
+                                | Tok::Word(_),
                             _
                         ))
                     ) =>
@@ -635,9 +640,6 @@ impl<'a> Lexer<'a> {
             Ok(Raw::Ident) => {
                 let text = &self.text[start..end];
                 if let Some(tok) = self.operator(text) {
-                    if matches!(tok, Tok::AndAnd | Tok::OrOr) {
-                        self.mixed_logic(tok, start, end);
-                    }
                     self.push(start, tok, end);
                     return Some(end);
                 }
@@ -672,27 +674,6 @@ impl<'a> Lexer<'a> {
                 Some(start + close + 1)
             }
             _ => None,
-        }
-    }
-
-    /// LinuxCNC gives AND and OR one rank, read left to right; `.egc`
-    /// ranks `&&` above `||`. Both in one bracket would mean different
-    /// things: an error that asks for brackets.
-    fn mixed_logic(&mut self, tok: Tok, start: usize, end: usize) {
-        let depth = self.groups.len();
-        if self.logic.len() <= depth {
-            self.logic.resize(depth + 1, 0);
-        }
-        self.logic[depth] |= if tok == Tok::AndAnd { 1 } else { 2 };
-        if self.logic[depth] == 3 {
-            self.errors.push(
-                error(
-                    "AND and OR in one bracket",
-                    self.span(start, end),
-                    "LinuxCNC reads them left to right, as one rank",
-                )
-                .with_help("bracket them: `[[a OR b] AND c]`"),
-            );
         }
     }
 
@@ -749,15 +730,16 @@ impl<'a> Lexer<'a> {
         if self.groups.is_empty() && self.syms.is_empty() {
             return None;
         }
-        const OPERATORS: [(&str, Tok); 9] = [
-            ("EQ", Tok::EqEq),
-            ("NE", Tok::NotEq),
-            ("GT", Tok::Gt),
-            ("GE", Tok::Ge),
-            ("LT", Tok::Lt),
-            ("LE", Tok::Le),
-            ("AND", Tok::AndAnd),
-            ("OR", Tok::OrOr),
+        const OPERATORS: [(&str, Tok); 10] = [
+            ("EQ", Tok::Word(BinaryOp::NumEq)),
+            ("NE", Tok::Word(BinaryOp::NumNe)),
+            ("GT", Tok::Word(BinaryOp::NumGt)),
+            ("GE", Tok::Word(BinaryOp::NumGe)),
+            ("LT", Tok::Word(BinaryOp::NumLt)),
+            ("LE", Tok::Word(BinaryOp::NumLe)),
+            ("AND", Tok::Word(BinaryOp::NumAnd)),
+            ("OR", Tok::Word(BinaryOp::NumOr)),
+            ("XOR", Tok::Word(BinaryOp::NumXor)),
             ("MOD", Tok::Mod),
         ];
         find_word(&OPERATORS, text)
@@ -1237,6 +1219,7 @@ impl<'a> Lexer<'a> {
                     | Tok::Le
                     | Tok::Gt
                     | Tok::Ge
+                    | Tok::Word(_)
                     | Tok::Bang,
                 _
             ))
