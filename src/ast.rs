@@ -36,6 +36,11 @@ impl Names {
         &self.texts[s.0 as usize]
     }
 
+    /// The symbol of `text`, if the program has it.
+    pub fn find(&self, text: &str) -> Option<Symbol> {
+        self.ids.get(text).copied()
+    }
+
     pub fn len(&self) -> usize {
         self.texts.len()
     }
@@ -320,10 +325,12 @@ pub enum Function {
     Exp,
     Ln,
     Log10,
+    /// LinuxCNC's `EXISTS[#<name>]`: 1 if the parameter has a value, else 0.
+    Exists,
 }
 
 impl Function {
-    pub const ALL: [(&'static str, Function); 18] = [
+    pub const ALL: [(&'static str, Function); 19] = [
         ("abs", Function::Abs),
         ("sqrt", Function::Sqrt),
         ("sin", Function::Sin),
@@ -342,6 +349,7 @@ impl Function {
         ("exp", Function::Exp),
         ("ln", Function::Ln),
         ("log10", Function::Log10),
+        ("exists", Function::Exists),
     ];
 
     /// Function names match case-insensitively, as G-code does.

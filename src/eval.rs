@@ -182,6 +182,8 @@ struct Evaluator<'a> {
     options: &'a EvalOptions,
     wizards: Option<&'a mut dyn WizardHost>,
     vars: Vec<Slot>,
+    /// `(DEBUG, …)` and `(PRINT, …)` notes given so far.
+    messages: usize,
     /// How many times a variable changed value (or a call's scope was
     /// entered or left): a loop pass that leaves it as it was changed
     /// nothing its condition can read, so it would run forever.
@@ -250,6 +252,7 @@ impl<'a> Evaluator<'a> {
             options,
             wizards,
             vars: numbered_parameters(&program.names),
+            messages: 0,
             changes: 0,
             linuxcnc: LinuxCncNames::of(&program.names),
             sink,
@@ -554,6 +557,9 @@ impl<'a> Evaluator<'a> {
             StmtKind::While(w) => self.exec_while(&w.cond, &w.body, stmt.span),
             StmtKind::Error => Flow::Next,
             StmtKind::Comment(c) => {
+                if self.options.plain {
+                    self.debug_message(self.names.text(*c), stmt.span);
+                }
                 if !self.options.keep_comments {
                     return Flow::Next;
                 }
@@ -574,6 +580,87 @@ impl<'a> Evaluator<'a> {
                 self.emit_or_abort(op, stmt.span)
             }
         }
+    }
+
+    /// LinuxCNC's `(DEBUG, …)` and `(PRINT, …)`: a note at the line, with
+    /// each `#<name>` and `#123` replaced by its value as rs274 prints it
+    /// (six decimals, `######` for a parameter with none).
+    fn debug_message(&mut self, comment: &str, span: Span) {
+        let inner = comment.trim().trim_start_matches('(').trim_end_matches(')');
+        let Some((kind, text)) = inner.split_once(',') else {
+            return;
+        };
+        let kind = kind.trim().to_ascii_uppercase();
+        if kind != "DEBUG" && kind != "PRINT" {
+            return;
+        }
+        // A message in a loop must not fill the memory with notes.
+        self.messages += 1;
+        if self.messages > MAX_MESSAGES {
+            if self.messages == MAX_MESSAGES + 1 {
+                self.report(crate::diagnostic::note(
+                    format!(
+                        "more DEBUG and PRINT messages: only the first {MAX_MESSAGES} are shown"
+                    ),
+                    span,
+                    "this one and those after it",
+                ));
+            }
+            return;
+        }
+        let mut out = String::new();
+        let mut rest = text;
+        while let Some(at) = rest.find('#') {
+            out.push_str(&rest[..at]);
+            let after = &rest[at + 1..];
+            let (name, used) = if let Some(inner) = after.strip_prefix('<') {
+                match inner.find('>') {
+                    Some(close) => {
+                        let name: String = inner[..close]
+                            .chars()
+                            .filter(|c| !c.is_whitespace())
+                            .flat_map(char::to_lowercase)
+                            .collect();
+                        (Some(format!("#<{name}>")), close + 2)
+                    }
+                    None => (None, 0),
+                }
+            } else {
+                let digits =
+                    after.len() - after.trim_start_matches(|c: char| c.is_ascii_digit()).len();
+                let number = after[..digits].trim_start_matches('0');
+                let number = if number.is_empty() { "0" } else { number };
+                ((digits > 0).then(|| format!("#{number}")), digits)
+            };
+            match name {
+                Some(name) => {
+                    let value = self
+                        .names
+                        .find(&name)
+                        .and_then(|s| self.vars.get(s.0 as usize))
+                        .and_then(|slot| match slot {
+                            Slot::Set(Value::Number(n)) => Some(*n),
+                            Slot::Set(Value::Bool(b)) => Some(f64::from(u8::from(*b))),
+                            _ => None,
+                        });
+                    match value {
+                        Some(v) => out.push_str(&format!("{v:.6}")),
+                        None => out.push_str("######"),
+                    }
+                    rest = &after[used..];
+                }
+                None => {
+                    out.push('#');
+                    rest = after;
+                }
+            }
+        }
+        out.push_str(rest);
+        self.report(crate::diagnostic::note(
+            format!("{kind}: {}", out.trim()),
+            span,
+            "the program's message",
+        ));
     }
 
     /// A condition: true or false, or in plain G-code (LinuxCNC's o-word
@@ -896,6 +983,9 @@ pub(crate) const LAST_USER_PARAMETER: u32 = 5000;
 
 /// The variables' first values: LinuxCNC's numbered parameters `#1`–`#5000`
 /// start at 0 (a fresh parameter file); every other name is unset.
+/// `(DEBUG, …)` and `(PRINT, …)` notes shown at most.
+const MAX_MESSAGES: usize = 100;
+
 fn numbered_parameters(names: &Names) -> Vec<Slot> {
     names
         .iter()
@@ -978,5 +1068,34 @@ impl Evaluator<'_> {
         }
         self.changes += 1;
         saved
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use crate::compile::{compile, CompileOptions};
+    use crate::source::Sources;
+    use crate::syntax::egc::Language;
+
+    #[test]
+    fn debug_messages_in_a_loop_are_capped() {
+        let program = "G21 G90\n#2 = 0\no1 while [#2 LT 150]\n(DEBUG, pass #2)\n#2 = [#2 + 1]\no1 endwhile\nM2\n";
+        let mut sources = Sources::new();
+        let file = sources.add("p.ngc", program.to_string());
+        let options = CompileOptions {
+            input: Some(Language::Gcode),
+            ..CompileOptions::default()
+        };
+        let compiled = compile(&sources, file, &options, None);
+        assert!(compiled.output.is_some());
+        let notes: Vec<String> = compiled
+            .diagnostics
+            .iter()
+            .map(|d| d.message.clone())
+            .collect();
+        assert_eq!(notes.len(), super::MAX_MESSAGES + 1);
+        assert_eq!(notes[0], "DEBUG: pass 0.000000");
+        assert_eq!(notes[99], "DEBUG: pass 99.000000");
+        assert!(notes[100].starts_with("more DEBUG and PRINT messages"));
     }
 }

@@ -297,6 +297,24 @@ fn call(f: Function, args: &[Expr], span: Span, vars: &[Slot]) -> Result<Value, 
         });
     }
     let what = || format!("`{}`", f.name());
+    if f == Function::Exists {
+        // Asks about the parameter, not its value.
+        return match &args[0].kind {
+            ExprKind::Var(s) => Ok(Value::Number(
+                if matches!(vars.get(s.0 as usize), Some(Slot::Set(_))) {
+                    1.0
+                } else {
+                    0.0
+                },
+            )),
+            _ => Err(ExprError::TypeMismatch {
+                expected: "a parameter",
+                found: "an expression",
+                span: args[0].span,
+                what: what(),
+            }),
+        };
+    }
     let mut values = [0.0; 8];
     let mut rest = Vec::new();
     for (i, a) in args.iter().enumerate() {
@@ -391,6 +409,8 @@ fn apply(f: Function, args: &[f64], more: &[f64]) -> f64 {
         Function::Exp => x.exp(),
         Function::Ln => x.ln(),
         Function::Log10 => x.log10(),
+        // Asks about a parameter, not a number: `call` answers it.
+        Function::Exists => f64::NAN,
     }
 }
 
@@ -439,7 +459,8 @@ pub fn fast_number(expr: &Expr, vars: &[Slot]) -> Option<f64> {
 #[inline(never)]
 fn fast_call(f: Function, args: &[Expr], vars: &[Slot]) -> Option<f64> {
     let (lo, hi) = f.arity();
-    if args.len() < lo || args.len() > hi || args.len() > 8 {
+    // EXISTS asks about its parameter, not its value: `call` answers it.
+    if f == Function::Exists || args.len() < lo || args.len() > hi || args.len() > 8 {
         return None;
     }
     let mut values = [0.0; 8];
