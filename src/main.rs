@@ -860,15 +860,7 @@ fn write_file<T>(
     path: &Path,
     write: impl FnOnce(&mut std::io::BufWriter<std::fs::File>) -> std::io::Result<T>,
 ) -> std::io::Result<T> {
-    let dir = path
-        .parent()
-        .filter(|p| !p.as_os_str().is_empty())
-        .unwrap_or(Path::new("."));
-    let file_name = path
-        .file_name()
-        .map(|n| n.to_string_lossy().into_owned())
-        .unwrap_or_default();
-    let tmp = dir.join(format!(".{file_name}.{}.tmp", std::process::id()));
+    let tmp = temporary_beside(path);
     let result = std::fs::File::create(&tmp).and_then(|file| {
         let mut out = std::io::BufWriter::new(file);
         let value = write(&mut out)?;
@@ -881,6 +873,20 @@ fn write_file<T>(
         let _ = std::fs::remove_file(&tmp);
     }
     result
+}
+
+/// A temporary file's name beside `path` (same folder, so that the rename
+/// that replaces `path` is atomic).
+fn temporary_beside(path: &Path) -> PathBuf {
+    let dir = path
+        .parent()
+        .filter(|p| !p.as_os_str().is_empty())
+        .unwrap_or(Path::new("."));
+    let file_name = path
+        .file_name()
+        .map(|n| n.to_string_lossy().into_owned())
+        .unwrap_or_default();
+    dir.join(format!(".{file_name}.{}.tmp", std::process::id()))
 }
 
 fn read_input(input: &str) -> std::io::Result<Vec<u8>> {
@@ -904,15 +910,7 @@ fn same_file(a: &Path, b: &Path) -> bool {
 /// success: a reader never sees half a program, and on failure (errors in
 /// the program, or in writing) the old file stays.
 fn write_atomically(path: &Path, compile: impl FnOnce(&mut dyn Write) -> Report) -> Report {
-    let dir = path
-        .parent()
-        .filter(|p| !p.as_os_str().is_empty())
-        .unwrap_or(Path::new("."));
-    let file_name = path
-        .file_name()
-        .map(|n| n.to_string_lossy().into_owned())
-        .unwrap_or_default();
-    let tmp = dir.join(format!(".{file_name}.{}.tmp", std::process::id()));
+    let tmp = temporary_beside(path);
     let mut file = match std::fs::File::create(&tmp) {
         Ok(file) => file,
         Err(e) => {

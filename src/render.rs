@@ -207,8 +207,6 @@ fn cutters(
     scale: f64,
     diagnostics: &mut Vec<Diagnostic>,
 ) -> (Vec<Cutter>, Vec<usize>) {
-    // Tool lengths in the setup are in the output units already.
-    let table_scale = 1.0;
     let default = Cutter::of(&DEFAULT_TOOL, scale);
     let mut cutters: Vec<Cutter> = Vec::new();
     let mut index_of = |c: Cutter| match cutters.iter().position(|&k| k == c) {
@@ -224,7 +222,8 @@ fn cutters(
         // No tool loaded yet: tool 1 (SPEC §3).
         let number = m.state.tool.max(1);
         let cutter = match path.setup.tools.get(&number) {
-            Some(tool) => Cutter::of(tool, table_scale),
+            // The table is in the output units already, as the scene is.
+            Some(tool) => Cutter::of(tool, 1.0),
             None => {
                 if m.state.tool != 0 && !missing.contains(&number) {
                     missing.push(number);

@@ -342,26 +342,33 @@ fn scratch(name: &str) -> PathBuf {
 
 const SLOT: &str = "G21 G90 G17\nSetPart 40 20 10\nSetTool 1 6\nT1 M6\nG0 X10 Y10 Z1\nG1 Z-4 F100\nG1 X30\nG0 Z5\nM30\n";
 
-#[test]
-fn the_depth_png_is_16_bit_with_its_scale() {
-    let dir = scratch("png");
+/// Render `SLOT` at 0.1 mm cells to `dir/<output>` with `extra` options;
+/// the output's path.
+fn render_slot(dir: &Path, output: &str, extra: &[&str]) -> PathBuf {
     std::fs::write(dir.join("slot.egc"), SLOT).unwrap();
-    let out = ger(&[
+    let (input, out_path) = (dir.join("slot.egc"), dir.join(output));
+    let mut args = vec![
         "render",
-        dir.join("slot.egc").to_str().unwrap(),
+        input.to_str().unwrap(),
         "-o",
-        dir.join("slot.png").to_str().unwrap(),
+        out_path.to_str().unwrap(),
         "--resolution",
         "0.1",
-    ]);
+    ];
+    args.extend_from_slice(extra);
+    let out = ger(&args);
     assert!(
         out.status.success(),
         "{}",
         String::from_utf8_lossy(&out.stderr)
     );
-    let decoder = png::Decoder::new(std::io::BufReader::new(
-        std::fs::File::open(dir.join("slot.png")).unwrap(),
-    ));
+    out_path
+}
+
+#[test]
+fn the_depth_png_is_16_bit_with_its_scale() {
+    let png = render_slot(&scratch("png"), "slot.png", &[]);
+    let decoder = png::Decoder::new(std::io::BufReader::new(std::fs::File::open(png).unwrap()));
     let mut reader = decoder.read_info().unwrap();
     let info = reader.info().clone();
     assert_eq!((info.width, info.height), (400, 200));
@@ -397,49 +404,18 @@ fn the_depth_png_is_16_bit_with_its_scale() {
 
 #[test]
 fn the_shaded_png_is_colour_with_a_legend() {
-    let dir = scratch("shade");
-    std::fs::write(dir.join("slot.egc"), SLOT).unwrap();
-    let out = ger(&[
-        "render",
-        dir.join("slot.egc").to_str().unwrap(),
-        "-o",
-        dir.join("slot.png").to_str().unwrap(),
-        "--resolution",
-        "0.1",
-        "--shade",
-    ]);
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    let reader = png::Decoder::new(std::io::BufReader::new(
-        std::fs::File::open(dir.join("slot.png")).unwrap(),
-    ))
-    .read_info()
-    .unwrap();
+    let png = render_slot(&scratch("shade"), "slot.png", &["--shade"]);
+    let reader = png::Decoder::new(std::io::BufReader::new(std::fs::File::open(png).unwrap()))
+        .read_info()
+        .unwrap();
     assert_eq!(reader.info().color_type, png::ColorType::Rgb);
     assert!(reader.info().width > 400, "the legend is beside the part");
 }
 
 #[test]
 fn the_stl_is_closed_and_holds_the_parts_volume() {
-    let dir = scratch("stl");
-    std::fs::write(dir.join("slot.egc"), SLOT).unwrap();
-    let out = ger(&[
-        "render",
-        dir.join("slot.egc").to_str().unwrap(),
-        "-o",
-        dir.join("slot.stl").to_str().unwrap(),
-        "--resolution",
-        "0.1",
-    ]);
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    let mesh = stl_io::read_stl(&mut std::fs::File::open(dir.join("slot.stl")).unwrap()).unwrap();
+    let stl = render_slot(&scratch("stl"), "slot.stl", &[]);
+    let mesh = stl_io::read_stl(&mut std::fs::File::open(stl).unwrap()).unwrap();
     // Every edge is walked once each way: closed and consistently wound.
     let mut edges = std::collections::HashMap::new();
     for face in &mesh.faces {
