@@ -207,6 +207,9 @@ struct Evaluator<'a> {
     block_delete: bool,
     /// G53 in the current line: its motion is in machine coordinates.
     machine_coordinates: bool,
+    /// G7 (LinuxCNC's lathe diameter mode): X words are diameters, halved
+    /// as they are read (G8 ends it).
+    diameter_mode: bool,
     diagnostics: Vec<Diagnostic>,
     errors: usize,
     /// Current motion mode, for words written without a G code.
@@ -263,6 +266,7 @@ impl<'a> Evaluator<'a> {
             started: false,
             warned_once: Default::default(),
             machine_coordinates: false,
+            diameter_mode: false,
             block_delete: false,
             diagnostics: Vec::new(),
             errors: 0,

@@ -165,7 +165,11 @@ impl ProgramPrinter {
             // The plane's axes from the rounded end; any other axis only
             // where the move gives it (an axis the program never set must
             // not be written as 0).
-            let q = if i == a || i == b { Some(end3[i]) } else { end_q[i] };
+            let q = if i == a || i == b {
+                Some(end3[i])
+            } else {
+                end_q[i]
+            };
             let Some(q) = q else { continue };
             // Both in-plane axes always, so a full circle has an end.
             if i == a || i == b || Some(q) != self.printed[i] {

@@ -28,6 +28,15 @@ fn code_name(letter: u8, t: u32) -> String {
 
 impl Evaluator<'_> {
     pub(super) fn exec_line_stmt(&mut self, stmt: LineStmt<'_>) -> Flow {
+        // G7 and G8 hold for the X words of their own line (rs274 reads X
+        // by the mode, then rescales it when the line changes the mode).
+        if let Some(code) = stmt.code.filter(|c| c.letter == b'G') {
+            if let WordValue::Number(n) = &code.value {
+                if n.value == 7.0 || n.value == 8.0 {
+                    self.diameter_mode = n.value == 7.0;
+                }
+            }
+        }
         let mut words = WordValues::new(stmt.args);
         let mut span = stmt
             .code
@@ -39,9 +48,12 @@ impl Evaluator<'_> {
             if w.letter == b'N' {
                 continue;
             }
-            let Some(value) = self.word_value(w) else {
+            let Some(mut value) = self.word_value(w) else {
                 return Flow::Next;
             };
+            if w.letter == b'X' && self.diameter_mode {
+                value /= 2.0;
+            }
             if let Some(first) = words.given(w.letter) {
                 self.report(
                     error(
@@ -274,6 +286,19 @@ impl Evaluator<'_> {
             }
             40 => self.dwell(w, at)?,
             100 => self.g10(w, at)?,
+            70 | 80 => {
+                // Folded into the X words as they are read (above).
+                if t == 70 {
+                    self.warn_once((b'G', 70), || {
+                        warning(
+                            "G7: X words are diameters",
+                            at,
+                            "from here the output's X is half of what is written (a radius)",
+                        )
+                    });
+                }
+                return self.leftover_move(w, span, code).map(|_| Flow::Next);
+            }
             150 => Op::Polar(false),
             160 => Op::Polar(true),
             170 => Op::Plane(ir::Plane::XY),
