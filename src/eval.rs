@@ -65,6 +65,18 @@ pub enum Flavour {
 }
 
 impl Flavour {
+    /// Where canned cycles return when the program has not said G98 or
+    /// G99: LinuxCNC (rs274) starts in G99; Fanuc, Haas, Mach3 and the
+    /// generic flavour take G98, the higher and safer of the two.
+    pub fn power_up_return_level(self) -> ir::ReturnLevel {
+        match self {
+            Flavour::LinuxCnc => ir::ReturnLevel::R,
+            Flavour::Generic | Flavour::Fanuc | Flavour::Grbl | Flavour::Mach3 => {
+                ir::ReturnLevel::Initial
+            }
+        }
+    }
+
     /// The default for a file: `.ngc` is LinuxCNC's.
     pub fn of_file(name: &str) -> Flavour {
         if name.to_ascii_lowercase().ends_with(".ngc") {
@@ -210,6 +222,8 @@ struct Evaluator<'a> {
     /// G7 (LinuxCNC's lathe diameter mode): X words are diameters, halved
     /// as they are read (G8 ends it).
     diameter_mode: bool,
+    /// The program has said G98 or G99.
+    return_level_stated: bool,
     diagnostics: Vec<Diagnostic>,
     errors: usize,
     /// Current motion mode, for words written without a G code.
@@ -267,6 +281,7 @@ impl<'a> Evaluator<'a> {
             warned_once: Default::default(),
             machine_coordinates: false,
             diameter_mode: false,
+            return_level_stated: false,
             block_delete: false,
             diagnostics: Vec::new(),
             errors: 0,
@@ -410,6 +425,7 @@ impl<'a> Evaluator<'a> {
             program_units: self.options.units.or(setup.units),
             output_units,
             setup,
+            return_level: self.options.from.power_up_return_level(),
         };
         self.sink.start(&start);
     }

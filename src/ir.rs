@@ -38,6 +38,9 @@ pub struct Start {
     pub output_units: Option<Units>,
     /// The units the program is in before its first G20/G21.
     pub program_units: Option<Units>,
+    /// Where canned cycles return before the program says G98 or G99: the
+    /// machine's power-up state, as the source flavour (`--from`) has it.
+    pub return_level: ReturnLevel,
 }
 
 /// Where the evaluator sends the program: its statements in order, in

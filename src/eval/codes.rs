@@ -395,8 +395,14 @@ impl Evaluator<'_> {
             }
             921 | 922 => Op::CancelPosition,
             940 => return self.leftover_move(w, span, code).map(|_| Flow::Next),
-            980 => Op::ReturnLevel(ir::ReturnLevel::Initial),
-            990 => Op::ReturnLevel(ir::ReturnLevel::R),
+            980 | 990 => {
+                self.return_level_stated = true;
+                Op::ReturnLevel(if t == 980 {
+                    ir::ReturnLevel::Initial
+                } else {
+                    ir::ReturnLevel::R
+                })
+            }
             _ => {
                 let why = match t {
                     120 | 130 => "circle milling (G12/G13) is a Fanuc option; use G2/G3 or a CirclePocket wizard",

@@ -13,7 +13,7 @@
 //! code or G80; where the tool is then is the G98 level of the run.
 
 use super::{Evaluator, WordValues};
-use crate::diagnostic::{error, Diagnostic, DiagnosticExt};
+use crate::diagnostic::{error, warning, Diagnostic, DiagnosticExt};
 use crate::ir::{self, Axis, CycleKind, Op};
 use crate::source::Span;
 
@@ -113,6 +113,22 @@ impl Evaluator<'_> {
     ) -> Result<(), Diagnostic> {
         let at_code = code.unwrap_or(span);
         let name = format!("G{}", kind.code());
+        if !self.return_level_stated {
+            let from = self.options.from;
+            self.warn_once((b'G', 989), || {
+                let (level, who) = match from.power_up_return_level() {
+                    ir::ReturnLevel::Initial => ("the initial level (G98)", "Fanuc, Haas and Mach3 do"),
+                    ir::ReturnLevel::R => ("the R plane (G99)", "LinuxCNC does"),
+                };
+                warning(
+                    "the program does not say G98 or G99",
+                    at_code,
+                    format!("this cycle returns to {level}, as {who} at power-up"),
+                )
+                .with_note("where a cycle returns between holes is the machine's state until the program sets it")
+                .with_help("write G98 or G99 before the first cycle, or choose the controller with --from")
+            });
+        }
         // A block of the same cycle may leave out what the last one gave.
         let repeat = self.cycle == Some(kind);
         if let Some((letter, at)) = [b'A', b'B', b'C', b'U', b'V', b'W']

@@ -70,7 +70,7 @@ impl CyclesPass {
                 ir::Units::Mm => PECK_CLEARANCE_MM,
                 ir::Units::Inch => PECK_CLEARANCE_MM / 25.4,
             }),
-            level: ReturnLevel::R,
+            level: cx.start.return_level,
             initial: None,
             spindle: Spindle::Off,
             expanded: 0,
