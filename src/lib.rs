@@ -19,7 +19,9 @@ pub mod eval;
 pub mod geometry;
 pub mod ir;
 pub mod lower;
-pub mod render;
 pub mod tool_table;
 pub mod toolpath;
 pub mod wizard;
+
+// The picture: the tool path carved into a heightmap, drawn.
+pub mod render;

@@ -661,7 +661,7 @@ fn render_part(input: &str, output: &Path, options: &Options, picture: &PictureA
             return ExitCode::from(1);
         }
     };
-    eprint!("{}", render(&job.sources, &scene.diagnostics));
+    eprint!("{}", render(&job.sources, &diagnostics_of(&scene.warnings)));
     clock.lap("scene");
     let written = match format {
         Picture::Svg => {
@@ -711,14 +711,14 @@ fn render_part(input: &str, output: &Path, options: &Options, picture: &PictureA
                     };
                     let mut other_grid = grid.clone();
                     let cuts = other_scene.carve(&mut other_grid, &other_path, &progress_bar());
-                    eprint!("{}", render(&other_job.sources, &cuts));
+                    eprint!("{}", render(&other_job.sources, &diagnostics_of(&cuts)));
                     Some(other_grid)
                 }
                 None => None,
             };
             clock.lap("grid");
             let cuts = scene.carve(&mut grid, &path, &progress_bar());
-            eprint!("{}", render(&job.sources, &cuts));
+            eprint!("{}", render(&job.sources, &diagnostics_of(&cuts)));
             clock.lap("carve");
             let units = scene.units;
             match (format, other) {
@@ -799,6 +799,10 @@ impl Laps {
             );
         }
     }
+}
+
+fn diagnostics_of(warnings: &[ger::render::RenderWarning]) -> Vec<ger::diagnostic::Diagnostic> {
+    warnings.iter().map(|w| w.to_diagnostic()).collect()
 }
 
 /// `X,Y,Z`, each positive.

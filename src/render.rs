@@ -14,6 +14,7 @@ pub mod svg;
 
 use crate::diagnostic::{warning, Diagnostic, DiagnosticExt};
 use crate::ir::{Plane, Tool, ToolShape, Units};
+use crate::source::Span;
 use crate::toolpath::{Move, MoveKind, ToolPath};
 use carve::{Frame, Grid, Segment, Shape};
 use cutter::{Arc, Cutter, Line};
@@ -56,7 +57,7 @@ pub struct Scene {
     pub segments: Vec<Segment>,
     /// Warnings at source lines (unknown positions, cuts below the stock,
     /// tools not in the table).
-    pub diagnostics: Vec<Diagnostic>,
+    pub warnings: Vec<RenderWarning>,
 }
 
 /// The default tool (SPEC §3): a 1/4 in flat end mill.
@@ -94,18 +95,18 @@ impl Scene {
         let units = path.units;
         // The tool path is in mm; the scene in the output units.
         let scale = 1.0 / units.map_or(1.0, |u| u.factor(Units::Mm));
-        let mut diagnostics = Vec::new();
-        let (cutters, cutter_of) = cutters(path, scale, &mut diagnostics);
+        let mut warnings = Vec::new();
+        let (cutters, cutter_of) = cutters(path, scale, &mut warnings);
         let stock = stock(path, options, scale, &cutters, &cutter_of)?;
         let cell = resolution(units, options, &stock)?.0;
-        let segments = segments(path, scale, cell, &cutter_of, &mut diagnostics)?;
-        below_stock(path, scale, &stock, &mut diagnostics);
+        let segments = segments(path, scale, cell, &cutter_of, &mut warnings)?;
+        below_stock(path, scale, &stock, &mut warnings);
         Ok(Scene {
             units,
             stock,
             cutters,
             segments,
-            diagnostics,
+            warnings,
         })
     }
 
@@ -128,19 +129,14 @@ impl Scene {
         grid: &mut Grid,
         path: &ToolPath,
         progress: &(dyn Fn(usize, usize) + Sync),
-    ) -> Vec<Diagnostic> {
+    ) -> Vec<RenderWarning> {
         let carved = carve::carve(grid, &self.segments, &self.cutters, progress);
         let spans: Vec<_> = carved
             .rapid_cuts
             .iter()
             .map(|&k| path.moves[k].span)
             .collect();
-        repeated(
-            &spans,
-            "a rapid move cuts the stock",
-            "this rapid removes material",
-            "check the safe height before this move",
-        )
+        repeated(&spans, WarningKind::RapidCuts)
     }
 }
 
@@ -205,7 +201,7 @@ fn dimensions(stock: &Stock, cell: f64) -> (usize, usize) {
 fn cutters(
     path: &ToolPath,
     scale: f64,
-    diagnostics: &mut Vec<Diagnostic>,
+    warnings: &mut Vec<RenderWarning>,
 ) -> (Vec<Cutter>, Vec<usize>) {
     let default = Cutter::of(&DEFAULT_TOOL, scale);
     let mut cutters: Vec<Cutter> = Vec::new();
@@ -227,16 +223,11 @@ fn cutters(
             None => {
                 if m.state.tool != 0 && !missing.contains(&number) {
                     missing.push(number);
-                    diagnostics.push(
-                        warning(
-                            format!("tool {number} is not in the tool table"),
-                            m.span,
-                            "drawn as a 1/4 in flat end mill",
-                        )
-                        .with_help(format!(
-                            "give its size with `SetTool {number} diameter` or --tool-table"
-                        )),
-                    );
+                    warnings.push(RenderWarning {
+                        kind: WarningKind::ToolNotInTable { tool: number },
+                        span: m.span,
+                        more: 0,
+                    });
                 }
                 default
             }
@@ -322,7 +313,7 @@ fn segments(
     scale: f64,
     cell: f64,
     cutter_of: &[usize],
-    diagnostics: &mut Vec<Diagnostic>,
+    warnings: &mut Vec<RenderWarning>,
 ) -> Result<Vec<Segment>, RenderError> {
     let mut out: Vec<Segment> = Vec::with_capacity(path.moves.len());
     let mut unknown = Vec::new();
@@ -409,12 +400,7 @@ fn segments(
         }
         last_end = Some((end, cutter));
     }
-    diagnostics.extend(repeated(
-        &unknown,
-        "the tool position is not known here",
-        "this move starts or ends at an axis the program has not set (or a machine move lost)",
-        "drawn from where the move ends, with unset axes at 0; the machine may be elsewhere",
-    ));
+    warnings.extend(repeated(&unknown, WarningKind::UnknownPosition));
     Ok(out)
 }
 
@@ -473,7 +459,7 @@ fn chords(m: &Move, scale: f64, cell: f64) -> usize {
 
 /// Warn about moves that take the tip below the stock's bottom (a move
 /// that climbs out from there is not warned again), once per source line.
-fn below_stock(path: &ToolPath, scale: f64, stock: &Stock, diagnostics: &mut Vec<Diagnostic>) {
+fn below_stock(path: &ToolPath, scale: f64, stock: &Stock, warnings: &mut Vec<RenderWarning>) {
     let mut spans = Vec::new();
     let mut seen = std::collections::HashSet::new();
     for (index, m) in path.moves.iter().enumerate() {
@@ -486,34 +472,95 @@ fn below_stock(path: &ToolPath, scale: f64, stock: &Stock, diagnostics: &mut Vec
             spans.push(m.span);
         }
     }
-    diagnostics.extend(repeated(
+    warnings.extend(repeated(
         &spans,
-        "the cut goes below the bottom of the stock",
-        "the tool reaches below the stock here",
-        format!(
-            "the stock's bottom is at Z{} (a through cut?)",
-            stock.bottom
-        ),
+        WarningKind::BelowStock {
+            bottom: stock.bottom,
+        },
     ));
 }
 
-/// One warning for each of the first few spans, and a count of the rest.
-fn repeated(
-    spans: &[crate::source::Span],
-    message: &str,
-    label: &str,
-    help: impl std::fmt::Display,
-) -> Vec<Diagnostic> {
-    let mut out: Vec<Diagnostic> = spans
+/// One warning for each of the first few spans, the last saying how many
+/// more there are.
+fn repeated(spans: &[Span], kind: WarningKind) -> Vec<RenderWarning> {
+    let shown = spans.len().min(SHOWN);
+    spans[..shown]
         .iter()
-        .take(SHOWN)
-        .map(|&span| warning(message, span, label).with_help(&help))
-        .collect();
-    if spans.len() > SHOWN {
-        if let Some(last) = out.last_mut() {
-            last.notes
-                .push(format!("{} more like it not shown", spans.len() - SHOWN));
+        .enumerate()
+        .map(|(k, &span)| RenderWarning {
+            kind: kind.clone(),
+            span,
+            more: if k + 1 == shown {
+                spans.len() - shown
+            } else {
+                0
+            },
+        })
+        .collect()
+}
+
+/// What the picture warns about, at a source line.
+#[derive(Clone, Debug, PartialEq)]
+pub enum WarningKind {
+    /// The program changes to a tool the table does not have: drawn as
+    /// the default tool.
+    ToolNotInTable { tool: u32 },
+    /// A cutting move from or to an axis the program has not set.
+    UnknownPosition,
+    /// A move takes the tip below the stock's bottom.
+    BelowStock { bottom: f64 },
+    /// A rapid removed material.
+    RapidCuts,
+}
+
+#[derive(Clone, Debug, PartialEq)]
+pub struct RenderWarning {
+    pub kind: WarningKind,
+    pub span: Span,
+    /// How many more of the same kind were not shown after this one.
+    pub more: usize,
+}
+
+impl RenderWarning {
+    pub fn to_diagnostic(&self) -> Diagnostic {
+        let d = match &self.kind {
+            WarningKind::ToolNotInTable { tool } => warning(
+                format!("tool {tool} is not in the tool table"),
+                self.span,
+                "drawn as a 1/4 in flat end mill",
+            )
+            .with_help(format!(
+                "give its size with `SetTool {tool} diameter` or --tool-table"
+            )),
+            WarningKind::UnknownPosition => warning(
+                "the tool position is not known here",
+                self.span,
+                "this move starts or ends at an axis the program has not set (or a machine move lost)",
+            )
+            .with_help(
+                "drawn from where the move ends, with unset axes at 0; the machine may be elsewhere",
+            ),
+            WarningKind::BelowStock { bottom } => warning(
+                "the cut goes below the bottom of the stock",
+                self.span,
+                "the tool reaches below the stock here",
+            )
+            .with_help(format!(
+                "the stock's bottom is at Z{bottom} (a through cut?)"
+            )),
+            WarningKind::RapidCuts => warning(
+                "a rapid move cuts the stock",
+                self.span,
+                "this rapid removes material",
+            )
+            .with_help("check the safe height before this move"),
+        };
+        if self.more > 0 {
+            let mut d = d;
+            d.notes
+                .push(format!("{} more like it not shown", self.more));
+            return d;
         }
+        d
     }
-    out
 }
