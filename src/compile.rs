@@ -52,6 +52,9 @@ pub struct CompileOptions {
     pub lower: lower::LowerOptions,
     /// Print the program after this stage instead of the final output.
     pub stage: Option<Stage>,
+    /// Files of LinuxCNC subroutines (`o<name> sub` … `endsub`) the
+    /// program calls but does not hold; the caller found and read them.
+    pub library: Vec<FileId>,
 }
 
 /// The result of a compile: the text (absent when there are errors) and
@@ -194,6 +197,83 @@ pub fn tool_path(
     (path, diagnostics)
 }
 
+/// A subroutine file a caller found: its name (for diagnostics) and text.
+pub type SubroutineFile = (String, String);
+
+/// At most this many subroutine files are read for one program.
+pub const MAX_SUBROUTINE_FILES: usize = 1000;
+
+/// The files of the LinuxCNC subroutines (`o<name> call`) that `main`
+/// calls but does not hold, and those they call in turn, added to
+/// `sources`, for [`CompileOptions::library`]. `find(name)` reads
+/// `name.ngc` wherever the caller looks (the library does no I/O): its
+/// name and text, or `None`. A name found nowhere is left to the compile,
+/// which reports it at the call.
+pub fn subroutine_library(
+    sources: &mut Sources,
+    main: FileId,
+    find: &mut dyn FnMut(&str) -> Result<Option<SubroutineFile>, String>,
+) -> Result<Vec<FileId>, String> {
+    let mut library = Vec::new();
+    let mut defined = std::collections::BTreeSet::new();
+    let mut looked = std::collections::BTreeSet::new();
+    let mut queue = vec![main];
+    let mut wanted = Vec::new();
+    while let Some(file) = queue.pop() {
+        let (calls, subs) = named_subroutines(sources.text(file));
+        defined.extend(subs);
+        wanted.extend(calls);
+        for name in &wanted {
+            if defined.contains(name) || !looked.insert(name.clone()) {
+                continue;
+            }
+            let Some((origin, text)) = find(name)? else {
+                continue;
+            };
+            if library.len() >= MAX_SUBROUTINE_FILES {
+                return Err(format!(
+                    "the program calls more than {MAX_SUBROUTINE_FILES} subroutine files"
+                ));
+            }
+            let id = sources.add(origin, text);
+            library.push(id);
+            queue.push(id);
+        }
+    }
+    Ok(library)
+}
+
+/// The `o<name>` subroutines a text calls and those it defines (`sub`),
+/// named as the lexer names them (trimmed, in lower case).
+fn named_subroutines(text: &str) -> (Vec<String>, Vec<String>) {
+    let (mut calls, mut subs) = (Vec::new(), Vec::new());
+    for line in text.lines() {
+        let line = line.trim_start();
+        let Some(rest) = line
+            .strip_prefix(['o', 'O'])
+            .and_then(|r| r.strip_prefix('<'))
+        else {
+            continue;
+        };
+        let Some(close) = rest.find('>') else {
+            continue;
+        };
+        let name = rest[..close].trim().to_ascii_lowercase();
+        let keyword = rest[close + 1..]
+            .trim_start()
+            .split(|c: char| !c.is_ascii_alphabetic())
+            .next()
+            .unwrap_or("")
+            .to_ascii_lowercase();
+        match keyword.as_str() {
+            "call" => calls.push(name),
+            "sub" => subs.push(name),
+            _ => {}
+        }
+    }
+    (calls, subs)
+}
+
 /// Where the back end's result goes.
 enum Output<'a> {
     Text(&'a mut dyn Write),
@@ -202,6 +282,8 @@ enum Output<'a> {
 
 /// The file to compile: its text, id, language and flavour.
 struct Input<'a> {
+    sources: &'a Sources,
+    library: &'a [FileId],
     text: &'a str,
     file: FileId,
     locator: Locator,
@@ -211,9 +293,11 @@ struct Input<'a> {
 
 impl<'a> Input<'a> {
     /// The file's language and flavour are the options', else its name's.
-    fn of(sources: &'a Sources, file: FileId, options: &CompileOptions) -> Input<'a> {
+    fn of(sources: &'a Sources, file: FileId, options: &'a CompileOptions) -> Input<'a> {
         let name = sources.name(file);
         Input {
+            sources,
+            library: &options.library,
             text: sources.text(file),
             file,
             locator: sources.locator(file),
@@ -234,6 +318,8 @@ fn run<'a>(
     clock: &mut Clock,
 ) -> std::io::Result<()> {
     let Input {
+        sources: _,
+        library: _,
         text,
         file,
         locator,
@@ -245,8 +331,13 @@ fn run<'a>(
         plain: language == Language::Gcode,
         ..options.eval.clone()
     };
+    let library: Vec<(&str, Locator)> = input
+        .library
+        .iter()
+        .map(|&f| (input.sources.text(f), input.sources.locator(f)))
+        .collect();
     let (program, parse_diagnostics) =
-        crate::syntax::egc::parse_program_at(text, &locator, language);
+        crate::syntax::egc::parse_program_files((text, &locator), &library, language);
     diagnostics.extend(parse_diagnostics);
     clock.lap("parse");
     if diagnostics.iter().any(is_error) {

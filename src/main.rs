@@ -133,6 +133,10 @@ struct Options {
     /// A folder of wizards (`<Name>.rhai`), searched first; repeatable.
     #[arg(long = "wizards", value_name = "DIR")]
     wizard_dirs: Vec<PathBuf>,
+    /// A folder of LinuxCNC subroutine files (`name.ngc` for `o<name>
+    /// call`), searched before the program's own folder; repeatable.
+    #[arg(long = "subroutines", value_name = "DIR")]
+    subroutine_dirs: Vec<PathBuf>,
 }
 
 #[derive(clap::Args)]
@@ -292,6 +296,7 @@ impl Options {
                 ..Default::default()
             },
             stage,
+            library: Vec::new(),
         }
     }
 }
@@ -341,6 +346,42 @@ fn real_main() -> ExitCode {
             list_wizards(name.as_deref(), &dirs, part.as_deref())
         }
     }
+}
+
+/// The files of the LinuxCNC subroutines the program calls but does not
+/// hold: `name.ngc` from the `--subroutines` folders, then the program's
+/// own folder (as LinuxCNC's SUBROUTINE_PATH and the program's folder).
+fn subroutine_files(
+    sources: &mut Sources,
+    main: ger::source::FileId,
+    dirs: &[PathBuf],
+    part: Option<&Path>,
+) -> Result<Vec<ger::source::FileId>, String> {
+    for dir in dirs {
+        if !dir.is_dir() {
+            return Err(format!("cannot read subroutine folder `{}`", dir.display()));
+        }
+    }
+    let mut folders: Vec<PathBuf> = dirs.to_vec();
+    if let Some(part) = part {
+        folders.push(part.parent().unwrap_or(Path::new(".")).to_path_buf());
+    }
+    ger::compile::subroutine_library(sources, main, &mut |name| {
+        let Some(path) = folders
+            .iter()
+            .map(|d| d.join(format!("{name}.ngc")))
+            .find(|p| p.is_file())
+        else {
+            return Ok(None);
+        };
+        let text = std::fs::read(&path)
+            .map_err(|e| format!("cannot read `{}`: {e}", path.display()))
+            .and_then(|bytes| {
+                ger::source::decode(bytes)
+                    .map_err(|_| format!("`{}` is not a text file", path.display()))
+            })?;
+        Ok(Some((path.display().to_string(), text)))
+    })
 }
 
 /// Wizard scripts in search order (SPEC §5): `--wizards` folders, `wizards/`
@@ -526,6 +567,20 @@ impl Job {
             return Err(ExitCode::from(2));
         }
         let part = (input != "-").then(|| Path::new(input));
+        let plain = match options.language {
+            Some(InputArg::Gcode) => true,
+            Some(InputArg::Egc) => false,
+            None => !name.to_ascii_lowercase().ends_with(".egc"),
+        };
+        if plain {
+            match subroutine_files(&mut sources, file, &options.subroutine_dirs, part) {
+                Ok(library) => compile_options.library = library,
+                Err(e) => {
+                    eprintln!("error: {e}");
+                    return Err(ExitCode::from(2));
+                }
+            }
+        }
         let found = match discover_wizards(&options.wizard_dirs, part) {
             Ok(found) => found,
             Err(e) => {

@@ -235,3 +235,34 @@ fn tool_table() {
     let out = ger(&["compile", "tl.nc", "--tool-table", "missing.tbl"], &dir);
     assert_eq!(out.status.code(), Some(2));
 }
+
+#[test]
+fn subroutine_folders() {
+    // `o<name> call` reads name.ngc from --subroutines, then beside the
+    // program; a folder that is not there is a usage error.
+    let dir = scratch("subroutines");
+    std::fs::create_dir_all(dir.join("lib")).unwrap();
+    std::fs::write(
+        dir.join("main.ngc"),
+        "G21 G90\nG0 X0 Y0 Z1\no<edge> call [7]\nM2\n",
+    )
+    .unwrap();
+    std::fs::write(
+        dir.join("lib/edge.ngc"),
+        "o<edge> sub\nG1 X#1 F100\no<edge> endsub\nM2\n",
+    )
+    .unwrap();
+    let out = ger(&["compile", "main.ngc"], &dir);
+    assert_eq!(out.status.code(), Some(1), "not beside the program");
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(stderr.contains("no subprogram o<edge>"), "{stderr}");
+    let out = ger(&["compile", "main.ngc", "--subroutines", "lib"], &dir);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    assert!(String::from_utf8_lossy(&out.stdout).contains("G1 X7. F100."));
+    let out = ger(&["compile", "main.ngc", "--subroutines", "nowhere"], &dir);
+    assert_eq!(out.status.code(), Some(2));
+}

@@ -201,8 +201,19 @@ fn own_tool_path(input: &Path, folder: &Path) -> Result<ger::toolpath::ToolPath,
     found.extend(standard_library());
     let mut engine = WizardEngine::new(Library::new(found, &mut sources));
     let file = sources.add(input.display().to_string(), text);
-    let (path, diagnostics) =
-        ger::compile::tool_path(&sources, file, &Default::default(), Some(&mut engine));
+    // LinuxCNC subroutine files beside the case, as the command line finds them.
+    let beside = input.parent().unwrap().to_path_buf();
+    let library = ger::compile::subroutine_library(&mut sources, file, &mut |name| {
+        let path = beside.join(format!("{name}.ngc"));
+        Ok(std::fs::read_to_string(&path)
+            .ok()
+            .map(|text| (path.display().to_string(), text)))
+    })?;
+    let options = ger::compile::CompileOptions {
+        library,
+        ..Default::default()
+    };
+    let (path, diagnostics) = ger::compile::tool_path(&sources, file, &options, Some(&mut engine));
     path.ok_or_else(|| ger::diagnostic::render(&sources, &diagnostics).into())
 }
 

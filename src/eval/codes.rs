@@ -645,12 +645,27 @@ impl Evaluator<'_> {
         self.feed_speed_tool(w, span)?;
         self.leftover_move(w, span, Some((b'M', 980)))?;
         let program = self.program;
+        // A LinuxCNC `o<name>` is numbered by its name's symbol.
+        let name_of = |number: u32| {
+            number
+                .checked_sub(crate::syntax::egc::lexer::NAMED_SUB_BASE)
+                .filter(|&i| (i as usize) < program.names.len())
+                .map(|i| program.names.text(ast::Symbol(i)))
+                .filter(|text| text.starts_with("o<"))
+                .map_or_else(|| format!("O{number}"), str::to_string)
+        };
         let Some(sub) = program.subprograms.iter().find(|s| s.number == number) else {
-            let mut d = error(format!("no subprogram O{number}"), pspan, "called here");
+            let name = name_of(number);
+            let mut d = error(format!("no subprogram {name}"), pspan, "called here");
+            if let Some(file) = name.strip_prefix("o<").and_then(|n| n.strip_suffix('>')) {
+                d = d.with_note(format!(
+                    "ger reads `{file}.ngc` from the --subroutines folders and the program's own folder"
+                ));
+            }
             let known: Vec<String> = program
                 .subprograms
                 .iter()
-                .map(|s| format!("O{}", s.number))
+                .map(|s| name_of(s.number))
                 .collect();
             if !known.is_empty() {
                 d = d.with_note(format!("this file has {}", known.join(", ")));

@@ -7,5 +7,6 @@ pub mod parser;
 
 pub use lexer::Language;
 pub use parser::{
-    parse_program, parse_program_as, parse_program_at, parse_program_with_fast_path, with_fast_path,
+    parse_program, parse_program_as, parse_program_at, parse_program_files,
+    parse_program_with_fast_path, with_fast_path,
 };

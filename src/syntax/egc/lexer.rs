@@ -317,7 +317,6 @@ struct Lexer<'a> {
     /// An `oN repeat` line: its counter, and where `repeat` is.
     pending_repeat: Option<(Symbol, usize, usize)>,
     /// LinuxCNC's named subroutines (`o<name>`), numbered as they come.
-    named_subs: Vec<String>,
     /// Per bracket depth: AND (1) and OR (2) seen there.
     logic: Vec<u8>,
     /// The `oN while [c]` that ends a do loop: its block closes at the
@@ -363,7 +362,6 @@ impl<'a> Lexer<'a> {
             pending_call: None,
             do_labels: Vec::new(),
             pending_repeat: None,
-            named_subs: Vec::new(),
             logic: Vec::new(),
             close_at_line_end: false,
         }
@@ -661,15 +659,11 @@ impl<'a> Lexer<'a> {
                 let close = rest
                     .find(['>', '\n'])
                     .filter(|&i| rest[i..].starts_with('>'))?;
+                // Numbered by its name's symbol: the same in every file read
+                // with the same names (a subroutine in a file of its own).
                 let name = rest[2..close].trim().to_ascii_lowercase();
-                let index = match self.named_subs.iter().position(|n| *n == name) {
-                    Some(i) => i,
-                    None => {
-                        self.named_subs.push(name);
-                        self.named_subs.len() - 1
-                    }
-                };
-                let number = format!("O{}", NAMED_SUB_BASE + index as u32);
+                let symbol = self.names.intern(&format!("o<{name}>"));
+                let number = format!("O{}", NAMED_SUB_BASE + symbol.0);
                 self.push_word(word(&number), start, start + close + 1);
                 Some(start + close + 1)
             }

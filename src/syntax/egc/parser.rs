@@ -50,13 +50,51 @@ pub fn parse_program_at(
     language: Language,
 ) -> (Program, Vec<Diagnostic>) {
     let mut names = Names::default();
+    let (mut program, diagnostics) = parse_into(text, at, language, &mut names);
+    program.names = names;
+    (program, diagnostics)
+}
+
+/// The program of `main`, with the subprograms of the `library` files
+/// added (LinuxCNC's `o<name> sub` in a file of its own): each file is read
+/// with the same names, so `o<name>` has one number in all of them. What a
+/// library file does outside its subroutines (its closing `M2`) is not
+/// run; a subroutine the main file has already is not taken again.
+pub fn parse_program_files(
+    main: (&str, &Locator),
+    library: &[(&str, Locator)],
+    language: Language,
+) -> (Program, Vec<Diagnostic>) {
+    let mut names = Names::default();
+    let (mut program, mut diagnostics) = parse_into(main.0, main.1, language, &mut names);
+    for (text, at) in library {
+        let (part, more) = parse_into(text, at, language, &mut names);
+        diagnostics.extend(more);
+        for sub in part.subprograms {
+            if !program.subprograms.iter().any(|s| s.number == sub.number) {
+                program.subprograms.push(sub);
+            }
+        }
+    }
+    program.names = names;
+    (program, diagnostics)
+}
+
+/// Parse one file into a program whose names are `names` (left empty in
+/// the program: the caller puts them there).
+fn parse_into(
+    text: &str,
+    at: &Locator,
+    language: Language,
+    names: &mut Names,
+) -> (Program, Vec<Diagnostic>) {
     let Lexed {
         tokens,
         words,
         errors: lex_errors,
         unclosed_brace,
         call_groups,
-    } = lexer::lex_as(text, at, &mut names, language);
+    } = lexer::lex_as(text, at, names, language);
     let mut problems: Vec<Problem> = lex_errors
         .into_iter()
         .map(|d| Problem::new(ProblemKind::Read, d))
@@ -65,7 +103,7 @@ pub fn parse_program_at(
     let context = ErrorContext {
         at,
         text,
-        names: &names,
+        names,
         call_groups: &call_groups,
         tokens: &tokens,
         words: &words,
@@ -93,7 +131,7 @@ pub fn parse_program_at(
                 let mut recovered = Vec::new();
                 let result = grammar::ProgramParser::new().parse(
                     at,
-                    &names,
+                    names,
                     &words,
                     &mut recovered,
                     slice.iter().copied().map(Ok::<_, &'static str>),
@@ -118,13 +156,12 @@ pub fn parse_program_at(
         }
     }
     let mut structure = Vec::new();
-    let mut program = split_subprograms(top, &mut structure);
+    let program = split_subprograms(top, &mut structure);
     problems.extend(
         structure
             .into_iter()
             .map(|d| Problem::new(ProblemKind::Read, d)),
     );
-    program.names = names;
     problems.sort_by_key(|p| p.diagnostic.labels.first().map_or(0, |l| l.range.start));
     (program, drop_cascades(problems, text))
 }
