@@ -687,6 +687,9 @@ impl<'a> Evaluator<'a> {
     /// `if` and `while`) also a number, true when it is not 0.
     fn condition(&self, cond: &ast::Expr, what: &str) -> Result<bool, value::ExprError> {
         if self.options.plain {
+            if let Some(n) = value::fast_number(cond, &self.vars) {
+                return Ok(n != 0.0);
+            }
             if let Value::Number(n) = value::eval(cond, &self.vars)? {
                 return Ok(n != 0.0);
             }

@@ -439,6 +439,15 @@ pub fn fast_number(expr: &Expr, vars: &[Slot]) -> Option<f64> {
                     | BinaryOp::Rem
                     | BinaryOp::Mod
                     | BinaryOp::Pow
+                    | BinaryOp::NumEq
+                    | BinaryOp::NumNe
+                    | BinaryOp::NumLt
+                    | BinaryOp::NumLe
+                    | BinaryOp::NumGt
+                    | BinaryOp::NumGe
+                    | BinaryOp::NumAnd
+                    | BinaryOp::NumOr
+                    | BinaryOp::NumXor
             ) {
                 return None;
             }
