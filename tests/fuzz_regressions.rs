@@ -43,3 +43,40 @@ fn found_round_trips_keep_the_tool_path() {
         }
     }
 }
+
+#[test]
+fn found_inputs_give_their_diagnostic_at_once() {
+    use ger::eval::EvalOptions;
+    use ger::wizard::{standard_library, Library, WizardEngine};
+    // (file, the error it must give): each once ran for more than the
+    // fuzzer's 10 s.
+    let cases = [("spiral_step_zero.egc", "this loop never ends")];
+    for (name, expected) in cases {
+        let path = Path::new(env!("CARGO_MANIFEST_DIR"))
+            .join("tests/fuzz/compile_bytes")
+            .join(name);
+        let mut sources = Sources::new();
+        let file = sources.add(name, std::fs::read_to_string(&path).unwrap());
+        let mut engine = WizardEngine::new(Library::new(standard_library(), &mut sources));
+        // A low limit: should the check go, the loop stops there with
+        // another message instead of running for minutes.
+        let options = CompileOptions {
+            eval: EvalOptions {
+                max_iterations: 1000,
+                ..EvalOptions::default()
+            },
+            ..CompileOptions::default()
+        };
+        let compiled = compile(&sources, file, &options, Some(&mut engine));
+        assert!(compiled.output.is_none(), "{name}");
+        assert!(
+            compiled.diagnostics.iter().any(|d| d.message == expected),
+            "{name}: {:?}",
+            compiled
+                .diagnostics
+                .iter()
+                .map(|d| &d.message)
+                .collect::<Vec<_>>()
+        );
+    }
+}
