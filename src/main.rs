@@ -539,7 +539,8 @@ impl Job {
             let table = sources.add(path.display().to_string(), text);
             match ger::tool_table::parse(sources.text(table), table) {
                 Ok(tools) => compile_options.eval.tools = tools,
-                Err(diagnostics) => {
+                Err(errors) => {
+                    let diagnostics: Vec<_> = errors.iter().map(|e| e.to_diagnostic()).collect();
                     eprint!("{}", ger::diagnostic::render(&sources, &diagnostics));
                     return Err(ExitCode::from(1));
                 }
