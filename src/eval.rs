@@ -827,7 +827,7 @@ impl<'a> Evaluator<'a> {
                 .setup
                 .apply(directive, &values, name_span, &arg_spans, self.names)
             {
-                self.report(d);
+                self.report(d.to_diagnostic());
             }
             return Flow::Next;
         }

@@ -99,7 +99,7 @@ impl SetupBuilder {
         span: Span,
         arg_spans: &[Span],
         names: &Names,
-    ) -> Result<(), Diagnostic> {
+    ) -> Result<(), SetupError> {
         let a = Args {
             directive,
             values: args,
@@ -117,16 +117,15 @@ impl SetupBuilder {
     }
 
     /// `SetUnits "inch"|"mm"`.
-    fn units(&mut self, a: &Args<'_>) -> Result<(), Diagnostic> {
+    fn units(&mut self, a: &Args<'_>) -> Result<(), SetupError> {
         a.arity(1..=1, "1 argument")?;
         let units = match a.text(0)?.to_ascii_lowercase().as_str() {
             "inch" | "in" => Units::Inch,
             "mm" => Units::Mm,
             other => {
-                return Err(error(
-                    format!("unknown units \"{other}\""),
+                return Err(SetupError::new(
+                    SetupErrorKind::UnknownUnits(other.to_string()),
                     a.spans[0],
-                    "expected \"inch\" or \"mm\"",
                 ))
             }
         };
@@ -136,18 +135,18 @@ impl SetupBuilder {
     }
 
     /// `SetMargin m`.
-    fn margin(&mut self, a: &Args<'_>) -> Result<(), Diagnostic> {
+    fn margin(&mut self, a: &Args<'_>) -> Result<(), SetupError> {
         a.arity(1..=1, "1 argument")?;
         let m = a.number(0)?;
         if m < 0.0 {
-            return Err(error("negative margin", a.spans[0], "must be 0 or more"));
+            return Err(SetupError::new(SetupErrorKind::NegativeMargin, a.spans[0]));
         }
         self.setup.margin = Some(m);
         self.define((a.directive, 0), a.span)
     }
 
     /// `SetPart x y z` (the stock) or `SetZero x y z`.
-    fn part_or_zero(&mut self, a: &Args<'_>) -> Result<(), Diagnostic> {
+    fn part_or_zero(&mut self, a: &Args<'_>) -> Result<(), SetupError> {
         a.arity(3..=3, "3 arguments")?;
         if a.directive == Directive::Part {
             let size = |i| a.positive(i, "the stock size");
@@ -160,15 +159,11 @@ impl SetupBuilder {
 
     /// `SetTool n diameter [length] [shape]`; without a length, the
     /// tool's length is not known (a G43 for it passes through).
-    fn tool(&mut self, a: &Args<'_>) -> Result<(), Diagnostic> {
+    fn tool(&mut self, a: &Args<'_>) -> Result<(), SetupError> {
         a.arity(2..=4, "2 to 4 arguments")?;
         let n = a.number(0)?;
         if n < 0.0 || n.fract() != 0.0 || n > 99_999.0 {
-            return Err(error(
-                "invalid tool number",
-                a.spans[0],
-                "a whole number from 0",
-            ));
+            return Err(SetupError::new(SetupErrorKind::ToolNumber, a.spans[0]));
         }
         let diameter = a.positive(1, "the tool diameter")?;
         let mut length = None;
@@ -178,10 +173,9 @@ impl SetupBuilder {
                 Value::Number(_) if i == 2 => length = Some(a.number(2)?),
                 Value::Str(s) if i == a.values.len() - 1 => {
                     shape = ToolShape::from_name(a.names.text(s)).ok_or_else(|| {
-                        error(
-                            format!("unknown tool shape \"{}\"", a.names.text(s)),
+                        SetupError::new(
+                            SetupErrorKind::ToolShape(a.names.text(s).to_string()),
                             a.spans[i],
-                            "expected \"flat\", \"ball\", \"drill\" or \"vee\"",
                         )
                     })?
                 }
@@ -201,15 +195,11 @@ impl SetupBuilder {
     }
 
     /// `SetOffset 55..59 x y z`.
-    fn offset(&mut self, a: &Args<'_>) -> Result<(), Diagnostic> {
+    fn offset(&mut self, a: &Args<'_>) -> Result<(), SetupError> {
         a.arity(4..=4, "4 arguments")?;
         let n = a.number(0)?;
         if !(55.0..=59.0).contains(&n) || n.fract() != 0.0 {
-            return Err(error(
-                "invalid work offset",
-                a.spans[0],
-                "SetOffset takes 55 to 59 (G54 is the program zero itself)",
-            ));
+            return Err(SetupError::new(SetupErrorKind::WorkOffset, a.spans[0]));
         }
         let index = (n as u32 - 53) as u8;
         self.define((a.directive, index as u32), a.span)?;
@@ -218,14 +208,15 @@ impl SetupBuilder {
         Ok(())
     }
 
-    fn define(&mut self, key: (Directive, u32), span: Span) -> Result<(), Diagnostic> {
+    fn define(&mut self, key: (Directive, u32), span: Span) -> Result<(), SetupError> {
         if let Some(&first) = self.defined.get(&key) {
-            return Err(error(
-                format!("{} given twice", Directive::NAMES[key.0 as usize]),
+            return Err(SetupError::new(
+                SetupErrorKind::Twice {
+                    directive: key.0,
+                    first,
+                },
                 span,
-                "second definition",
-            )
-            .with_secondary(first, "first definition"));
+            ));
         }
         self.defined.insert(key, span);
         Ok(())
@@ -246,8 +237,8 @@ impl Args<'_> {
     fn arity(
         &self,
         count: std::ops::RangeInclusive<usize>,
-        wanted: &str,
-    ) -> Result<(), Diagnostic> {
+        wanted: &'static str,
+    ) -> Result<(), SetupError> {
         if count.contains(&self.values.len()) {
             Ok(())
         } else {
@@ -255,61 +246,157 @@ impl Args<'_> {
         }
     }
 
-    fn arity_error(&self, wanted: &str) -> Diagnostic {
+    fn arity_error(&self, wanted: &'static str) -> SetupError {
         let at = self.spans.first().map_or(self.span, |first| {
             first.to(*self.spans.last().unwrap_or(first))
         });
-        error(
-            format!(
-                "wrong arguments for {}",
-                Directive::NAMES[self.directive as usize]
-            ),
+        SetupError::new(
+            SetupErrorKind::Arity {
+                directive: self.directive,
+                wanted,
+                given: self.values.len(),
+            },
             at,
-            format!("{wanted}, {} given", self.values.len()),
         )
-        .with_note(format!("usage: {}", self.directive.signature()))
     }
 
-    fn number(&self, i: usize) -> Result<f64, Diagnostic> {
+    fn number(&self, i: usize) -> Result<f64, SetupError> {
         match self.values[i] {
-            Value::Number(n) if !ir::is_length(n) => Err(super::out_of_range(
-                "out of range".into(),
-                "numbers here",
-                n,
+            Value::Number(n) if !ir::is_length(n) => Err(SetupError::new(
+                SetupErrorKind::OutOfRange(n),
                 self.spans[i],
             )),
             Value::Number(n) => Ok(n),
-            other => Err(error(
-                "expected a number",
-                self.spans[i],
-                format!("this is {}", other.type_name()),
-            )
-            .with_note(format!("usage: {}", self.directive.signature()))),
+            other => Err(self.wrong_type(i, "a number", other)),
         }
     }
 
-    fn text(&self, i: usize) -> Result<&str, Diagnostic> {
+    fn text(&self, i: usize) -> Result<&str, SetupError> {
         match self.values[i] {
             Value::Str(s) => Ok(self.names.text(s)),
-            other => Err(error(
-                "expected a string",
-                self.spans[i],
-                format!("this is {}", other.type_name()),
-            )
-            .with_note(format!("usage: {}", self.directive.signature()))),
+            other => Err(self.wrong_type(i, "a string", other)),
         }
     }
 
-    fn positive(&self, i: usize, what: &str) -> Result<f64, Diagnostic> {
+    fn wrong_type(&self, i: usize, expected: &'static str, found: Value) -> SetupError {
+        SetupError::new(
+            SetupErrorKind::WrongType {
+                directive: self.directive,
+                expected,
+                found: found.type_name(),
+            },
+            self.spans[i],
+        )
+    }
+
+    fn positive(&self, i: usize, what: &'static str) -> Result<f64, SetupError> {
         let v = self.number(i)?;
         if v > 0.0 {
             Ok(v)
         } else {
-            Err(error(
-                format!("{what} must be positive"),
+            Err(SetupError::new(
+                SetupErrorKind::NotPositive(what),
                 self.spans[i],
-                "not > 0",
             ))
+        }
+    }
+}
+
+/// What a setup directive can get wrong.
+#[derive(Clone, Debug, PartialEq)]
+pub enum SetupErrorKind {
+    UnknownUnits(String),
+    NegativeMargin,
+    ToolNumber,
+    ToolShape(String),
+    WorkOffset,
+    /// The same entry again; the span of the first.
+    Twice {
+        directive: Directive,
+        first: Span,
+    },
+    Arity {
+        directive: Directive,
+        wanted: &'static str,
+        given: usize,
+    },
+    OutOfRange(f64),
+    WrongType {
+        directive: Directive,
+        expected: &'static str,
+        found: &'static str,
+    },
+    /// What must be positive.
+    NotPositive(&'static str),
+}
+
+#[derive(Clone, Debug, PartialEq)]
+pub struct SetupError {
+    pub kind: SetupErrorKind,
+    pub span: Span,
+}
+
+impl SetupError {
+    fn new(kind: SetupErrorKind, span: Span) -> SetupError {
+        SetupError { kind, span }
+    }
+
+    pub fn to_diagnostic(&self) -> Diagnostic {
+        let at = self.span;
+        let usage = |d: &Directive| format!("usage: {}", d.signature());
+        match &self.kind {
+            SetupErrorKind::UnknownUnits(units) => error(
+                format!("unknown units \"{units}\""),
+                at,
+                "expected \"inch\" or \"mm\"",
+            ),
+            SetupErrorKind::NegativeMargin => error("negative margin", at, "must be 0 or more"),
+            SetupErrorKind::ToolNumber => error("invalid tool number", at, "a whole number from 0"),
+            SetupErrorKind::ToolShape(shape) => error(
+                format!("unknown tool shape \"{shape}\""),
+                at,
+                "expected \"flat\", \"ball\", \"drill\" or \"vee\"",
+            ),
+            SetupErrorKind::WorkOffset => error(
+                "invalid work offset",
+                at,
+                "SetOffset takes 55 to 59 (G54 is the program zero itself)",
+            ),
+            SetupErrorKind::Twice { directive, first } => error(
+                format!("{} given twice", Directive::NAMES[*directive as usize]),
+                at,
+                "second definition",
+            )
+            .with_secondary(*first, "first definition"),
+            SetupErrorKind::Arity {
+                directive,
+                wanted,
+                given,
+            } => error(
+                format!(
+                    "wrong arguments for {}",
+                    Directive::NAMES[*directive as usize]
+                ),
+                at,
+                format!("{wanted}, {given} given"),
+            )
+            .with_note(usage(directive)),
+            SetupErrorKind::OutOfRange(n) => {
+                super::out_of_range("out of range".into(), "numbers here", *n, at)
+            }
+            SetupErrorKind::WrongType {
+                directive,
+                expected,
+                found,
+            } => error(
+                format!("expected {expected}"),
+                at,
+                format!("this is {found}"),
+            )
+            .with_note(usage(directive)),
+            SetupErrorKind::NotPositive(what) => {
+                error(format!("{what} must be positive"), at, "not > 0")
+            }
         }
     }
 }
