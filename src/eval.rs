@@ -346,7 +346,8 @@ impl<'a> Evaluator<'a> {
             )
             .with_help("check the loops and subprogram repeats"));
         }
-        self.check_under_comp(&op, span)?;
+        self.check_under_comp(&op, span)
+            .map_err(|e| e.to_diagnostic())?;
         match &op {
             ir::Op::Comp { side, .. } => self.comp = Some((*side, span)),
             ir::Op::CompOff | ir::Op::End => self.comp = None,

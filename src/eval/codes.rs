@@ -334,7 +334,7 @@ impl Evaluator<'_> {
                 return self.leftover_move(w, span, code).map(|_| Flow::Next);
             }
             400 => Op::CompOff,
-            410 | 420 | 411 | 421 => self.comp_on(t, at, w)?,
+            410 | 420 | 411 | 421 => self.comp_on(t, at, w).map_err(|e| e.to_diagnostic())?,
             430 | 440 => {
                 let tool = match w.take(b'H') {
                     Some((h, hspan)) => whole(h, hspan, "a tool number")?,

@@ -14,7 +14,7 @@ impl Evaluator<'_> {
         t: u32,
         at: Span,
         w: &mut WordValues,
-    ) -> Result<Op, Diagnostic> {
+    ) -> Result<Op, CompBlockError> {
         let name = match t {
             410 => "G41",
             420 => "G42",
@@ -22,19 +22,15 @@ impl Evaluator<'_> {
             _ => "G42.1",
         };
         if let Some((_, since)) = self.comp {
-            return Err(error(
-                format!("{name} while cutter compensation is on"),
+            return Err(CompBlockError::new(
+                CompBlockErrorKind::AlreadyOn { code: name, since },
                 at,
-                "compensation is already on",
-            )
-            .with_secondary(since, "turned on here")
-            .with_help("turn it off with G40 first, also to change sides"));
+            ));
         }
         if self.plane == ir::Plane::YZ {
-            return Err(error(
-                format!("{name} in the YZ plane (G19)"),
+            return Err(CompBlockError::new(
+                CompBlockErrorKind::PlaneYz { code: name },
                 at,
-                "compensation works in G17 (XY) and G18 (XZ)",
             ));
         }
         let side = if t == 410 || t == 411 {
@@ -46,12 +42,10 @@ impl Evaluator<'_> {
             (410 | 420, None) => CompRadius::LoadedTool,
             (410 | 420, Some((d, dspan))) => {
                 if d < 0.0 || (d - d.round()).abs() > 1e-4 || d > 99_999.0 {
-                    return Err(error(
-                        format!("{name} D must be a tool number"),
+                    return Err(CompBlockError::new(
+                        CompBlockErrorKind::DNotATool { code: name },
                         dspan,
-                        "D names a tool of the tool table (LinuxCNC), a whole number",
-                    )
-                    .with_help("G41.1 D… takes the cutter's diameter instead"));
+                    ));
                 }
                 match d.round() as u32 {
                     0 => CompRadius::LoadedTool,
@@ -60,10 +54,9 @@ impl Evaluator<'_> {
             }
             (_, Some((d, _))) => CompRadius::Diameter(d),
             (_, None) => {
-                return Err(error(
-                    format!("{name} without D"),
+                return Err(CompBlockError::new(
+                    CompBlockErrorKind::NoDiameter { code: name },
                     at,
-                    "D gives the cutter's diameter",
                 ))
             }
         };
@@ -72,7 +65,7 @@ impl Evaluator<'_> {
 
     /// What may not happen under compensation: an error naming it, with
     /// the line that turned compensation on.
-    pub(super) fn check_under_comp(&self, op: &Op, span: Span) -> Result<(), Diagnostic> {
+    pub(super) fn check_under_comp(&self, op: &Op, span: Span) -> Result<(), CompBlockError> {
         let Some((_, since)) = self.comp else {
             return Ok(());
         };
@@ -92,12 +85,83 @@ impl Evaluator<'_> {
             Op::Polar(true) => "polar coordinates (G16)",
             _ => return Ok(()),
         };
-        Err(error(
-            format!("{what} under cutter compensation"),
+        Err(CompBlockError::new(
+            CompBlockErrorKind::UnderComp { what, since },
             span,
-            "not allowed while compensation is on",
-        )
-        .with_secondary(since, "compensation turned on here")
-        .with_help("turn compensation off with G40 before it"))
+        ))
+    }
+}
+
+/// What a compensation block, or a block under compensation, gets wrong.
+#[derive(Clone, Debug, PartialEq)]
+pub enum CompBlockErrorKind {
+    /// G41/G42 again; where compensation was turned on.
+    AlreadyOn {
+        code: &'static str,
+        since: Span,
+    },
+    PlaneYz {
+        code: &'static str,
+    },
+    /// G41/G42 D that is not a tool number.
+    DNotATool {
+        code: &'static str,
+    },
+    /// G41.1/G42.1 without its diameter.
+    NoDiameter {
+        code: &'static str,
+    },
+    /// What may not happen under compensation; where it was turned on.
+    UnderComp {
+        what: &'static str,
+        since: Span,
+    },
+}
+
+#[derive(Clone, Debug, PartialEq)]
+pub struct CompBlockError {
+    pub kind: CompBlockErrorKind,
+    pub span: Span,
+}
+
+impl CompBlockError {
+    fn new(kind: CompBlockErrorKind, span: Span) -> CompBlockError {
+        CompBlockError { kind, span }
+    }
+
+    pub fn to_diagnostic(&self) -> Diagnostic {
+        let at = self.span;
+        match &self.kind {
+            CompBlockErrorKind::AlreadyOn { code, since } => error(
+                format!("{code} while cutter compensation is on"),
+                at,
+                "compensation is already on",
+            )
+            .with_secondary(*since, "turned on here")
+            .with_help("turn it off with G40 first, also to change sides"),
+            CompBlockErrorKind::PlaneYz { code } => error(
+                format!("{code} in the YZ plane (G19)"),
+                at,
+                "compensation works in G17 (XY) and G18 (XZ)",
+            ),
+            CompBlockErrorKind::DNotATool { code } => error(
+                format!("{code} D must be a tool number"),
+                at,
+                "D names a tool of the tool table (LinuxCNC), a whole number",
+            )
+            .with_help("G41.1 D… takes the cutter's diameter instead"),
+            CompBlockErrorKind::NoDiameter { code } => error(
+                format!("{code} without D"),
+                at,
+                "D gives the cutter's diameter",
+            ),
+            CompBlockErrorKind::UnderComp { what, since } => error(
+                format!("{what} under cutter compensation"),
+                at,
+                "not allowed while compensation is on",
+            )
+            .with_secondary(*since, "compensation turned on here")
+            .with_help("turn compensation off with G40 before it"),
+        }
     }
 }
