@@ -112,7 +112,6 @@ impl Evaluator<'_> {
         span: Span,
     ) -> Result<(), Diagnostic> {
         let at_code = code.unwrap_or(span);
-        let name = format!("G{}", kind.code());
         if !self.return_level_stated {
             let from = self.options.from;
             self.warn_once((b'G', 989), || {
@@ -135,11 +134,9 @@ impl Evaluator<'_> {
             .into_iter()
             .find_map(|l| w.given(l).map(|s| (l, s)))
         {
-            return Err(error(
-                format!("`{}` in a canned cycle", letter as char),
-                at,
-                "a cycle moves only X, Y and Z",
-            ));
+            return Err(
+                CycleBlockError::new(CycleBlockErrorKind::OtherAxis(letter as char), at).into(),
+            );
         }
         let (a, b, n) = self.plane.axes();
         let [a, b, n] = [a, b, n].map(|i| Axis::ALL[i]);
@@ -150,28 +147,18 @@ impl Evaluator<'_> {
             }
         }
         if at.is_empty() {
-            return Err(error(
-                format!("{name} without a hole"),
-                at_code,
-                "no X, Y or Z here",
-            )
-            .with_help("give the hole's position and depth: `G81 X10 Y5 Z-3 R1`"));
+            return Err(CycleBlockError::new(CycleBlockErrorKind::NoHole(kind), at_code).into());
         }
         let sticky = self.sticky;
-        let missing = |what: String, help: &str| {
-            error(
-                format!("{name} without {what}"),
-                at_code,
-                "the first block of a cycle gives it",
-            )
-            .with_help(help.to_string())
+        let missing = |what: char, help: &'static str| -> Diagnostic {
+            CycleBlockError::new(CycleBlockErrorKind::Missing { kind, what, help }, at_code).into()
         };
         let r = match w.take(b'R') {
             Some((r, _)) => r,
             None if repeat => sticky.r,
             None => {
                 return Err(missing(
-                    "R".into(),
+                    'R',
                     "R is the level the hole starts from: `G81 X10 Y5 Z-3 R1`",
                 ))
             }
@@ -181,7 +168,7 @@ impl Evaluator<'_> {
             None if repeat => sticky.depth,
             None => {
                 return Err(missing(
-                    format!("{}", n.letter() as char),
+                    n.letter() as char,
                     "the normal axis of the plane gives the hole's bottom",
                 ))
             }
@@ -191,18 +178,18 @@ impl Evaluator<'_> {
             let q = match w.take(b'Q') {
                 Some((q, qspan)) => {
                     if q <= 0.0 {
-                        return Err(error(
-                            "a peck depth that is not positive",
+                        return Err(CycleBlockError::new(
+                            CycleBlockErrorKind::PeckNotPositive,
                             qspan,
-                            "Q must be more than 0",
-                        ));
+                        )
+                        .into());
                     }
                     q
                 }
                 None if repeat => sticky.q,
                 None => {
                     return Err(missing(
-                        "Q".into(),
+                        'Q',
                         "Q is the depth of each peck: `G83 X10 Z-12 R1 Q3`",
                     ))
                 }
@@ -217,7 +204,7 @@ impl Evaluator<'_> {
                 None if repeat || !needs_dwell(kind) => Some(sticky.p),
                 None => {
                     return Err(missing(
-                        "P".into(),
+                        'P',
                         "P is the dwell at the bottom in seconds: `G82 X10 Z-3 R1 P0.5`",
                     ))
                 }
@@ -233,7 +220,7 @@ impl Evaluator<'_> {
                     Some((v, _)) => Some(v),
                     None if repeat => Some(sticky.ijk[i]),
                     None => return Err(missing(
-                        format!("{}", letter as char),
+                        letter as char,
                         "G87 needs I, J (the offset to pass the bar) and K (the back-bore level)",
                     )),
                 };
@@ -243,61 +230,44 @@ impl Evaluator<'_> {
         }
         let repeats = match (w.take(b'L'), fanuc_k) {
             (Some(_), Some((_, kspan))) => {
-                return Err(error(
-                    "both L and K",
-                    kspan,
-                    "L and Fanuc's K both count the holes; give one",
-                ))
+                return Err(CycleBlockError::new(CycleBlockErrorKind::BothLAndK, kspan).into())
             }
             (Some((l, lspan)), None) | (None, Some((l, lspan))) => {
                 if l < 1.0 || l.fract() != 0.0 || l > MAX_PECKS as f64 {
-                    return Err(error(
-                        "a repeat count that is not a whole number from 1",
-                        lspan,
-                        format!("the count of holes, 1 to {MAX_PECKS}"),
-                    ));
+                    return Err(
+                        CycleBlockError::new(CycleBlockErrorKind::RepeatCount, lspan).into(),
+                    );
                 }
                 l as u32
             }
             (None, None) => 1,
         };
         if r < depth && self.distance == ir::Distance::Absolute {
-            return Err(error(
-                "R below the hole's bottom",
+            let axis = n.letter() as char;
+            return Err(CycleBlockError::new(
+                CycleBlockErrorKind::RBelowBottom { r, axis, depth },
                 at_code,
-                format!("R{r} is below {}{depth}", n.letter() as char),
             )
-            .with_help("R is the level the hole starts from, above its bottom"));
+            .into());
         }
         if self.distance == ir::Distance::Incremental && depth > 0.0 {
-            return Err(error(
-                "R below the hole's bottom",
+            let axis = n.letter() as char;
+            return Err(CycleBlockError::new(
+                CycleBlockErrorKind::BottomAboveR { axis, depth },
                 at_code,
-                format!(
-                    "under G91 {}{depth} is measured from R, and goes up",
-                    n.letter() as char
-                ),
-            ));
+            )
+            .into());
         }
         if let Some(needed) = spindle_needed(kind) {
             self.check_spindle(kind, needed, at_code)?;
         }
         if !self.feed_set {
-            return Err(error(
-                "a canned cycle before any feed rate",
-                at_code,
-                "no F word has been given yet",
-            )
-            .with_help("set the feed on this line or before it: `G81 X10 Z-3 R1 F100`"));
+            return Err(CycleBlockError::new(CycleBlockErrorKind::NoFeed, at_code).into());
         }
         let pecks = match q {
             Some(q) if self.distance == ir::Distance::Absolute => {
-                Some(count_pecks(r, depth, q).ok_or_else(|| {
-                    error(
-                        format!("more than {MAX_PECKS} pecks in one hole"),
-                        at_code,
-                        "Q is very small for this depth",
-                    )
+                Some(count_pecks(r, depth, q).ok_or_else(|| -> Diagnostic {
+                    CycleBlockError::new(CycleBlockErrorKind::TooManyPecks, at_code).into()
                 })?)
             }
             _ => None,
@@ -351,9 +321,122 @@ impl Evaluator<'_> {
             CycleKind::G74 => "G74 taps left-hand: start the spindle with M4",
             _ => "start the spindle with M3 or M4 before the cycle",
         };
-        Err(
-            error(format!("G{} needs the spindle", kind.code()), at, label)
-                .with_help(help.to_string()),
-        )
+        Err(CycleBlockError::new(CycleBlockErrorKind::NoSpindle { kind, label, help }, at).into())
+    }
+}
+
+/// What a canned cycle block gets wrong.
+#[derive(Clone, Debug, PartialEq)]
+pub enum CycleBlockErrorKind {
+    /// An A B C U V W word.
+    OtherAxis(char),
+    NoHole(CycleKind),
+    /// A word the first block of a run must give, and how to give it.
+    Missing {
+        kind: CycleKind,
+        what: char,
+        help: &'static str,
+    },
+    PeckNotPositive,
+    BothLAndK,
+    RepeatCount,
+    RBelowBottom {
+        r: f64,
+        axis: char,
+        depth: f64,
+    },
+    /// Under G91 the depth is measured from R and must go down.
+    BottomAboveR {
+        axis: char,
+        depth: f64,
+    },
+    NoFeed,
+    TooManyPecks,
+    /// The spindle is off or turns the wrong way.
+    NoSpindle {
+        kind: CycleKind,
+        label: &'static str,
+        help: &'static str,
+    },
+}
+
+#[derive(Clone, Debug, PartialEq)]
+pub struct CycleBlockError {
+    pub kind: CycleBlockErrorKind,
+    pub span: Span,
+}
+
+impl CycleBlockError {
+    fn new(kind: CycleBlockErrorKind, span: Span) -> CycleBlockError {
+        CycleBlockError { kind, span }
+    }
+
+    pub fn to_diagnostic(&self) -> Diagnostic {
+        let at = self.span;
+        match &self.kind {
+            CycleBlockErrorKind::OtherAxis(letter) => error(
+                format!("`{letter}` in a canned cycle"),
+                at,
+                "a cycle moves only X, Y and Z",
+            ),
+            CycleBlockErrorKind::NoHole(kind) => error(
+                format!("G{} without a hole", kind.code()),
+                at,
+                "no X, Y or Z here",
+            )
+            .with_help("give the hole's position and depth: `G81 X10 Y5 Z-3 R1`"),
+            CycleBlockErrorKind::Missing { kind, what, help } => error(
+                format!("G{} without {what}", kind.code()),
+                at,
+                "the first block of a cycle gives it",
+            )
+            .with_help(*help),
+            CycleBlockErrorKind::PeckNotPositive => error(
+                "a peck depth that is not positive",
+                at,
+                "Q must be more than 0",
+            ),
+            CycleBlockErrorKind::BothLAndK => error(
+                "both L and K",
+                at,
+                "L and Fanuc's K both count the holes; give one",
+            ),
+            CycleBlockErrorKind::RepeatCount => error(
+                "a repeat count that is not a whole number from 1",
+                at,
+                format!("the count of holes, 1 to {MAX_PECKS}"),
+            ),
+            CycleBlockErrorKind::RBelowBottom { r, axis, depth } => error(
+                "R below the hole's bottom",
+                at,
+                format!("R{r} is below {axis}{depth}"),
+            )
+            .with_help("R is the level the hole starts from, above its bottom"),
+            CycleBlockErrorKind::BottomAboveR { axis, depth } => error(
+                "R below the hole's bottom",
+                at,
+                format!("under G91 {axis}{depth} is measured from R, and goes up"),
+            ),
+            CycleBlockErrorKind::NoFeed => error(
+                "a canned cycle before any feed rate",
+                at,
+                "no F word has been given yet",
+            )
+            .with_help("set the feed on this line or before it: `G81 X10 Z-3 R1 F100`"),
+            CycleBlockErrorKind::TooManyPecks => error(
+                format!("more than {MAX_PECKS} pecks in one hole"),
+                at,
+                "Q is very small for this depth",
+            ),
+            CycleBlockErrorKind::NoSpindle { kind, label, help } => {
+                error(format!("G{} needs the spindle", kind.code()), at, *label).with_help(*help)
+            }
+        }
+    }
+}
+
+impl From<CycleBlockError> for Diagnostic {
+    fn from(e: CycleBlockError) -> Diagnostic {
+        e.to_diagnostic()
     }
 }
