@@ -9,12 +9,13 @@ mod block;
 mod codes;
 mod comp;
 mod cycle;
+mod error;
 pub use cycle::{count_pecks, MAX_PECKS};
 mod setup;
 pub mod value;
 
 use crate::ast::{self, Names, StmtKind, Symbol};
-use crate::diagnostic::{error, warning, Diagnostic, DiagnosticExt};
+use crate::diagnostic::Diagnostic;
 use crate::ir;
 use crate::source::Span;
 use value::{ExprError, Slot, Value};
@@ -169,12 +170,7 @@ pub fn eval_program<'a>(
 
 /// `value`, given at `span`, is beyond ±[`ir::MAX_LENGTH`]; `what` names
 /// the kind of number for the note.
-fn out_of_range(message: String, what: &str, value: f64, span: Span) -> Diagnostic {
-    error(message, span, format!("this is {value:e}")).with_note(format!(
-        "{what} must be between -{0} and {0}",
-        ir::MAX_LENGTH
-    ))
-}
+use error::{out_of_range, EvalError, EvalErrorKind};
 
 /// How a block finished.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -336,15 +332,11 @@ impl<'a> Evaluator<'a> {
 
     fn emit(&mut self, op: ir::Op, span: Span) -> Result<(), Diagnostic> {
         if self.made >= self.options.max_statements {
-            return Err(error(
-                format!(
-                    "the program makes more than {} statements",
-                    self.options.max_statements
-                ),
+            return Err(EvalError::new(
+                EvalErrorKind::TooManyStatements(self.options.max_statements),
                 span,
-                "the limit was reached here",
             )
-            .with_help("check the loops and subprogram repeats"));
+            .to_diagnostic());
         }
         self.check_under_comp(&op, span)
             .map_err(|e| e.to_diagnostic())?;
@@ -353,12 +345,7 @@ impl<'a> Evaluator<'a> {
             ir::Op::CompOff | ir::Op::End => self.comp = None,
             ir::Op::Feed(_) => self.feed_set = true,
             ir::Op::Move(m) if m.motion != ir::Motion::Rapid && !self.feed_set => {
-                return Err(error(
-                    "a feed move before any feed rate",
-                    span,
-                    "no F word has been given yet",
-                )
-                .with_help("set the feed on this line or before it: `G1 X10 F300`"));
+                return Err(EvalError::new(EvalErrorKind::FeedBeforeRate, span).to_diagnostic());
             }
             _ => {}
         }
@@ -412,15 +399,7 @@ impl<'a> Evaluator<'a> {
         let setup = self.setup.get().clone();
         let output_units = setup.units.or(self.first_units).or(self.options.units);
         if output_units.is_none() && at != Span::default() {
-            self.report(
-                warning(
-                    "the program does not state its units",
-                    at,
-                    "this move runs in the machine's units",
-                )
-                .with_note("nothing is converted and no G20/G21 is written")
-                .with_help("add G21 (mm) or G20 (inch) at the top, or pass --units mm|inch"),
-            );
+            self.report(EvalError::new(EvalErrorKind::UnitsUnstated, at).to_diagnostic());
         }
         let start = ir::Start {
             program_units: self.options.units.or(setup.units),
@@ -590,12 +569,8 @@ impl<'a> Evaluator<'a> {
             StmtKind::Command(c) => {
                 let text = self.names.text(*c).to_string();
                 self.warn_once((b'$', 0), || {
-                    warning(
-                        format!("`{text}` is passed through"),
-                        stmt.span,
-                        "a command to the controller, not G-code",
-                    )
-                    .with_note("ger writes controller commands as they are, in their place")
+                    EvalError::new(EvalErrorKind::CommandPassedThrough(text.clone()), stmt.span)
+                        .to_diagnostic()
                 });
                 let op = ir::Op::Passthrough(ir::Passthrough::Line(text));
                 self.emit_or_abort(op, stmt.span)
@@ -716,15 +691,8 @@ impl<'a> Evaluator<'a> {
                     ..span
                 };
                 self.report(
-                    error(
-                        format!(
-                            "this loop ran more than {} times",
-                            self.options.max_iterations
-                        ),
-                        head,
-                        "loop stopped here",
-                    )
-                    .with_help("check that the condition becomes false, or raise --max-iterations"),
+                    EvalError::new(EvalErrorKind::LoopLimit(self.options.max_iterations), head)
+                        .to_diagnostic(),
                 );
                 return Flow::Abort;
             }
@@ -740,14 +708,7 @@ impl<'a> Evaluator<'a> {
                     end: cond.span.end + 1,
                     ..span
                 };
-                self.report(
-                    error(
-                        "this loop never ends",
-                        head,
-                        "a pass through it changed no variable, so the condition stays true",
-                    )
-                    .with_help("change a variable the condition reads inside the loop"),
-                );
+                self.report(EvalError::new(EvalErrorKind::LoopNeverEnds, head).to_diagnostic());
                 return Flow::Abort;
             }
         }
@@ -763,11 +724,7 @@ impl<'a> Evaluator<'a> {
     /// reported).
     fn assigned(&mut self, name: Symbol, name_span: Span, value: &ast::Expr) -> Option<Slot> {
         if self.names.text(name) == "PI" {
-            self.report(error(
-                "`PI` is a constant",
-                name_span,
-                "cannot assign to it",
-            ));
+            self.report(EvalError::new(EvalErrorKind::AssignToPi, name_span).to_diagnostic());
             return None;
         }
         let result = match value::fast_number(value, &self.vars) {
@@ -812,15 +769,13 @@ impl<'a> Evaluator<'a> {
         let arg_spans: Vec<Span> = args.iter().map(|a| a.span).collect();
         if let Some(directive) = directive {
             if let Some(first) = self.first_move {
-                let name = setup::Directive::NAMES[directive as usize];
+                let directive = setup::Directive::NAMES[directive as usize];
                 self.report(
-                    error(
-                        format!("`{name}` after the first move"),
+                    EvalError::new(
+                        EvalErrorKind::SetupAfterFirstMove { directive, first },
                         name_span,
-                        "the machine setup must be complete before the tool moves",
                     )
-                    .with_secondary(first, "the first move")
-                    .with_help("put the setup directives at the top of the program"),
+                    .to_diagnostic(),
                 );
                 return Flow::Next;
             }
@@ -863,14 +818,9 @@ impl<'a> Evaluator<'a> {
     }
 
     fn unknown_wizard(&mut self, text: &str, span: Span, known: &[String]) {
-        let mut d = error(
-            format!("unknown wizard `{text}`"),
-            span,
-            "no wizard or directive has this name",
-        );
         let mut candidates: Vec<&str> = setup::Directive::NAMES.to_vec();
         candidates.extend(known.iter().map(String::as_str));
-        if let Some(close) = candidates
+        let nearest = candidates
             .iter()
             .map(|c| {
                 (
@@ -880,14 +830,12 @@ impl<'a> Evaluator<'a> {
             })
             .filter(|(d, _)| *d <= 2)
             .min_by_key(|(d, _)| *d)
-        {
-            d = d.with_help(format!("did you mean `{}`?", close.1));
-        } else {
-            d = d.with_note(
-                "a statement that starts with a name is an assignment (`Name = …`) or a wizard call; `;` ends a statement, so comments are written `( … )` or `//`",
-            );
-        }
-        self.report(d);
+            .map(|(_, c)| c.to_string());
+        let kind = EvalErrorKind::UnknownWizard {
+            name: text.to_string(),
+            nearest,
+        };
+        self.report(EvalError::new(kind, span).to_diagnostic());
     }
 }
 

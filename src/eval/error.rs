@@ -1,0 +1,118 @@
+//! The evaluator's own problems (limits, loops, the order of a program's
+//! parts, names it does not know), as data with one wording function. The
+//! problems of one kind of block have their own enums beside the code
+//! that finds them (`setup`, `comp`, `cycle`, the expressions of `value`).
+
+use crate::diagnostic::{error, warning, Diagnostic, DiagnosticExt};
+use crate::ir;
+use crate::source::Span;
+
+#[derive(Clone, Debug, PartialEq)]
+pub enum EvalErrorKind {
+    /// More statements than `--max-statements` allows.
+    TooManyStatements(usize),
+    FeedBeforeRate,
+    /// A warning: the program never says its units.
+    UnitsUnstated,
+    /// A warning: a controller command (`$H`) written through.
+    CommandPassedThrough(String),
+    /// A loop ran more than `--max-iterations` times.
+    LoopLimit(u64),
+    /// A loop pass changed no variable.
+    LoopNeverEnds,
+    AssignToPi,
+    /// A setup directive after the first move (where it was).
+    SetupAfterFirstMove {
+        directive: &'static str,
+        first: Span,
+    },
+    /// A name that is no wizard or directive, and the nearest one there is.
+    UnknownWizard {
+        name: String,
+        nearest: Option<String>,
+    },
+}
+
+#[derive(Clone, Debug, PartialEq)]
+pub struct EvalError {
+    pub kind: EvalErrorKind,
+    pub span: Span,
+}
+
+impl EvalError {
+    pub fn new(kind: EvalErrorKind, span: Span) -> EvalError {
+        EvalError { kind, span }
+    }
+
+    pub fn to_diagnostic(&self) -> Diagnostic {
+        let at = self.span;
+        match &self.kind {
+            EvalErrorKind::TooManyStatements(limit) => error(
+                format!("the program makes more than {limit} statements"),
+                at,
+                "the limit was reached here",
+            )
+            .with_help("check the loops and subprogram repeats"),
+            EvalErrorKind::FeedBeforeRate => error(
+                "a feed move before any feed rate",
+                at,
+                "no F word has been given yet",
+            )
+            .with_help("set the feed on this line or before it: `G1 X10 F300`"),
+            EvalErrorKind::UnitsUnstated => warning(
+                "the program does not state its units",
+                at,
+                "this move runs in the machine's units",
+            )
+            .with_note("nothing is converted and no G20/G21 is written")
+            .with_help("add G21 (mm) or G20 (inch) at the top, or pass --units mm|inch"),
+            EvalErrorKind::CommandPassedThrough(text) => warning(
+                format!("`{text}` is passed through"),
+                at,
+                "a command to the controller, not G-code",
+            )
+            .with_note("ger writes controller commands as they are, in their place"),
+            EvalErrorKind::LoopLimit(limit) => error(
+                format!("this loop ran more than {limit} times"),
+                at,
+                "loop stopped here",
+            )
+            .with_help("check that the condition becomes false, or raise --max-iterations"),
+            EvalErrorKind::LoopNeverEnds => error(
+                "this loop never ends",
+                at,
+                "a pass through it changed no variable, so the condition stays true",
+            )
+            .with_help("change a variable the condition reads inside the loop"),
+            EvalErrorKind::AssignToPi => error("`PI` is a constant", at, "cannot assign to it"),
+            EvalErrorKind::SetupAfterFirstMove { directive, first } => error(
+                format!("`{directive}` after the first move"),
+                at,
+                "the machine setup must be complete before the tool moves",
+            )
+            .with_secondary(*first, "the first move")
+            .with_help("put the setup directives at the top of the program"),
+            EvalErrorKind::UnknownWizard { name, nearest } => {
+                let d = error(
+                    format!("unknown wizard `{name}`"),
+                    at,
+                    "no wizard or directive has this name",
+                );
+                match nearest {
+                    Some(close) => d.with_help(format!("did you mean `{close}`?")),
+                    None => d.with_note(
+                        "a statement that starts with a name is an assignment (`Name = …`) or a wizard call; `;` ends a statement, so comments are written `( … )` or `//`",
+                    ),
+                }
+            }
+        }
+    }
+}
+
+/// A number no machine has where a length, feed or speed belongs.
+pub fn out_of_range(message: String, what: &str, value: f64, span: Span) -> Diagnostic {
+    error(message, span, format!("this is {value:e}")).with_note(format!(
+        "{what} must be between -{0} and {0}",
+        ir::MAX_LENGTH
+    ))
+}
