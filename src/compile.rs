@@ -258,7 +258,7 @@ fn named_subroutines(text: &str) -> (Vec<String>, Vec<String>) {
         let Some(close) = rest.find('>') else {
             continue;
         };
-        let name = rest[..close].trim().to_ascii_lowercase();
+        let name = crate::syntax::egc::lexer::subroutine_name(&rest[..close]);
         let keyword = rest[close + 1..]
             .trim_start()
             .split(|c: char| !c.is_ascii_alphabetic())
@@ -282,8 +282,8 @@ enum Output<'a> {
 
 /// The file to compile: its text, id, language and flavour.
 struct Input<'a> {
-    sources: &'a Sources,
-    library: &'a [FileId],
+    /// The subroutine files read with it (`CompileOptions::library`).
+    library: Vec<(&'a str, Locator)>,
     text: &'a str,
     file: FileId,
     locator: Locator,
@@ -296,8 +296,11 @@ impl<'a> Input<'a> {
     fn of(sources: &'a Sources, file: FileId, options: &'a CompileOptions) -> Input<'a> {
         let name = sources.name(file);
         Input {
-            sources,
-            library: &options.library,
+            library: options
+                .library
+                .iter()
+                .map(|&f| (sources.text(f), sources.locator(f)))
+                .collect(),
             text: sources.text(file),
             file,
             locator: sources.locator(file),
@@ -318,8 +321,7 @@ fn run<'a>(
     clock: &mut Clock,
 ) -> std::io::Result<()> {
     let Input {
-        sources: _,
-        library: _,
+        library,
         text,
         file,
         locator,
@@ -331,11 +333,6 @@ fn run<'a>(
         plain: language == Language::Gcode,
         ..options.eval.clone()
     };
-    let library: Vec<(&str, Locator)> = input
-        .library
-        .iter()
-        .map(|&f| (input.sources.text(f), input.sources.locator(f)))
-        .collect();
     let (program, parse_diagnostics) =
         crate::syntax::egc::parse_program_files((text, &locator), &library, language);
     diagnostics.extend(parse_diagnostics);

@@ -609,27 +609,8 @@ impl<'a> Evaluator<'a> {
         while let Some(at) = rest.find('#') {
             out.push_str(&rest[..at]);
             let after = &rest[at + 1..];
-            let (name, used) = if let Some(inner) = after.strip_prefix('<') {
-                match inner.find('>') {
-                    Some(close) => {
-                        let name: String = inner[..close]
-                            .chars()
-                            .filter(|c| !c.is_whitespace())
-                            .flat_map(char::to_lowercase)
-                            .collect();
-                        (Some(format!("#<{name}>")), close + 2)
-                    }
-                    None => (None, 0),
-                }
-            } else {
-                let digits =
-                    after.len() - after.trim_start_matches(|c: char| c.is_ascii_digit()).len();
-                let number = after[..digits].trim_start_matches('0');
-                let number = if number.is_empty() { "0" } else { number };
-                ((digits > 0).then(|| format!("#{number}")), digits)
-            };
-            match name {
-                Some(name) => {
+            match crate::syntax::egc::lexer::parameter_name(after) {
+                Ok((name, used)) => {
                     let value = self
                         .names
                         .find(&name)
@@ -645,7 +626,7 @@ impl<'a> Evaluator<'a> {
                     }
                     rest = &after[used..];
                 }
-                None => {
+                Err(_) => {
                     out.push('#');
                     rest = after;
                 }

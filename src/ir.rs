@@ -243,6 +243,12 @@ impl Units {
         }
     }
 
+    /// Millimetres per unit of lengths in `units`; a program that states
+    /// no units is taken as mm (the tool path, the picture).
+    pub fn mm_per(units: Option<Units>) -> f64 {
+        units.map_or(1.0, |u| u.factor(Units::Mm))
+    }
+
     pub fn name(self) -> &'static str {
         match self {
             Units::Inch => "inch",

@@ -743,14 +743,14 @@ fn render_part(input: &str, output: &Path, options: &Options, picture: &PictureA
             })
         }
         Picture::Png | Picture::Stl => {
-            let (mut grid, note) = match scene.grid(&render_options) {
+            let mut grid = match scene.grid() {
                 Ok(grid) => grid,
                 Err(e) => {
                     eprintln!("error: {e}");
                     return ExitCode::from(1);
                 }
             };
-            if let Some(note) = note {
+            if let Some(note) = &scene.coarser {
                 eprintln!("note: {note}");
             }
             let other = match &picture.diff {

@@ -53,6 +53,10 @@ pub struct Stock {
 pub struct Scene {
     pub units: Option<Units>,
     pub stock: Stock,
+    /// The cells over the stock.
+    pub frame: Frame,
+    /// Why the cells are coarser than asked, if they are.
+    pub coarser: Option<String>,
     pub cutters: Vec<Cutter>,
     pub segments: Vec<Segment>,
     /// Warnings at source lines (unknown positions, cuts below the stock,
@@ -94,33 +98,32 @@ impl Scene {
     pub fn new(path: &ToolPath, options: &RenderOptions) -> Result<Scene, RenderError> {
         let units = path.units;
         // The tool path is in mm; the scene in the output units.
-        let scale = 1.0 / units.map_or(1.0, |u| u.factor(Units::Mm));
+        let scale = 1.0 / Units::mm_per(units);
         let mut warnings = Vec::new();
         let (cutters, cutter_of) = cutters(path, scale, &mut warnings);
         let stock = stock(path, options, scale, &cutters, &cutter_of)?;
-        let cell = resolution(units, options, &stock)?.0;
+        let (cell, coarser) = resolution(units, options, &stock)?;
+        let (nx, ny) = dimensions(&stock, cell);
+        let frame = Frame::new(stock.min[0], stock.min[1], cell, nx, ny);
         let segments = segments(path, scale, cell, &cutter_of, &mut warnings)?;
         below_stock(path, scale, &stock, &mut warnings);
         Ok(Scene {
             units,
             stock,
+            frame,
+            coarser,
             cutters,
             segments,
             warnings,
         })
     }
 
-    /// The empty grid over the stock, and a note when the cells had to be
-    /// coarser than asked.
-    pub fn grid(&self, options: &RenderOptions) -> Result<(Grid, Option<String>), RenderError> {
-        let (cell, note) = resolution(self.units, options, &self.stock)?;
-        let s = &self.stock;
-        let (nx, ny) = dimensions(s, cell);
-        let frame = Frame::new(s.min[0], s.min[1], cell, nx, ny);
-        let grid = Grid::new(frame, s.top, s.bottom).ok_or(RenderError::TooLarge {
-            cells: frame.nx as u64 * frame.ny as u64,
-        })?;
-        Ok((grid, note))
+    /// The empty grid over the stock.
+    pub fn grid(&self) -> Result<Grid, RenderError> {
+        let f = self.frame;
+        Grid::new(f, self.stock.top, self.stock.bottom).ok_or(RenderError::TooLarge {
+            cells: f.nx as u64 * f.ny as u64,
+        })
     }
 
     /// Carve the whole program; the warnings for rapids that cut.

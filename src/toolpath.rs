@@ -175,7 +175,7 @@ impl Builder {
                 setup: setup.clone(),
                 ..ToolPath::default()
             },
-            to_mm: units.map_or(1.0, |u| u.factor(Units::Mm)),
+            to_mm: Units::mm_per(units),
             position: [0.0; 9],
             plane: Plane::XY,
             state: State::default(),

@@ -33,8 +33,8 @@ fn carved_with(program: &str, cell: f64, compile: &CompileOptions) -> (Scene, Gr
         ..Default::default()
     };
     let scene = Scene::new(&path, &options).unwrap();
-    let (mut grid, note) = scene.grid(&options).unwrap();
-    assert_eq!(note, None);
+    let mut grid = scene.grid().unwrap();
+    assert_eq!(scene.coarser, None);
     scene.carve(&mut grid, &path, &|_, _| {});
     (scene, grid)
 }

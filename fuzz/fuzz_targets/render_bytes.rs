@@ -31,7 +31,7 @@ fuzz_target!(|bytes: &[u8]| {
     let Ok(scene) = Scene::new(&path, &render) else { return };
     let mut out = Vec::new();
     let _ = svg::write(&path, &scene, svg::SvgOptions::default(), &|_| String::new(), &mut out);
-    let Ok((mut grid, _)) = scene.grid(&render) else { return };
+    let Ok(mut grid) = scene.grid() else { return };
     let _ = scene.carve(&mut grid, &path, &|_, _| {});
     let _ = image::write_depth(&grid, scene.units, &mut out);
     let _ = image::write_shaded(&grid, scene.units, &mut out);

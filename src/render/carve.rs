@@ -5,7 +5,7 @@
 //! the moves that touch it in program order, so the bytes are the same on
 //! any number of cores.
 
-use super::cutter::{Arc, Cutter, Line, LineSweep, Profile};
+use super::cutter::{crossing, Arc, Cutter, Line, LineSweep, Profile};
 use rayon::prelude::*;
 
 /// Where the cells are. Cell `(i, j)` has its centre at
@@ -331,10 +331,9 @@ impl Band<'_> {
                     // The band's long edges, the line offset by r each way.
                     let (nx, ny) = (-l.v[1] / l.length * r, l.v[0] / l.length * r);
                     for side in [1.0, -1.0] {
-                        let (py, qy) = (ay + side * ny, by + side * ny);
-                        if (py - y) * (qy - y) <= 0.0 && py != qy {
-                            let px = ax + side * nx;
-                            let x = px + (y - py) * l.v[0] / l.v[1];
+                        let p = (ax + side * nx, ay + side * ny);
+                        let q = (bx + side * nx, by + side * ny);
+                        if let Some(x) = crossing(p, q, y) {
                             lo = lo.min(x);
                             hi = hi.max(x);
                         }
@@ -371,9 +370,10 @@ impl Band<'_> {
         };
         let first = first.max(self.first_row);
         let last = last.min(self.first_row + rows_here - 1);
+        // A line's sweep is worked out once for all its rows.
         let sweep = match &seg.shape {
-            Shape::Line(line) => Some(LineSweep::new(*cutter, *line)),
-            Shape::Arc(_) => None,
+            Shape::Line(line) => Ok(LineSweep::new(*cutter, *line)),
+            Shape::Arc(arc) => Err(arc),
         };
         let next = match next.map(|n| &n.shape) {
             Some(Shape::Line(line)) if !seg.rapid => Some(LineSweep::new(*cutter, *line)),
@@ -384,14 +384,11 @@ impl Band<'_> {
             let y = frame.center_y(row);
             let at = (row - self.first_row) * frame.nx;
             let cells = &mut self.cells[at..at + frame.nx];
-            cut |= match (&seg.shape, &sweep) {
-                (_, Some(sweep)) => {
+            cut |= match &sweep {
+                Ok(sweep) => {
                     carve_line_row(frame, cells, sweep, next.as_ref(), y, seg, self.tolerance)
                 }
-                (Shape::Arc(arc), None) => {
-                    carve_arc_row(frame, cells, arc, cutter, y, self.tolerance)
-                }
-                (Shape::Line(_), None) => false,
+                Err(arc) => carve_arc_row(frame, cells, arc, cutter, y, self.tolerance),
             };
         }
         cut
@@ -468,7 +465,7 @@ fn carve_line_row(
             }
         }
     }
-    cut && seg.rapid
+    cut
 }
 
 fn carve_arc_row(

@@ -271,16 +271,11 @@ impl LineSweep {
     }
 
     /// The x interval of the points within the radius of the line (in the
-    /// plane) on the row at `y`; `None` if there are none. The set is
+    /// plane) on the row at `y`, `None` if there are none (the set is
     /// convex, so it is the hull of its three parts: the discs at the ends
-    /// and the band between them.
-    pub fn span(&self, y: f64) -> Option<(f64, f64)> {
-        self.spans(y).map(|(span, _)| span)
-    }
-
-    /// [`LineSweep::span`], and on the same row the x interval of the
-    /// start disc that a sweep continuing the one before it need not carve
-    /// again (see [`LineSweep::start_carved`]).
+    /// and the band between them); and on the same row the x interval of
+    /// the start disc that a sweep continuing the one before it need not
+    /// carve again (see [`LineSweep::start_carved`]).
     #[inline]
     pub fn spans(&self, y: f64) -> Option<(Interval, Option<Interval>)> {
         let r = self.cutter.radius;
@@ -299,9 +294,7 @@ impl LineSweep {
         if self.inv_length > 0.0 {
             let c = &self.corners;
             for k in [0, 2] {
-                let (p, q) = (c[k], c[k + 1]);
-                if (p.1 - y) * (q.1 - y) <= 0.0 && p.1 != q.1 {
-                    let x = p.0 + (y - p.1) * (q.0 - p.0) / (q.1 - p.1);
+                if let Some(x) = crossing(c[k], c[k + 1], y) {
                     lo = lo.min(x);
                     hi = hi.max(x);
                 }
@@ -333,6 +326,12 @@ fn at_most(k: f64, q: f64, c: f64) -> bool {
         (true, false) => k * k * q >= c * c,
         (false, false) => false,
     }
+}
+
+/// Where the edge from `p` to `q` crosses the row at `y`, if it does.
+pub fn crossing(p: (f64, f64), q: (f64, f64), y: f64) -> Option<f64> {
+    ((p.1 - y) * (q.1 - y) <= 0.0 && p.1 != q.1)
+        .then(|| p.0 + (y - p.1) * (q.0 - p.0) / (q.1 - p.1))
 }
 
 /// Half the chord a circle of radius `r` cuts on a line `dy` from its

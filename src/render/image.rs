@@ -34,7 +34,7 @@ fn encoder<W: Write>(
     // well as the default, in a fraction of the time (the PNG is written on
     // one core, after the carving on all of them).
     encoder.set_compression(png::Compression::Fast);
-    let mm = units.map_or(1.0, |u| u.factor(Units::Mm));
+    let mm = Units::mm_per(units);
     let per_metre = (1000.0 / (grid.frame.cell * mm))
         .round()
         .clamp(1.0, f64::from(u32::MAX));

@@ -49,7 +49,8 @@ pub fn write(
     title: &dyn Fn(Span) -> String,
     out: &mut impl Write,
 ) -> std::io::Result<()> {
-    let scale = 1.0 / scene.units.map_or(1.0, |u| u.factor(crate::ir::Units::Mm));
+    let mm = crate::ir::Units::mm_per(scene.units);
+    let scale = 1.0 / mm;
     let s = &scene.stock;
     let (w, h) = (s.max[0] - s.min[0], s.max[1] - s.min[1]);
     let stroke = w.max(h) / 400.0;
@@ -61,8 +62,8 @@ pub fn write(
         num(-s.max[1]),
         num(w),
         num(h),
-        num(w * scene.units.map_or(1.0, |u| u.factor(crate::ir::Units::Mm))),
-        num(h * scene.units.map_or(1.0, |u| u.factor(crate::ir::Units::Mm))),
+        num(w * mm),
+        num(h * mm),
     );
     let _ = writeln!(
         text,

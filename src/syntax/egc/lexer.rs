@@ -234,6 +234,47 @@ impl Tok {
 
 pub type Spanned = (usize, Tok, usize);
 
+/// The name of a LinuxCNC subroutine as written between `o<` and `>`:
+/// without surrounding spaces, in lower case (its file is `name.ngc`).
+pub fn subroutine_name(written: &str) -> String {
+    written.trim().to_ascii_lowercase()
+}
+
+/// Why the text after a `#` is not a parameter ger reads.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum NotAParameter {
+    /// `#<` with no `>` on its line.
+    Unclosed,
+    /// `#[…]`, `##1`: indirect.
+    Indirect,
+}
+
+/// A LinuxCNC parameter read from `rest`, the text after its `#`: the
+/// name of its symbol (`#<name>` without case or spaces, as LinuxCNC
+/// ignores them; `#12` without leading zeros) and the bytes of `rest` it
+/// takes.
+pub fn parameter_name(rest: &str) -> Result<(String, usize), NotAParameter> {
+    if let Some(inner) = rest.strip_prefix('<') {
+        let close = inner
+            .find(['>', '\n'])
+            .filter(|&i| inner[i..].starts_with('>'))
+            .ok_or(NotAParameter::Unclosed)?;
+        let name: String = inner[..close]
+            .chars()
+            .filter(|c| !c.is_whitespace())
+            .flat_map(char::to_lowercase)
+            .collect();
+        return Ok((format!("#<{name}>"), close + 2));
+    }
+    let digits = rest.len() - rest.trim_start_matches(|c: char| c.is_ascii_digit()).len();
+    if digits == 0 {
+        return Err(NotAParameter::Indirect);
+    }
+    let number = rest[..digits].trim_start_matches('0');
+    let number = if number.is_empty() { "0" } else { number };
+    Ok((format!("#{number}"), digits))
+}
+
 /// Tokens in one statement. Expressions are trees the evaluator walks
 /// recursively, so their size is bounded where they are read; real
 /// statements are far shorter.
@@ -661,7 +702,7 @@ impl<'a> Lexer<'a> {
                     .filter(|&i| rest[i..].starts_with('>'))?;
                 // Numbered by its name's symbol: the same in every file read
                 // with the same names (a subroutine in a file of its own).
-                let name = rest[2..close].trim().to_ascii_lowercase();
+                let name = subroutine_name(&rest[2..close]);
                 let symbol = self.names.intern(&format!("o<{name}>"));
                 let number = format!("O{}", NAMED_SUB_BASE + symbol.0);
                 self.push_word(word(&number), start, start + close + 1);
@@ -673,50 +714,33 @@ impl<'a> Lexer<'a> {
 
     /// `#<name>` or `#123` at `start`, pushed as a name; where it ends.
     fn parameter(&mut self, start: usize) -> usize {
-        let rest = &self.text[start + 1..];
-        if let Some(inner) = rest.strip_prefix('<') {
-            let Some(close) = inner
-                .find(['>', '\n'])
-                .filter(|&i| inner[i..].starts_with('>'))
-            else {
+        match parameter_name(&self.text[start + 1..]) {
+            Ok((name, used)) => {
+                let end = start + 1 + used;
+                let symbol = self.names.intern(&name);
+                self.push(start, Tok::Name(symbol), end);
+                end
+            }
+            Err(NotAParameter::Unclosed) => {
                 self.errors.push(error(
                     "unclosed parameter name",
                     self.span(start, start + 2),
                     "`#<` starts a name that ends with `>`",
                 ));
-                return start + 2;
-            };
-            // Names ignore case and spaces (LinuxCNC).
-            let name: String = inner[..close]
-                .chars()
-                .filter(|c| !c.is_whitespace())
-                .flat_map(char::to_lowercase)
-                .collect();
-            let end = start + 2 + close + 1;
-            let symbol = self.names.intern(&format!("#<{name}>"));
-            self.push(start, Tok::Name(symbol), end);
-            return end;
+                start + 2
+            }
+            Err(NotAParameter::Indirect) => {
+                self.errors.push(
+                    error(
+                        "unsupported parameter",
+                        self.span(start, start + 1),
+                        "ger reads `#123` and `#<name>`",
+                    )
+                    .with_help("indirect parameters (`#[…]`, `##1`) are not supported"),
+                );
+                start + 1
+            }
         }
-        let digits = rest.len() - rest.trim_start_matches(|c: char| c.is_ascii_digit()).len();
-        if digits == 0 {
-            self.errors.push(
-                error(
-                    "unsupported parameter",
-                    self.span(start, start + 1),
-                    "ger reads `#123` and `#<name>`",
-                )
-                .with_help("indirect parameters (`#[…]`, `##1`) are not supported"),
-            );
-            return start + 1;
-        }
-        let end = start + 1 + digits;
-        let number = rest[..digits].trim_start_matches('0');
-        let symbol = self.names.intern(&format!(
-            "#{}",
-            if number.is_empty() { "0" } else { number }
-        ));
-        self.push(start, Tok::Name(symbol), end);
-        end
     }
 
     /// LinuxCNC's word operators, inside brackets.
