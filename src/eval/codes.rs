@@ -5,9 +5,13 @@
 
 use super::{Evaluator, Flow, WordValues};
 use crate::ast::{self, LineStmt, WordValue};
-use crate::diagnostic::{error, warning, Diagnostic, DiagnosticExt};
+use crate::diagnostic::Diagnostic;
 use crate::ir::{self, Arc, ArcGeometry, Axes, Axis, Motion, Op};
 use crate::source::Span;
+
+mod error;
+
+use error::{CodeError, CodeErrorKind as K};
 
 /// A code for messages: its letter and number in tenths.
 type Code = Option<(u8, u32)>;
@@ -55,14 +59,8 @@ impl Evaluator<'_> {
                 value /= 2.0;
             }
             if let Some(first) = words.given(w.letter) {
-                self.report(
-                    error(
-                        format!("`{}` appears twice in one statement", w.letter as char),
-                        w.span,
-                        "second one",
-                    )
-                    .with_secondary(first, "first one"),
-                );
+                let letter = w.letter as char;
+                self.report(CodeError::new(K::WordTwice { letter, first }, w.span).into());
                 return Flow::Next;
             }
             words.set(w.letter, value, i);
@@ -76,11 +74,10 @@ impl Evaluator<'_> {
                 match tenths(value) {
                     Some(t) if code.letter == b'G' => self.g_code(t, code.span, &mut words, span),
                     Some(t) => self.m_code(t, code.span, &mut words, span),
-                    None => Err(error(
-                        format!("`{}{}` is not a code", code.letter as char, value),
-                        code.span,
-                        "codes are whole numbers, or with one decimal (G54.1)",
-                    )),
+                    None => {
+                        let letter = code.letter as char;
+                        Err(CodeError::new(K::NotACode { letter, value }, code.span).into())
+                    }
                 }
             }
         };
@@ -125,13 +122,13 @@ impl Evaluator<'_> {
     fn feed_speed_tool(&mut self, w: &mut WordValues, span: Span) -> Result<(), Diagnostic> {
         if let Some((f, fspan)) = w.take(b'F') {
             if f < 0.0 {
-                return Err(error("negative feed rate", fspan, "F must be positive"));
+                return Err(CodeError::new(K::NegativeFeed, fspan).into());
             }
             self.emit(Op::Feed(f), span)?;
         }
         if let Some((s, sspan)) = w.take(b'S') {
             if s < 0.0 {
-                return Err(error("negative spindle speed", sspan, "S must be positive"));
+                return Err(CodeError::new(K::NegativeSpeed, sspan).into());
             }
             self.emit(Op::Speed(s), span)?;
         }
@@ -168,21 +165,12 @@ impl Evaluator<'_> {
         if has_axes || (arc_words && self.motion.is_some_and(Motion::is_arc)) {
             let Some(motion) = self.motion else {
                 let (_, at) = w.remaining().next().unwrap_or((b'X', span));
-                return Err(error(
-                    "a move without a motion mode",
-                    at,
-                    "no G0, G1, G2 or G3 is active yet",
-                )
-                .with_help("start the move with `G0` or `G1`"));
+                return Err(CodeError::new(K::MoveWithoutMotion, at).into());
             };
             let m = self.motion_move(motion, w, span)?;
             if self.machine_coordinates {
                 if m.motion.is_arc() {
-                    return Err(error(
-                        "an arc in machine coordinates (G53)",
-                        span,
-                        "G53 takes only G0 or G1",
-                    ));
+                    return Err(CodeError::new(K::ArcInMachineCoordinates, span).into());
                 }
                 self.emit(Op::MachineMove(m), span)?;
             } else {
@@ -195,15 +183,11 @@ impl Evaluator<'_> {
     /// Words no code of the statement took: an error at the first.
     fn unused_words(&self, w: &WordValues, code: Code) -> Result<(), Diagnostic> {
         if let Some((letter, at)) = w.remaining().next() {
-            let label = match code {
-                None => "no code on this line uses it".to_string(),
-                Some((l, t)) => format!("{} does not use `{}`", code_name(l, t), letter as char),
+            let kind = K::UnusedWord {
+                letter: letter as char,
+                code: code.map(|(l, t)| code_name(l, t)),
             };
-            return Err(error(
-                format!("unexpected `{}` word", letter as char),
-                at,
-                label,
-            ));
+            return Err(CodeError::new(kind, at).into());
         }
         Ok(())
     }
@@ -222,37 +206,23 @@ impl Evaluator<'_> {
                 Some((p, pspan)) => {
                     let n = whole(p, pspan, "a number of turns")?;
                     if n == 0 {
-                        return Err(error("zero turns", pspan, "P counts turns, from 1"));
+                        return Err(CodeError::new(K::ZeroTurns, pspan).into());
                     }
                     n
                 }
                 None => 1,
             };
-            let geometry =
-                match (radius, center.iter().all(Option::is_none)) {
-                    (Some((_, rspan)), false) => {
-                        return Err(error(
-                            "an arc with both R and I/J/K",
-                            rspan,
-                            "give the radius or the centre, not both",
-                        ))
-                    }
-                    (Some((r, rspan)), true) => {
-                        if r == 0.0 {
-                            return Err(error("zero arc radius", rspan, "R must not be 0"));
-                        }
-                        ArcGeometry::Radius(r)
-                    }
-                    (None, false) => ArcGeometry::Center(center),
-                    (None, true) => return Err(error(
-                        "an arc needs its centre or radius",
-                        span,
-                        "no I, J, K or R here",
-                    )
-                    .with_help(
-                        "give the centre with I/J/K (relative to the start) or the radius with R",
-                    )),
-                };
+            let geometry = match (radius, center.iter().all(Option::is_none)) {
+                (Some((_, rspan)), false) => {
+                    return Err(CodeError::new(K::RadiusAndCentre, rspan).into())
+                }
+                (Some((0.0, rspan)), true) => {
+                    return Err(CodeError::new(K::ZeroRadius, rspan).into())
+                }
+                (Some((r, _)), true) => ArcGeometry::Radius(r),
+                (None, false) => ArcGeometry::Center(center),
+                (None, true) => return Err(CodeError::new(K::ArcWithoutCentre, span).into()),
+            };
             Some(Arc { geometry, turns })
         } else {
             None
@@ -271,6 +241,10 @@ impl Evaluator<'_> {
         // Only for messages: built when one is needed.
         let name = || code_name(b'G', t);
         self.feed_speed_tool(w, span)?;
+        if let Some(kind) = super::cycle::kind_of(t) {
+            self.cycle_block(kind, Some(at), w, span)?;
+            return self.unused_words(w, code).map(|_| Flow::Next);
+        }
         let op = match t {
             0 | 10 | 20 | 30 => {
                 let motion = match t {
@@ -289,13 +263,7 @@ impl Evaluator<'_> {
             70 | 80 => {
                 // Folded into the X words as they are read (above).
                 if t == 70 {
-                    self.warn_once((b'G', 70), || {
-                        warning(
-                            "G7: X words are diameters",
-                            at,
-                            "from here the output's X is half of what is written (a radius)",
-                        )
-                    });
+                    self.warn_once((b'G', 70), || CodeError::new(K::DiameterMode, at).into());
                 }
                 return self.leftover_move(w, span, code).map(|_| Flow::Next);
             }
@@ -309,14 +277,7 @@ impl Evaluator<'_> {
             280 | 300 => {
                 let via = axis_words(w);
                 self.warn_once((b'G', t), || {
-                    warning(
-                        format!("{} is passed through", name()),
-                        at,
-                        "the machine moves to the home position it stores",
-                    )
-                    .with_note(
-                        "the position after it is not known to ger: the next moves must be absolute",
-                    )
+                    CodeError::new(K::HomePassedThrough(name()), at).into()
                 });
                 Op::Home {
                     home: if t == 280 {
@@ -351,32 +312,10 @@ impl Evaluator<'_> {
             610 | 611 | 640 => {
                 w.take(b'P');
                 w.take(b'Q');
-                self.report(warning(
-                    format!("{} dropped", name()),
-                    at,
-                    "path blending is a setting of the controller",
-                ));
+                self.report(CodeError::new(K::BlendingDropped(name()), at).into());
                 return self.leftover_move(w, span, code).map(|_| Flow::Next);
             }
-            730 | 740 | 810..=890 if t.is_multiple_of(10) => {
-                if let Some(kind) = super::cycle::kind_of(t) {
-                    self.cycle_block(kind, Some(at), w, span)?;
-                    return self.unused_words(w, code).map(|_| Flow::Next);
-                }
-                return Err(error(
-                    format!("unsupported code {}", name()),
-                    at,
-                    "no such cycle",
-                ));
-            }
-            760 => {
-                return Err(error(
-                    "G76 is not supported",
-                    at,
-                    "G76 is fine boring on Fanuc and threading on LinuxCNC",
-                )
-                .with_help("use G86 or G89 to bore"))
-            }
+            760 => return Err(CodeError::new(K::G76, at).into()),
             800 => {
                 self.cycle = None;
                 self.cycle_run = false;
@@ -414,7 +353,8 @@ impl Evaluator<'_> {
                     930 | 950 => "only feed per minute (G94) is supported",
                     _ => "ger does not know this code",
                 };
-                return Err(error(format!("unsupported code {}", name()), at, why));
+                let kind = K::Unsupported { code: name(), why };
+                return Err(CodeError::new(kind, at).into());
             }
         };
         self.emit(op, span)?;
@@ -456,11 +396,11 @@ impl Evaluator<'_> {
                 return Ok(Flow::Return);
             }
             470 => {
-                return Err(error(
-                    format!("unsupported code {}", name()),
-                    at,
-                    "M47 repeats the program from the top; the output cannot express it",
-                ))
+                let kind = K::Unsupported {
+                    code: name(),
+                    why: "M47 repeats the program from the top; the output cannot express it",
+                };
+                return Err(CodeError::new(kind, at).into());
             }
             // Any other whole M code is the machine's: passed through.
             _ if t.is_multiple_of(10) => {
@@ -472,12 +412,7 @@ impl Evaluator<'_> {
                     }
                 }
                 self.warn_once((b'M', t), || {
-                    warning(
-                        format!("M{number} is passed through"),
-                        at,
-                        "ger does not know what this code does on your machine",
-                    )
-                    .with_note("it is written to the output as it is, in its place")
+                    CodeError::new(K::MCodePassedThrough(number), at).into()
                 });
                 (
                     Op::Passthrough(ir::Passthrough::MCode { number, words }),
@@ -485,11 +420,11 @@ impl Evaluator<'_> {
                 )
             }
             _ => {
-                return Err(error(
-                    format!("unsupported code {}", name()),
-                    at,
-                    "the output cannot express this code",
-                ))
+                let kind = K::Unsupported {
+                    code: name(),
+                    why: "the output cannot express this code",
+                };
+                return Err(CodeError::new(kind, at).into());
             }
         };
         self.emit(op, span)?;
@@ -501,16 +436,11 @@ impl Evaluator<'_> {
         let seconds = match (w.take_number(b'P'), w.take(b'X')) {
             (Some((p, pspan, n)), None) => self.seconds(p, pspan, n)?,
             (None, Some((x, _))) => x,
-            (Some(_), Some((_, xspan))) => {
-                return Err(error("G4 with both P and X", xspan, "give the dwell once"))
-            }
-            (None, None) => {
-                return Err(error("G4 without a time", at, "no P or X here")
-                    .with_help("`G4 P500` dwells 500 ms, `G4 P0.5` or `G4 X0.5` half a second"))
-            }
+            (Some(_), Some((_, xspan))) => return Err(CodeError::new(K::DwellTwice, xspan).into()),
+            (None, None) => return Err(CodeError::new(K::DwellWithoutTime, at).into()),
         };
         if seconds < 0.0 {
-            return Err(error("negative dwell", at, "a dwell time is positive"));
+            return Err(CodeError::new(K::NegativeDwell, at).into());
         }
         Ok(Op::Dwell(seconds))
     }
@@ -532,51 +462,31 @@ impl Evaluator<'_> {
             Flavour::Generic => {
                 if self.options.plain && p > 0.0 {
                     self.warn_once((b'G', 40), || {
-                        warning(
-                            format!("P{p} is read as {p} milliseconds"),
-                            pspan,
-                            "a P without a decimal point is in ms (Fanuc)",
-                        )
-                        .with_help(
-                            "LinuxCNC, grbl and Mach3 read it in seconds: pass --from linuxcnc (or grbl, mach3), or write `P0.5`",
-                        )
+                        CodeError::new(K::DwellInMilliseconds(p), pspan).into()
                     });
                 }
                 p / 1000.0
             }
         };
         if seconds < 0.0 {
-            return Err(error("negative dwell", pspan, "a dwell time is positive"));
+            return Err(CodeError::new(K::NegativeDwell, pspan).into());
         }
         Ok(seconds)
     }
 
     fn g10(&mut self, w: &mut WordValues, at: Span) -> Result<Op, Diagnostic> {
         let Some((l, lspan)) = w.take(b'L') else {
-            return Err(error("G10 without L", at, "ger knows G10 L2 and G10 L20")
-                .with_help("`G10 L2 P2 X… Y… Z…` sets the origin of G55"));
+            return Err(CodeError::new(K::G10WithoutL, at).into());
         };
         let Some((p, pspan)) = w.take(b'P') else {
-            return Err(error(
-                "G10 without P",
-                at,
-                "P names the work offset: P1 = G54 … P6 = G59",
-            ));
+            return Err(CodeError::new(K::G10WithoutP, at).into());
         };
         let index = whole(p, pspan, "a work offset number")?;
         if !(1..=6).contains(&index) {
-            return Err(error(
-                "unsupported work offset number",
-                pspan,
-                "P1 (G54) to P6 (G59) are supported",
-            ));
+            return Err(CodeError::new(K::WorkOffsetNumber, pspan).into());
         }
         if let Some((_, rspan)) = w.take(b'R') {
-            return Err(error(
-                "rotated work offsets are not supported",
-                rspan,
-                "G10 R rotates the coordinate system",
-            ));
+            return Err(CodeError::new(K::RotatedWorkOffset, rspan).into());
         }
         let axes = self.take_axes(w, at, "G10", true)?;
         match l as i64 {
@@ -588,11 +498,7 @@ impl Evaluator<'_> {
                 index: index as u8,
                 at: axes,
             }),
-            _ => Err(error(
-                "unsupported G10 form",
-                lspan,
-                "ger knows G10 L2 and G10 L20",
-            )),
+            _ => Err(CodeError::new(K::G10Form, lspan).into()),
         }
     }
 
@@ -601,12 +507,12 @@ impl Evaluator<'_> {
         &mut self,
         w: &mut WordValues,
         at: Span,
-        name: &str,
+        name: &'static str,
         may_be_empty: bool,
     ) -> Result<Axes, Diagnostic> {
         let axes = axis_words(w);
         if axes.is_empty() && !may_be_empty {
-            return Err(error(format!("{name} without axes"), at, "give X, Y or Z"));
+            return Err(CodeError::new(K::WithoutAxes(name), at).into());
         }
         Ok(axes)
     }
@@ -620,11 +526,7 @@ impl Evaluator<'_> {
         span: Span,
     ) -> Result<Flow, Diagnostic> {
         let Some((p, pspan, written)) = w.take_number(b'P') else {
-            return Err(error(
-                "M98 without P",
-                at,
-                "P names the subprogram: `M98 P1000`",
-            ));
+            return Err(CodeError::new(K::M98WithoutP, at).into());
         };
         let p = whole(p, pspan, "a program number")?;
         let (mut number, mut count) = (p, 1);
@@ -634,11 +536,7 @@ impl Evaluator<'_> {
         }
         if let Some((l, lspan)) = w.take(b'L') {
             if count != 1 {
-                return Err(error(
-                    "M98 with both L and a repeat count in P",
-                    lspan,
-                    "the P word already holds the count",
-                ));
+                return Err(CodeError::new(K::M98CountTwice, lspan).into());
             }
             count = whole(l, lspan, "a repeat count")?;
         }
@@ -656,40 +554,30 @@ impl Evaluator<'_> {
         };
         let Some(sub) = program.subprograms.iter().find(|s| s.number == number) else {
             let name = name_of(number);
-            let mut d = error(format!("no subprogram {name}"), pspan, "called here");
-            if let Some(file) = name.strip_prefix("o<").and_then(|n| n.strip_suffix('>')) {
-                d = d.with_note(format!(
-                    "ger reads `{file}.ngc` from the --subroutines folders and the program's own folder"
-                ));
-            }
-            let known: Vec<String> = program
+            let file = name
+                .strip_prefix("o<")
+                .and_then(|n| n.strip_suffix('>'))
+                .map(str::to_string);
+            let known = program
                 .subprograms
                 .iter()
                 .map(|s| name_of(s.number))
                 .collect();
-            if !known.is_empty() {
-                d = d.with_note(format!("this file has {}", known.join(", ")));
-            }
-            return Err(d);
+            let kind = K::NoSubprogram { name, file, known };
+            return Err(CodeError::new(kind, pspan).into());
         };
         if self.calls.len() >= self.options.max_call_depth {
-            let mut d = error(
-                format!(
-                    "subprograms nested more than {} deep",
-                    self.options.max_call_depth
-                ),
-                at,
-                "this call is too deep",
-            );
             // Runaway recursion is the usual cause: say where it started.
-            if let Some(&(_, first)) = self.calls.iter().find(|(n, _)| *n == number) {
-                d = d
-                    .with_secondary(first, format!("O{number} was first called here"))
-                    .with_help(format!(
-                        "O{number} calls itself; make sure a condition stops the recursion"
-                    ));
-            }
-            return Err(d);
+            let recursion = self
+                .calls
+                .iter()
+                .find(|(n, _)| *n == number)
+                .map(|&(_, first)| (number, first));
+            let kind = K::CallDepth {
+                limit: self.options.max_call_depth,
+                recursion,
+            };
+            return Err(CodeError::new(kind, at).into());
         }
         self.calls.push((number, at));
         // A LinuxCNC `o… call` has its own parameters (see `linuxcnc_scope`).
@@ -727,13 +615,9 @@ fn axis_words(w: &mut WordValues) -> Axes {
 }
 
 /// A word that must hold a whole, non-negative number.
-fn whole(value: f64, span: Span, what: &str) -> Result<u32, Diagnostic> {
+fn whole(value: f64, span: Span, what: &'static str) -> Result<u32, Diagnostic> {
     if value < 0.0 || value.fract() != 0.0 || value > u32::MAX as f64 {
-        return Err(error(
-            format!("expected {what}"),
-            span,
-            "a whole number from 0 is needed here",
-        ));
+        return Err(CodeError::new(K::NotWhole(what), span).into());
     }
     Ok(value as u32)
 }
@@ -748,20 +632,12 @@ pub(super) fn run_wizard_line(
 ) -> Result<(), Vec<Diagnostic>> {
     for stmt in &program.main {
         let ast::StmtKind::Line(line) = &stmt.kind else {
-            return Err(vec![error(
-                "a wizard's raw line must be plain G-code",
-                span,
-                "from this call",
-            )]);
+            return Err(vec![CodeError::new(K::WizardLineNotPlain, span).into()]);
         };
         let mut line = line.clone();
         for w in &mut line.words {
             if matches!(w.value, WordValue::Expr(_)) {
-                return Err(vec![error(
-                    "a wizard's raw line cannot use variables",
-                    span,
-                    "from this call",
-                )]);
+                return Err(vec![CodeError::new(K::WizardLineVariables, span).into()]);
             }
             w.span = span;
         }

@@ -1,0 +1,265 @@
+//! What a G or M code statement gets wrong, and what ger tells the user
+//! about the codes it passes through or drops, as data with one wording
+//! function.
+
+use crate::diagnostic::{error, warning, Diagnostic, DiagnosticExt};
+use crate::source::Span;
+
+#[derive(Clone, Debug, PartialEq)]
+pub enum CodeErrorKind {
+    /// A letter given twice; where the first one was.
+    WordTwice {
+        letter: char,
+        first: Span,
+    },
+    /// `G1.25`: not a whole code or one with a decimal.
+    NotACode {
+        letter: char,
+        value: f64,
+    },
+    NegativeFeed,
+    NegativeSpeed,
+    MoveWithoutMotion,
+    ArcInMachineCoordinates,
+    /// A word no code took; the code of the statement, when there is one.
+    UnusedWord {
+        letter: char,
+        code: Option<String>,
+    },
+    ZeroTurns,
+    RadiusAndCentre,
+    ZeroRadius,
+    ArcWithoutCentre,
+    /// A code ger does not lower, and why.
+    Unsupported {
+        code: String,
+        why: &'static str,
+    },
+    G76,
+    /// A warning: G7 makes the X words diameters.
+    DiameterMode,
+    /// A warning: G28 or G30 moves to a home only the machine knows.
+    HomePassedThrough(String),
+    /// A warning: G61/G64 are the controller's settings.
+    BlendingDropped(String),
+    /// A warning: an M code ger does not know is written as it is.
+    MCodePassedThrough(u32),
+    /// A warning: a Fanuc-style P without a point, read in milliseconds.
+    DwellInMilliseconds(f64),
+    DwellTwice,
+    DwellWithoutTime,
+    NegativeDwell,
+    G10WithoutL,
+    G10WithoutP,
+    WorkOffsetNumber,
+    RotatedWorkOffset,
+    G10Form,
+    /// G52/G92/G10 with no axis word.
+    WithoutAxes(&'static str),
+    M98WithoutP,
+    M98CountTwice,
+    /// A call of a subprogram the program does not have: its name, the
+    /// file ger looked for (a LinuxCNC `o<name>`), the ones it has.
+    NoSubprogram {
+        name: String,
+        file: Option<String>,
+        known: Vec<String>,
+    },
+    /// Calls nested past the limit; the subprogram that calls itself and
+    /// where it was first called, when that is the cause.
+    CallDepth {
+        limit: usize,
+        recursion: Option<(u32, Span)>,
+    },
+    /// A word that must be a whole number from 0, and what it counts.
+    NotWhole(&'static str),
+    WizardLineNotPlain,
+    WizardLineVariables,
+}
+
+#[derive(Clone, Debug, PartialEq)]
+pub struct CodeError {
+    pub kind: CodeErrorKind,
+    pub span: Span,
+}
+
+impl CodeError {
+    pub fn new(kind: CodeErrorKind, span: Span) -> CodeError {
+        CodeError { kind, span }
+    }
+
+    pub fn to_diagnostic(&self) -> Diagnostic {
+        use CodeErrorKind as K;
+        let at = self.span;
+        match &self.kind {
+            K::WordTwice { letter, first } => error(
+                format!("`{letter}` appears twice in one statement"),
+                at,
+                "second one",
+            )
+            .with_secondary(*first, "first one"),
+            K::NotACode { letter, value } => error(
+                format!("`{letter}{value}` is not a code"),
+                at,
+                "codes are whole numbers, or with one decimal (G54.1)",
+            ),
+            K::NegativeFeed => error("negative feed rate", at, "F must be positive"),
+            K::NegativeSpeed => error("negative spindle speed", at, "S must be positive"),
+            K::MoveWithoutMotion => error(
+                "a move without a motion mode",
+                at,
+                "no G0, G1, G2 or G3 is active yet",
+            )
+            .with_help("start the move with `G0` or `G1`"),
+            K::ArcInMachineCoordinates => error(
+                "an arc in machine coordinates (G53)",
+                at,
+                "G53 takes only G0 or G1",
+            ),
+            K::UnusedWord { letter, code } => {
+                let label = match code {
+                    None => "no code on this line uses it".to_string(),
+                    Some(code) => format!("{code} does not use `{letter}`"),
+                };
+                error(format!("unexpected `{letter}` word"), at, label)
+            }
+            K::ZeroTurns => error("zero turns", at, "P counts turns, from 1"),
+            K::RadiusAndCentre => error(
+                "an arc with both R and I/J/K",
+                at,
+                "give the radius or the centre, not both",
+            ),
+            K::ZeroRadius => error("zero arc radius", at, "R must not be 0"),
+            K::ArcWithoutCentre => error(
+                "an arc needs its centre or radius",
+                at,
+                "no I, J, K or R here",
+            )
+            .with_help("give the centre with I/J/K (relative to the start) or the radius with R"),
+            K::Unsupported { code, why } => error(format!("unsupported code {code}"), at, *why),
+            K::G76 => error(
+                "G76 is not supported",
+                at,
+                "G76 is fine boring on Fanuc and threading on LinuxCNC",
+            )
+            .with_help("use G86 or G89 to bore"),
+            K::DiameterMode => warning(
+                "G7: X words are diameters",
+                at,
+                "from here the output's X is half of what is written (a radius)",
+            ),
+            K::HomePassedThrough(code) => warning(
+                format!("{code} is passed through"),
+                at,
+                "the machine moves to the home position it stores",
+            )
+            .with_note(
+                "the position after it is not known to ger: the next moves must be absolute",
+            ),
+            K::BlendingDropped(code) => warning(
+                format!("{code} dropped"),
+                at,
+                "path blending is a setting of the controller",
+            ),
+            K::MCodePassedThrough(number) => warning(
+                format!("M{number} is passed through"),
+                at,
+                "ger does not know what this code does on your machine",
+            )
+            .with_note("it is written to the output as it is, in its place"),
+            K::DwellInMilliseconds(p) => warning(
+                format!("P{p} is read as {p} milliseconds"),
+                at,
+                "a P without a decimal point is in ms (Fanuc)",
+            )
+            .with_help(
+                "LinuxCNC, grbl and Mach3 read it in seconds: pass --from linuxcnc (or grbl, mach3), or write `P0.5`",
+            ),
+            K::DwellTwice => error("G4 with both P and X", at, "give the dwell once"),
+            K::DwellWithoutTime => error("G4 without a time", at, "no P or X here")
+                .with_help("`G4 P500` dwells 500 ms, `G4 P0.5` or `G4 X0.5` half a second"),
+            K::NegativeDwell => error("negative dwell", at, "a dwell time is positive"),
+            K::G10WithoutL => error("G10 without L", at, "ger knows G10 L2 and G10 L20")
+                .with_help("`G10 L2 P2 X… Y… Z…` sets the origin of G55"),
+            K::G10WithoutP => error(
+                "G10 without P",
+                at,
+                "P names the work offset: P1 = G54 … P6 = G59",
+            ),
+            K::WorkOffsetNumber => error(
+                "unsupported work offset number",
+                at,
+                "P1 (G54) to P6 (G59) are supported",
+            ),
+            K::RotatedWorkOffset => error(
+                "rotated work offsets are not supported",
+                at,
+                "G10 R rotates the coordinate system",
+            ),
+            K::G10Form => error(
+                "unsupported G10 form",
+                at,
+                "ger knows G10 L2 and G10 L20",
+            ),
+            K::WithoutAxes(code) => error(format!("{code} without axes"), at, "give X, Y or Z"),
+            K::M98WithoutP => error(
+                "M98 without P",
+                at,
+                "P names the subprogram: `M98 P1000`",
+            ),
+            K::M98CountTwice => error(
+                "M98 with both L and a repeat count in P",
+                at,
+                "the P word already holds the count",
+            ),
+            K::NoSubprogram { name, file, known } => {
+                let mut d = error(format!("no subprogram {name}"), at, "called here");
+                if let Some(file) = file {
+                    d = d.with_note(format!(
+                        "ger reads `{file}.ngc` from the --subroutines folders and the program's own folder"
+                    ));
+                }
+                if !known.is_empty() {
+                    d = d.with_note(format!("this file has {}", known.join(", ")));
+                }
+                d
+            }
+            K::CallDepth { limit, recursion } => {
+                let d = error(
+                    format!("subprograms nested more than {limit} deep"),
+                    at,
+                    "this call is too deep",
+                );
+                match recursion {
+                    Some((number, first)) => d
+                        .with_secondary(*first, format!("O{number} was first called here"))
+                        .with_help(format!(
+                            "O{number} calls itself; make sure a condition stops the recursion"
+                        )),
+                    None => d,
+                }
+            }
+            K::NotWhole(what) => error(
+                format!("expected {what}"),
+                at,
+                "a whole number from 0 is needed here",
+            ),
+            K::WizardLineNotPlain => error(
+                "a wizard's raw line must be plain G-code",
+                at,
+                "from this call",
+            ),
+            K::WizardLineVariables => error(
+                "a wizard's raw line cannot use variables",
+                at,
+                "from this call",
+            ),
+        }
+    }
+}
+
+impl From<CodeError> for Diagnostic {
+    fn from(e: CodeError) -> Diagnostic {
+        e.to_diagnostic()
+    }
+}
