@@ -6,13 +6,15 @@
 //! hand-written code. This module knows Rhai; the evaluator does not.
 
 pub mod declaration;
+mod error;
 
-use crate::diagnostic::{error, Diagnostic, DiagnosticExt};
+use crate::diagnostic::{Diagnostic, DiagnosticExt};
 use crate::eval::value::Value;
 use crate::eval::{MachineState, WizardCall, WizardContext, WizardHost};
 use crate::ir::{self, Arc, ArcGeometry, Axes, Axis, Motion, Op};
 use crate::source::{FileId, Sources, Span};
 use declaration::Declaration;
+use error::{WizardError, WizardErrorKind};
 use rhai::{Array, Dynamic, Engine, EvalAltResult, NativeCallContext, Position, Scope, AST};
 use std::cell::RefCell;
 use std::collections::HashMap;
@@ -58,7 +60,7 @@ pub struct Wizard {
     pub file: FileId,
     pub declaration: Result<Declaration, declaration::DeclarationError>,
     /// Compiled on first use.
-    ast: RefCell<Option<Result<Rc<AST>, Diagnostic>>>,
+    ast: RefCell<Option<Result<Rc<AST>, WizardError>>>,
     text: String,
 }
 
@@ -411,15 +413,16 @@ fn register_nested(engine: &mut Engine, session: &Rc<RefCell<Session>>, library:
             .declaration
             .as_ref()
             .map_err(|e| {
-                format!(
-                    "wizard `{}` has a bad declaration: {}",
-                    wizard.name, e.message
-                )
+                let kind = WizardErrorKind::BadDeclaration {
+                    line: line_span(&wizard.text, wizard.file, Some(e.line)),
+                    message: e.message.clone(),
+                };
+                WizardError::new(&wizard.name, kind, Span::default()).summary()
             })
             .or_else(fail)?;
         let ast = wizard
             .compiled(ctx.engine())
-            .map_err(|d| format!("wizard `{}` does not compile: {}", wizard.name, d.message))
+            .map_err(|e| e.summary())
             .or_else(fail)?;
         let scope = bind(decl, args)
             .map_err(|m| format!("{}: {m}", decl.signature(&wizard.name)))
@@ -524,16 +527,17 @@ fn innermost(e: &EvalAltResult) -> (Option<usize>, String) {
 }
 
 impl Wizard {
-    fn compiled(&self, engine: &Engine) -> Result<Rc<AST>, Diagnostic> {
+    fn compiled(&self, engine: &Engine) -> Result<Rc<AST>, WizardError> {
         if let Some(done) = self.ast.borrow().as_ref() {
             return done.clone();
         }
         let result = engine.compile(&self.text).map(Rc::new).map_err(|e| {
             let span = line_span(&self.text, self.file, e.1.line());
-            error(
-                format!("wizard script `{}` does not compile", self.name),
+            let message = e.0.to_string();
+            WizardError::new(
+                &self.name,
+                WizardErrorKind::DoesNotCompile { message },
                 span,
-                e.0.to_string(),
             )
         });
         *self.ast.borrow_mut() = Some(result.clone());
@@ -593,18 +597,18 @@ impl WizardEngine {
         let decl = match &wizard.declaration {
             Ok(d) => d,
             Err(e) => {
-                let span = line_span(&wizard.text, wizard.file, Some(e.line));
-                return Err(vec![error(
-                    format!("wizard `{}` has a bad declaration", wizard.name),
-                    call.span,
-                    "called here",
-                )
-                .with_secondary(span, e.message.clone())]);
+                let kind = WizardErrorKind::BadDeclaration {
+                    line: line_span(&wizard.text, wizard.file, Some(e.line)),
+                    message: e.message.clone(),
+                };
+                return Err(vec![
+                    WizardError::new(&wizard.name, kind, call.span).to_diagnostic()
+                ]);
             }
         };
         let ast = wizard
             .compiled(&self.engine)
-            .map_err(|d| vec![d.with_secondary(call.span, "called here")])?;
+            .map_err(|e| vec![e.to_diagnostic().with_secondary(call.span, "called here")])?;
         let values: Array = args
             .iter()
             .map(|v| match v {
@@ -614,14 +618,15 @@ impl WizardEngine {
             })
             .collect();
         let mut scope = bind(decl, values).map_err(|message| {
-            vec![error(
-                format!("wrong arguments for wizard `{}`", wizard.name),
-                call.arg_spans
-                    .first()
-                    .map_or(call.span, |f| f.to(*call.arg_spans.last().unwrap_or(f))),
+            let kind = WizardErrorKind::WrongArguments {
                 message,
-            )
-            .with_note(format!("usage: {}", decl.signature(&wizard.name)))]
+                usage: decl.signature(&wizard.name),
+            };
+            let at = call
+                .arg_spans
+                .first()
+                .map_or(call.span, |f| f.to(*call.arg_spans.last().unwrap_or(f)));
+            vec![WizardError::new(&wizard.name, kind, at).to_diagnostic()]
         })?;
         let state: MachineState = ctx.state();
         {
@@ -640,13 +645,11 @@ impl WizardEngine {
         let actions = std::mem::take(&mut self.session.borrow_mut().actions);
         if let Err(e) = result {
             let (line, message) = innermost(&e);
-            let d = error(
-                format!("wizard `{}` failed: {message}", wizard.name),
-                call.span,
-                "called here",
-            )
-            .with_secondary(line_span(&wizard.text, wizard.file, line), "raised here");
-            return Err(vec![d]);
+            let raised = line_span(&wizard.text, wizard.file, line);
+            let kind = WizardErrorKind::Failed { message, raised };
+            return Err(vec![
+                WizardError::new(&wizard.name, kind, call.span).to_diagnostic()
+            ]);
         }
         // Wizard coordinates are absolute and Cartesian: switch a G91 or G16
         // caller to G90/G15 around them, and back.
