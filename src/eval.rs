@@ -594,13 +594,8 @@ impl<'a> Evaluator<'a> {
         self.messages += 1;
         if self.messages > MAX_MESSAGES {
             if self.messages == MAX_MESSAGES + 1 {
-                self.report(crate::diagnostic::note(
-                    format!(
-                        "more DEBUG and PRINT messages: only the first {MAX_MESSAGES} are shown"
-                    ),
-                    span,
-                    "this one and those after it",
-                ));
+                let kind = EvalErrorKind::MessagesCut(MAX_MESSAGES);
+                self.report(EvalError::new(kind, span).to_diagnostic());
             }
             return;
         }
@@ -633,11 +628,11 @@ impl<'a> Evaluator<'a> {
             }
         }
         out.push_str(rest);
-        self.report(crate::diagnostic::note(
-            format!("{kind}: {}", out.trim()),
-            span,
-            "the program's message",
-        ));
+        let kind = EvalErrorKind::Message {
+            kind,
+            text: out.trim().to_string(),
+        };
+        self.report(EvalError::new(kind, span).to_diagnostic());
     }
 
     /// A condition: true or false, or in plain G-code (LinuxCNC's o-word

@@ -3,7 +3,7 @@
 //! problems of one kind of block have their own enums beside the code
 //! that finds them (`setup`, `comp`, `cycle`, the expressions of `value`).
 
-use crate::diagnostic::{error, warning, Diagnostic, DiagnosticExt};
+use crate::diagnostic::{error, note, warning, Diagnostic, DiagnosticExt};
 use crate::ir;
 use crate::source::Span;
 
@@ -26,6 +26,14 @@ pub enum EvalErrorKind {
         directive: &'static str,
         first: Span,
     },
+    /// A note: a `(DEBUG,…)` or `(PRINT,…)` message, its parameters
+    /// written in.
+    Message {
+        kind: String,
+        text: String,
+    },
+    /// A note: messages past the limit are not shown.
+    MessagesCut(usize),
     /// A name that is no wizard or directive, and the nearest one there is.
     UnknownWizard {
         name: String,
@@ -84,6 +92,14 @@ impl EvalError {
                 "a pass through it changed no variable, so the condition stays true",
             )
             .with_help("change a variable the condition reads inside the loop"),
+            EvalErrorKind::Message { kind, text } => {
+                note(format!("{kind}: {text}"), at, "the program's message")
+            }
+            EvalErrorKind::MessagesCut(limit) => note(
+                format!("more DEBUG and PRINT messages: only the first {limit} are shown"),
+                at,
+                "this one and those after it",
+            ),
             EvalErrorKind::AssignToPi => error("`PI` is a constant", at, "cannot assign to it"),
             EvalErrorKind::SetupAfterFirstMove { directive, first } => error(
                 format!("`{directive}` after the first move"),
