@@ -1,7 +1,8 @@
 //! ger's own language, `.egc` (SPEC §2): a logos lexer with G-code's
 //! context rules and a LALRPOP grammar (`grammar/egc.lalrpop`), behind
-//! [`parse_program`].
+//! [`parse_program`]. What they find wrong is a [`error::SyntaxError`].
 
+pub mod error;
 pub mod lexer;
 pub mod parser;
 

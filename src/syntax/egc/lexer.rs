@@ -4,8 +4,8 @@
 //! and newlines that only continue a statement (before `{` or `else`).
 //! It must not build syntax trees or know what a G code means.
 
+use super::error::{SyntaxError, SyntaxErrorKind};
 use crate::ast::{BinaryOp, Function, Names, Symbol};
-use crate::diagnostic::{error, Diagnostic, DiagnosticExt};
 use crate::source::{Locator, Span};
 use logos::Logos;
 
@@ -281,6 +281,8 @@ pub fn parameter_name(rest: &str) -> Result<(String, usize), NotAParameter> {
 pub const MAX_STATEMENT_TOKENS: usize = 1000;
 /// `{` blocks nested inside each other.
 pub const MAX_BLOCK_DEPTH: usize = 64;
+/// Arguments of an `o… call`: a subroutine reads them as `#1` to `#30`.
+pub const MAX_CALL_ARGUMENTS: u32 = 30;
 
 /// What the current statement looks like so far; decides what `(` means.
 #[derive(Clone, Copy, PartialEq, Eq, Debug)]
@@ -301,7 +303,7 @@ enum Shape {
 pub struct Lexed {
     pub tokens: Vec<Spanned>,
     pub words: Vec<LexedWord>,
-    pub errors: Vec<Diagnostic>,
+    pub errors: Vec<SyntaxError>,
     /// A `{` was never closed: the lexer closed it at the end of the file.
     pub unclosed_brace: bool,
     /// Spans of `(` groups opened in wizard calls; a parse error inside one
@@ -326,7 +328,7 @@ struct Lexer<'a> {
     names: &'a mut Names,
     out: Vec<Spanned>,
     words: Vec<LexedWord>,
-    errors: Vec<Diagnostic>,
+    errors: Vec<SyntaxError>,
     unclosed_brace: bool,
     call_groups: Vec<Span>,
     shape: Shape,
@@ -412,6 +414,11 @@ impl<'a> Lexer<'a> {
         self.at.span(start, end)
     }
 
+    fn report(&mut self, kind: SyntaxErrorKind, start: usize, end: usize) {
+        let span = self.span(start, end);
+        self.errors.push(SyntaxError::new(kind, span));
+    }
+
     fn run(mut self) -> Lexed {
         let mut raw = Raw::lexer(self.text);
         while let Some(result) = raw.next() {
@@ -425,13 +432,10 @@ impl<'a> Lexer<'a> {
             }
             let Ok(tok) = result else {
                 let ch = self.text[start..].chars().next().unwrap_or('?');
-                self.errors.push(
-                    error(
-                        format!("unexpected character `{}`", ch.escape_default()),
-                        self.span(start, start + ch.len_utf8()),
-                        "ger does not know this character",
-                    )
-                    .with_help("comments are written `( … )` on G-code lines or `// …` anywhere"),
+                self.report(
+                    SyntaxErrorKind::UnknownCharacter(ch),
+                    start,
+                    start + ch.len_utf8(),
                 );
                 continue;
             };
@@ -591,11 +595,7 @@ impl<'a> Lexer<'a> {
                     .map(str::trim_start)
                     .filter(|a| a.starts_with('['))
                 else {
-                    self.errors.push(error(
-                        "ATAN needs two arguments",
-                        self.span(start, start + 1),
-                        "LinuxCNC writes `ATAN[y]/[x]`",
-                    ));
+                    self.report(SyntaxErrorKind::AtanOneArgument, start, start + 1);
                     self.groups.pop();
                     self.push(start, Tok::RParen, start + 1);
                     return Some(start + 1);
@@ -611,11 +611,7 @@ impl<'a> Lexer<'a> {
                         self.push(start, Tok::SymClose, start + 1);
                     }
                     _ if self.groups.pop().is_some() => self.push(start, Tok::RParen, start + 1),
-                    _ => self.errors.push(error(
-                        "unmatched `]`",
-                        self.span(start, start + 1),
-                        "no `[` is open here",
-                    )),
+                    _ => self.report(SyntaxErrorKind::UnmatchedBracket, start, start + 1),
                 }
                 Some(start + 1)
             }
@@ -722,22 +718,11 @@ impl<'a> Lexer<'a> {
                 end
             }
             Err(NotAParameter::Unclosed) => {
-                self.errors.push(error(
-                    "unclosed parameter name",
-                    self.span(start, start + 2),
-                    "`#<` starts a name that ends with `>`",
-                ));
+                self.report(SyntaxErrorKind::UnclosedParameter, start, start + 2);
                 start + 2
             }
             Err(NotAParameter::Indirect) => {
-                self.errors.push(
-                    error(
-                        "unsupported parameter",
-                        self.span(start, start + 1),
-                        "ger reads `#123` and `#<name>`",
-                    )
-                    .with_help("indirect parameters (`#[…]`, `##1`) are not supported"),
-                );
+                self.report(SyntaxErrorKind::IndirectParameter, start, start + 1);
                 start + 1
             }
         }
@@ -886,21 +871,11 @@ impl<'a> Lexer<'a> {
             }
             "return" => {
                 self.drop_label();
-                self.errors.push(error(
-                    "`return` outside an `if` or a loop is not supported",
-                    self.span(start, end),
-                    "the rest of the subroutine would never run: remove it, or end the subroutine here with `endsub`",
-                ));
+                self.report(SyntaxErrorKind::ReturnOutsideBlock, start, end);
             }
             other => {
                 self.drop_label();
-                self.errors.push(
-                    error(
-                        format!("`{other}` is not supported"),
-                        self.span(start, end),
-                        "ger reads o-word sub/endsub/call, if/elseif/else/endif, while/endwhile, do/while and repeat/endrepeat",
-                    ),
-                );
+                self.report(SyntaxErrorKind::UnsupportedOWord(other), start, end);
             }
         }
         Some(end)
@@ -909,12 +884,12 @@ impl<'a> Lexer<'a> {
     /// The end of an `o… call` line: the argument count, then the call.
     fn end_call(&mut self, call: PendingCall) {
         let (start, end) = call.at;
-        if call.args > 30 {
-            self.errors.push(error(
-                "more than 30 arguments",
-                self.span(start, end),
-                "a subroutine takes #1 to #30",
-            ));
+        if call.args > MAX_CALL_ARGUMENTS {
+            self.report(
+                SyntaxErrorKind::TooManyArguments(MAX_CALL_ARGUMENTS),
+                start,
+                end,
+            );
         }
         if self.out.len() > self.stmt_start {
             self.pending_term = Some((start, start));
@@ -971,13 +946,10 @@ impl<'a> Lexer<'a> {
                 _ => {}
             }
         }
-        self.errors.push(
-            error(
-                "unclosed comment",
-                self.span(start, start + 1),
-                "this comment is not closed on its line",
-            )
-            .with_help("a `( … )` comment ends with a `)` on the same line"),
+        self.report(
+            SyntaxErrorKind::UnclosedComment(Language::Gcode),
+            start,
+            start + 1,
         );
         line_end
     }
@@ -1030,13 +1002,10 @@ impl<'a> Lexer<'a> {
             self.unclosed_sym(open);
         }
         if let Some(&open) = self.groups.first() {
-            self.errors.push(
-                error(
-                    "unclosed `(`",
-                    self.span(open, open + 1),
-                    "this parenthesis is never closed",
-                )
-                .with_help("add the matching `)`"),
+            self.report(
+                SyntaxErrorKind::UnclosedParen { on_its_line: false },
+                open,
+                open + 1,
             );
             self.groups.clear();
             self.push(eof, Tok::RParen, eof);
@@ -1049,14 +1018,7 @@ impl<'a> Lexer<'a> {
                 continue;
             }
             self.unclosed_brace = true;
-            self.errors.push(
-                error(
-                    "unclosed `{`",
-                    self.span(open, open + 1),
-                    "this block is never closed",
-                )
-                .with_help("add the matching `}`"),
-            );
+            self.report(SyntaxErrorKind::UnclosedBrace, open, open + 1);
             self.push(eof, Tok::RBrace, eof);
         }
         Lexed {
@@ -1094,13 +1056,10 @@ impl<'a> Lexer<'a> {
             Some(i) => Some(start + 1 + i + 1),
             None => {
                 let end = self.text.len();
-                self.errors.push(
-                    error(
-                        "unclosed comment",
-                        self.span(start, start + 1),
-                        "this comment is never closed",
-                    )
-                    .with_help("a `( … )` comment ends at the next `)`; add one"),
+                self.report(
+                    SyntaxErrorKind::UnclosedComment(Language::Egc),
+                    start,
+                    start + 1,
                 );
                 Some(end)
             }
@@ -1130,14 +1089,7 @@ impl<'a> Lexer<'a> {
                 return;
             }
             Raw::BadNumber => {
-                self.errors.push(
-                    error(
-                        format!("malformed number `{text}`"),
-                        self.span(start, end),
-                        "more than one decimal point",
-                    )
-                    .with_help("a number has at most one `.`: `1.25`, `.5`, `10.`"),
-                );
+                self.report(SyntaxErrorKind::MalformedNumber(text.into()), start, end);
                 return;
             }
             Raw::SymOpen => {
@@ -1149,23 +1101,12 @@ impl<'a> Lexer<'a> {
             Raw::Number => Tok::Number(parse_decimal(text)),
             Raw::Str => Tok::Str(self.names.intern(&text[1..text.len() - 1])),
             Raw::OpenStr => {
-                self.errors.push(
-                    error(
-                        "unterminated string",
-                        self.span(start, end),
-                        "this string has no closing `\"`",
-                    )
-                    .with_help("strings end on the line they start on"),
-                );
+                self.report(SyntaxErrorKind::UnterminatedString, start, end);
                 return;
             }
             Raw::RParen => {
                 if self.groups.pop().is_none() {
-                    self.errors.push(error(
-                        "unmatched `)`",
-                        self.span(start, end),
-                        "no `(` is open here",
-                    ));
+                    self.report(SyntaxErrorKind::UnmatchedParen, start, end);
                     return;
                 }
                 Tok::RParen
@@ -1246,13 +1187,10 @@ impl<'a> Lexer<'a> {
             return;
         }
         let open = self.groups[0];
-        self.errors.push(
-            error(
-                "unclosed `(`",
-                self.span(open, open + 1),
-                "this parenthesis is not closed on its line",
-            )
-            .with_help("add the matching `)`"),
+        self.report(
+            SyntaxErrorKind::UnclosedParen { on_its_line: true },
+            open,
+            open + 1,
         );
         self.groups.clear();
         self.syms.clear();
@@ -1320,40 +1258,18 @@ impl<'a> Lexer<'a> {
         let in_expression = !self.groups.is_empty()
             || !self.syms.is_empty()
             || matches!(self.shape, Shape::Assign | Shape::Keyword);
-        let diag = if in_expression {
-            error(
-                format!("`{text}` is not a variable name"),
-                self.span(start, end),
-                "a single letter is a G-code address, not a name",
-            )
-            .with_help(format!(
-                "a variable name needs at least two characters: `{text}{text}`, `{text}_`"
-            ))
+        let kind = if in_expression {
+            SyntaxErrorKind::LetterAsName(text.into())
         } else {
-            error(
-                format!("`{text}` without a number"),
-                self.span(start, end),
-                "a word needs a number directly after its letter",
-            )
-            .with_help(format!(
-                "write `{u}10` or `{u}<expression>`, with no space after `{u}`",
-                u = text.to_ascii_uppercase()
-            ))
+            SyntaxErrorKind::LetterWithoutNumber(text.into())
         };
-        self.errors.push(diag);
+        self.report(kind, start, end);
     }
 
     /// `{`, unless blocks are nested too deep (then the rest is not read).
     fn open_brace(&mut self, start: usize, end: usize) -> Option<Tok> {
         if self.braces.len() >= MAX_BLOCK_DEPTH {
-            self.errors.push(
-                error(
-                    format!("blocks nested more than {MAX_BLOCK_DEPTH} deep"),
-                    self.span(start, end),
-                    "this block is too deep",
-                )
-                .with_help("the rest of the file was not read; flatten the nesting"),
-            );
+            self.report(SyntaxErrorKind::BlocksTooDeep(MAX_BLOCK_DEPTH), start, end);
             self.stopped = true;
             return None;
         }
@@ -1364,14 +1280,7 @@ impl<'a> Lexer<'a> {
     /// `}`, if a block is open.
     fn close_brace(&mut self, start: usize, end: usize) -> Option<Tok> {
         if self.braces.pop().is_none() {
-            self.errors.push(
-                error(
-                    "unmatched `}`",
-                    self.span(start, end),
-                    "no block is open here",
-                )
-                .with_help("remove it, or add the `{` that opens the block"),
-            );
+            self.report(SyntaxErrorKind::UnmatchedBrace, start, end);
             return None;
         }
         Some(Tok::RBrace)
@@ -1393,13 +1302,10 @@ impl<'a> Lexer<'a> {
             self.too_long = false;
         } else if self.out.len() - self.stmt_start >= MAX_STATEMENT_TOKENS {
             if !self.too_long {
-                self.errors.push(
-                    error(
-                        format!("statement longer than {MAX_STATEMENT_TOKENS} tokens"),
-                        self.span(start, end),
-                        "the statement is cut here",
-                    )
-                    .with_help("split the expression with intermediate variables"),
+                self.report(
+                    SyntaxErrorKind::StatementTooLong(MAX_STATEMENT_TOKENS),
+                    start,
+                    end,
                 );
                 self.too_long = true;
             }
@@ -1438,14 +1344,7 @@ impl<'a> Lexer<'a> {
     }
 
     fn unclosed_sym(&mut self, open: usize) {
-        self.errors.push(
-            error(
-                "unclosed `<` in a symbolic word",
-                self.span(open, open + 2),
-                "this `<` is never closed",
-            )
-            .with_help("a symbolic word is written `X<expression>`, all on one line"),
-        );
+        self.report(SyntaxErrorKind::UnclosedSymbolicWord, open, open + 2);
         self.syms.clear();
     }
 
@@ -1463,23 +1362,15 @@ impl<'a> Lexer<'a> {
         }
         let letters: String = written.chars().filter(|c| !c.is_ascii_digit()).collect();
         let digits: String = written.chars().filter(|c| c.is_ascii_digit()).collect();
-        let mut diag = error(
-            format!("`{written}` is not a valid variable name"),
-            self.span(from, from + written.len()),
-            "a letter followed by a number is a G-code word",
-        )
-        .with_note("a name starts with two letters, or a letter and `_`");
-        if letters.len() >= 2 {
-            diag = diag.with_help(format!("try `{letters}{digits}`"));
-        }
+        let kind = SyntaxErrorKind::WordAsName {
+            written: written.into(),
+            respelled: (letters.len() >= 2).then(|| format!("{letters}{digits}")),
+        };
         // The letters of the name were reported one by one; this says it all.
         let (from32, to32) = (from as u32, assign_at as u32);
-        self.errors.retain(|e| {
-            e.labels
-                .first()
-                .is_none_or(|l| (l.range.start as u32) < from32 || (l.range.start as u32) >= to32)
-        });
-        self.errors.push(diag);
+        self.errors
+            .retain(|e| e.span.start < from32 || e.span.start >= to32);
+        self.report(kind, from, from + written.len());
         self.out.truncate(self.stmt_start);
         let name = self.names.intern(written);
         self.out.push((from, Tok::Name(name), from + written.len()));
@@ -1563,7 +1454,10 @@ mod tests {
         assert!(lexed.errors.is_empty(), "{:?}", lexed.errors);
         let src = "Aa = (1\n2)\n";
         let lexed = lex(src, &Locator::new(0, src), &mut names);
-        assert_eq!(lexed.errors[0].message, "unclosed `(`");
+        assert_eq!(
+            lexed.errors[0].kind,
+            SyntaxErrorKind::UnclosedParen { on_its_line: true }
+        );
     }
 
     fn kinds(src: &str) -> Vec<Tok> {

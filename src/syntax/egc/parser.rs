@@ -4,11 +4,13 @@
 //! splits the top level into the main program and `O…`/`M99` subprograms.
 //! It must not evaluate anything.
 
+use super::error::{ParseHint, SyntaxError, SyntaxErrorKind};
 use super::lexer::{self, Language, Lexed, Tok};
 use crate::ast::*;
-use crate::diagnostic::{error, Diagnostic, DiagnosticExt};
+use crate::diagnostic::Diagnostic;
 use crate::source::{FileId, Locator, Span};
 use lalrpop_util::{lalrpop_mod, ParseError};
+use std::convert::Infallible;
 
 lalrpop_mod!(
     // Generated code: its unreachable-state panics are LALRPOP's, not ours.
@@ -97,7 +99,7 @@ fn parse_into(
     } = lexer::lex_as(text, at, names, language);
     let mut problems: Vec<Problem> = lex_errors
         .into_iter()
-        .map(|d| Problem::new(ProblemKind::Read, d))
+        .map(|e| Problem::new(ProblemKind::Read, e))
         .collect();
 
     let context = ErrorContext {
@@ -108,7 +110,7 @@ fn parse_into(
         tokens: &tokens,
         words: &words,
     };
-    let at_eof = |e: &ParseError<usize, Tok, &'static str>| match e {
+    let at_eof = |e: &ParseError<usize, Tok, Infallible>| match e {
         ParseError::UnrecognizedToken { token, .. } => token.0 >= text.len(),
         ParseError::UnrecognizedEof { .. } => true,
         _ => false,
@@ -134,7 +136,7 @@ fn parse_into(
                     names,
                     &words,
                     &mut recovered,
-                    slice.iter().copied().map(Ok::<_, &'static str>),
+                    slice.iter().copied().map(Ok::<_, Infallible>),
                 );
                 for r in recovered {
                     // The `}` the lexer adds for an unclosed block may not fit
@@ -160,9 +162,9 @@ fn parse_into(
     problems.extend(
         structure
             .into_iter()
-            .map(|d| Problem::new(ProblemKind::Read, d)),
+            .map(|e| Problem::new(ProblemKind::Read, e)),
     );
-    problems.sort_by_key(|p| p.diagnostic.labels.first().map_or(0, |l| l.range.start));
+    problems.sort_by_key(|p| p.error.span.start);
     (program, drop_cascades(problems, text))
 }
 
@@ -170,7 +172,7 @@ fn parse_into(
 /// only a consequence of another.
 struct Problem {
     kind: ProblemKind,
-    diagnostic: Diagnostic,
+    error: SyntaxError,
 }
 
 #[derive(Clone, Copy, PartialEq, Eq)]
@@ -184,8 +186,8 @@ enum ProblemKind {
 }
 
 impl Problem {
-    fn new(kind: ProblemKind, diagnostic: Diagnostic) -> Problem {
-        Problem { kind, diagnostic }
+    fn new(kind: ProblemKind, error: SyntaxError) -> Problem {
+        Problem { kind, error }
     }
 }
 
@@ -193,29 +195,25 @@ impl Problem {
 /// lexer already reported, or at a `}` after an earlier error (its `{` was
 /// skipped while recovering), only repeats an error the user has.
 fn drop_cascades(problems: Vec<Problem>, text: &str) -> Vec<Diagnostic> {
-    let line_of = |d: &Diagnostic| {
-        let at = d
-            .labels
-            .first()
-            .map_or(0, |l| l.range.start)
-            .min(text.len());
+    let line_of = |e: &SyntaxError| {
+        let at = (e.span.start as usize).min(text.len());
         text[..at].bytes().filter(|&b| b == b'\n').count()
     };
     let read_lines: Vec<usize> = problems
         .iter()
         .filter(|p| p.kind == ProblemKind::Read)
-        .map(|p| line_of(&p.diagnostic))
+        .map(|p| line_of(&p.error))
         .collect();
     let mut kept: Vec<Diagnostic> = Vec::with_capacity(problems.len());
     for p in problems {
         let parse_error = p.kind != ProblemKind::Read;
-        if parse_error && read_lines.contains(&line_of(&p.diagnostic)) {
+        if parse_error && read_lines.contains(&line_of(&p.error)) {
             continue;
         }
         if p.kind == ProblemKind::StrayBrace && !kept.is_empty() {
             continue;
         }
-        kept.push(p.diagnostic);
+        kept.push(p.error.to_diagnostic());
     }
     kept
 }
@@ -307,7 +305,7 @@ struct ErrorContext<'a> {
 impl ErrorContext<'_> {
     /// A parse error as a problem: a stray `}` is told apart, since after
     /// an earlier error it only means its `{` was skipped.
-    fn problem(&self, e: ParseError<usize, Tok, &'static str>) -> Problem {
+    fn problem(&self, e: ParseError<usize, Tok, Infallible>) -> Problem {
         let kind = match e {
             ParseError::UnrecognizedToken {
                 token: (_, Tok::RBrace, _),
@@ -324,7 +322,7 @@ impl ErrorContext<'_> {
         Problem::new(kind, self.describe(e))
     }
 
-    fn describe(&self, e: ParseError<usize, Tok, &'static str>) -> Diagnostic {
+    fn describe(&self, e: ParseError<usize, Tok, Infallible>) -> SyntaxError {
         match e {
             ParseError::UnrecognizedToken {
                 token: (l, tok, r),
@@ -342,45 +340,45 @@ impl ErrorContext<'_> {
                 } else {
                     (tok.describe(self.names), self.at.span(l, r))
                 };
-                let mut d = error(
-                    format!("unexpected {what}"),
-                    span,
-                    format!("expected {}", expected_list(&expected)),
-                );
                 let before = self.tokens.iter().rev().find(|t| t.0 < l).map(|t| t.1);
                 let wants = |t: &str| expected.iter().any(|e| e.trim_matches('"') == t);
+                let mut hints = Vec::new();
                 if matches!(before, Some(Tok::If | Tok::While)) {
-                    d = d.with_help("conditions are written in parentheses: `while (i < 3) { … }`");
+                    hints.push(ParseHint::ConditionInParentheses);
                 } else if tok == Tok::Assign && wants("==") {
-                    d = d.with_help("to compare two values write `==`; `=` assigns");
+                    hints.push(ParseHint::CompareWithEqEq);
                 } else if tok == Tok::Else {
-                    d = d.with_help("`else` must follow the `}` of an `if` block");
+                    hints.push(ParseHint::ElseAfterIf);
                 } else if matches!(tok, Tok::Name(_)) && wants("word") {
-                    d = d.with_help("comments are written `( … )` or `// …`");
+                    hints.push(ParseHint::CommentSyntax);
                 }
                 if self.in_call_group(l) {
-                    d = d.with_help(
-                        "in a wizard call `( … )` groups an expression; write comments with `//`",
-                    );
+                    hints.push(ParseHint::CommentInCall);
                 }
-                d
+                let kind = SyntaxErrorKind::UnexpectedToken {
+                    what,
+                    expected: expected_list(&expected),
+                    hints,
+                };
+                SyntaxError::new(kind, span)
             }
-            ParseError::UnrecognizedEof { location, expected } => error(
-                "unexpected end of file",
+            ParseError::UnrecognizedEof { location, expected } => SyntaxError::new(
+                SyntaxErrorKind::UnexpectedEnd {
+                    expected: expected_list(&expected),
+                },
                 self.at.span(location, location),
-                format!("expected {}", expected_list(&expected)),
             ),
-            ParseError::ExtraToken { token: (l, tok, r) } => error(
-                format!("unexpected {}", tok.describe(self.names)),
+            ParseError::ExtraToken { token: (l, tok, r) } => SyntaxError::new(
+                SyntaxErrorKind::ExtraToken {
+                    what: tok.describe(self.names),
+                },
                 self.at.span(l, r),
-                "nothing more was expected here",
             ),
-            ParseError::InvalidToken { location } => error(
-                "invalid token",
+            ParseError::InvalidToken { location } => SyntaxError::new(
+                SyntaxErrorKind::InvalidToken,
                 self.at.span(location, location + 1),
-                "not understood",
             ),
-            ParseError::User { error: message } => error(message, self.at.span(0, 0), ""),
+            ParseError::User { error } => match error {},
         }
     }
 
@@ -455,7 +453,7 @@ fn has_m99(stmt: &Stmt) -> bool {
 /// Split the top level into the main program and subprograms (SPEC §2.6):
 /// an `O` line opens a subprogram that ends with its `M99`; an `O` line at
 /// the very top whose block has no `M99` numbers the main program instead.
-fn split_subprograms(top: Vec<Stmt>, diagnostics: &mut Vec<Diagnostic>) -> Program {
+fn split_subprograms(top: Vec<Stmt>, errors: &mut Vec<SyntaxError>) -> Program {
     let mut program = Program {
         main: Vec::with_capacity(top.len()),
         main_number: None,
@@ -473,24 +471,21 @@ fn split_subprograms(top: Vec<Stmt>, diagnostics: &mut Vec<Diagnostic>) -> Progr
     for (index, stmt) in top.into_iter().enumerate() {
         if let Some((value, span)) = program_number(&stmt) {
             if value < 0.0 || value.fract() != 0.0 || value > 99_999_999.0 {
-                diagnostics.push(error(
-                    "invalid program number",
+                errors.push(SyntaxError::new(
+                    SyntaxErrorKind::InvalidProgramNumber,
                     span,
-                    "an O number is a whole number from 0 to 99999999",
                 ));
                 continue;
             }
             let number = value as u32;
             if let Some(sub) = open.take() {
-                diagnostics.push(
-                    error(
-                        format!("subprogram O{} has no M99", sub.number),
-                        sub.span,
-                        "this subprogram is not closed",
-                    )
-                    .with_secondary(span, "the next program starts here")
-                    .with_help("end every subprogram with `M99`"),
-                );
+                errors.push(SyntaxError::new(
+                    SyntaxErrorKind::SubprogramWithoutM99 {
+                        number: sub.number,
+                        next: Some(span),
+                    },
+                    sub.span,
+                ));
                 program.subprograms.push(sub);
             }
             if index == first && numbers_main {
@@ -498,14 +493,13 @@ fn split_subprograms(top: Vec<Stmt>, diagnostics: &mut Vec<Diagnostic>) -> Progr
                 continue;
             }
             if let Some(other) = program.subprograms.iter().find(|s| s.number == number) {
-                diagnostics.push(
-                    error(
-                        format!("O{number} is defined twice"),
-                        span,
-                        "second definition",
-                    )
-                    .with_secondary(other.span, "first definition"),
-                );
+                errors.push(SyntaxError::new(
+                    SyntaxErrorKind::SubprogramTwice {
+                        number,
+                        first: other.span,
+                    },
+                    span,
+                ));
             }
             open = Some(Subprogram {
                 number,
@@ -526,14 +520,13 @@ fn split_subprograms(top: Vec<Stmt>, diagnostics: &mut Vec<Diagnostic>) -> Progr
         }
     }
     if let Some(sub) = open {
-        diagnostics.push(
-            error(
-                format!("subprogram O{} has no M99", sub.number),
-                sub.span,
-                "this subprogram is never closed",
-            )
-            .with_help("end every subprogram with `M99`"),
-        );
+        errors.push(SyntaxError::new(
+            SyntaxErrorKind::SubprogramWithoutM99 {
+                number: sub.number,
+                next: None,
+            },
+            sub.span,
+        ));
         program.subprograms.push(sub);
     }
     program

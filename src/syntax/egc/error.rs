@@ -1,0 +1,307 @@
+//! The problems of reading a program's text, as data: what the lexer, the
+//! grammar and the O…M99 split find, each a kind and the span it points
+//! at. [`SyntaxError::to_diagnostic`] is the one place their wording
+//! lives; the code that finds a problem decides its kind, never its words.
+
+use super::lexer::Language;
+use crate::diagnostic::{error, Diagnostic, DiagnosticExt};
+use crate::source::Span;
+
+#[derive(Clone, Debug, PartialEq)]
+pub enum SyntaxErrorKind {
+    /// A character no token starts with.
+    UnknownCharacter(char),
+    /// A group `(` still open when its line ended (`on_its_line`) or when
+    /// the file ended.
+    UnclosedParen {
+        on_its_line: bool,
+    },
+    /// `)` with no group open.
+    UnmatchedParen,
+    /// LinuxCNC's `]` with no `[` open.
+    UnmatchedBracket,
+    /// `{` never closed.
+    UnclosedBrace,
+    /// `}` with no block open.
+    UnmatchedBrace,
+    /// `X<` whose `>` never comes on its line.
+    UnclosedSymbolicWord,
+    /// `( … )` with no `)`: plain G-code's ends with its line, `.egc`'s
+    /// at the next `)`.
+    UnclosedComment(Language),
+    UnterminatedString,
+    /// A number with more than one decimal point, as written.
+    MalformedNumber(String),
+    /// A single letter where an expression wants a name.
+    LetterAsName(String),
+    /// A letter with no number where a word belongs.
+    LetterWithoutNumber(String),
+    /// `P0X = 5`: a word where a name was meant, and the name it could be
+    /// (its letters, then its digits), if it has two letters.
+    WordAsName {
+        written: String,
+        respelled: Option<String>,
+    },
+    /// `{` blocks nested deeper than the limit: the rest is not read.
+    BlocksTooDeep(usize),
+    /// A statement of more tokens than the limit: the rest is dropped.
+    StatementTooLong(usize),
+    /// `#<` with no `>` on its line.
+    UnclosedParameter,
+    /// `#[…]`, `##1`.
+    IndirectParameter,
+    /// `ATAN[y]` without its `/[x]`.
+    AtanOneArgument,
+    /// An o-word `return` at the top of a subroutine.
+    ReturnOutsideBlock,
+    /// An o-word keyword ger does not read (`break`, `continue`).
+    UnsupportedOWord(&'static str),
+    /// An `o… call` with more arguments than a subroutine takes.
+    TooManyArguments(u32),
+    /// The grammar did not expect a token: the token as the message names
+    /// it, what it expected instead, and hints that fit the tokens around.
+    UnexpectedToken {
+        what: String,
+        expected: String,
+        hints: Vec<ParseHint>,
+    },
+    /// The text ended where the grammar expected `expected`.
+    UnexpectedEnd {
+        expected: String,
+    },
+    /// A token after a complete program.
+    ExtraToken {
+        what: String,
+    },
+    /// LALRPOP's own lexer's error; ger's tokens should never make it.
+    InvalidToken,
+    /// An O number that is not a whole number from 0 to 99999999.
+    InvalidProgramNumber,
+    /// Subprogram `number` has no M99 before the next program (`next`)
+    /// or the end of the file.
+    SubprogramWithoutM99 {
+        number: u32,
+        next: Option<Span>,
+    },
+    /// Subprogram `number` again; where it was first.
+    SubprogramTwice {
+        number: u32,
+        first: Span,
+    },
+}
+
+/// Why a parse error may have happened, read from the tokens around it.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum ParseHint {
+    /// Right after `if` or `while`.
+    ConditionInParentheses,
+    /// `=` where `==` would fit.
+    CompareWithEqEq,
+    /// `else` not after an `if` block.
+    ElseAfterIf,
+    /// A name where a word was expected: likely a comment's text.
+    CommentSyntax,
+    /// Inside a wizard call's `( … )`, which groups.
+    CommentInCall,
+}
+
+#[derive(Clone, Debug, PartialEq)]
+pub struct SyntaxError {
+    pub kind: SyntaxErrorKind,
+    pub span: Span,
+}
+
+impl SyntaxError {
+    pub fn new(kind: SyntaxErrorKind, span: Span) -> SyntaxError {
+        SyntaxError { kind, span }
+    }
+
+    pub fn to_diagnostic(&self) -> Diagnostic {
+        use SyntaxErrorKind::*;
+        let at = self.span;
+        match &self.kind {
+            UnknownCharacter(ch) => error(
+                format!("unexpected character `{}`", ch.escape_default()),
+                at,
+                "ger does not know this character",
+            )
+            .with_help("comments are written `( … )` on G-code lines or `// …` anywhere"),
+            UnclosedParen { on_its_line } => error(
+                "unclosed `(`",
+                at,
+                if *on_its_line {
+                    "this parenthesis is not closed on its line"
+                } else {
+                    "this parenthesis is never closed"
+                },
+            )
+            .with_help("add the matching `)`"),
+            UnmatchedParen => error("unmatched `)`", at, "no `(` is open here"),
+            UnmatchedBracket => error("unmatched `]`", at, "no `[` is open here"),
+            UnclosedBrace => error("unclosed `{`", at, "this block is never closed")
+                .with_help("add the matching `}`"),
+            UnmatchedBrace => error("unmatched `}`", at, "no block is open here")
+                .with_help("remove it, or add the `{` that opens the block"),
+            UnclosedSymbolicWord => error(
+                "unclosed `<` in a symbolic word",
+                at,
+                "this `<` is never closed",
+            )
+            .with_help("a symbolic word is written `X<expression>`, all on one line"),
+            UnclosedComment(Language::Gcode) => error(
+                "unclosed comment",
+                at,
+                "this comment is not closed on its line",
+            )
+            .with_help("a `( … )` comment ends with a `)` on the same line"),
+            UnclosedComment(Language::Egc) => {
+                error("unclosed comment", at, "this comment is never closed")
+                    .with_help("a `( … )` comment ends at the next `)`; add one")
+            }
+            UnterminatedString => error(
+                "unterminated string",
+                at,
+                "this string has no closing `\"`",
+            )
+            .with_help("strings end on the line they start on"),
+            MalformedNumber(text) => error(
+                format!("malformed number `{text}`"),
+                at,
+                "more than one decimal point",
+            )
+            .with_help("a number has at most one `.`: `1.25`, `.5`, `10.`"),
+            LetterAsName(text) => error(
+                format!("`{text}` is not a variable name"),
+                at,
+                "a single letter is a G-code address, not a name",
+            )
+            .with_help(format!(
+                "a variable name needs at least two characters: `{text}{text}`, `{text}_`"
+            )),
+            LetterWithoutNumber(text) => error(
+                format!("`{text}` without a number"),
+                at,
+                "a word needs a number directly after its letter",
+            )
+            .with_help(format!(
+                "write `{u}10` or `{u}<expression>`, with no space after `{u}`",
+                u = text.to_ascii_uppercase()
+            )),
+            WordAsName { written, respelled } => {
+                let d = error(
+                    format!("`{written}` is not a valid variable name"),
+                    at,
+                    "a letter followed by a number is a G-code word",
+                )
+                .with_note("a name starts with two letters, or a letter and `_`");
+                match respelled {
+                    Some(name) => d.with_help(format!("try `{name}`")),
+                    None => d,
+                }
+            }
+            BlocksTooDeep(limit) => error(
+                format!("blocks nested more than {limit} deep"),
+                at,
+                "this block is too deep",
+            )
+            .with_help("the rest of the file was not read; flatten the nesting"),
+            StatementTooLong(limit) => error(
+                format!("statement longer than {limit} tokens"),
+                at,
+                "the statement is cut here",
+            )
+            .with_help("split the expression with intermediate variables"),
+            UnclosedParameter => error(
+                "unclosed parameter name",
+                at,
+                "`#<` starts a name that ends with `>`",
+            ),
+            IndirectParameter => error(
+                "unsupported parameter",
+                at,
+                "ger reads `#123` and `#<name>`",
+            )
+            .with_help("indirect parameters (`#[…]`, `##1`) are not supported"),
+            AtanOneArgument => error(
+                "ATAN needs two arguments",
+                at,
+                "LinuxCNC writes `ATAN[y]/[x]`",
+            ),
+            ReturnOutsideBlock => error(
+                "`return` outside an `if` or a loop is not supported",
+                at,
+                "the rest of the subroutine would never run: remove it, or end the subroutine here with `endsub`",
+            ),
+            UnsupportedOWord(keyword) => error(
+                format!("`{keyword}` is not supported"),
+                at,
+                "ger reads o-word sub/endsub/call, if/elseif/else/endif, while/endwhile, do/while and repeat/endrepeat",
+            ),
+            TooManyArguments(limit) => error(
+                format!("more than {limit} arguments"),
+                at,
+                format!("a subroutine takes #1 to #{limit}"),
+            ),
+            UnexpectedToken {
+                what,
+                expected,
+                hints,
+            } => hints.iter().fold(
+                error(format!("unexpected {what}"), at, format!("expected {expected}")),
+                |d, hint| d.with_help(hint_text(*hint)),
+            ),
+            UnexpectedEnd { expected } => error(
+                "unexpected end of file",
+                at,
+                format!("expected {expected}"),
+            ),
+            ExtraToken { what } => error(
+                format!("unexpected {what}"),
+                at,
+                "nothing more was expected here",
+            ),
+            InvalidToken => error("invalid token", at, "not understood"),
+            InvalidProgramNumber => error(
+                "invalid program number",
+                at,
+                "an O number is a whole number from 0 to 99999999",
+            ),
+            SubprogramWithoutM99 {
+                number,
+                next: Some(next),
+            } => error(
+                format!("subprogram O{number} has no M99"),
+                at,
+                "this subprogram is not closed",
+            )
+            .with_secondary(*next, "the next program starts here")
+            .with_help("end every subprogram with `M99`"),
+            SubprogramWithoutM99 { number, next: None } => error(
+                format!("subprogram O{number} has no M99"),
+                at,
+                "this subprogram is never closed",
+            )
+            .with_help("end every subprogram with `M99`"),
+            SubprogramTwice { number, first } => error(
+                format!("O{number} is defined twice"),
+                at,
+                "second definition",
+            )
+            .with_secondary(*first, "first definition"),
+        }
+    }
+}
+
+fn hint_text(hint: ParseHint) -> &'static str {
+    match hint {
+        ParseHint::ConditionInParentheses => {
+            "conditions are written in parentheses: `while (i < 3) { … }`"
+        }
+        ParseHint::CompareWithEqEq => "to compare two values write `==`; `=` assigns",
+        ParseHint::ElseAfterIf => "`else` must follow the `}` of an `if` block",
+        ParseHint::CommentSyntax => "comments are written `( … )` or `// …`",
+        ParseHint::CommentInCall => {
+            "in a wizard call `( … )` groups an expression; write comments with `//`"
+        }
+    }
+}
