@@ -1,6 +1,6 @@
 //! Parser: tokens → AST. The only module that knows LALRPOP; the grammar
 //! (`grammar/egc.lalrpop`) could be replaced by touching this file alone.
-//! Besides running the grammar it turns parse errors into diagnostics and
+//! Besides running the grammar it turns parse errors into `SyntaxError`s and
 //! splits the top level into the main program and `O…`/`M99` subprograms.
 //! It must not evaluate anything.
 
