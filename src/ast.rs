@@ -103,6 +103,9 @@ pub enum StmtKind {
     },
     If(Box<If>),
     While(Box<While>),
+    /// Fanuc's `GOTO n`: go on at the line labelled `Nn` of the same
+    /// program or subprogram (the target may be an expression).
+    Goto(Box<Expr>),
     /// A controller command line of plain G-code (grbl's `$H`), passed
     /// through as written.
     Command(Symbol),
@@ -234,6 +237,59 @@ pub enum ExprKind {
     UnknownCall(Symbol, Vec<Expr>),
 }
 
+impl Expr {
+    /// Change every function this expression calls by `f`.
+    pub fn map_functions(&mut self, f: &impl Fn(Function) -> Function) {
+        match &mut self.kind {
+            ExprKind::Number(_) | ExprKind::Bool(_) | ExprKind::Str(_) | ExprKind::Var(_) => {}
+            ExprKind::Unary(_, e) => e.map_functions(f),
+            ExprKind::Binary(_, a, b) => {
+                a.map_functions(f);
+                b.map_functions(f);
+            }
+            ExprKind::Call(function, args) => {
+                *function = f(*function);
+                args.iter_mut().for_each(|a| a.map_functions(f));
+            }
+            ExprKind::UnknownCall(_, args) => args.iter_mut().for_each(|a| a.map_functions(f)),
+        }
+    }
+}
+
+impl Stmt {
+    /// Change every function the statement (and any block in it) calls.
+    pub fn map_functions(&mut self, f: &impl Fn(Function) -> Function) {
+        let block = |stmts: &mut Vec<Stmt>| stmts.iter_mut().for_each(|s| s.map_functions(f));
+        match &mut self.kind {
+            StmtKind::Line(line) => {
+                for w in &mut line.words {
+                    if let WordValue::Expr(e) = &mut w.value {
+                        e.map_functions(f);
+                    }
+                }
+            }
+            StmtKind::Assign { value, .. } => value.map_functions(f),
+            StmtKind::Assigns(all) => all.iter_mut().for_each(|a| a.value.map_functions(f)),
+            StmtKind::Call { args, .. } => args.iter_mut().for_each(|a| a.map_functions(f)),
+            StmtKind::If(if_) => {
+                for (cond, body) in &mut if_.branches {
+                    cond.map_functions(f);
+                    block(body);
+                }
+                if let Some(body) = &mut if_.otherwise {
+                    block(body);
+                }
+            }
+            StmtKind::While(w) => {
+                w.cond.map_functions(f);
+                block(&mut w.body);
+            }
+            StmtKind::Goto(target) => target.map_functions(f),
+            StmtKind::Command(_) | StmtKind::Comment(_) | StmtKind::Error => {}
+        }
+    }
+}
+
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum UnaryOp {
     Neg,
@@ -327,9 +383,17 @@ pub enum Function {
     Log10,
     /// LinuxCNC's `EXISTS[#<name>]`: 1 if the parameter has a value, else 0.
     Exists,
+    /// Fanuc's FIX and FUP, which round toward and away from zero
+    /// (LinuxCNC's round down and up), and Fanuc's `ATAN[y]/[x]`, from 0
+    /// to 360 degrees (LinuxCNC's from -180 to 180).
+    FanucFix,
+    FanucFup,
+    FanucAtan,
 }
 
 impl Function {
+    /// The functions a program can name (Fanuc's own come only from
+    /// [`Function::on_fanuc`]).
     pub const ALL: [(&'static str, Function); 19] = [
         ("abs", Function::Abs),
         ("sqrt", Function::Sqrt),
@@ -352,6 +416,17 @@ impl Function {
         ("exists", Function::Exists),
     ];
 
+    /// The function a Fanuc program means where LinuxCNC's reading gave
+    /// `self` (the lexer reads FIX, FUP and ATAN as LinuxCNC does).
+    pub fn on_fanuc(self) -> Function {
+        match self {
+            Function::Floor => Function::FanucFix,
+            Function::Ceil => Function::FanucFup,
+            Function::Atan2 => Function::FanucAtan,
+            other => other,
+        }
+    }
+
     /// Function names match case-insensitively, as G-code does.
     pub fn from_name(name: &str) -> Option<Function> {
         Function::ALL
@@ -361,6 +436,12 @@ impl Function {
     }
 
     pub fn name(self) -> &'static str {
+        match self {
+            Function::FanucFix => return "FIX",
+            Function::FanucFup => return "FUP",
+            Function::FanucAtan => return "ATAN",
+            _ => {}
+        }
         Function::ALL
             .iter()
             .find(|(_, f)| *f == self)
@@ -371,7 +452,7 @@ impl Function {
     /// How many arguments it takes: `min` and `max` take two or more.
     pub fn arity(self) -> (usize, usize) {
         match self {
-            Function::Atan2 | Function::Hypot => (2, 2),
+            Function::Atan2 | Function::Hypot | Function::FanucAtan => (2, 2),
             Function::Min | Function::Max => (2, usize::MAX),
             _ => (1, 1),
         }

@@ -333,8 +333,18 @@ fn run<'a>(
         plain: language == Language::Gcode,
         ..options.eval.clone()
     };
-    let (program, parse_diagnostics) =
+    let (mut program, parse_diagnostics) =
         crate::syntax::egc::parse_program_files((text, &locator), &library, language);
+    if from == eval::Flavour::Fanuc && language == Language::Gcode {
+        let on_fanuc = |f: crate::ast::Function| f.on_fanuc();
+        let subprograms = program
+            .subprograms
+            .iter_mut()
+            .flat_map(|s| s.body.iter_mut());
+        for stmt in program.main.iter_mut().chain(subprograms) {
+            stmt.map_functions(&on_fanuc);
+        }
+    }
     diagnostics.extend(parse_diagnostics);
     clock.lap("parse");
     if diagnostics.iter().any(is_error) {

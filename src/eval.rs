@@ -180,6 +180,8 @@ enum Flow {
     Return,
     /// M2/M30: the program is over.
     End,
+    /// Fanuc's `GOTO`: on at the line labelled N, from where it was.
+    Goto(u32, Span),
     /// An error made it impossible to go on (a limit, a broken condition).
     Abort,
 }
@@ -196,6 +198,10 @@ struct Evaluator<'a> {
     /// entered or left): a loop pass that leaves it as it was changed
     /// nothing its condition can read, so it would run forever.
     changes: u64,
+    /// Backward `GOTO`s taken, and `changes` at the last one from each
+    /// place (by file and offset).
+    gotos: u64,
+    goto_changes: std::collections::HashMap<(u32, u32), u64>,
     sink: &'a mut dyn ir::Sink,
     /// Statements not yet sent to the sink.
     out: Vec<ir::Stmt>,
@@ -264,9 +270,11 @@ impl<'a> Evaluator<'a> {
             names: &program.names,
             options,
             wizards,
-            vars: numbered_parameters(&program.names),
+            vars: numbered_parameters(&program.names, options.from),
             messages: 0,
             changes: 0,
+            gotos: 0,
+            goto_changes: Default::default(),
             linuxcnc: LinuxCncNames::of(&program.names),
             sink,
             out: Vec::with_capacity(options.batch.clamp(1, 1 << 16)),
@@ -302,7 +310,19 @@ impl<'a> Evaluator<'a> {
 
     fn run(&mut self) {
         let main = &self.program.main;
-        self.exec_block(main);
+        let flow = self.exec_block(main);
+        self.no_label(flow);
+    }
+
+    /// A `GOTO` whose label no block of its program has: an error.
+    fn no_label(&mut self, flow: Flow) -> Flow {
+        match flow {
+            Flow::Goto(label, from) => {
+                self.report(EvalError::new(EvalErrorKind::NoLabel(label), from).to_diagnostic());
+                Flow::Abort
+            }
+            other => other,
+        }
     }
 
     fn report(&mut self, d: Diagnostic) {
@@ -321,6 +341,14 @@ impl<'a> Evaluator<'a> {
     }
 
     fn report_expr(&mut self, e: ExprError) {
+        // Fanuc keeps #500–#999 and its system variables on the machine.
+        if let ExprError::Undefined { name, span } = &e {
+            if self.fanuc_parameter(*name).is_some_and(|n| n >= 500) {
+                let kind = EvalErrorKind::MachineVariable(self.names.text(*name).to_string());
+                self.report(EvalError::new(kind, *span).to_diagnostic());
+                return;
+            }
+        }
         if let Some(d) = e.to_diagnostic(self.names, &self.vars) {
             self.report(d);
         }
@@ -466,16 +494,115 @@ impl<'a> Evaluator<'a> {
     }
 
     fn exec_block(&mut self, stmts: &[ast::Stmt]) -> Flow {
-        for stmt in stmts {
-            let flow = self.exec(stmt);
-            if flow != Flow::Next {
-                return flow;
+        let mut next = 0;
+        while let Some(stmt) = stmts.get(next) {
+            next += 1;
+            let flow = match &stmt.kind {
+                StmtKind::Assign { name, value, .. } if self.is_system_variable(*name) => {
+                    // Its message is the comment after it on its line.
+                    let message = match stmts.get(next) {
+                        Some(c)
+                            if c.span.line == stmt.span.line && c.span.file == stmt.span.file =>
+                        {
+                            match &c.kind {
+                                StmtKind::Comment(text) => Some(self.names.text(*text).trim()),
+                                _ => None,
+                            }
+                        }
+                        _ => None,
+                    };
+                    next += usize::from(message.is_some());
+                    self.system_assign(*name, value, stmt.span, message)
+                }
+                _ => self.exec(stmt),
+            };
+            match flow {
+                Flow::Next => {}
+                // A jump to a label of this block; else the block around
+                // it looks (Fanuc jumps out of a loop, never into one).
+                Flow::Goto(label, from) => match labelled(stmts, label) {
+                    Some(at) => {
+                        if !self.jumped(at < next, from) {
+                            return Flow::Abort;
+                        }
+                        next = at;
+                    }
+                    None => return flow,
+                },
+                _ => return flow,
             }
             if self.too_many_errors() {
                 return Flow::Abort;
             }
         }
         Flow::Next
+    }
+
+    /// The number of a Fanuc `#` variable, when the program is Fanuc's.
+    fn fanuc_parameter(&self, name: Symbol) -> Option<u32> {
+        (self.options.from == Flavour::Fanuc)
+            .then(|| parameter_number(self.names.text(name)))
+            .flatten()
+    }
+
+    /// Fanuc's `#3000` (an alarm) and `#3006` (a stop with a message).
+    fn is_system_variable(&self, name: Symbol) -> bool {
+        matches!(self.fanuc_parameter(name), Some(3000 | 3006))
+    }
+
+    /// `#3000 = n (MESSAGE)` stops the compile with the alarm, as the
+    /// machine would stop; `#3006 = n (MESSAGE)` is the message and M0.
+    fn system_assign(
+        &mut self,
+        name: Symbol,
+        value: &ast::Expr,
+        span: Span,
+        message: Option<&str>,
+    ) -> Flow {
+        let number = match value::number(value, &self.vars, &|| "the alarm number".into()) {
+            Ok(n) => n,
+            Err(e) => {
+                self.report_expr(e);
+                return Flow::Abort;
+            }
+        };
+        let message = message.unwrap_or("").to_string();
+        if self.fanuc_parameter(name) == Some(3000) {
+            let kind = EvalErrorKind::Alarm { number, message };
+            self.report(EvalError::new(kind, span).to_diagnostic());
+            return Flow::Abort;
+        }
+        if !message.is_empty() {
+            let op = ir::Op::Comment(format!("MSG, {message}"));
+            if self.emit_or_abort(op, span) == Flow::Abort {
+                return Flow::Abort;
+            }
+        }
+        self.emit_or_abort(ir::Op::Stop(ir::Stop::Program), span)
+    }
+
+    /// A `GOTO` taken; a backward one is a loop, with a loop's limits.
+    /// False when a limit stops the program.
+    fn jumped(&mut self, backward: bool, from: Span) -> bool {
+        if !backward {
+            return true;
+        }
+        self.gotos += 1;
+        if self.gotos > self.options.max_iterations {
+            let kind = EvalErrorKind::LoopLimit(self.options.max_iterations);
+            self.report(EvalError::new(kind, from).to_diagnostic());
+            return false;
+        }
+        // Between two jumps back from one place nothing changed: the
+        // program goes round for ever.
+        let last = self
+            .goto_changes
+            .insert((from.file, from.start), self.changes);
+        if last == Some(self.changes) {
+            self.report(EvalError::new(EvalErrorKind::LoopNeverEnds, from).to_diagnostic());
+            return false;
+        }
+        true
     }
 
     /// One line, in rs274's order of execution when it has several codes.
@@ -488,6 +615,17 @@ impl<'a> Evaluator<'a> {
     }
 
     fn exec_line_in_order(&mut self, line: &ast::Line) -> Flow {
+        // Fanuc's `G65 P… A… M…`: every word after it is an argument.
+        if self.options.from == Flavour::Fanuc {
+            let first = line.words.iter().position(|w| w.letter != b'N');
+            if let Some(i) = first.filter(|&i| is_g65(&line.words[i])) {
+                let stmt = ast::LineStmt {
+                    code: Some(&line.words[i]),
+                    args: &line.words[i + 1..],
+                };
+                return self.exec_line_stmt(stmt);
+            }
+        }
         if let Some(stmts) = block::in_order(line) {
             for s in &stmts {
                 let flow = self.exec_line_stmt(s.as_stmt());
@@ -555,6 +693,22 @@ impl<'a> Evaluator<'a> {
                 }
             }
             StmtKind::While(w) => self.exec_while(&w.cond, &w.body, stmt.span),
+            StmtKind::Goto(target) => {
+                match value::number(target, &self.vars, &|| "the `GOTO` target".into()) {
+                    Ok(n) if (0.0..1e8).contains(&n) && n.fract() == 0.0 => {
+                        Flow::Goto(n as u32, stmt.span)
+                    }
+                    Ok(n) => {
+                        let kind = EvalErrorKind::BadLabel(n);
+                        self.report(EvalError::new(kind, target.span).to_diagnostic());
+                        Flow::Abort
+                    }
+                    Err(e) => {
+                        self.report_expr(e);
+                        Flow::Abort
+                    }
+                }
+            }
             StmtKind::Error => Flow::Next,
             StmtKind::Comment(c) => {
                 if self.options.plain {
@@ -702,6 +856,18 @@ impl<'a> Evaluator<'a> {
         if self.names.text(name) == "PI" {
             self.report(EvalError::new(EvalErrorKind::AssignToPi, name_span).to_diagnostic());
             return None;
+        }
+        if self
+            .fanuc_parameter(name)
+            .is_some_and(|n| n == 0 || n >= 1000)
+        {
+            let kind = EvalErrorKind::ReadOnlyVariable(self.names.text(name).to_string());
+            self.report(EvalError::new(kind, name_span).to_diagnostic());
+            return None;
+        }
+        // A copy of a vacant variable is vacant (Fanuc).
+        if value::vacant(value, &self.vars) {
+            return Some(Slot::Vacant);
         }
         let result = match value::fast_number(value, &self.vars) {
             Some(n) => Ok(Value::Number(n)),
@@ -934,19 +1100,39 @@ pub(crate) const LAST_USER_PARAMETER: u32 = 5000;
 /// `(DEBUG, …)` and `(PRINT, …)` notes shown at most.
 const MAX_MESSAGES: usize = 100;
 
-fn numbered_parameters(names: &Names) -> Vec<Slot> {
+/// On Fanuc, `#0`, the locals `#1`–`#33` and the commons `#100`–`#199`
+/// start vacant; `#500`–`#999` keep their values on the machine and the
+/// rest are system variables, so they are unset (an error when read).
+fn numbered_parameters(names: &Names, from: Flavour) -> Vec<Slot> {
     names
         .iter()
-        .map(|(_, text)| match parameter_number(text) {
-            Some(1..=LAST_USER_PARAMETER) => Slot::Set(Value::Number(0.0)),
+        .map(|(_, text)| match (from, parameter_number(text)) {
+            (Flavour::Fanuc, Some(0..=33 | 100..=199)) => Slot::Vacant,
+            (Flavour::Fanuc, _) => Slot::Unset,
+            (_, Some(1..=LAST_USER_PARAMETER)) => Slot::Set(Value::Number(0.0)),
             _ => Slot::Unset,
         })
         .collect()
 }
 
+fn is_g65(w: &ast::Word) -> bool {
+    w.letter == b'G' && matches!(&w.value, ast::WordValue::Number(n) if n.value == 65.0)
+}
+
+/// Where the line labelled `N<label>` is among `stmts`.
+fn labelled(stmts: &[ast::Stmt], label: u32) -> Option<usize> {
+    stmts.iter().position(|s| match &s.kind {
+        StmtKind::Line(line) => line.words.first().is_some_and(|w| {
+            w.letter == b'N'
+                && matches!(&w.value, ast::WordValue::Number(n) if n.value == f64::from(label))
+        }),
+        _ => false,
+    })
+}
+
 /// The variables of LinuxCNC's subroutine scope: `#1`–`#30` and the named
 /// parameters that do not start with `_`; and the call's argument slots.
-#[derive(Debug, Default)]
+#[derive(Debug)]
 struct LinuxCncNames {
     /// `#<call>`: set by an `o… call` line to its number of arguments.
     marker: Option<usize>,
@@ -956,11 +1142,19 @@ struct LinuxCncNames {
     numbered: [Option<usize>; 30],
     /// Local named parameters.
     named: Vec<usize>,
+    /// Fanuc's locals `#k`, k = 1…33, by k − 1.
+    locals: [Option<usize>; 33],
 }
 
 impl LinuxCncNames {
     fn of(names: &Names) -> LinuxCncNames {
-        let mut found = LinuxCncNames::default();
+        let mut found = LinuxCncNames {
+            marker: None,
+            args: [None; 30],
+            numbered: [None; 30],
+            named: Vec::new(),
+            locals: [None; 33],
+        };
         for (symbol, text) in names.iter() {
             let i = symbol.0 as usize;
             if text == "#<call>" {
@@ -977,6 +1171,9 @@ impl LinuxCncNames {
                 if (1..=30).contains(&k) {
                     found.numbered[k as usize - 1] = Some(i);
                 }
+                if (1..=33).contains(&k) {
+                    found.locals[k as usize - 1] = Some(i);
+                }
             } else if text.starts_with("#<") && !text.starts_with("#<_") {
                 found.named.push(i);
             }
@@ -986,6 +1183,23 @@ impl LinuxCncNames {
 }
 
 impl Evaluator<'_> {
+    /// Entering a Fanuc `G65` macro: a new level of locals `#1`–`#33`,
+    /// the arguments set and the rest vacant. Returns the caller's values.
+    fn fanuc_scope(&mut self, args: &[(u32, f64)]) -> Vec<(usize, Slot)> {
+        let mut saved = Vec::new();
+        for (k, local) in self.linuxcnc.locals.iter().enumerate() {
+            if let Some(i) = *local {
+                let value = args
+                    .iter()
+                    .find(|(n, _)| *n as usize == k + 1)
+                    .map_or(Slot::Vacant, |(_, v)| Slot::Set(Value::Number(*v)));
+                saved.push((i, std::mem::replace(&mut self.vars[i], value)));
+            }
+        }
+        self.changes += 1;
+        saved
+    }
+
     /// Entering a subprogram from a LinuxCNC `o… call` (its marker set):
     /// `#1`–`#30` take the call's arguments (0 where none is given) and the
     /// local named parameters start unset, as on LinuxCNC. Returns the

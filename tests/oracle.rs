@@ -25,11 +25,13 @@ fn main() {
     let (have_oracle, required) = (rs274::available(), rs274::required());
     let mut trials = Vec::new();
     // `linuxcnc/` holds plain G-code in LinuxCNC's macro language: the
-    // program is its own reference.
-    for area in ["eval", "lower", "cycles", "comp", "linuxcnc"] {
+    // program is its own reference. `fanuc/` holds Fanuc Macro B programs
+    // (`.nc`, compiled `--from fanuc`), each with its plain reference.
+    for area in ["eval", "lower", "cycles", "comp", "linuxcnc", "fanuc"] {
         let dir = support::manifest().join("tests/oracle").join(area);
         let cases = match area {
             "linuxcnc" => support::files_with(&dir, "ngc"),
+            "fanuc" => support::files_with(&dir, "nc"),
             _ => support::egc_files(&dir),
         };
         for case in cases {
@@ -105,12 +107,15 @@ fn run_case(case: &Path) -> Result<(), Failed> {
         input = work.join(format!("{stem}.egc"));
         std::fs::write(&input, text).map_err(|e| e.to_string())?;
     }
-    let out = work.join(format!("{stem}.nc"));
+    let out = work.join(format!("{stem}.out.nc"));
     // The case's wizards, wherever its input is written.
     let wizards = case.parent().unwrap().join("wizards");
+    let fanuc = case.parent().unwrap().ends_with("fanuc");
     if wizards.is_dir() {
         let dir = wizards.to_string_lossy().into_owned();
         support::compile_with(&input, &out, &["--wizards", &dir])?;
+    } else if fanuc {
+        support::compile_with(&input, &out, &["--from", "fanuc"])?;
     } else {
         support::compile(&input, &out)?;
     }
@@ -124,7 +129,7 @@ fn run_case(case: &Path) -> Result<(), Failed> {
         .map_err(|e| format!("the reference {} fails: {e}", reference.display()))?;
     let b = rs274::tool_path(&out, &tools).map_err(|e| format!("ger's output fails: {e}"))?;
     // ger's own tool path (from its IR) is the one its output makes.
-    let own = own_tool_path(&input, &wizards)?;
+    let own = own_tool_path(&input, &wizards, fanuc)?;
     let own = rs274::Reference {
         path: own,
         inch: b.inch,
@@ -133,7 +138,7 @@ fn run_case(case: &Path) -> Result<(), Failed> {
         .map_err(|why| format!("ger's tool path is not its output's: {why}"))?;
     // Compiling ger's output again changes nothing.
     let again = rs274::Reference {
-        path: own_tool_path(&out, &wizards)?,
+        path: own_tool_path(&out, &wizards, fanuc)?,
         inch: b.inch,
     };
     rs274::same_path(&b, &again, &Default::default())
@@ -181,7 +186,11 @@ fn run_kept(case: &Path, keep: &str) -> Result<(), Failed> {
 }
 
 /// ger's own tool path of `input`, with the wizards of `folder`.
-fn own_tool_path(input: &Path, folder: &Path) -> Result<ger::toolpath::ToolPath, Failed> {
+fn own_tool_path(
+    input: &Path,
+    folder: &Path,
+    fanuc: bool,
+) -> Result<ger::toolpath::ToolPath, Failed> {
     use ger::wizard::{standard_library, Library, WizardEngine, WizardSource};
     let text = std::fs::read_to_string(input).map_err(|e| e.to_string())?;
     let mut sources = ger::source::Sources::new();
@@ -211,6 +220,7 @@ fn own_tool_path(input: &Path, folder: &Path) -> Result<ger::toolpath::ToolPath,
     })?;
     let options = ger::compile::CompileOptions {
         library,
+        from: fanuc.then_some(ger::eval::Flavour::Fanuc),
         ..Default::default()
     };
     let (path, diagnostics) = ger::compile::tool_path(&sources, file, &options, Some(&mut engine));

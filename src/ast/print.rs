@@ -102,6 +102,10 @@ impl AstPrinter<'_> {
                 self.nested(body);
                 self.line("}");
             }
+            StmtKind::Goto(target) => {
+                let text = format!("GOTO {}", self.expr(target));
+                self.line(&text)
+            }
             StmtKind::Error => self.line("<error>"),
             StmtKind::Comment(c) => {
                 let text = format!("({})", self.names.text(*c));

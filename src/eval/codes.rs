@@ -52,6 +52,10 @@ impl Evaluator<'_> {
             if w.letter == b'N' {
                 continue;
             }
+            // A word given a vacant variable is left out (Fanuc).
+            if matches!(&w.value, WordValue::Expr(e) if super::value::vacant(e, &self.vars)) {
+                continue;
+            }
             let Some(mut value) = self.word_value(w) else {
                 return Flow::Next;
             };
@@ -240,6 +244,10 @@ impl Evaluator<'_> {
         let code = Some((b'G', t));
         // Only for messages: built when one is needed.
         let name = || code_name(b'G', t);
+        // Its F, S and T are arguments.
+        if t == 650 && self.options.from == super::Flavour::Fanuc {
+            return self.macro_call(w, at);
+        }
         self.feed_speed_tool(w, span)?;
         if let Some(kind) = super::cycle::kind_of(t) {
             self.cycle_block(kind, Some(at), w, span)?;
@@ -348,7 +356,7 @@ impl Evaluator<'_> {
                     541 => "extended work offsets (G54.1 P…) are not supported; use G54–G59",
                     680 | 690 => "coordinate rotation is not supported",
                     500 | 510 => "scaling is not supported",
-                    650 => "macro calls (G65) are not supported; use a wizard or M98",
+                    650 => "G65 is Fanuc's macro call: pass --from fanuc",
                     901 => "absolute arc centres (G90.1) are not supported; I/J/K are relative to the start",
                     930 | 950 => "only feed per minute (G94) is supported",
                     _ => "ger does not know this code",
@@ -542,6 +550,43 @@ impl Evaluator<'_> {
         }
         self.feed_speed_tool(w, span)?;
         self.leftover_move(w, span, Some((b'M', 980)))?;
+        // A LinuxCNC `o… call` has its own parameters (see `linuxcnc_scope`).
+        self.run_subprogram(number, count, pspan, at, |ev| ev.linuxcnc_scope())
+    }
+
+    /// Fanuc's `G65 P… L… A… B…`: a macro call. Every other word is an
+    /// argument (argument specification I: A → #1, B → #2, C → #3, I → #4
+    /// … Z → #26), set in a new level of locals `#1`–`#33` where the rest
+    /// start vacant; the caller's come back after it.
+    fn macro_call(&mut self, w: &mut WordValues, at: Span) -> Result<Flow, Diagnostic> {
+        let Some((p, pspan)) = w.take(b'P') else {
+            return Err(CodeError::new(K::G65WithoutP, at).into());
+        };
+        let number = whole(p, pspan, "a program number")?;
+        let count = match w.take(b'L') {
+            Some((l, lspan)) => whole(l, lspan, "a repeat count")?,
+            None => 1,
+        };
+        let mut args = Vec::new();
+        for (letter, local) in MACRO_ARGUMENTS {
+            if let Some((value, _)) = w.take(letter) {
+                args.push((local, value));
+            }
+        }
+        self.unused_words(w, Some((b'G', 650)))?;
+        self.run_subprogram(number, count, pspan, at, |ev| ev.fanuc_scope(&args))
+    }
+
+    /// Run subprogram `number` `count` times, in the scope `enter` makes
+    /// (it returns the values to put back after).
+    fn run_subprogram(
+        &mut self,
+        number: u32,
+        count: u32,
+        pspan: Span,
+        at: Span,
+        enter: impl FnOnce(&mut Self) -> Vec<(usize, super::Slot)>,
+    ) -> Result<Flow, Diagnostic> {
         let program = self.program;
         // A LinuxCNC `o<name>` is numbered by its name's symbol.
         let name_of = |number: u32| {
@@ -580,13 +625,12 @@ impl Evaluator<'_> {
             return Err(CodeError::new(kind, at).into());
         }
         self.calls.push((number, at));
-        // A LinuxCNC `o… call` has its own parameters (see `linuxcnc_scope`).
-        let saved = self.linuxcnc_scope();
+        let saved = enter(self);
         let mut flow = Flow::Next;
         for _ in 0..count {
             flow = match self.exec_block(&sub.body) {
                 Flow::Return | Flow::Next => Flow::Next,
-                other => other,
+                other => self.no_label(other),
             };
             if flow != Flow::Next {
                 break;
@@ -602,6 +646,32 @@ impl Evaluator<'_> {
         Ok(flow)
     }
 }
+
+/// Fanuc's argument specification I: the local each letter of a `G65`
+/// sets.
+const MACRO_ARGUMENTS: [(u8, u32); 21] = [
+    (b'A', 1),
+    (b'B', 2),
+    (b'C', 3),
+    (b'I', 4),
+    (b'J', 5),
+    (b'K', 6),
+    (b'D', 7),
+    (b'E', 8),
+    (b'F', 9),
+    (b'H', 11),
+    (b'M', 13),
+    (b'Q', 17),
+    (b'R', 18),
+    (b'S', 19),
+    (b'T', 20),
+    (b'U', 21),
+    (b'V', 22),
+    (b'W', 23),
+    (b'X', 24),
+    (b'Y', 25),
+    (b'Z', 26),
+];
 
 /// The axis words of a statement: X Y Z, A B C (degrees), U V W.
 fn axis_words(w: &mut WordValues) -> Axes {

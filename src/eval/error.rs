@@ -34,6 +34,19 @@ pub enum EvalErrorKind {
     },
     /// A note: messages past the limit are not shown.
     MessagesCut(usize),
+    /// A `GOTO` to a label its program does not have.
+    NoLabel(u32),
+    /// A `GOTO` target that is no label number.
+    BadLabel(f64),
+    /// Fanuc's `#0` and system variables cannot be set.
+    ReadOnlyVariable(String),
+    /// A Fanuc variable whose value only the machine knows.
+    MachineVariable(String),
+    /// Fanuc's `#3000 = n (MESSAGE)`.
+    Alarm {
+        number: f64,
+        message: String,
+    },
     /// A name that is no wizard or directive, and the nearest one there is.
     UnknownWizard {
         name: String,
@@ -100,6 +113,34 @@ impl EvalError {
                 at,
                 "this one and those after it",
             ),
+            EvalErrorKind::NoLabel(label) => error(
+                format!("no N{label} to go to"),
+                at,
+                "GOTO looks for the label in its own program or subprogram",
+            )
+            .with_note("a GOTO may leave a WHILE loop but not jump into one"),
+            EvalErrorKind::BadLabel(n) => error(
+                format!("`GOTO {n}` names no line"),
+                at,
+                "a label is a whole number from 0",
+            ),
+            EvalErrorKind::ReadOnlyVariable(name) => error(
+                format!("`{name}` cannot be set"),
+                at,
+                "#0 is always vacant and #1000 and up are the machine's",
+            ),
+            EvalErrorKind::MachineVariable(name) => error(
+                format!("`{name}` is a variable of the machine"),
+                at,
+                "ger cannot know its value",
+            )
+            .with_help("#500–#999 keep their values on the machine and #1000 and up are system variables: set the value in the program"),
+            EvalErrorKind::Alarm { number, message } => error(
+                format!("alarm {number}: {message}"),
+                at,
+                "the program raises this alarm (#3000)",
+            )
+            .with_note("on the machine the program stops here; ger writes no output"),
             EvalErrorKind::AssignToPi => error("`PI` is a constant", at, "cannot assign to it"),
             EvalErrorKind::SetupAfterFirstMove { directive, first } => error(
                 format!("`{directive}` after the first move"),

@@ -29,6 +29,10 @@ impl Value {
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Slot {
     Unset,
+    /// Fanuc's vacant variable (`#0`, a local no argument set): 0 in
+    /// arithmetic and in GT/GE/LT/LE, but equal only to another vacant
+    /// one; a word given one is left out.
+    Vacant,
     Poisoned,
     Set(Value),
 }
@@ -185,6 +189,7 @@ pub fn eval(expr: &Expr, vars: &[Slot]) -> Result<Value, ExprError> {
         ExprKind::Str(s) => Ok(Value::Str(*s)),
         ExprKind::Var(s) => match vars.get(s.0 as usize) {
             Some(Slot::Set(v)) => Ok(*v),
+            Some(Slot::Vacant) => Ok(Value::Number(0.0)),
             Some(Slot::Poisoned) => Err(ExprError::Poisoned),
             _ => Err(ExprError::Undefined {
                 name: *s,
@@ -244,8 +249,23 @@ fn finite(value: f64, span: Span, what: impl FnOnce() -> String) -> Result<f64, 
     }
 }
 
+/// A variable that is vacant (Fanuc's null), written alone.
+pub fn vacant(expr: &Expr, vars: &[Slot]) -> bool {
+    matches!(&expr.kind, ExprKind::Var(s) if vars.get(s.0 as usize) == Some(&Slot::Vacant))
+}
+
 fn binary(op: BinaryOp, a: &Expr, b: &Expr, span: Span, vars: &[Slot]) -> Result<Value, ExprError> {
     let what = || format!("`{}`", op.symbol());
+    if matches!(op, BinaryOp::NumEq | BinaryOp::NumNe) {
+        let (x, y) = (vacant(a, vars), vacant(b, vars));
+        if x || y {
+            return Ok(Value::Number(arithmetic(
+                op,
+                f64::from(u8::from(x)),
+                f64::from(u8::from(y)),
+            )));
+        }
+    }
     match op {
         BinaryOp::And => Ok(Value::Bool(
             boolean(a, vars, &what)? && boolean(b, vars, &what)?,
@@ -392,6 +412,9 @@ fn apply(f: Function, args: &[f64], more: &[f64]) -> f64 {
         Function::Acos => x.acos().to_degrees(),
         Function::Atan => x.atan().to_degrees(),
         Function::Atan2 => x.atan2(y()).to_degrees(),
+        Function::FanucAtan => x.atan2(y()).to_degrees().rem_euclid(360.0),
+        Function::FanucFix => x.trunc(),
+        Function::FanucFup => x.signum() * x.abs().ceil(),
         Function::Floor => x.floor(),
         Function::Ceil => x.ceil(),
         Function::Round => x.round(),

@@ -57,6 +57,7 @@ pub enum CodeErrorKind {
     /// G52/G92/G10 with no axis word.
     WithoutAxes(&'static str),
     M98WithoutP,
+    G65WithoutP,
     M98CountTwice,
     /// A call of a subprogram the program does not have: its name, the
     /// file ger looked for (a LinuxCNC `o<name>`), the ones it has.
@@ -206,6 +207,11 @@ impl CodeError {
                 "M98 without P",
                 at,
                 "P names the subprogram: `M98 P1000`",
+            ),
+            K::G65WithoutP => error(
+                "G65 without P",
+                at,
+                "P names the macro: `G65 P9010 A… B…`",
             ),
             K::M98CountTwice => error(
                 "M98 with both L and a repeat count in P",

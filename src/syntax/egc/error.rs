@@ -20,6 +20,11 @@ pub enum SyntaxErrorKind {
     UnmatchedParen,
     /// LinuxCNC's `]` with no `[` open.
     UnmatchedBracket,
+    /// Fanuc's `ENDm` that closes no `DOm`: its m, and the open loop's.
+    EndMismatch {
+        end: u32,
+        open: Option<u32>,
+    },
     /// `{` never closed.
     UnclosedBrace,
     /// `}` with no block open.
@@ -138,6 +143,15 @@ impl SyntaxError {
             .with_help("add the matching `)`"),
             UnmatchedParen => error("unmatched `)`", at, "no `(` is open here"),
             UnmatchedBracket => error("unmatched `]`", at, "no `[` is open here"),
+            EndMismatch { end, open } => match open {
+                Some(open) => error(
+                    format!("END{end} closes the loop DO{open}"),
+                    at,
+                    format!("the innermost open loop is DO{open}"),
+                )
+                .with_help("close loops in the opposite order: `WHILE [..] DO1 … WHILE [..] DO2 … END2 … END1`"),
+                None => error(format!("END{end} without a DO{end}"), at, "no WHILE loop is open here"),
+            },
             UnclosedBrace => error("unclosed `{`", at, "this block is never closed")
                 .with_help("add the matching `}`"),
             UnmatchedBrace => error("unmatched `}`", at, "no block is open here")

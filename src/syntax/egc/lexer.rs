@@ -9,6 +9,8 @@ use crate::ast::{BinaryOp, Function, Names, Symbol};
 use crate::source::{Locator, Span};
 use logos::Logos;
 
+mod fanuc;
+
 #[derive(Logos, Clone, Copy, Debug, PartialEq)]
 #[logos(skip r"[ \t\r\f]+")]
 enum Raw {
@@ -141,6 +143,8 @@ pub enum Tok {
     If,
     Else,
     While,
+    /// Fanuc's `GOTO`.
+    Goto,
     True,
     False,
     /// `(` that opens a group.
@@ -199,6 +203,7 @@ impl Tok {
     fn text(&self) -> &'static str {
         match self {
             Tok::If => "if",
+            Tok::Goto => "GOTO",
             Tok::Else => "else",
             Tok::While => "while",
             Tok::True => "true",
@@ -362,9 +367,11 @@ struct Lexer<'a> {
     /// LinuxCNC's named subroutines (`o<name>`), numbered as they come.
     /// Per bracket depth: AND (1) and OR (2) seen there.
     logic: Vec<u8>,
-    /// The `oN while [c]` that ends a do loop: its block closes at the
-    /// line's end.
+    /// The `oN while [c]` that ends a do loop, and Fanuc's `IF [c] THEN`
+    /// and `IF [c] GOTO n`: the block closes at the line's end.
     close_at_line_end: bool,
+    /// Fanuc's open `WHILE … DOm` loops: m and where `DO` is.
+    fanuc_loops: Vec<(u32, usize)>,
 }
 
 /// The program numbers given to LinuxCNC's named subroutines (`o<name>`).
@@ -407,6 +414,7 @@ impl<'a> Lexer<'a> {
             pending_repeat: None,
             logic: Vec::new(),
             close_at_line_end: false,
+            fanuc_loops: Vec::new(),
         }
     }
 
@@ -458,6 +466,9 @@ impl<'a> Lexer<'a> {
     /// The rules of plain G-code that differ from `.egc`, for the raw token
     /// at `start..end`: where it took the text, the offset to go on from.
     fn plain_gcode(&mut self, raw: Result<Raw, ()>, start: usize, end: usize) -> Option<usize> {
+        if let Some(skip_to) = self.fanuc(&raw, start, end) {
+            return Some(skip_to);
+        }
         if let Some(skip_to) = self.linuxcnc(raw, start, end) {
             return Some(skip_to);
         }
@@ -546,7 +557,12 @@ impl<'a> Lexer<'a> {
     fn linuxcnc(&mut self, raw: Result<Raw, ()>, start: usize, end: usize) -> Option<usize> {
         let rest = &self.text[start..];
         match raw {
-            Err(()) if rest.starts_with('#') => Some(self.parameter(start)),
+            Err(()) if rest.starts_with('#') => {
+                if self.groups.is_empty() && self.syms.is_empty() {
+                    self.end_label(start);
+                }
+                Some(self.parameter(start))
+            }
             Err(()) if rest.starts_with('[') => {
                 if self.groups.is_empty() && self.syms.is_empty() {
                     if let Some(pending) = &mut self.pending_call {
@@ -663,9 +679,14 @@ impl<'a> Lexer<'a> {
                     self.syms.push((start, self.groups.len()));
                     self.push(start, Tok::SymOpen(letter), at + 1);
                     Some(at + 1)
-                } else if after.starts_with('#') {
+                } else if after.starts_with('#') || after.starts_with("-#") {
+                    // `Z-#2` is the parameter's negative, as rs274 reads it.
                     self.push(start, Tok::SymOpen(letter), end);
-                    let name_end = self.parameter(at);
+                    let minus = usize::from(after.starts_with('-'));
+                    if minus == 1 {
+                        self.push(at, Tok::NegTight, at + 1);
+                    }
+                    let name_end = self.parameter(at + minus);
                     self.push(name_end, Tok::SymClose, name_end);
                     Some(name_end)
                 } else {
