@@ -112,22 +112,7 @@ impl Evaluator<'_> {
         span: Span,
     ) -> Result<(), Diagnostic> {
         let at_code = code.unwrap_or(span);
-        if !self.return_level_stated {
-            let from = self.options.from;
-            self.warn_once((b'G', 989), || {
-                let (level, who) = match from.power_up_return_level() {
-                    ir::ReturnLevel::Initial => ("the initial level (G98)", "Fanuc, Haas and Mach3 do"),
-                    ir::ReturnLevel::R => ("the R plane (G99)", "LinuxCNC does"),
-                };
-                warning(
-                    "the program does not say G98 or G99",
-                    at_code,
-                    format!("this cycle returns to {level}, as {who} at power-up"),
-                )
-                .with_note("where a cycle returns between holes is the machine's state until the program sets it")
-                .with_help("write G98 or G99 before the first cycle, or choose the controller with --from")
-            });
-        }
+        self.warn_return_level(at_code);
         // A block of the same cycle may leave out what the last one gave.
         let repeat = self.cycle == Some(kind);
         if let Some((letter, at)) = [b'A', b'B', b'C', b'U', b'V', b'W']
@@ -212,52 +197,8 @@ impl Evaluator<'_> {
         } else {
             None
         };
-        let mut ijk: ir::Center = [None; 3];
-        let mut fanuc_k = None;
-        if kind == CycleKind::G87 {
-            for (i, letter) in [b'I', b'J', b'K'].into_iter().enumerate() {
-                ijk[i] = match w.take(letter) {
-                    Some((v, _)) => Some(v),
-                    None if repeat => Some(sticky.ijk[i]),
-                    None => return Err(missing(
-                        letter as char,
-                        "G87 needs I, J (the offset to pass the bar) and K (the back-bore level)",
-                    )),
-                };
-            }
-        } else {
-            fanuc_k = w.take(b'K');
-        }
-        let repeats = match (w.take(b'L'), fanuc_k) {
-            (Some(_), Some((_, kspan))) => {
-                return Err(CycleBlockError::new(CycleBlockErrorKind::BothLAndK, kspan).into())
-            }
-            (Some((l, lspan)), None) | (None, Some((l, lspan))) => {
-                if l < 1.0 || l.fract() != 0.0 || l > MAX_PECKS as f64 {
-                    return Err(
-                        CycleBlockError::new(CycleBlockErrorKind::RepeatCount, lspan).into(),
-                    );
-                }
-                l as u32
-            }
-            (None, None) => 1,
-        };
-        if r < depth && self.distance == ir::Distance::Absolute {
-            let axis = n.letter() as char;
-            return Err(CycleBlockError::new(
-                CycleBlockErrorKind::RBelowBottom { r, axis, depth },
-                at_code,
-            )
-            .into());
-        }
-        if self.distance == ir::Distance::Incremental && depth > 0.0 {
-            let axis = n.letter() as char;
-            return Err(CycleBlockError::new(
-                CycleBlockErrorKind::BottomAboveR { axis, depth },
-                at_code,
-            )
-            .into());
-        }
+        let (ijk, repeats) = self.offsets_and_repeats(kind, w, repeat, at_code)?;
+        self.check_levels(r, depth, n, at_code)?;
         if let Some(needed) = spindle_needed(kind) {
             self.check_spindle(kind, needed, at_code)?;
         }
@@ -299,6 +240,95 @@ impl Evaluator<'_> {
         };
         self.cycle = Some(kind);
         self.emit(Op::Cycle(Box::new(cycle)), span)
+    }
+
+    /// A warning, once, when a cycle comes before any G98/G99: where it
+    /// returns is the machine's power-up state.
+    fn warn_return_level(&mut self, at_code: Span) {
+        if self.return_level_stated {
+            return;
+        }
+        let from = self.options.from;
+        self.warn_once((b'G', 989), || {
+                let (level, who) = match from.power_up_return_level() {
+                    ir::ReturnLevel::Initial => ("the initial level (G98)", "Fanuc, Haas and Mach3 do"),
+                    ir::ReturnLevel::R => ("the R plane (G99)", "LinuxCNC does"),
+                };
+                warning(
+                    "the program does not say G98 or G99",
+                    at_code,
+                    format!("this cycle returns to {level}, as {who} at power-up"),
+                )
+                .with_note("where a cycle returns between holes is the machine's state until the program sets it")
+                .with_help("write G98 or G99 before the first cycle, or choose the controller with --from")
+            });
+    }
+
+    /// G87's I, J, K (the others' K is Fanuc's hole count), and the
+    /// number of holes from L or K.
+    fn offsets_and_repeats(
+        &self,
+        kind: CycleKind,
+        w: &mut WordValues,
+        repeat: bool,
+        at_code: Span,
+    ) -> Result<(ir::Center, u32), Diagnostic> {
+        let mut ijk: ir::Center = [None; 3];
+        let mut fanuc_k = None;
+        if kind == CycleKind::G87 {
+            for (i, letter) in [b'I', b'J', b'K'].into_iter().enumerate() {
+                ijk[i] = match w.take(letter) {
+                    Some((v, _)) => Some(v),
+                    None if repeat => Some(self.sticky.ijk[i]),
+                    None => {
+                        let kind = CycleBlockErrorKind::Missing {
+                            kind,
+                            what: letter as char,
+                            help: "G87 needs I, J (the offset to pass the bar) and K (the back-bore level)",
+                        };
+                        return Err(CycleBlockError::new(kind, at_code).into());
+                    }
+                };
+            }
+        } else {
+            fanuc_k = w.take(b'K');
+        }
+        let repeats = match (w.take(b'L'), fanuc_k) {
+            (Some(_), Some((_, kspan))) => {
+                return Err(CycleBlockError::new(CycleBlockErrorKind::BothLAndK, kspan).into())
+            }
+            (Some((l, lspan)), None) | (None, Some((l, lspan))) => {
+                if l < 1.0 || l.fract() != 0.0 || l > MAX_PECKS as f64 {
+                    return Err(
+                        CycleBlockError::new(CycleBlockErrorKind::RepeatCount, lspan).into(),
+                    );
+                }
+                l as u32
+            }
+            (None, None) => 1,
+        };
+        Ok((ijk, repeats))
+    }
+
+    /// R above the hole's bottom (under G91 the depth goes down from R).
+    fn check_levels(&self, r: f64, depth: f64, n: Axis, at_code: Span) -> Result<(), Diagnostic> {
+        if r < depth && self.distance == ir::Distance::Absolute {
+            let axis = n.letter() as char;
+            return Err(CycleBlockError::new(
+                CycleBlockErrorKind::RBelowBottom { r, axis, depth },
+                at_code,
+            )
+            .into());
+        }
+        if self.distance == ir::Distance::Incremental && depth > 0.0 {
+            let axis = n.letter() as char;
+            return Err(CycleBlockError::new(
+                CycleBlockErrorKind::BottomAboveR { axis, depth },
+                at_code,
+            )
+            .into());
+        }
+        Ok(())
     }
 
     fn check_spindle(
