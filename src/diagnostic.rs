@@ -1,5 +1,6 @@
 //! Diagnostics: the one place that knows codespan-reporting. Every stage
-//! turns its own error enum into a [`Diagnostic`] with `to_diagnostic()`;
+//! has an enum of its problems, found as a [`Located`] kind and told in
+//! words by its [`Wording`], which makes a [`Diagnostic`];
 //! this module builds and renders them. It does no I/O: rendering returns a
 //! `String` that the CLI prints.
 //!
@@ -57,6 +58,37 @@ pub fn note(
         .with_labels(vec![
             Label::primary(span.file_id(), span.range()).with_message(label)
         ])
+}
+
+/// A problem a stage finds, as data: which one (`kind`, an enum of the
+/// stage's) and where. Its wording lives in the kind's [`Wording`].
+#[derive(Clone, Debug, PartialEq)]
+pub struct Located<K> {
+    pub kind: K,
+    pub span: Span,
+}
+
+/// How a stage's kind of problem is told to the user, at a span.
+pub trait Wording {
+    fn wording(&self, at: Span) -> Diagnostic;
+}
+
+impl<K> Located<K> {
+    pub fn new(kind: K, span: Span) -> Located<K> {
+        Located { kind, span }
+    }
+}
+
+impl<K: Wording> Located<K> {
+    pub fn to_diagnostic(&self) -> Diagnostic {
+        self.kind.wording(self.span)
+    }
+}
+
+impl<K: Wording> From<Located<K>> for Diagnostic {
+    fn from(e: Located<K>) -> Diagnostic {
+        e.to_diagnostic()
+    }
 }
 
 /// Builder helpers shared by every stage's `to_diagnostic()`.

@@ -5,7 +5,7 @@
 //! in the same units (the output's, SPEC §3); a `SetTool` in the program
 //! for the same tool wins.
 
-use crate::diagnostic::{error, Diagnostic, DiagnosticExt};
+use crate::diagnostic::{error, Diagnostic, DiagnosticExt, Located, Wording};
 use crate::ir::{Tool, ToolShape};
 use crate::source::{FileId, Span};
 use std::collections::BTreeMap;
@@ -144,20 +144,12 @@ pub enum TableErrorKind {
     },
 }
 
-#[derive(Clone, Debug, PartialEq)]
-pub struct TableError {
-    pub kind: TableErrorKind,
-    pub span: Span,
-}
+/// What goes wrong, and where: see [`TableErrorKind`].
+pub type TableError = Located<TableErrorKind>;
 
-impl TableError {
-    fn new(kind: TableErrorKind, span: Span) -> TableError {
-        TableError { kind, span }
-    }
-
-    pub fn to_diagnostic(&self) -> Diagnostic {
-        let at = self.span;
-        match &self.kind {
+impl Wording for TableErrorKind {
+    fn wording(&self, at: Span) -> Diagnostic {
+        match self {
             TableErrorKind::UnknownWord(word) => error(
                 format!("unexpected `{word}` in a tool table"),
                 at,

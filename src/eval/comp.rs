@@ -3,7 +3,7 @@
 //! (rs274's rules). The geometry is the comp pass's (`lower/comp.rs`).
 
 use super::{Evaluator, WordValues};
-use crate::diagnostic::{error, Diagnostic, DiagnosticExt};
+use crate::diagnostic::{error, Diagnostic, DiagnosticExt, Located, Wording};
 use crate::ir::{self, CompRadius, Op, Side};
 use crate::source::Span;
 
@@ -118,20 +118,12 @@ pub enum CompBlockErrorKind {
     },
 }
 
-#[derive(Clone, Debug, PartialEq)]
-pub struct CompBlockError {
-    pub kind: CompBlockErrorKind,
-    pub span: Span,
-}
+/// What goes wrong, and where: see [`CompBlockErrorKind`].
+pub type CompBlockError = Located<CompBlockErrorKind>;
 
-impl CompBlockError {
-    fn new(kind: CompBlockErrorKind, span: Span) -> CompBlockError {
-        CompBlockError { kind, span }
-    }
-
-    pub fn to_diagnostic(&self) -> Diagnostic {
-        let at = self.span;
-        match &self.kind {
+impl Wording for CompBlockErrorKind {
+    fn wording(&self, at: Span) -> Diagnostic {
+        match self {
             CompBlockErrorKind::AlreadyOn { code, since } => error(
                 format!("{code} while cutter compensation is on"),
                 at,

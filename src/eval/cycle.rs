@@ -13,7 +13,7 @@
 //! code or G80; where the tool is then is the G98 level of the run.
 
 use super::{Evaluator, WordValues};
-use crate::diagnostic::{error, warning, Diagnostic, DiagnosticExt};
+use crate::diagnostic::{error, warning, Diagnostic, DiagnosticExt, Located, Wording};
 use crate::ir::{self, Axis, CycleKind, Op};
 use crate::source::Span;
 
@@ -390,20 +390,12 @@ pub enum CycleBlockErrorKind {
     },
 }
 
-#[derive(Clone, Debug, PartialEq)]
-pub struct CycleBlockError {
-    pub kind: CycleBlockErrorKind,
-    pub span: Span,
-}
+/// What goes wrong, and where: see [`CycleBlockErrorKind`].
+pub type CycleBlockError = Located<CycleBlockErrorKind>;
 
-impl CycleBlockError {
-    fn new(kind: CycleBlockErrorKind, span: Span) -> CycleBlockError {
-        CycleBlockError { kind, span }
-    }
-
-    pub fn to_diagnostic(&self) -> Diagnostic {
-        let at = self.span;
-        match &self.kind {
+impl Wording for CycleBlockErrorKind {
+    fn wording(&self, at: Span) -> Diagnostic {
+        match self {
             CycleBlockErrorKind::OtherAxis(letter) => error(
                 format!("`{letter}` in a canned cycle"),
                 at,
@@ -462,11 +454,5 @@ impl CycleBlockError {
                 error(format!("G{} needs the spindle", kind.code()), at, *label).with_help(*help)
             }
         }
-    }
-}
-
-impl From<CycleBlockError> for Diagnostic {
-    fn from(e: CycleBlockError) -> Diagnostic {
-        e.to_diagnostic()
     }
 }

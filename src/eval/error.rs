@@ -3,7 +3,7 @@
 //! problems of one kind of block have their own enums beside the code
 //! that finds them (`setup`, `comp`, `cycle`, the expressions of `value`).
 
-use crate::diagnostic::{error, note, warning, Diagnostic, DiagnosticExt};
+use crate::diagnostic::{error, note, warning, Diagnostic, DiagnosticExt, Located, Wording};
 use crate::ir;
 use crate::source::Span;
 
@@ -54,20 +54,12 @@ pub enum EvalErrorKind {
     },
 }
 
-#[derive(Clone, Debug, PartialEq)]
-pub struct EvalError {
-    pub kind: EvalErrorKind,
-    pub span: Span,
-}
+/// What goes wrong, and where: see [`EvalErrorKind`].
+pub type EvalError = Located<EvalErrorKind>;
 
-impl EvalError {
-    pub fn new(kind: EvalErrorKind, span: Span) -> EvalError {
-        EvalError { kind, span }
-    }
-
-    pub fn to_diagnostic(&self) -> Diagnostic {
-        let at = self.span;
-        match &self.kind {
+impl Wording for EvalErrorKind {
+    fn wording(&self, at: Span) -> Diagnostic {
+        match self {
             EvalErrorKind::TooManyStatements(limit) => error(
                 format!("the program makes more than {limit} statements"),
                 at,

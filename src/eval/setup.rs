@@ -4,7 +4,7 @@
 
 use super::value::Value;
 use crate::ast::Names;
-use crate::diagnostic::{error, Diagnostic, DiagnosticExt};
+use crate::diagnostic::{error, Diagnostic, DiagnosticExt, Located, Wording};
 use crate::ir::{self, Tool, ToolShape, Units};
 use crate::source::Span;
 use std::collections::HashMap;
@@ -330,21 +330,13 @@ pub enum SetupErrorKind {
     NotPositive(&'static str),
 }
 
-#[derive(Clone, Debug, PartialEq)]
-pub struct SetupError {
-    pub kind: SetupErrorKind,
-    pub span: Span,
-}
+/// What goes wrong, and where: see [`SetupErrorKind`].
+pub type SetupError = Located<SetupErrorKind>;
 
-impl SetupError {
-    fn new(kind: SetupErrorKind, span: Span) -> SetupError {
-        SetupError { kind, span }
-    }
-
-    pub fn to_diagnostic(&self) -> Diagnostic {
-        let at = self.span;
+impl Wording for SetupErrorKind {
+    fn wording(&self, at: Span) -> Diagnostic {
         let usage = |d: &Directive| format!("usage: {}", d.signature());
-        match &self.kind {
+        match self {
             SetupErrorKind::UnknownUnits(units) => error(
                 format!("unknown units \"{units}\""),
                 at,

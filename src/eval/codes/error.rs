@@ -2,7 +2,7 @@
 //! about the codes it passes through or drops, as data with one wording
 //! function.
 
-use crate::diagnostic::{error, warning, Diagnostic, DiagnosticExt};
+use crate::diagnostic::{error, warning, Diagnostic, DiagnosticExt, Located, Wording};
 use crate::source::Span;
 
 #[derive(Clone, Debug, PartialEq)]
@@ -78,21 +78,13 @@ pub enum CodeErrorKind {
     WizardLineVariables,
 }
 
-#[derive(Clone, Debug, PartialEq)]
-pub struct CodeError {
-    pub kind: CodeErrorKind,
-    pub span: Span,
-}
+/// What goes wrong, and where: see [`CodeErrorKind`].
+pub type CodeError = Located<CodeErrorKind>;
 
-impl CodeError {
-    pub fn new(kind: CodeErrorKind, span: Span) -> CodeError {
-        CodeError { kind, span }
-    }
-
-    pub fn to_diagnostic(&self) -> Diagnostic {
+impl Wording for CodeErrorKind {
+    fn wording(&self, at: Span) -> Diagnostic {
         use CodeErrorKind as K;
-        let at = self.span;
-        match &self.kind {
+        match self {
             K::WordTwice { letter, first } => error(
                 format!("`{letter}` appears twice in one statement"),
                 at,
@@ -261,11 +253,5 @@ impl CodeError {
                 "from this call",
             ),
         }
-    }
-}
-
-impl From<CodeError> for Diagnostic {
-    fn from(e: CodeError) -> Diagnostic {
-        e.to_diagnostic()
     }
 }

@@ -4,7 +4,7 @@
 //! lives; the code that finds a problem decides its kind, never its words.
 
 use super::lexer::Language;
-use crate::diagnostic::{error, Diagnostic, DiagnosticExt};
+use crate::diagnostic::{error, Diagnostic, DiagnosticExt, Located, Wording};
 use crate::source::Span;
 
 #[derive(Clone, Debug, PartialEq)]
@@ -110,21 +110,13 @@ pub enum ParseHint {
     CommentInCall,
 }
 
-#[derive(Clone, Debug, PartialEq)]
-pub struct SyntaxError {
-    pub kind: SyntaxErrorKind,
-    pub span: Span,
-}
+/// What goes wrong, and where: see [`SyntaxErrorKind`].
+pub type SyntaxError = Located<SyntaxErrorKind>;
 
-impl SyntaxError {
-    pub fn new(kind: SyntaxErrorKind, span: Span) -> SyntaxError {
-        SyntaxError { kind, span }
-    }
-
-    pub fn to_diagnostic(&self) -> Diagnostic {
+impl Wording for SyntaxErrorKind {
+    fn wording(&self, at: Span) -> Diagnostic {
         use SyntaxErrorKind::*;
-        let at = self.span;
-        match &self.kind {
+        match self {
             UnknownCharacter(ch) => error(
                 format!("unexpected character `{}`", ch.escape_default()),
                 at,
