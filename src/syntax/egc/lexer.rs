@@ -370,8 +370,8 @@ struct Lexer<'a> {
     /// The `oN while [c]` that ends a do loop, and Fanuc's `IF [c] THEN`
     /// and `IF [c] GOTO n`: the block closes at the line's end.
     close_at_line_end: bool,
-    /// Fanuc's open `WHILE … DOm` loops: m and where `DO` is.
-    fanuc_loops: Vec<(u32, usize)>,
+    /// Fanuc's open `WHILE … DOm` loops: their m, innermost last.
+    fanuc_loops: Vec<u32>,
 }
 
 /// The program numbers given to LinuxCNC's named subroutines (`o<name>`).

@@ -44,31 +44,28 @@ impl Lexer<'_> {
                 self.end_label(start);
                 let number: u32 = digits.parse().unwrap_or(0);
                 match self.fanuc_loops.pop() {
-                    Some((open, _)) if open == number => {
+                    Some(open) if open == number => {
                         if let Some(tok) = self.close_brace(start, end) {
                             self.push(start, tok, end);
                         }
                     }
                     open => {
-                        let kind = SyntaxErrorKind::EndMismatch {
-                            end: number,
-                            open: open.map(|(n, _)| n),
-                        };
+                        let kind = SyntaxErrorKind::EndMismatch { end: number, open };
                         self.report(kind, start, end);
-                        if let Some(pair) = open {
-                            self.fanuc_loops.push(pair);
-                        }
+                        self.fanuc_loops.extend(open);
                     }
                 }
             }
             ("DO", Some(Some(Tok::While))) if !digits.is_empty() && self.after_condition() => {
                 let number: u32 = digits.parse().unwrap_or(0);
-                self.fanuc_loops.push((number, start));
+                self.fanuc_loops.push(number);
                 if let Some(tok) = self.open_brace(start, end) {
                     self.push(start, tok, end);
                 }
             }
-            ("THEN" | "GOTO", Some(Some(Tok::If))) if self.after_condition() => {
+            ("THEN" | "GOTO", Some(Some(Tok::If)))
+                if self.after_condition() && (word == "GOTO" || digits.is_empty()) =>
+            {
                 // The block is the rest of the line.
                 if let Some(tok) = self.open_brace(start, end) {
                     self.push(start, tok, end);
@@ -76,8 +73,6 @@ impl Lexer<'_> {
                 self.close_at_line_end = true;
                 if word == "GOTO" {
                     self.goto(digits, start, end);
-                } else if !digits.is_empty() {
-                    return None;
                 }
             }
             _ => return None,
