@@ -409,15 +409,16 @@ fn register_nested(engine: &mut Engine, session: &Rc<RefCell<Session>>, library:
         if shared.borrow().stack.len() >= MAX_WIZARD_DEPTH {
             return fail(format!("wizards nested more than {MAX_WIZARD_DEPTH} deep"));
         }
+        // The calling wizard gets the problem as its own Rhai error.
+        let summary = |kind| WizardError::new(&wizard.name, kind, Span::default()).summary();
         let decl = wizard
             .declaration
             .as_ref()
             .map_err(|e| {
-                let kind = WizardErrorKind::BadDeclaration {
+                summary(WizardErrorKind::BadDeclaration {
                     line: line_span(&wizard.text, wizard.file, Some(e.line)),
                     message: e.message.clone(),
-                };
-                WizardError::new(&wizard.name, kind, Span::default()).summary()
+                })
             })
             .or_else(fail)?;
         let ast = wizard
@@ -425,7 +426,12 @@ fn register_nested(engine: &mut Engine, session: &Rc<RefCell<Session>>, library:
             .map_err(|e| e.summary())
             .or_else(fail)?;
         let scope = bind(decl, args)
-            .map_err(|m| format!("{}: {m}", decl.signature(&wizard.name)))
+            .map_err(|message| {
+                summary(WizardErrorKind::WrongArguments {
+                    message,
+                    usage: decl.signature(&wizard.name),
+                })
+            })
             .or_else(fail)?;
         shared.borrow_mut().stack.push(wizard.name.clone());
         let result = ctx.engine().run_ast_with_scope(&mut { scope }, &ast);
