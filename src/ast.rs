@@ -169,10 +169,14 @@ impl Line {
             } else {
                 (None, 0)
             };
-            let len = rest[from..]
-                .iter()
-                .position(Word::is_code)
-                .unwrap_or(rest.len() - from);
+            // Fanuc's `G65 P… A… M…`: every word after it is an argument.
+            let len = match code {
+                Some(c) if c.is_macro_call() => rest.len() - from,
+                _ => rest[from..]
+                    .iter()
+                    .position(Word::is_code)
+                    .unwrap_or(rest.len() - from),
+            };
             let args = &rest[from..from + len];
             rest = &rest[from + len..];
             // A line of only N words is no statement at all.
@@ -196,6 +200,11 @@ impl Word {
     /// G and M words start statements; every other letter is an argument.
     pub fn is_code(&self) -> bool {
         matches!(self.letter, b'G' | b'M')
+    }
+
+    /// Fanuc's macro call `G65`, whose words are all its arguments.
+    pub fn is_macro_call(&self) -> bool {
+        self.letter == b'G' && matches!(&self.value, WordValue::Number(n) if n.value == 65.0)
     }
 }
 

@@ -78,6 +78,18 @@ impl Flavour {
         }
     }
 
+    /// A numbered parameter whose value only the machine knows: on Fanuc
+    /// `#500`–`#999` (kept between programs) and the system variables
+    /// from `#1000`; on LinuxCNC `#5001` and up (positions, offsets).
+    pub fn machine_parameter(self, n: u32) -> bool {
+        match self {
+            Flavour::Fanuc => n >= 500,
+            Flavour::Generic | Flavour::LinuxCnc | Flavour::Grbl | Flavour::Mach3 => {
+                n > LAST_USER_PARAMETER
+            }
+        }
+    }
+
     /// The default for a file: `.ngc` is LinuxCNC's.
     pub fn of_file(name: &str) -> Flavour {
         if name.to_ascii_lowercase().ends_with(".ngc") {
@@ -202,6 +214,9 @@ struct Evaluator<'a> {
     /// place (by file and offset).
     gotos: u64,
     goto_changes: std::collections::HashMap<(u32, u32), u64>,
+    /// Where each label a `GOTO` looked for is, by block (its address)
+    /// and label: found once, not at every jump.
+    labels: std::collections::HashMap<(usize, u32), Option<usize>>,
     sink: &'a mut dyn ir::Sink,
     /// Statements not yet sent to the sink.
     out: Vec<ir::Stmt>,
@@ -275,6 +290,7 @@ impl<'a> Evaluator<'a> {
             changes: 0,
             gotos: 0,
             goto_changes: Default::default(),
+            labels: Default::default(),
             linuxcnc: LinuxCncNames::of(&program.names),
             sink,
             out: Vec::with_capacity(options.batch.clamp(1, 1 << 16)),
@@ -341,15 +357,7 @@ impl<'a> Evaluator<'a> {
     }
 
     fn report_expr(&mut self, e: ExprError) {
-        // Fanuc keeps #500–#999 and its system variables on the machine.
-        if let ExprError::Undefined { name, span } = &e {
-            if self.fanuc_parameter(*name).is_some_and(|n| n >= 500) {
-                let kind = EvalErrorKind::MachineVariable(self.names.text(*name).to_string());
-                self.report(EvalError::new(kind, *span).to_diagnostic());
-                return;
-            }
-        }
-        if let Some(d) = e.to_diagnostic(self.names, &self.vars) {
+        if let Some(d) = e.to_diagnostic(self.names, &self.vars, self.options.from) {
             self.report(d);
         }
     }
@@ -520,7 +528,7 @@ impl<'a> Evaluator<'a> {
                 Flow::Next => {}
                 // A jump to a label of this block; else the block around
                 // it looks (Fanuc jumps out of a loop, never into one).
-                Flow::Goto(label, from) => match labelled(stmts, label) {
+                Flow::Goto(label, from) => match self.label_in(stmts, label) {
                     Some(at) => {
                         if !self.jumped(at < next, from) {
                             return Flow::Abort;
@@ -536,6 +544,14 @@ impl<'a> Evaluator<'a> {
             }
         }
         Flow::Next
+    }
+
+    /// Where the line labelled `N<label>` is in the block `stmts`.
+    fn label_in(&mut self, stmts: &[ast::Stmt], label: u32) -> Option<usize> {
+        *self
+            .labels
+            .entry((stmts.as_ptr() as usize, label))
+            .or_insert_with(|| labelled(stmts, label))
     }
 
     /// The number of a Fanuc `#` variable, when the program is Fanuc's.
@@ -615,17 +631,6 @@ impl<'a> Evaluator<'a> {
     }
 
     fn exec_line_in_order(&mut self, line: &ast::Line) -> Flow {
-        // Fanuc's `G65 P… A… M…`: every word after it is an argument.
-        if self.options.from == Flavour::Fanuc {
-            let first = line.words.iter().position(|w| w.letter != b'N');
-            if let Some(i) = first.filter(|&i| is_g65(&line.words[i])) {
-                let stmt = ast::LineStmt {
-                    code: Some(&line.words[i]),
-                    args: &line.words[i + 1..],
-                };
-                return self.exec_line_stmt(stmt);
-            }
-        }
         if let Some(stmts) = block::in_order(line) {
             for s in &stmts {
                 let flow = self.exec_line_stmt(s.as_stmt());
@@ -1115,10 +1120,6 @@ fn numbered_parameters(names: &Names, from: Flavour) -> Vec<Slot> {
         .collect()
 }
 
-fn is_g65(w: &ast::Word) -> bool {
-    w.letter == b'G' && matches!(&w.value, ast::WordValue::Number(n) if n.value == 65.0)
-}
-
 /// Where the line labelled `N<label>` is among `stmts`.
 fn labelled(stmts: &[ast::Stmt], label: u32) -> Option<usize> {
     stmts.iter().position(|s| match &s.kind {
@@ -1130,20 +1131,20 @@ fn labelled(stmts: &[ast::Stmt], label: u32) -> Option<usize> {
     })
 }
 
-/// The variables of LinuxCNC's subroutine scope: `#1`–`#30` and the named
-/// parameters that do not start with `_`; and the call's argument slots.
+/// The variables of a call's scope: LinuxCNC's `#1`–`#30` and named
+/// parameters that do not start with `_`, and the call's argument slots;
+/// Fanuc's locals `#1`–`#33`.
 #[derive(Debug)]
 struct LinuxCncNames {
     /// `#<call>`: set by an `o… call` line to its number of arguments.
     marker: Option<usize>,
     /// `#<call:k>` for k = 1…30: the arguments, by k − 1.
     args: [Option<usize>; 30],
-    /// `#k` for k = 1…30, by k − 1.
-    numbered: [Option<usize>; 30],
+    /// `#k` for k = 1…33, by k − 1: an `o… call` sets the first 30,
+    /// Fanuc's `G65` all 33.
+    numbered: [Option<usize>; 33],
     /// Local named parameters.
     named: Vec<usize>,
-    /// Fanuc's locals `#k`, k = 1…33, by k − 1.
-    locals: [Option<usize>; 33],
 }
 
 impl LinuxCncNames {
@@ -1151,9 +1152,8 @@ impl LinuxCncNames {
         let mut found = LinuxCncNames {
             marker: None,
             args: [None; 30],
-            numbered: [None; 30],
+            numbered: [None; 33],
             named: Vec::new(),
-            locals: [None; 33],
         };
         for (symbol, text) in names.iter() {
             let i = symbol.0 as usize;
@@ -1168,11 +1168,8 @@ impl LinuxCncNames {
                     found.args[k - 1] = Some(i);
                 }
             } else if let Some(k) = parameter_number(text) {
-                if (1..=30).contains(&k) {
-                    found.numbered[k as usize - 1] = Some(i);
-                }
                 if (1..=33).contains(&k) {
-                    found.locals[k as usize - 1] = Some(i);
+                    found.numbered[k as usize - 1] = Some(i);
                 }
             } else if text.starts_with("#<") && !text.starts_with("#<_") {
                 found.named.push(i);
@@ -1187,7 +1184,7 @@ impl Evaluator<'_> {
     /// the arguments set and the rest vacant. Returns the caller's values.
     fn fanuc_scope(&mut self, args: &[(u32, f64)]) -> Vec<(usize, Slot)> {
         let mut saved = Vec::new();
-        for (k, local) in self.linuxcnc.locals.iter().enumerate() {
+        for (k, local) in self.linuxcnc.numbered.iter().enumerate() {
             if let Some(i) = *local {
                 let value = args
                     .iter()

@@ -40,8 +40,6 @@ pub enum EvalErrorKind {
     BadLabel(f64),
     /// Fanuc's `#0` and system variables cannot be set.
     ReadOnlyVariable(String),
-    /// A Fanuc variable whose value only the machine knows.
-    MachineVariable(String),
     /// Fanuc's `#3000 = n (MESSAGE)`.
     Alarm {
         number: f64,
@@ -121,12 +119,6 @@ impl Wording for EvalErrorKind {
                 at,
                 "#0 is always vacant and #1000 and up are the machine's",
             ),
-            EvalErrorKind::MachineVariable(name) => error(
-                format!("`{name}` is a variable of the machine"),
-                at,
-                "ger cannot know its value",
-            )
-            .with_help("#500–#999 keep their values on the machine and #1000 and up are system variables: set the value in the program"),
             EvalErrorKind::Alarm { number, message } => error(
                 format!("alarm {number}: {message}"),
                 at,

@@ -70,13 +70,28 @@ pub enum ExprError {
 }
 
 impl ExprError {
-    pub fn to_diagnostic(&self, names: &Names, vars: &[Slot]) -> Option<Diagnostic> {
+    /// Its wording; `from` says which parameters are the machine's.
+    pub fn to_diagnostic(
+        &self,
+        names: &Names,
+        vars: &[Slot],
+        from: super::Flavour,
+    ) -> Option<Diagnostic> {
         Some(match self {
             ExprError::Undefined { name, span } => {
                 let text = names.text(*name);
-                // LinuxCNC's machine state: #5001 and up, predefined `#<_…>`.
                 let machine =
-                    super::parameter_number(text).is_some_and(|n| n > super::LAST_USER_PARAMETER);
+                    super::parameter_number(text).is_some_and(|n| from.machine_parameter(n));
+                if machine && from == super::Flavour::Fanuc {
+                    return Some(
+                        error(
+                            format!("`{text}` is a variable of the machine"),
+                            *span,
+                            "ger cannot know its value",
+                        )
+                        .with_help("#500–#999 keep their values on the machine and #1000 and up are system variables: set the value in the program"),
+                    );
+                }
                 if machine {
                     return Some(
                         error(
@@ -256,6 +271,8 @@ pub fn vacant(expr: &Expr, vars: &[Slot]) -> bool {
 
 fn binary(op: BinaryOp, a: &Expr, b: &Expr, span: Span, vars: &[Slot]) -> Result<Value, ExprError> {
     let what = || format!("`{}`", op.symbol());
+    // Fanuc: a vacant variable equals only another vacant one, so with
+    // one on either side EQ and NE compare vacancy (1 or 0), not values.
     if matches!(op, BinaryOp::NumEq | BinaryOp::NumNe) {
         let (x, y) = (vacant(a, vars), vacant(b, vars));
         if x || y {
