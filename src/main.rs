@@ -662,48 +662,17 @@ enum Picture {
 
 /// `ger render`: compile, simulate, write the picture.
 fn render_part(input: &str, output: &Path, options: &Options, picture: &PictureArgs) -> ExitCode {
-    use ger::render::{image, stl, svg, RenderOptions, Scene};
+    use ger::render::Scene;
     if input != "-" && same_file(Path::new(input), output) {
         eprintln!("error: the output file is the input file; refusing to overwrite it");
         return ExitCode::from(2);
     }
-    let extension = output
-        .extension()
-        .map(|e| e.to_string_lossy().to_ascii_lowercase());
-    let format = match extension.as_deref() {
-        Some("png") => Picture::Png,
-        Some("svg") => Picture::Svg,
-        Some("stl") => Picture::Stl,
-        _ => {
-            eprintln!(
-                "error: the picture's format comes from the output's name: .png, .svg or .stl"
-            );
+    let (format, render_options) = match picture_request(output, picture) {
+        Ok(request) => request,
+        Err(message) => {
+            eprintln!("error: {message}");
             return ExitCode::from(2);
         }
-    };
-    if (picture.shade || picture.diff.is_some()) && format != Picture::Png {
-        eprintln!("error: --shade and --diff make a PNG: give -o NAME.png");
-        return ExitCode::from(2);
-    }
-    let stock = match picture.stock.as_deref().map(parse_stock) {
-        None => None,
-        Some(Some(size)) => Some(size),
-        Some(None) => {
-            eprintln!("error: --stock takes three positive sizes, X,Y,Z");
-            return ExitCode::from(2);
-        }
-    };
-    if picture
-        .resolution
-        .is_some_and(|r| !(r.is_finite() && r > 0.0))
-    {
-        eprintln!("error: --resolution must be a positive number");
-        return ExitCode::from(2);
-    }
-    let render_options = RenderOptions {
-        resolution: picture.resolution,
-        max_cells: picture.max_cells,
-        stock,
     };
     let mut clock = Laps::new(options.timings);
     let Some((job, path)) = compiled_path(input, options) else {
@@ -719,93 +688,21 @@ fn render_part(input: &str, output: &Path, options: &Options, picture: &PictureA
     };
     eprint!("{}", render(&job.sources, &diagnostics_of(&scene.warnings)));
     clock.lap("scene");
+    let drawn = Drawn {
+        job: &job,
+        path: &path,
+        scene: &scene,
+        options: &render_options,
+    };
     let written = match format {
-        Picture::Svg => {
-            let title = |span: ger::source::Span| {
-                let text = job
-                    .sources
-                    .text(span.file_id())
-                    .get(span.range())
-                    .unwrap_or("");
-                let text: String = text.trim().chars().take(80).collect();
-                format!("line {}: {text}", span.line)
-            };
-            let svg_options = svg::SvgOptions {
-                color: match picture.color {
-                    ColorArg::Depth => svg::ColorBy::Depth,
-                    ColorArg::Feed => svg::ColorBy::Feed,
-                    ColorArg::Tool => svg::ColorBy::Tool,
-                },
-                rapids: picture.rapids == RapidsArg::Show,
-            };
-            write_file(output, |out| {
-                svg::write(&path, &scene, svg_options, &title, out)
-            })
-        }
+        Picture::Svg => write_svg(&drawn, output, picture),
         Picture::Png | Picture::Stl => {
-            let mut grid = match scene.grid() {
-                Ok(grid) => grid,
-                Err(e) => {
-                    eprintln!("error: {e}");
-                    return ExitCode::from(1);
-                }
+            let Some(written) =
+                write_carved(&drawn, format, input, output, options, picture, &mut clock)
+            else {
+                return ExitCode::from(1);
             };
-            if let Some(note) = &scene.coarser {
-                eprintln!("note: {note}");
-            }
-            let other = match &picture.diff {
-                Some(other) => {
-                    let Some((other_job, other_path)) = compiled_path(other, options) else {
-                        return ExitCode::from(1);
-                    };
-                    let other_scene = match Scene::new(&other_path, &render_options) {
-                        Ok(scene) => scene,
-                        Err(e) => {
-                            eprintln!("error: {other}: {e}");
-                            return ExitCode::from(1);
-                        }
-                    };
-                    let mut other_grid = grid.clone();
-                    let cuts = other_scene.carve(&mut other_grid, &other_path, &progress_bar());
-                    eprint!("{}", render(&other_job.sources, &diagnostics_of(&cuts)));
-                    Some(other_grid)
-                }
-                None => None,
-            };
-            clock.lap("grid");
-            let cuts = scene.carve(&mut grid, &path, &progress_bar());
-            eprint!("{}", render(&job.sources, &diagnostics_of(&cuts)));
-            clock.lap("carve");
-            let units = scene.units;
-            match (format, other) {
-                (Picture::Stl, _) => {
-                    if stl::block(&grid) > 1 {
-                        eprintln!(
-                            "note: the mesh takes the lowest of each {0}x{0} cells (at most {1} points)",
-                            stl::block(&grid),
-                            stl::MAX_CELLS
-                        );
-                    }
-                    write_file(output, |out| stl::write(&grid, out))
-                }
-                (_, Some(other)) => {
-                    let tolerance = grid.frame.cell * 0.01;
-                    write_file(output, |out| image::write_difference(&grid, &other, tolerance, units, out))
-                        .map(|(differ, largest)| {
-                            if differ == 0 {
-                                eprintln!("note: the two programs cut the same part");
-                            } else {
-                                eprintln!(
-                                    "note: {differ} cells differ, by up to {largest:.4} (red: `{input}` cuts deeper; blue: the other)"
-                                );
-                            }
-                        })
-                }
-                (_, None) if picture.shade => {
-                    write_file(output, |out| image::write_shaded(&grid, units, out))
-                }
-                (_, None) => write_file(output, |out| image::write_depth(&grid, units, out)),
-            }
+            written
         }
     };
     clock.lap("write");
@@ -817,6 +714,160 @@ fn render_part(input: &str, output: &Path, options: &Options, picture: &PictureA
             ExitCode::from(2)
         }
     }
+}
+
+/// A compiled program and the scene it is drawn in.
+struct Drawn<'a> {
+    job: &'a Job,
+    path: &'a ger::toolpath::ToolPath,
+    scene: &'a ger::render::Scene,
+    options: &'a ger::render::RenderOptions,
+}
+
+/// The picture's format (from the output's name) and its options, or what
+/// is wrong with the request.
+fn picture_request(
+    output: &Path,
+    picture: &PictureArgs,
+) -> Result<(Picture, ger::render::RenderOptions), &'static str> {
+    let extension = output
+        .extension()
+        .map(|e| e.to_string_lossy().to_ascii_lowercase());
+    let format = match extension.as_deref() {
+        Some("png") => Picture::Png,
+        Some("svg") => Picture::Svg,
+        Some("stl") => Picture::Stl,
+        _ => return Err("the picture's format comes from the output's name: .png, .svg or .stl"),
+    };
+    if (picture.shade || picture.diff.is_some()) && format != Picture::Png {
+        return Err("--shade and --diff make a PNG: give -o NAME.png");
+    }
+    let stock = match picture.stock.as_deref().map(parse_stock) {
+        None => None,
+        Some(Some(size)) => Some(size),
+        Some(None) => return Err("--stock takes three positive sizes, X,Y,Z"),
+    };
+    if picture
+        .resolution
+        .is_some_and(|r| !(r.is_finite() && r > 0.0))
+    {
+        return Err("--resolution must be a positive number");
+    }
+    let render_options = ger::render::RenderOptions {
+        resolution: picture.resolution,
+        max_cells: picture.max_cells,
+        stock,
+    };
+    Ok((format, render_options))
+}
+
+/// The tool path as an SVG drawing, each segment titled with its line.
+fn write_svg(drawn: &Drawn, output: &Path, picture: &PictureArgs) -> std::io::Result<()> {
+    use ger::render::svg;
+    let sources = &drawn.job.sources;
+    let title = |span: ger::source::Span| {
+        let text = sources.text(span.file_id()).get(span.range()).unwrap_or("");
+        let text: String = text.trim().chars().take(80).collect();
+        format!("line {}: {text}", span.line)
+    };
+    let svg_options = svg::SvgOptions {
+        color: match picture.color {
+            ColorArg::Depth => svg::ColorBy::Depth,
+            ColorArg::Feed => svg::ColorBy::Feed,
+            ColorArg::Tool => svg::ColorBy::Tool,
+        },
+        rapids: picture.rapids == RapidsArg::Show,
+    };
+    write_file(output, |out| {
+        svg::write(drawn.path, drawn.scene, svg_options, &title, out)
+    })
+}
+
+/// The stock carved by the tool path, written as a PNG (depth, shaded or
+/// the difference from `--diff`'s program) or an STL mesh. `None` when it
+/// cannot be carved (the error is printed).
+fn write_carved(
+    drawn: &Drawn,
+    format: Picture,
+    input: &str,
+    output: &Path,
+    options: &Options,
+    picture: &PictureArgs,
+    clock: &mut Laps,
+) -> Option<std::io::Result<()>> {
+    use ger::render::{image, stl};
+    let mut grid = match drawn.scene.grid() {
+        Ok(grid) => grid,
+        Err(e) => {
+            eprintln!("error: {e}");
+            return None;
+        }
+    };
+    if let Some(note) = &drawn.scene.coarser {
+        eprintln!("note: {note}");
+    }
+    let other = match &picture.diff {
+        Some(other) => Some(carve_other(other, &grid, options, drawn.options)?),
+        None => None,
+    };
+    clock.lap("grid");
+    let cuts = drawn.scene.carve(&mut grid, drawn.path, &progress_bar());
+    eprint!("{}", render(&drawn.job.sources, &diagnostics_of(&cuts)));
+    clock.lap("carve");
+    let units = drawn.scene.units;
+    Some(match (format, other) {
+        (Picture::Stl, _) => {
+            if stl::block(&grid) > 1 {
+                eprintln!(
+                    "note: the mesh takes the lowest of each {0}x{0} cells (at most {1} points)",
+                    stl::block(&grid),
+                    stl::MAX_CELLS
+                );
+            }
+            write_file(output, |out| stl::write(&grid, out))
+        }
+        (_, Some(other)) => {
+            let tolerance = grid.frame.cell * 0.01;
+            write_file(output, |out| {
+                image::write_difference(&grid, &other, tolerance, units, out)
+            })
+            .map(|(differ, largest)| {
+                if differ == 0 {
+                    eprintln!("note: the two programs cut the same part");
+                } else {
+                    eprintln!(
+                        "note: {differ} cells differ, by up to {largest:.4} (red: `{input}` cuts deeper; blue: the other)"
+                    );
+                }
+            })
+        }
+        (_, None) if picture.shade => {
+            write_file(output, |out| image::write_shaded(&grid, units, out))
+        }
+        (_, None) => write_file(output, |out| image::write_depth(&grid, units, out)),
+    })
+}
+
+/// `--diff`'s program carved in a copy of `grid`; `None` when it cannot be
+/// (the error is printed).
+fn carve_other(
+    other: &str,
+    grid: &ger::render::carve::Grid,
+    options: &Options,
+    render_options: &ger::render::RenderOptions,
+) -> Option<ger::render::carve::Grid> {
+    let (other_job, other_path) = compiled_path(other, options)?;
+    let other_scene = match ger::render::Scene::new(&other_path, render_options) {
+        Ok(scene) => scene,
+        Err(e) => {
+            eprintln!("error: {other}: {e}");
+            return None;
+        }
+    };
+    let mut other_grid = grid.clone();
+    let cuts = other_scene.carve(&mut other_grid, &other_path, &progress_bar());
+    eprint!("{}", render(&other_job.sources, &diagnostics_of(&cuts)));
+    Some(other_grid)
 }
 
 /// `--timings` for a render: the time of each step, on stderr.

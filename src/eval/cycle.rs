@@ -49,6 +49,11 @@ pub(super) fn kind_of(t: u32) -> Option<CycleKind> {
     })
 }
 
+/// A cycle block that lacks a word it needs.
+fn missing(kind: CycleKind, what: char, help: &'static str, at: Span) -> Diagnostic {
+    CycleBlockError::new(CycleBlockErrorKind::Missing { kind, what, help }, at).into()
+}
+
 fn takes_dwell(kind: CycleKind) -> bool {
     matches!(
         kind,
@@ -135,9 +140,7 @@ impl Evaluator<'_> {
             return Err(CycleBlockError::new(CycleBlockErrorKind::NoHole(kind), at_code).into());
         }
         let sticky = self.sticky;
-        let missing = |what: char, help: &'static str| -> Diagnostic {
-            CycleBlockError::new(CycleBlockErrorKind::Missing { kind, what, help }, at_code).into()
-        };
+        let missing = |what, help| missing(kind, what, help, at_code);
         let r = match w.take(b'R') {
             Some((r, _)) => r,
             None if repeat => sticky.r,
@@ -159,44 +162,8 @@ impl Evaluator<'_> {
             }
         };
         at.set(n, depth);
-        let q = if pecks(kind) {
-            let q = match w.take(b'Q') {
-                Some((q, qspan)) => {
-                    if q <= 0.0 {
-                        return Err(CycleBlockError::new(
-                            CycleBlockErrorKind::PeckNotPositive,
-                            qspan,
-                        )
-                        .into());
-                    }
-                    q
-                }
-                None if repeat => sticky.q,
-                None => {
-                    return Err(missing(
-                        'Q',
-                        "Q is the depth of each peck: `G83 X10 Z-12 R1 Q3`",
-                    ))
-                }
-            };
-            Some(q)
-        } else {
-            None
-        };
-        let dwell = if takes_dwell(kind) {
-            match w.take_number(b'P') {
-                Some((p, pspan, written)) => Some(self.seconds(p, pspan, written)?),
-                None if repeat || !needs_dwell(kind) => Some(sticky.p),
-                None => {
-                    return Err(missing(
-                        'P',
-                        "P is the dwell at the bottom in seconds: `G82 X10 Z-3 R1 P0.5`",
-                    ))
-                }
-            }
-        } else {
-            None
-        };
+        let q = self.cycle_peck(kind, w, repeat, at_code)?;
+        let dwell = self.cycle_dwell(kind, w, repeat, at_code)?;
         let (ijk, repeats) = self.offsets_and_repeats(kind, w, repeat, at_code)?;
         self.check_levels(r, depth, n, at_code)?;
         if let Some(needed) = spindle_needed(kind) {
@@ -240,6 +207,57 @@ impl Evaluator<'_> {
         };
         self.cycle = Some(kind);
         self.emit(Op::Cycle(Box::new(cycle)), span)
+    }
+
+    /// The depth of each peck of a pecking cycle (its Q, or the last
+    /// block's); `None` for a cycle that does not peck.
+    fn cycle_peck(
+        &self,
+        kind: CycleKind,
+        w: &mut WordValues,
+        repeat: bool,
+        at_code: Span,
+    ) -> Result<Option<f64>, Diagnostic> {
+        if !pecks(kind) {
+            return Ok(None);
+        }
+        match w.take(b'Q') {
+            Some((q, qspan)) if q <= 0.0 => {
+                Err(CycleBlockError::new(CycleBlockErrorKind::PeckNotPositive, qspan).into())
+            }
+            Some((q, _)) => Ok(Some(q)),
+            None if repeat => Ok(Some(self.sticky.q)),
+            None => Err(missing(
+                kind,
+                'Q',
+                "Q is the depth of each peck: `G83 X10 Z-12 R1 Q3`",
+                at_code,
+            )),
+        }
+    }
+
+    /// The dwell at the bottom, in seconds, of a cycle that dwells (its P,
+    /// or the last block's); `None` for one that does not.
+    fn cycle_dwell(
+        &mut self,
+        kind: CycleKind,
+        w: &mut WordValues,
+        repeat: bool,
+        at_code: Span,
+    ) -> Result<Option<f64>, Diagnostic> {
+        if !takes_dwell(kind) {
+            return Ok(None);
+        }
+        match w.take_number(b'P') {
+            Some((p, pspan, written)) => Ok(Some(self.seconds(p, pspan, written)?)),
+            None if repeat || !needs_dwell(kind) => Ok(Some(self.sticky.p)),
+            None => Err(missing(
+                kind,
+                'P',
+                "P is the dwell at the bottom in seconds: `G82 X10 Z-3 R1 P0.5`",
+                at_code,
+            )),
+        }
     }
 
     /// A warning, once, when a cycle comes before any G98/G99: where it

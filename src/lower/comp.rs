@@ -87,6 +87,19 @@ enum Shape {
     Arc { center: P2, t: i32, sweep: f64 },
 }
 
+/// A compensated arc at a concave corner: its centre and radius, whether
+/// the cutter is inside it, its turn, and the corner's angles (`beta`, the
+/// turn at the corner; `theta`, the offset's direction at its start).
+#[derive(Clone, Copy)]
+struct ArcCorner {
+    centre: P2,
+    radius: f64,
+    inside: bool,
+    t: i32,
+    beta: f64,
+    theta: f64,
+}
+
 /// A compensated move not yet sent: its end may still move.
 #[derive(Clone, Debug)]
 struct Held {
@@ -626,52 +639,15 @@ impl CompPass {
         let concave = !(-SMALL..=PI + SMALL).contains(&beta) || ((beta - PI).abs() < SMALL && !ins);
         if concave {
             self.held_for_trim(on, span)?;
-            let point = match on.queue.first() {
-                Some(Queued::Move(Held {
-                    shape:
-                        Shape::Arc {
-                            center: a, t: tp, ..
-                        },
-                    end: ae,
-                    ..
-                })) => {
-                    let (a, tp, ae) = (*a, *tp, *ae);
-                    let rho = dist(a, ae);
-                    let rn = if ins { ra - r } else { ra + r };
-                    let d = dist(o, a);
-                    if rho == 0.0 || d == 0.0 {
-                        return Err(self.gouge("two arcs with one centre", on, span));
-                    }
-                    let k = (rho * rho + d * d - rn * rn) / (2.0 * rho * d);
-                    if !(-1.0..=1.0).contains(&k) {
-                        return Err(self.gouge("an arc into an arc", on, span));
-                    }
-                    let (psi, pb) = (angle(a, o), k.acos());
-                    let ang = match (inside(side, tp), t > 0) {
-                        (true, true) | (false, false) => psi + pb,
-                        (true, false) | (false, true) => psi - pb,
-                    };
-                    add(a, dir(ang), rho)
-                }
-                _ => {
-                    let y0 = ra * (beta - FRAC_PI_2).sin();
-                    let (rho, l) = if ins {
-                        (ra - r, (y0 + r) / (ra - r))
-                    } else {
-                        (ra + r, (y0 - r) / (ra + r))
-                    };
-                    if !(-1.0..=1.0).contains(&l) {
-                        return Err(self.gouge("a line into an arc", on, span));
-                    }
-                    let ang = match (ins, t > 0) {
-                        (true, true) => theta + l.asin(),
-                        (true, false) => theta - l.asin(),
-                        (false, true) => theta + PI - l.asin(),
-                        (false, false) => theta + PI + l.asin(),
-                    };
-                    add(o, dir(ang), rho)
-                }
+            let corner = ArcCorner {
+                centre: o,
+                radius: ra,
+                inside: ins,
+                t,
+                beta,
+                theta,
             };
+            let point = self.arc_trim_point(on, &corner, span)?;
             self.trim(on, point, span, out)?;
         } else if beta > SMALL {
             self.flush(on, out);
@@ -705,6 +681,63 @@ impl CompPass {
         }));
         on.c = e;
         Ok(())
+    }
+
+    /// Where the offset of a concave corner's arc meets the offset of the
+    /// held move before it (an arc or a line): the point both are trimmed
+    /// to. An error where they do not meet (the cutter would gouge).
+    fn arc_trim_point(&self, on: &On, arc: &ArcCorner, span: Span) -> Result<P2, LowerError> {
+        let ArcCorner {
+            centre: o,
+            radius: ra,
+            inside: ins,
+            t,
+            beta,
+            theta,
+        } = *arc;
+        let r = on.r;
+        if let Some(Queued::Move(Held {
+            shape: Shape::Arc {
+                center: a, t: tp, ..
+            },
+            end: ae,
+            ..
+        })) = on.queue.first()
+        {
+            let (a, tp, ae) = (*a, *tp, *ae);
+            let rho = dist(a, ae);
+            let rn = if ins { ra - r } else { ra + r };
+            let d = dist(o, a);
+            if rho == 0.0 || d == 0.0 {
+                return Err(self.gouge("two arcs with one centre", on, span));
+            }
+            let k = (rho * rho + d * d - rn * rn) / (2.0 * rho * d);
+            if !(-1.0..=1.0).contains(&k) {
+                return Err(self.gouge("an arc into an arc", on, span));
+            }
+            let (psi, pb) = (angle(a, o), k.acos());
+            let ang = match (inside(on.side, tp), t > 0) {
+                (true, true) | (false, false) => psi + pb,
+                (true, false) | (false, true) => psi - pb,
+            };
+            return Ok(add(a, dir(ang), rho));
+        }
+        let y0 = ra * (beta - FRAC_PI_2).sin();
+        let (rho, l) = if ins {
+            (ra - r, (y0 + r) / (ra - r))
+        } else {
+            (ra + r, (y0 - r) / (ra + r))
+        };
+        if !(-1.0..=1.0).contains(&l) {
+            return Err(self.gouge("a line into an arc", on, span));
+        }
+        let ang = match (ins, t > 0) {
+            (true, true) => theta + l.asin(),
+            (true, false) => theta - l.asin(),
+            (false, true) => theta + PI - l.asin(),
+            (false, false) => theta + PI + l.asin(),
+        };
+        Ok(add(o, dir(ang), rho))
     }
 
     /// `--comp-entry lookahead`: the held entry ends at `mid`, where the

@@ -563,74 +563,13 @@ impl<'a> Lexer<'a> {
                 }
                 Some(self.parameter(start))
             }
-            Err(()) if rest.starts_with('[') => {
-                if self.groups.is_empty() && self.syms.is_empty() {
-                    if let Some(pending) = &mut self.pending_call {
-                        // The next argument of an `o… call`.
-                        pending.args += 1;
-                        let name = format!("#<call:{}>", pending.args);
-                        if self.out.len() > self.stmt_start {
-                            self.pending_term = Some((start, start));
-                            self.shape = Shape::Empty;
-                        }
-                        let symbol = self.names.intern(&name);
-                        self.push(start, Tok::Name(symbol), start);
-                        self.push(start, Tok::Assign, start);
-                    }
-                }
-                let call = matches!(self.out.last(), Some(&(_, Tok::Name(n), e))
-                    if self.text[e..start].trim().is_empty()
-                        && Function::from_name(self.names.text(n)).is_some());
-                if call {
-                    if let Some((_, Tok::Name(n), e)) = self.out.last_mut() {
-                        // LinuxCNC's `ATAN[y]/[x]` is atan2(y, x).
-                        if self.names.text(*n).eq_ignore_ascii_case("atan") {
-                            *n = self.names.intern("atan2");
-                            self.atan_groups.push(self.groups.len() + 1);
-                        }
-                        *e = start;
-                    }
-                }
-                self.groups.push(start);
-                self.logic.truncate(self.groups.len());
-                self.push(
-                    start,
-                    if call { Tok::CallOpen } else { Tok::LParen },
-                    start + 1,
-                );
-                Some(start + 1)
-            }
-            // `ATAN[y]/[x]`: the `]/[` between its arguments is a comma.
+            Err(()) if rest.starts_with('[') => Some(self.open_bracket(start)),
             Err(())
                 if rest.starts_with(']') && self.atan_groups.last() == Some(&self.groups.len()) =>
             {
-                self.atan_groups.pop();
-                let after = rest[1..].trim_start();
-                let Some(second) = after
-                    .strip_prefix('/')
-                    .map(str::trim_start)
-                    .filter(|a| a.starts_with('['))
-                else {
-                    self.report(SyntaxErrorKind::AtanOneArgument, start, start + 1);
-                    self.groups.pop();
-                    self.push(start, Tok::RParen, start + 1);
-                    return Some(start + 1);
-                };
-                let open = self.text.len() - second.len();
-                self.push(start, Tok::Comma, open + 1);
-                Some(open + 1)
+                Some(self.atan_comma(start))
             }
-            Err(()) if rest.starts_with(']') => {
-                match self.syms.last() {
-                    Some(&(_, depth)) if depth == self.groups.len() => {
-                        self.syms.pop();
-                        self.push(start, Tok::SymClose, start + 1);
-                    }
-                    _ if self.groups.pop().is_some() => self.push(start, Tok::RParen, start + 1),
-                    _ => self.report(SyntaxErrorKind::UnmatchedBracket, start, start + 1),
-                }
-                Some(start + 1)
-            }
+            Err(()) if rest.starts_with(']') => Some(self.close_bracket(start)),
             Ok(Raw::Star) if self.text[end..].starts_with('*') => {
                 self.push(start, Tok::PowLeft, end + 1);
                 Some(end + 1)
@@ -639,94 +578,153 @@ impl<'a> Lexer<'a> {
             // unary minus, which takes only the value right after it.
             Ok(Raw::Minus)
                 if (!self.groups.is_empty() || !self.syms.is_empty())
-                    && matches!(
-                        self.out.last(),
-                        Some((
-                            _,
-                            Tok::LParen
-                                | Tok::CallOpen
-                                | Tok::SymOpen(_)
-                                | Tok::Comma
-                                | Tok::Plus
-                                | Tok::Minus
-                                | Tok::Star
-                                | Tok::Slash
-                                | Tok::Mod
-                                | Tok::PowLeft
-                                | Tok::NegTight
-                                | Tok::EqEq
-                                | Tok::NotEq
-                                | Tok::Lt
-                                | Tok::Le
-                                | Tok::Gt
-                                | Tok::Ge
-                                | Tok::AndAnd
-                                | Tok::OrOr
-                                | Tok::Word(_),
-                            _
-                        ))
-                    ) =>
+                    && self
+                        .out
+                        .last()
+                        .is_some_and(|&(_, tok, _)| starts_value(tok)) =>
             {
                 self.push(start, Tok::NegTight, end);
                 Some(end)
             }
-            // `X[…]`, `X#1`: a word whose value is an expression.
-            Ok(Raw::Letter) => {
-                let after = self.text[end..].trim_start_matches([' ', '\t']);
-                let at = self.text.len() - after.len();
-                let letter = rest.as_bytes()[0].to_ascii_uppercase();
-                if after.starts_with('[') {
-                    self.syms.push((start, self.groups.len()));
-                    self.push(start, Tok::SymOpen(letter), at + 1);
-                    Some(at + 1)
-                } else if after.starts_with('#') || after.starts_with("-#") {
-                    // `Z-#2` is the parameter's negative, as rs274 reads it.
-                    self.push(start, Tok::SymOpen(letter), end);
-                    let minus = usize::from(after.starts_with('-'));
-                    if minus == 1 {
-                        self.push(at, Tok::NegTight, at + 1);
-                    }
-                    let name_end = self.parameter(at + minus);
-                    self.push(name_end, Tok::SymClose, name_end);
-                    Some(name_end)
-                } else {
-                    None
-                }
-            }
-            Ok(Raw::Ident) => {
-                let text = &self.text[start..end];
-                if let Some(tok) = self.operator(text) {
-                    self.push(start, tok, end);
-                    return Some(end);
-                }
-                // LinuxCNC's FIX and FUP round down and up.
-                let rounding = [("fix", "floor"), ("fup", "ceil")]
-                    .iter()
-                    .find(|(k, _)| k.eq_ignore_ascii_case(text));
-                if let Some((_, name)) = rounding {
-                    if self.text[end..].trim_start().starts_with('[') {
-                        let symbol = self.names.intern(name);
-                        self.push(start, Tok::Name(symbol), end);
-                        return Some(end);
-                    }
-                }
-                self.o_word(text, start, end)
-            }
-            // `o<name>`: a named subroutine, given a number of its own.
+            Ok(Raw::Letter) => self.expression_word(start, end),
+            Ok(Raw::Ident) => self.linuxcnc_ident(start, end),
             Ok(Raw::SymOpen) if rest.starts_with(['o', 'O']) && self.first_on_line(start) => {
-                let close = rest
-                    .find(['>', '\n'])
-                    .filter(|&i| rest[i..].starts_with('>'))?;
-                // Numbered by its name's symbol: the same in every file read
-                // with the same names (a subroutine in a file of its own).
-                let name = subroutine_name(&rest[2..close]);
-                let symbol = self.names.intern(&format!("o<{name}>"));
-                let number = format!("O{}", NAMED_SUB_BASE + symbol.0);
-                self.push_word(word(&number), start, start + close + 1);
-                Some(start + close + 1)
+                self.named_o_word(start)
             }
             _ => None,
         }
+    }
+
+    /// A `[` at `start`: a group, a function's arguments, or the next
+    /// argument of an `o… call`; where to go on.
+    fn open_bracket(&mut self, start: usize) -> usize {
+        if self.groups.is_empty() && self.syms.is_empty() {
+            if let Some(pending) = &mut self.pending_call {
+                // The next argument of an `o… call`.
+                pending.args += 1;
+                let name = format!("#<call:{}>", pending.args);
+                if self.out.len() > self.stmt_start {
+                    self.pending_term = Some((start, start));
+                    self.shape = Shape::Empty;
+                }
+                let symbol = self.names.intern(&name);
+                self.push(start, Tok::Name(symbol), start);
+                self.push(start, Tok::Assign, start);
+            }
+        }
+        let call = matches!(self.out.last(), Some(&(_, Tok::Name(n), e))
+            if self.text[e..start].trim().is_empty()
+                && Function::from_name(self.names.text(n)).is_some());
+        if call {
+            if let Some((_, Tok::Name(n), e)) = self.out.last_mut() {
+                // LinuxCNC's `ATAN[y]/[x]` is atan2(y, x).
+                if self.names.text(*n).eq_ignore_ascii_case("atan") {
+                    *n = self.names.intern("atan2");
+                    self.atan_groups.push(self.groups.len() + 1);
+                }
+                *e = start;
+            }
+        }
+        self.groups.push(start);
+        self.logic.truncate(self.groups.len());
+        let tok = if call { Tok::CallOpen } else { Tok::LParen };
+        self.push(start, tok, start + 1);
+        start + 1
+    }
+
+    /// `ATAN[y]/[x]`: the `]/[` between its arguments, read as a comma;
+    /// where to go on.
+    fn atan_comma(&mut self, start: usize) -> usize {
+        self.atan_groups.pop();
+        let after = self.text[start + 1..].trim_start();
+        let Some(second) = after
+            .strip_prefix('/')
+            .map(str::trim_start)
+            .filter(|a| a.starts_with('['))
+        else {
+            self.report(SyntaxErrorKind::AtanOneArgument, start, start + 1);
+            self.groups.pop();
+            self.push(start, Tok::RParen, start + 1);
+            return start + 1;
+        };
+        let open = self.text.len() - second.len();
+        self.push(start, Tok::Comma, open + 1);
+        open + 1
+    }
+
+    /// A `]` at `start`: the end of a symbolic word or of a group.
+    fn close_bracket(&mut self, start: usize) -> usize {
+        match self.syms.last() {
+            Some(&(_, depth)) if depth == self.groups.len() => {
+                self.syms.pop();
+                self.push(start, Tok::SymClose, start + 1);
+            }
+            _ if self.groups.pop().is_some() => self.push(start, Tok::RParen, start + 1),
+            _ => self.report(SyntaxErrorKind::UnmatchedBracket, start, start + 1),
+        }
+        start + 1
+    }
+
+    /// `X[…]`, `X#1`, `Z-#2`: a word whose value is an expression. Where
+    /// it took the text, the offset to go on from.
+    fn expression_word(&mut self, start: usize, end: usize) -> Option<usize> {
+        let after = self.text[end..].trim_start_matches([' ', '\t']);
+        let at = self.text.len() - after.len();
+        let letter = self.text.as_bytes()[start].to_ascii_uppercase();
+        if after.starts_with('[') {
+            self.syms.push((start, self.groups.len()));
+            self.push(start, Tok::SymOpen(letter), at + 1);
+            Some(at + 1)
+        } else if after.starts_with('#') || after.starts_with("-#") {
+            // `Z-#2` is the parameter's negative, as rs274 reads it.
+            self.push(start, Tok::SymOpen(letter), end);
+            let minus = usize::from(after.starts_with('-'));
+            if minus == 1 {
+                self.push(at, Tok::NegTight, at + 1);
+            }
+            let name_end = self.parameter(at + minus);
+            self.push(name_end, Tok::SymClose, name_end);
+            Some(name_end)
+        } else {
+            None
+        }
+    }
+
+    /// A word of letters: an operator inside brackets, FIX or FUP, or an
+    /// o-word's keyword.
+    fn linuxcnc_ident(&mut self, start: usize, end: usize) -> Option<usize> {
+        let text = &self.text[start..end];
+        if let Some(tok) = self.operator(text) {
+            self.push(start, tok, end);
+            return Some(end);
+        }
+        // LinuxCNC's FIX and FUP round down and up.
+        let rounding = [("fix", "floor"), ("fup", "ceil")]
+            .iter()
+            .find(|(k, _)| k.eq_ignore_ascii_case(text));
+        if let Some((_, name)) = rounding {
+            if self.text[end..].trim_start().starts_with('[') {
+                let symbol = self.names.intern(name);
+                self.push(start, Tok::Name(symbol), end);
+                return Some(end);
+            }
+        }
+        self.o_word(text, start, end)
+    }
+
+    /// `o<name>`: a named subroutine, given a number of its own.
+    fn named_o_word(&mut self, start: usize) -> Option<usize> {
+        let rest = &self.text[start..];
+        let close = rest
+            .find(['>', '\n'])
+            .filter(|&i| rest[i..].starts_with('>'))?;
+        // Numbered by its name's symbol: the same in every file read with
+        // the same names (a subroutine in a file of its own).
+        let name = subroutine_name(&rest[2..close]);
+        let symbol = self.names.intern(&format!("o<{name}>"));
+        let number = format!("O{}", NAMED_SUB_BASE + symbol.0);
+        self.push_word(word(&number), start, start + close + 1);
+        Some(start + close + 1)
     }
 
     /// `#<name>` or `#123` at `start`, pushed as a name; where it ends.
@@ -1400,6 +1398,34 @@ impl<'a> Lexer<'a> {
 }
 
 /// The token a word of `table` stands for, matched without case.
+/// Whether a value starts after `tok`: a minus after it is LinuxCNC's
+/// unary minus.
+fn starts_value(tok: Tok) -> bool {
+    matches!(
+        tok,
+        Tok::LParen
+            | Tok::CallOpen
+            | Tok::SymOpen(_)
+            | Tok::Comma
+            | Tok::Plus
+            | Tok::Minus
+            | Tok::Star
+            | Tok::Slash
+            | Tok::Mod
+            | Tok::PowLeft
+            | Tok::NegTight
+            | Tok::EqEq
+            | Tok::NotEq
+            | Tok::Lt
+            | Tok::Le
+            | Tok::Gt
+            | Tok::Ge
+            | Tok::AndAnd
+            | Tok::OrOr
+            | Tok::Word(_)
+    )
+}
+
 fn find_word(table: &[(&str, Tok)], text: &str) -> Option<Tok> {
     table
         .iter()
