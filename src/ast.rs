@@ -106,6 +106,10 @@ pub enum StmtKind {
     /// Fanuc's `GOTO n`: go on at the line labelled `Nn` of the same
     /// program or subprogram (the target may be an expression).
     Goto(Box<Expr>),
+    /// LinuxCNC's `oN break` and `oN continue`: out of, or on to the next
+    /// pass of, the `while` or `do` loop labelled N around it.
+    Break(u32),
+    Continue(u32),
     /// A controller command line of plain G-code (grbl's `$H`), passed
     /// through as written.
     Command(Symbol),
@@ -133,6 +137,10 @@ pub struct If {
 pub struct While {
     pub cond: Expr,
     pub body: Vec<Stmt>,
+    /// LinuxCNC's `oN` on the loop, which its `break` and `continue` name.
+    pub label: Option<u32>,
+    /// LinuxCNC's `do … while`: the body runs once before the test.
+    pub test_after: bool,
 }
 
 /// The words of one G-code line, in the order written.
@@ -294,7 +302,11 @@ impl Stmt {
                 block(&mut w.body);
             }
             StmtKind::Goto(target) => target.map_functions(f),
-            StmtKind::Command(_) | StmtKind::Comment(_) | StmtKind::Error => {}
+            StmtKind::Break(_)
+            | StmtKind::Continue(_)
+            | StmtKind::Command(_)
+            | StmtKind::Comment(_)
+            | StmtKind::Error => {}
         }
     }
 }

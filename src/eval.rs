@@ -194,6 +194,9 @@ enum Flow {
     End,
     /// Fanuc's `GOTO`: on at the line labelled N, from where it was.
     Goto(u32, Span),
+    /// LinuxCNC's `oN break` and `oN continue`, from where they were.
+    Break(u32, Span),
+    Continue(u32, Span),
     /// An error made it impossible to go on (a limit, a broken condition).
     Abort,
 }
@@ -330,15 +333,23 @@ impl<'a> Evaluator<'a> {
         self.no_label(flow);
     }
 
-    /// A `GOTO` whose label no block of its program has: an error.
+    /// A `GOTO` whose label no block of its program has, or a `break` or
+    /// `continue` whose loop is not around it: an error.
     fn no_label(&mut self, flow: Flow) -> Flow {
-        match flow {
-            Flow::Goto(label, from) => {
-                self.report(EvalError::new(EvalErrorKind::NoLabel(label), from).to_diagnostic());
-                Flow::Abort
+        let (kind, from) = match flow {
+            Flow::Goto(label, from) => (EvalErrorKind::NoLabel(label), from),
+            Flow::Break(label, from) => {
+                let is_break = true;
+                (EvalErrorKind::NoLoop { label, is_break }, from)
             }
-            other => other,
-        }
+            Flow::Continue(label, from) => {
+                let is_break = false;
+                (EvalErrorKind::NoLoop { label, is_break }, from)
+            }
+            Flow::Next | Flow::Return | Flow::End | Flow::Abort => return flow,
+        };
+        self.report(EvalError::new(kind, from).to_diagnostic());
+        Flow::Abort
     }
 
     fn report(&mut self, d: Diagnostic) {
@@ -697,7 +708,9 @@ impl<'a> Evaluator<'a> {
                     None => Flow::Next,
                 }
             }
-            StmtKind::While(w) => self.exec_while(&w.cond, &w.body, stmt.span),
+            StmtKind::While(w) => self.exec_while(w, stmt.span),
+            StmtKind::Break(label) => Flow::Break(*label, stmt.span),
+            StmtKind::Continue(label) => Flow::Continue(*label, stmt.span),
             StmtKind::Goto(target) => {
                 match value::number(target, &self.vars, &|| "the `GOTO` target".into()) {
                     Ok(n) if (0.0..1e8).contains(&n) && n.fract() == 0.0 => {
@@ -808,44 +821,57 @@ impl<'a> Evaluator<'a> {
         value::boolean(cond, &self.vars, &|| what.into())
     }
 
-    fn exec_while(&mut self, cond: &ast::Expr, body: &[ast::Stmt], span: Span) -> Flow {
+    /// A `while` loop, or LinuxCNC's `do … while` (tested after each pass).
+    /// `break` and `continue` naming the loop end it or its pass.
+    fn exec_while(&mut self, w: &ast::While, span: Span) -> Flow {
+        // Errors about the whole loop point at its head (a `do` loop's
+        // head is its condition, at the end).
+        let head = if w.test_after {
+            Span {
+                end: w.cond.span.end + 1,
+                ..w.cond.span
+            }
+        } else {
+            Span {
+                end: w.cond.span.end + 1,
+                ..span
+            }
+        };
         let mut count: u64 = 0;
+        // The condition held before this pass (a `do` loop's first pass
+        // runs untested).
+        let mut tested = !w.test_after;
         loop {
-            match self.condition(cond, "the `while` condition") {
-                Ok(true) => {}
-                Ok(false) => return Flow::Next,
-                Err(e) => {
-                    self.report_expr(e);
-                    return Flow::Abort;
+            if tested {
+                match self.condition(&w.cond, "the `while` condition") {
+                    Ok(true) => {}
+                    Ok(false) => return Flow::Next,
+                    Err(e) => {
+                        self.report_expr(e);
+                        return Flow::Abort;
+                    }
                 }
             }
             count += 1;
             if count > self.options.max_iterations {
-                let head = Span {
-                    end: cond.span.end + 1,
-                    ..span
-                };
-                self.report(
-                    EvalError::new(EvalErrorKind::LoopLimit(self.options.max_iterations), head)
-                        .to_diagnostic(),
-                );
+                let kind = EvalErrorKind::LoopLimit(self.options.max_iterations);
+                self.report(EvalError::new(kind, head).to_diagnostic());
                 return Flow::Abort;
             }
             let changes = self.changes;
-            match self.exec_block(body) {
+            match self.exec_block(&w.body) {
                 Flow::Next => {}
+                Flow::Break(label, _) if w.label == Some(label) => return Flow::Next,
+                Flow::Continue(label, _) if w.label == Some(label) => {}
                 other => return other,
             }
-            // The condition reads only variables: if a pass changed none,
-            // every pass after it does the same, for ever.
-            if self.changes == changes {
-                let head = Span {
-                    end: cond.span.end + 1,
-                    ..span
-                };
+            // The condition reads only variables: if a pass after it held
+            // changed none, every pass after it does the same, for ever.
+            if tested && self.changes == changes {
                 self.report(EvalError::new(EvalErrorKind::LoopNeverEnds, head).to_diagnostic());
                 return Flow::Abort;
             }
+            tested = true;
         }
     }
 

@@ -96,12 +96,26 @@ impl AstPrinter<'_> {
                 self.line("}");
             }
             StmtKind::While(w) => {
-                let While { cond, body } = &**w;
-                let text = format!("while {} {{", self.expr(cond));
-                self.line(&text);
-                self.nested(body);
-                self.line("}");
+                let While {
+                    cond,
+                    body,
+                    label,
+                    test_after,
+                } = &**w;
+                let label = label.map_or(String::new(), |n| format!("o{n} "));
+                let cond = self.expr(cond);
+                if *test_after {
+                    self.line(&format!("{label}do {{"));
+                    self.nested(body);
+                    self.line(&format!("}} while {cond}"));
+                } else {
+                    self.line(&format!("{label}while {cond} {{"));
+                    self.nested(body);
+                    self.line("}");
+                }
             }
+            StmtKind::Break(label) => self.line(&format!("o{label} break")),
+            StmtKind::Continue(label) => self.line(&format!("o{label} continue")),
             StmtKind::Goto(target) => {
                 let text = format!("GOTO {}", self.expr(target));
                 self.line(&text)

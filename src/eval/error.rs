@@ -36,6 +36,12 @@ pub enum EvalErrorKind {
     MessagesCut(usize),
     /// A `GOTO` to a label its program does not have.
     NoLabel(u32),
+    /// A `break` (true) or `continue` (false) with no `while` or `do` loop
+    /// of its label around it.
+    NoLoop {
+        label: u32,
+        is_break: bool,
+    },
     /// A `GOTO` target that is no label number.
     BadLabel(f64),
     /// Fanuc's `#0` and system variables cannot be set.
@@ -109,6 +115,18 @@ impl Wording for EvalErrorKind {
                 "GOTO looks for the label in its own program or subprogram",
             )
             .with_note("a GOTO may leave a WHILE loop but not jump into one"),
+            EvalErrorKind::NoLoop { label, is_break } => {
+                let keyword = if *is_break { "break" } else { "continue" };
+                error(
+                    format!("`{keyword}` outside the loop it names"),
+                    at,
+                    "no `while` or `do` loop with this o-word is around it",
+                )
+                .with_note(format!(
+                    "LinuxCNC's `o{label} {keyword}` needs `o{label} while` or `o{label} do` \
+                     around it in the same subroutine (a `repeat` loop cannot be left this way)"
+                ))
+            }
             EvalErrorKind::BadLabel(n) => error(
                 format!("`GOTO {n}` names no line"),
                 at,

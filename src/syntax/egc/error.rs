@@ -59,8 +59,6 @@ pub enum SyntaxErrorKind {
     AtanOneArgument,
     /// An o-word `return` at the top of a subroutine.
     ReturnOutsideBlock,
-    /// An o-word keyword ger does not read (`break`, `continue`).
-    UnsupportedOWord(&'static str),
     /// An `o… call` with more arguments than a subroutine takes.
     TooManyArguments(u32),
     /// The grammar did not expect a token: the token as the message names
@@ -237,11 +235,6 @@ impl Wording for SyntaxErrorKind {
                 "`return` outside an `if` or a loop is not supported",
                 at,
                 "the rest of the subroutine would never run: remove it, or end the subroutine here with `endsub`",
-            ),
-            UnsupportedOWord(keyword) => error(
-                format!("`{keyword}` is not supported"),
-                at,
-                "ger reads o-word sub/endsub/call, if/elseif/else/endif, while/endwhile, do/while and repeat/endrepeat",
             ),
             TooManyArguments(limit) => error(
                 format!("more than {limit} arguments"),

@@ -145,6 +145,14 @@ pub enum Tok {
     While,
     /// Fanuc's `GOTO`.
     Goto,
+    /// LinuxCNC's `oN` before `while` or `do`: the loop's label, which a
+    /// `break` or `continue` names.
+    Loop(u32),
+    /// LinuxCNC's `oN do`: a loop tested at its end.
+    Do,
+    /// LinuxCNC's `oN break` and `oN continue`, with the loop's label.
+    Break(u32),
+    Continue(u32),
     True,
     False,
     /// `(` that opens a group.
@@ -204,6 +212,10 @@ impl Tok {
         match self {
             Tok::If => "if",
             Tok::Goto => "GOTO",
+            Tok::Loop(_) => "o-word",
+            Tok::Do => "do",
+            Tok::Break(_) => "break",
+            Tok::Continue(_) => "continue",
             Tok::Else => "else",
             Tok::While => "while",
             Tok::True => "true",
@@ -772,24 +784,7 @@ impl<'a> Lexer<'a> {
     /// `elseif`, `else`, `endif`, `while`, `endwhile` become `.egc` blocks
     /// (the O word is only their label).
     fn o_word(&mut self, text: &str, start: usize, end: usize) -> Option<usize> {
-        const KEYWORDS: [&str; 15] = [
-            "sub",
-            "endsub",
-            "call",
-            "return",
-            "if",
-            "elseif",
-            "else",
-            "endif",
-            "while",
-            "endwhile",
-            "do",
-            "repeat",
-            "endrepeat",
-            "break",
-            "continue",
-        ];
-        let keyword = KEYWORDS.iter().find(|k| k.eq_ignore_ascii_case(text))?;
+        let keyword = OWord::from_text(text)?;
         let line_start = self.text[..start].rfind('\n').map_or(0, |i| i + 1);
         // The keyword must come right after its O word, the last token.
         let count = self.words.len();
@@ -800,10 +795,12 @@ impl<'a> Lexer<'a> {
             .last_mut()
             .filter(|w| right_after && w.word.letter == b'O' && w.start as usize >= line_start)?;
         let number = last.word.value;
-        match *keyword {
-            "sub" => {}
-            "endsub" => last.word = word("M99"),
-            "call" => {
+        // O numbers are whole and below 2^32 (named ones included).
+        let label = number as u32;
+        match keyword {
+            OWord::Sub => {}
+            OWord::EndSub => last.word = word("M99"),
+            OWord::Call => {
                 // `#<call:k> = [arg]` for each argument, `#<call> = count`,
                 // then `M98 P100`: written at the line's end.
                 self.drop_label();
@@ -813,26 +810,26 @@ impl<'a> Lexer<'a> {
                     at: (start, end),
                 });
             }
-            // `oN do … oN while [c]`: `#<do:N> = true; while (#<do:N>) {
-            // … #<do:N> = [c] }`.
-            "do" => {
+            // `oN do … oN while [c]`: `do { … } while (c)`.
+            OWord::Do => {
                 self.drop_label();
-                let flag = self.names.intern(&format!("#<do:{number}>"));
-                self.push(start, Tok::Name(flag), end);
-                self.push(start, Tok::Assign, end);
-                self.push(start, Tok::True, end);
-                self.pending_term = Some((start, start));
-                self.shape = Shape::Empty;
-                self.push(start, Tok::While, end);
-                self.push(start, Tok::LParen, end);
-                self.push(start, Tok::Name(flag), end);
-                self.push(start, Tok::RParen, end);
+                self.push(start, Tok::Loop(label), end);
+                self.push(start, Tok::Do, end);
                 self.block_at_line_end = true;
                 self.do_labels.push(number);
             }
+            OWord::Break | OWord::Continue => {
+                self.drop_label();
+                let tok = if keyword == OWord::Break {
+                    Tok::Break(label)
+                } else {
+                    Tok::Continue(label)
+                };
+                self.push(start, tok, end);
+            }
             // `oN repeat [n] … oN endrepeat`: `#<repeat:N> = [n]; while
             // (#<repeat:N> >= 1) { #<repeat:N> = #<repeat:N> - 1 … }`.
-            "repeat" => {
+            OWord::Repeat => {
                 self.drop_label();
                 let count = self.names.intern(&format!("#<repeat:{number}>"));
                 self.push(start, Tok::Name(count), end);
@@ -841,60 +838,54 @@ impl<'a> Lexer<'a> {
             }
             // Inside a block an `M99` returns from the subroutine; at the
             // top of one it would end its text there.
-            "return" if !self.braces.is_empty() => last.word = word("M99"),
-            "endrepeat" => {
+            OWord::Return if !self.braces.is_empty() => last.word = word("M99"),
+            OWord::EndRepeat => {
                 self.drop_label();
                 if let Some(tok) = self.close_brace(start, end) {
                     self.push(start, tok, end);
                 }
             }
-            "while" if self.do_labels.last() == Some(&number) => {
+            OWord::While if self.do_labels.last() == Some(&number) => {
                 self.drop_label();
                 self.do_labels.pop();
-                let flag = self.names.intern(&format!("#<do:{number}>"));
-                self.push(start, Tok::Name(flag), end);
-                self.push(start, Tok::Assign, end);
-                self.close_at_line_end = true;
+                if let Some(tok) = self.close_brace(start, end) {
+                    self.push(start, tok, end);
+                }
+                self.push(start, Tok::While, end);
             }
-            "if" | "while" => {
+            OWord::While => {
                 self.drop_label();
-                self.push(
-                    start,
-                    if *keyword == "if" {
-                        Tok::If
-                    } else {
-                        Tok::While
-                    },
-                    end,
-                );
+                self.push(start, Tok::Loop(label), end);
+                self.push(start, Tok::While, end);
                 self.block_at_line_end = true;
             }
-            "elseif" | "else" => {
+            OWord::If => {
+                self.drop_label();
+                self.push(start, Tok::If, end);
+                self.block_at_line_end = true;
+            }
+            OWord::ElseIf | OWord::Else => {
                 self.drop_label();
                 if let Some(tok) = self.close_brace(start, end) {
                     self.push(start, tok, end);
                 }
                 self.push(start, Tok::Else, end);
-                if *keyword == "elseif" {
+                if keyword == OWord::ElseIf {
                     self.push(start, Tok::If, end);
                     self.block_at_line_end = true;
                 } else if let Some(tok) = self.open_brace(start, end) {
                     self.push(start, tok, end);
                 }
             }
-            "endif" | "endwhile" => {
+            OWord::EndIf | OWord::EndWhile => {
                 self.drop_label();
                 if let Some(tok) = self.close_brace(start, end) {
                     self.push(start, tok, end);
                 }
             }
-            "return" => {
+            OWord::Return => {
                 self.drop_label();
                 self.report(SyntaxErrorKind::ReturnOutsideBlock, start, end);
-            }
-            other => {
-                self.drop_label();
-                self.report(SyntaxErrorKind::UnsupportedOWord(other), start, end);
             }
         }
         Some(end)
@@ -1341,7 +1332,9 @@ impl<'a> Lexer<'a> {
         self.shape = match (self.shape, &tok) {
             (_, Tok::LBrace | Tok::RBrace) => Shape::Empty,
             (Shape::Empty, Tok::Name(_)) => Shape::NameHead,
-            (Shape::Empty, Tok::If | Tok::While | Tok::Else) => Shape::Keyword,
+            (Shape::Empty, Tok::If | Tok::While | Tok::Else | Tok::Loop(_) | Tok::Do) => {
+                Shape::Keyword
+            }
             (Shape::Empty, _) => Shape::Code,
             (Shape::NameHead, Tok::Assign) if self.out.len() == self.stmt_start + 1 => {
                 Shape::Assign
@@ -1424,6 +1417,52 @@ fn starts_value(tok: Tok) -> bool {
             | Tok::OrOr
             | Tok::Word(_)
     )
+}
+
+/// The keywords of LinuxCNC's o-words.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum OWord {
+    Sub,
+    EndSub,
+    Call,
+    Return,
+    If,
+    ElseIf,
+    Else,
+    EndIf,
+    While,
+    EndWhile,
+    Do,
+    Repeat,
+    EndRepeat,
+    Break,
+    Continue,
+}
+
+impl OWord {
+    fn from_text(text: &str) -> Option<OWord> {
+        const KEYWORDS: [(&str, OWord); 15] = [
+            ("sub", OWord::Sub),
+            ("endsub", OWord::EndSub),
+            ("call", OWord::Call),
+            ("return", OWord::Return),
+            ("if", OWord::If),
+            ("elseif", OWord::ElseIf),
+            ("else", OWord::Else),
+            ("endif", OWord::EndIf),
+            ("while", OWord::While),
+            ("endwhile", OWord::EndWhile),
+            ("do", OWord::Do),
+            ("repeat", OWord::Repeat),
+            ("endrepeat", OWord::EndRepeat),
+            ("break", OWord::Break),
+            ("continue", OWord::Continue),
+        ];
+        KEYWORDS
+            .iter()
+            .find(|(k, _)| k.eq_ignore_ascii_case(text))
+            .map(|&(_, w)| w)
+    }
 }
 
 fn find_word(table: &[(&str, Tok)], text: &str) -> Option<Tok> {
