@@ -87,7 +87,7 @@ pub enum StmtKind {
     /// [`Line::statements`] for how it is cut.
     Line(Line),
     Assign {
-        name: Symbol,
+        target: Target,
         name_span: Span,
         value: Box<Expr>,
     },
@@ -122,9 +122,18 @@ pub enum StmtKind {
 /// One of the assignments of [`StmtKind::Assigns`].
 #[derive(Debug, Clone)]
 pub struct Assignment {
-    pub name: Symbol,
+    pub target: Target,
     pub name_span: Span,
     pub value: Expr,
+}
+
+/// What an assignment sets.
+#[derive(Debug, Clone)]
+pub enum Target {
+    Name(Symbol),
+    /// LinuxCNC's and Fanuc's `#[…]` and `##1`: the numbered parameter
+    /// the value names, found when the assignment runs.
+    Indirect(Box<Expr>),
 }
 
 #[derive(Debug, Clone)]
@@ -246,6 +255,8 @@ pub enum ExprKind {
     Bool(bool),
     Str(Symbol),
     Var(Symbol),
+    /// `#[…]`, `##1`: the numbered parameter the value names.
+    Indirect(Box<Expr>),
     Unary(UnaryOp, Box<Expr>),
     Binary(BinaryOp, Box<Expr>, Box<Expr>),
     Call(Function, Vec<Expr>),
@@ -259,7 +270,7 @@ impl Expr {
     pub fn map_functions(&mut self, f: &impl Fn(Function) -> Function) {
         match &mut self.kind {
             ExprKind::Number(_) | ExprKind::Bool(_) | ExprKind::Str(_) | ExprKind::Var(_) => {}
-            ExprKind::Unary(_, e) => e.map_functions(f),
+            ExprKind::Unary(_, e) | ExprKind::Indirect(e) => e.map_functions(f),
             ExprKind::Binary(_, a, b) => {
                 a.map_functions(f);
                 b.map_functions(f);
@@ -269,6 +280,15 @@ impl Expr {
                 args.iter_mut().for_each(|a| a.map_functions(f));
             }
             ExprKind::UnknownCall(_, args) => args.iter_mut().for_each(|a| a.map_functions(f)),
+        }
+    }
+}
+
+impl Target {
+    /// Change every function an indirect target's number calls.
+    pub fn map_functions(&mut self, f: &impl Fn(Function) -> Function) {
+        if let Target::Indirect(e) = self {
+            e.map_functions(f);
         }
     }
 }
@@ -285,8 +305,14 @@ impl Stmt {
                     }
                 }
             }
-            StmtKind::Assign { value, .. } => value.map_functions(f),
-            StmtKind::Assigns(all) => all.iter_mut().for_each(|a| a.value.map_functions(f)),
+            StmtKind::Assign { target, value, .. } => {
+                target.map_functions(f);
+                value.map_functions(f);
+            }
+            StmtKind::Assigns(all) => all.iter_mut().for_each(|a| {
+                a.target.map_functions(f);
+                a.value.map_functions(f);
+            }),
             StmtKind::Call { args, .. } => args.iter_mut().for_each(|a| a.map_functions(f)),
             StmtKind::If(if_) => {
                 for (cond, body) in &mut if_.branches {

@@ -18,7 +18,7 @@ use crate::ast::{self, Names, StmtKind, Symbol};
 use crate::diagnostic::Diagnostic;
 use crate::ir;
 use crate::source::Span;
-use value::{ExprError, Slot, Value};
+use value::{ExprError, Slot, Value, Vars};
 
 /// Limits that keep evaluation bounded whatever the input.
 #[derive(Clone, Debug)]
@@ -206,7 +206,7 @@ struct Evaluator<'a> {
     names: &'a Names,
     options: &'a EvalOptions,
     wizards: Option<&'a mut dyn WizardHost>,
-    vars: Vec<Slot>,
+    vars: Vars,
     /// `(DEBUG, …)` and `(PRINT, …)` notes given so far.
     messages: usize,
     /// How many times a variable changed value (or a call's scope was
@@ -288,7 +288,10 @@ impl<'a> Evaluator<'a> {
             names: &program.names,
             options,
             wizards,
-            vars: numbered_parameters(&program.names, options.from),
+            vars: Vars::new(
+                numbered_parameters(&program.names, options.from),
+                &program.names,
+            ),
             messages: 0,
             changes: 0,
             gotos: 0,
@@ -517,7 +520,11 @@ impl<'a> Evaluator<'a> {
         while let Some(stmt) = stmts.get(next) {
             next += 1;
             let flow = match &stmt.kind {
-                StmtKind::Assign { name, value, .. } if self.is_system_variable(*name) => {
+                StmtKind::Assign {
+                    target: ast::Target::Name(name),
+                    value,
+                    ..
+                } if self.is_system_variable(*name) => {
                     // Its message is the comment after it on its line.
                     let message = match stmts.get(next) {
                         Some(c)
@@ -664,22 +671,27 @@ impl<'a> Evaluator<'a> {
         match &stmt.kind {
             StmtKind::Line(line) => self.exec_line(line),
             StmtKind::Assign {
-                name,
+                target,
                 name_span,
                 value,
             } => {
-                self.assign(*name, *name_span, value);
+                if let Some(name) = self.target(target, *name_span) {
+                    self.assign(name, *name_span, value);
+                }
                 Flow::Next
             }
             StmtKind::Assigns(all) => {
-                let values: Vec<Option<Slot>> = all
+                // Every target and value from the variables as they were
+                // before the line, then every store.
+                let stores: Vec<Option<(Symbol, Slot)>> = all
                     .iter()
-                    .map(|a| self.assigned(a.name, a.name_span, &a.value))
+                    .map(|a| {
+                        let name = self.target(&a.target, a.name_span)?;
+                        Some((name, self.assigned(name, a.name_span, &a.value)?))
+                    })
                     .collect();
-                for (a, slot) in all.iter().zip(values) {
-                    if let Some(slot) = slot {
-                        self.store(a.name, slot);
-                    }
+                for (name, slot) in stores.into_iter().flatten() {
+                    self.store(name, slot);
                 }
                 Flow::Next
             }
@@ -872,6 +884,24 @@ impl<'a> Evaluator<'a> {
                 return Flow::Abort;
             }
             tested = true;
+        }
+    }
+
+    /// The variable an assignment sets: its name, or the parameter an
+    /// indirect target's value names (`None`: an error, reported).
+    fn target(&mut self, target: &ast::Target, span: Span) -> Option<Symbol> {
+        let number = match target {
+            ast::Target::Name(name) => return Some(*name),
+            ast::Target::Indirect(number) => number,
+        };
+        let found = value::number(number, &self.vars, &|| "the parameter's number".into())
+            .and_then(|n| self.vars.parameter(n, span));
+        match found {
+            Ok(name) => Some(name),
+            Err(e) => {
+                self.report_expr(e);
+                None
+            }
         }
     }
 

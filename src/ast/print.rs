@@ -62,14 +62,14 @@ impl AstPrinter<'_> {
                     self.line(&format!("{slash}{}", words.join(" ")));
                 }
             }
-            StmtKind::Assign { name, value, .. } => {
-                let text = format!("{} = {}", self.names.text(*name), self.expr(value));
+            StmtKind::Assign { target, value, .. } => {
+                let text = format!("{} = {}", self.target(target), self.expr(value));
                 self.line(&text);
             }
             StmtKind::Assigns(all) => {
                 let parts: Vec<String> = all
                     .iter()
-                    .map(|a| format!("{} = {}", self.names.text(a.name), self.expr(&a.value)))
+                    .map(|a| format!("{} = {}", self.target(&a.target), self.expr(&a.value)))
                     .collect();
                 self.line(&parts.join(" "));
             }
@@ -151,6 +151,13 @@ impl AstPrinter<'_> {
         s
     }
 
+    fn target(&self, target: &Target) -> String {
+        match target {
+            Target::Name(name) => self.names.text(*name).to_string(),
+            Target::Indirect(e) => format!("#[{}]", self.expr(e)),
+        }
+    }
+
     fn write_expr(&self, s: &mut String, e: &Expr) {
         match &e.kind {
             ExprKind::Number(n) => {
@@ -163,6 +170,11 @@ impl AstPrinter<'_> {
                 let _ = write!(s, "\"{}\"", self.names.text(*sym));
             }
             ExprKind::Var(sym) => s.push_str(self.names.text(*sym)),
+            ExprKind::Indirect(inner) => {
+                s.push_str("#[");
+                self.write_expr(s, inner);
+                s.push(']');
+            }
             ExprKind::Unary(op, inner) => {
                 s.push_str(match op {
                     UnaryOp::Neg => "(-",

@@ -359,6 +359,7 @@ impl Evaluator<'_> {
                     650 => "G65 is Fanuc's macro call: pass --from fanuc",
                     901 => "absolute arc centres (G90.1) are not supported; I/J/K are relative to the start",
                     930 | 950 => "only feed per minute (G94) is supported",
+                    310 | 382..=385 => "a probing move stops where its switch trips, which only the machine knows; what follows it cannot be worked out",
                     _ => "ger does not know this code",
                 };
                 let kind = K::Unsupported { code: name(), why };

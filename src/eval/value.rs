@@ -6,6 +6,7 @@
 use crate::ast::{BinaryOp, Expr, ExprKind, Function, Names, Symbol, UnaryOp};
 use crate::diagnostic::{error, Diagnostic, DiagnosticExt};
 use crate::source::Span;
+use crate::syntax::egc::lexer::LAST_PARAMETER;
 
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Value {
@@ -37,6 +38,55 @@ pub enum Slot {
     Set(Value),
 }
 
+/// The variables, by symbol, and where each numbered parameter is (for
+/// `#[…]`, which finds one by its number as it runs).
+#[derive(Debug)]
+pub struct Vars {
+    slots: Vec<Slot>,
+    /// The symbol of `#n`, by n; empty when no `#[…]` was read (the lexer
+    /// names every parameter when one is).
+    numbered: Vec<Option<Symbol>>,
+}
+
+impl Vars {
+    pub fn new(slots: Vec<Slot>, names: &Names) -> Vars {
+        let mut numbered = Vec::new();
+        if names.find(&format!("#{LAST_PARAMETER}")).is_some() {
+            numbered = vec![None; LAST_PARAMETER as usize + 1];
+            for (symbol, text) in names.iter() {
+                if let Some(n) = super::parameter_number(text).filter(|&n| n <= LAST_PARAMETER) {
+                    numbered[n as usize] = Some(symbol);
+                }
+            }
+        }
+        Vars { slots, numbered }
+    }
+
+    /// The numbered parameter `value` names (`#[value]`); as rs274, a
+    /// value within 0.0001 of a whole number is that number.
+    pub fn parameter(&self, value: f64, span: Span) -> Result<Symbol, ExprError> {
+        let n = value.round();
+        let whole = (value - n).abs() <= 1e-4;
+        let found = (whole && (0.0..=f64::from(LAST_PARAMETER)).contains(&n))
+            .then(|| self.numbered.get(n as usize).copied().flatten())
+            .flatten();
+        found.ok_or(ExprError::NoSuchParameter { value, span })
+    }
+}
+
+impl std::ops::Deref for Vars {
+    type Target = Vec<Slot>;
+    fn deref(&self) -> &Vec<Slot> {
+        &self.slots
+    }
+}
+
+impl std::ops::DerefMut for Vars {
+    fn deref_mut(&mut self) -> &mut Vec<Slot> {
+        &mut self.slots
+    }
+}
+
 #[derive(Debug)]
 pub enum ExprError {
     Undefined {
@@ -63,6 +113,11 @@ pub enum ExprError {
     },
     UnknownFunction {
         name: Symbol,
+        span: Span,
+    },
+    /// `#[value]` where the value is no parameter's number.
+    NoSuchParameter {
+        value: f64,
         span: Span,
     },
     /// Depends on a variable whose own error was already reported.
@@ -161,6 +216,11 @@ impl ExprError {
                 )
                 .with_note(format!("the functions are: {}", known.join(" ")))
             }
+            ExprError::NoSuchParameter { value, span } => error(
+                format!("`#[{value}]` names no parameter"),
+                *span,
+                format!("a parameter's number is a whole number from 0 to {LAST_PARAMETER}"),
+            ),
             ExprError::Poisoned => return None,
         })
     }
@@ -197,20 +257,16 @@ pub fn edit_distance(a: &str, b: &str) -> usize {
     row[b.len()]
 }
 
-pub fn eval(expr: &Expr, vars: &[Slot]) -> Result<Value, ExprError> {
+pub fn eval(expr: &Expr, vars: &Vars) -> Result<Value, ExprError> {
     match &expr.kind {
         ExprKind::Number(n) => Ok(Value::Number(*n)),
         ExprKind::Bool(b) => Ok(Value::Bool(*b)),
         ExprKind::Str(s) => Ok(Value::Str(*s)),
-        ExprKind::Var(s) => match vars.get(s.0 as usize) {
-            Some(Slot::Set(v)) => Ok(*v),
-            Some(Slot::Vacant) => Ok(Value::Number(0.0)),
-            Some(Slot::Poisoned) => Err(ExprError::Poisoned),
-            _ => Err(ExprError::Undefined {
-                name: *s,
-                span: expr.span,
-            }),
-        },
+        ExprKind::Var(s) => read(vars, *s, expr.span),
+        ExprKind::Indirect(e) => {
+            let n = number(e, vars, &|| "the parameter's number".into())?;
+            read(vars, vars.parameter(n, expr.span)?, expr.span)
+        }
         ExprKind::Unary(UnaryOp::Neg, e) => Ok(Value::Number(-number(e, vars, &|| "`-`".into())?)),
         ExprKind::Unary(UnaryOp::Not, e) => Ok(Value::Bool(!boolean(e, vars, &|| "`!`".into())?)),
         ExprKind::Binary(op, a, b) => binary(*op, a, b, expr.span, vars),
@@ -222,11 +278,21 @@ pub fn eval(expr: &Expr, vars: &[Slot]) -> Result<Value, ExprError> {
     }
 }
 
+/// The value of the variable `name`, read at `span`.
+fn read(vars: &Vars, name: Symbol, span: Span) -> Result<Value, ExprError> {
+    match vars.get(name.0 as usize) {
+        Some(Slot::Set(v)) => Ok(*v),
+        Some(Slot::Vacant) => Ok(Value::Number(0.0)),
+        Some(Slot::Poisoned) => Err(ExprError::Poisoned),
+        _ => Err(ExprError::Undefined { name, span }),
+    }
+}
+
 /// What is being evaluated, for a type error's message; only built when
 /// there is an error.
 pub type What<'a> = &'a dyn Fn() -> String;
 
-pub fn number(expr: &Expr, vars: &[Slot], what: What<'_>) -> Result<f64, ExprError> {
+pub fn number(expr: &Expr, vars: &Vars, what: What<'_>) -> Result<f64, ExprError> {
     if let Some(v) = fast_number(expr, vars) {
         return Ok(v);
     }
@@ -241,7 +307,7 @@ pub fn number(expr: &Expr, vars: &[Slot], what: What<'_>) -> Result<f64, ExprErr
     }
 }
 
-pub fn boolean(expr: &Expr, vars: &[Slot], what: What<'_>) -> Result<bool, ExprError> {
+pub fn boolean(expr: &Expr, vars: &Vars, what: What<'_>) -> Result<bool, ExprError> {
     if let Some(b) = fast_bool(expr, vars) {
         return Ok(b);
     }
@@ -265,11 +331,16 @@ fn finite(value: f64, span: Span, what: impl FnOnce() -> String) -> Result<f64, 
 }
 
 /// A variable that is vacant (Fanuc's null), written alone.
-pub fn vacant(expr: &Expr, vars: &[Slot]) -> bool {
-    matches!(&expr.kind, ExprKind::Var(s) if vars.get(s.0 as usize) == Some(&Slot::Vacant))
+pub fn vacant(expr: &Expr, vars: &Vars) -> bool {
+    let name = match &expr.kind {
+        ExprKind::Var(s) => Some(*s),
+        ExprKind::Indirect(e) => fast_number(e, vars).and_then(|n| vars.parameter(n, e.span).ok()),
+        _ => None,
+    };
+    name.is_some_and(|s| vars.get(s.0 as usize) == Some(&Slot::Vacant))
 }
 
-fn binary(op: BinaryOp, a: &Expr, b: &Expr, span: Span, vars: &[Slot]) -> Result<Value, ExprError> {
+fn binary(op: BinaryOp, a: &Expr, b: &Expr, span: Span, vars: &Vars) -> Result<Value, ExprError> {
     let what = || format!("`{}`", op.symbol());
     // Fanuc: a vacant variable equals only another vacant one, so with
     // one on either side EQ and NE compare vacancy (1 or 0), not values.
@@ -324,7 +395,7 @@ fn binary(op: BinaryOp, a: &Expr, b: &Expr, span: Span, vars: &[Slot]) -> Result
     }
 }
 
-fn call(f: Function, args: &[Expr], span: Span, vars: &[Slot]) -> Result<Value, ExprError> {
+fn call(f: Function, args: &[Expr], span: Span, vars: &Vars) -> Result<Value, ExprError> {
     let (lo, hi) = f.arity();
     if args.len() < lo || args.len() > hi {
         return Err(ExprError::Arity {
@@ -457,7 +528,7 @@ fn apply(f: Function, args: &[f64], more: &[f64]) -> f64 {
 /// The value of a purely numeric expression, or `None` when it is not one
 /// or would fail (then [`eval`] runs and says why). The hot path of loops:
 /// no `Value`, no error values, the same arithmetic as [`eval`].
-pub fn fast_number(expr: &Expr, vars: &[Slot]) -> Option<f64> {
+pub fn fast_number(expr: &Expr, vars: &Vars) -> Option<f64> {
     let v = match &expr.kind {
         // Literals and variables as they are (a literal too long for an
         // f64 is infinite, as in `eval`); what uses them checks them.
@@ -467,6 +538,13 @@ pub fn fast_number(expr: &Expr, vars: &[Slot]) -> Option<f64> {
                 Some(Slot::Set(Value::Number(n))) => Some(*n),
                 _ => None,
             }
+        }
+        ExprKind::Indirect(e) => {
+            let s = vars.parameter(fast_number(e, vars)?, e.span).ok()?;
+            return match vars.get(s.0 as usize) {
+                Some(Slot::Set(Value::Number(n))) => Some(*n),
+                _ => None,
+            };
         }
         ExprKind::Unary(UnaryOp::Neg, e) => return fast_number(e, vars).map(|v| -v),
         ExprKind::Binary(op, a, b) => {
@@ -506,7 +584,7 @@ pub fn fast_number(expr: &Expr, vars: &[Slot]) -> Option<f64> {
 /// [`fast_number`] of a call; apart, so that the recursion above keeps a
 /// small stack frame.
 #[inline(never)]
-fn fast_call(f: Function, args: &[Expr], vars: &[Slot]) -> Option<f64> {
+fn fast_call(f: Function, args: &[Expr], vars: &Vars) -> Option<f64> {
     let (lo, hi) = f.arity();
     // EXISTS asks about its parameter, not its value: `call` answers it.
     if f == Function::Exists || args.len() < lo || args.len() > hi || args.len() > 8 {
@@ -522,7 +600,7 @@ fn fast_call(f: Function, args: &[Expr], vars: &[Slot]) -> Option<f64> {
 /// The value of a condition made of comparisons of numbers, `&&`, `||`
 /// and `!`, or `None` (then [`eval`] runs and says why): the hot path of
 /// `while` and `if`, with the short-circuits and comparisons of [`eval`].
-fn fast_bool(expr: &Expr, vars: &[Slot]) -> Option<bool> {
+fn fast_bool(expr: &Expr, vars: &Vars) -> Option<bool> {
     match &expr.kind {
         ExprKind::Bool(b) => Some(*b),
         ExprKind::Var(s) => match vars.get(s.0 as usize) {

@@ -53,8 +53,8 @@ pub enum SyntaxErrorKind {
     StatementTooLong(usize),
     /// `#<` with no `>` on its line.
     UnclosedParameter,
-    /// `#[…]`, `##1`.
-    IndirectParameter,
+    /// A `#` followed by no number, `<name>`, `#` or `[`.
+    NotAParameter,
     /// `ATAN[y]` without its `/[x]`.
     AtanOneArgument,
     /// An o-word `return` at the top of a subroutine.
@@ -220,12 +220,11 @@ impl Wording for SyntaxErrorKind {
                 at,
                 "`#<` starts a name that ends with `>`",
             ),
-            IndirectParameter => error(
-                "unsupported parameter",
+            NotAParameter => error(
+                "`#` names no parameter",
                 at,
-                "ger reads `#123` and `#<name>`",
-            )
-            .with_help("indirect parameters (`#[…]`, `##1`) are not supported"),
+                "a parameter is `#123`, `#<name>`, `##1` or `#[expression]`",
+            ),
             AtanOneArgument => error(
                 "ATAN needs two arguments",
                 at,

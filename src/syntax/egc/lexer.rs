@@ -145,6 +145,9 @@ pub enum Tok {
     While,
     /// Fanuc's `GOTO`.
     Goto,
+    /// LinuxCNC's and Fanuc's `#` before `#1` or `[…]`: the parameter
+    /// whose number is that value.
+    Hash,
     /// LinuxCNC's `oN` before `while` or `do`: the loop's label, which a
     /// `break` or `continue` names.
     Loop(u32),
@@ -212,6 +215,7 @@ impl Tok {
         match self {
             Tok::If => "if",
             Tok::Goto => "GOTO",
+            Tok::Hash => "#",
             Tok::Loop(_) => "o-word",
             Tok::Do => "do",
             Tok::Break(_) => "break",
@@ -262,8 +266,8 @@ pub fn subroutine_name(written: &str) -> String {
 pub enum NotAParameter {
     /// `#<` with no `>` on its line.
     Unclosed,
-    /// `#[…]`, `##1`: indirect.
-    Indirect,
+    /// No number or `<name>`: `#[…]`, `##1` (indirect), or nothing.
+    NoName,
 }
 
 /// A LinuxCNC parameter read from `rest`, the text after its `#`: the
@@ -285,13 +289,17 @@ pub fn parameter_name(rest: &str) -> Result<(String, usize), NotAParameter> {
     }
     let digits = rest.len() - rest.trim_start_matches(|c: char| c.is_ascii_digit()).len();
     if digits == 0 {
-        return Err(NotAParameter::Indirect);
+        return Err(NotAParameter::NoName);
     }
     let number = rest[..digits].trim_start_matches('0');
     let number = if number.is_empty() { "0" } else { number };
     Ok((format!("#{number}"), digits))
 }
 
+/// The last numbered parameter, LinuxCNC's (#5602; Fanuc's system
+/// variables from #1000 that ger can read are below it): a `#[…]` beyond it
+/// is an error.
+pub const LAST_PARAMETER: u32 = 5602;
 /// Tokens in one statement. Expressions are trees the evaluator walks
 /// recursively, so their size is bounded where they are read; real
 /// statements are far shorter.
@@ -355,6 +363,11 @@ struct Lexer<'a> {
     groups: Vec<usize>,
     /// Open symbolic words: the group depth at which each was opened.
     syms: Vec<(usize, usize)>,
+    /// Symbolic words `X#[…]` that close with their group: the depth of
+    /// that group.
+    indirect_syms: Vec<usize>,
+    /// `#0`…`#LAST_PARAMETER` are all named (a `#[…]` was read).
+    every_parameter_named: bool,
     braces: Vec<usize>,
     /// A statement end seen but not yet emitted: dropped if `{` or `else`
     /// comes next, so braces and `else` may start a new line.
@@ -414,6 +427,8 @@ impl<'a> Lexer<'a> {
             stmt_start: 0,
             groups: Vec::new(),
             syms: Vec::new(),
+            indirect_syms: Vec::new(),
+            every_parameter_named: false,
             braces: Vec::new(),
             pending_term: None,
             line_comments: Vec::new(),
@@ -671,7 +686,15 @@ impl<'a> Lexer<'a> {
                 self.syms.pop();
                 self.push(start, Tok::SymClose, start + 1);
             }
-            _ if self.groups.pop().is_some() => self.push(start, Tok::RParen, start + 1),
+            _ if self.groups.pop().is_some() => {
+                self.push(start, Tok::RParen, start + 1);
+                // `X#[…]`: the word ends with the group.
+                if self.indirect_syms.last() == Some(&(self.groups.len() + 1)) {
+                    self.indirect_syms.pop();
+                    self.syms.pop();
+                    self.push(start + 1, Tok::SymClose, start + 1);
+                }
+            }
             _ => self.report(SyntaxErrorKind::UnmatchedBracket, start, start + 1),
         }
         start + 1
@@ -695,7 +718,13 @@ impl<'a> Lexer<'a> {
                 self.push(at, Tok::NegTight, at + 1);
             }
             let name_end = self.parameter(at + minus);
-            self.push(name_end, Tok::SymClose, name_end);
+            if matches!(self.out.last(), Some((_, Tok::Hash, _))) {
+                // `X#[…]`: the word ends where the group does.
+                self.syms.push((start, self.groups.len()));
+                self.indirect_syms.push(self.groups.len() + 1);
+            } else {
+                self.push(name_end, Tok::SymClose, name_end);
+            }
             Some(name_end)
         } else {
             None
@@ -739,22 +768,47 @@ impl<'a> Lexer<'a> {
         Some(start + close + 1)
     }
 
-    /// `#<name>` or `#123` at `start`, pushed as a name; where it ends.
-    fn parameter(&mut self, start: usize) -> usize {
-        match parameter_name(&self.text[start + 1..]) {
-            Ok((name, used)) => {
-                let end = start + 1 + used;
-                let symbol = self.names.intern(&name);
-                self.push(start, Tok::Name(symbol), end);
-                end
+    /// `#<name>` or `#123` at `start`, pushed as a name; or the `#` of an
+    /// indirect parameter (`##1`, `#[…]`), pushed as [`Tok::Hash`] before
+    /// the parameter or the `[` it reads. Where it ends.
+    fn parameter(&mut self, mut start: usize) -> usize {
+        loop {
+            match parameter_name(&self.text[start + 1..]) {
+                Ok((name, used)) => {
+                    let end = start + 1 + used;
+                    let symbol = self.names.intern(&name);
+                    self.push(start, Tok::Name(symbol), end);
+                    return end;
+                }
+                Err(NotAParameter::Unclosed) => {
+                    self.report(SyntaxErrorKind::UnclosedParameter, start, start + 2);
+                    return start + 2;
+                }
+                Err(NotAParameter::NoName) => {
+                    let after = self.text[start + 1..].trim_start_matches([' ', '\t']);
+                    let next = self.text.len() - after.len();
+                    if !after.starts_with(['#', '[']) {
+                        self.report(SyntaxErrorKind::NotAParameter, start, start + 1);
+                        return start + 1;
+                    }
+                    self.push(start, Tok::Hash, start + 1);
+                    self.name_every_parameter();
+                    if after.starts_with('[') {
+                        return next;
+                    }
+                    start = next;
+                }
             }
-            Err(NotAParameter::Unclosed) => {
-                self.report(SyntaxErrorKind::UnclosedParameter, start, start + 2);
-                start + 2
-            }
-            Err(NotAParameter::Indirect) => {
-                self.report(SyntaxErrorKind::IndirectParameter, start, start + 1);
-                start + 1
+        }
+    }
+
+    /// Every numbered parameter a `#[…]` may reach gets its name (once):
+    /// the evaluator finds a computed parameter by its name.
+    fn name_every_parameter(&mut self) {
+        if !self.every_parameter_named {
+            self.every_parameter_named = true;
+            for n in 0..=LAST_PARAMETER {
+                self.names.intern(&format!("#{n}"));
             }
         }
     }
@@ -1204,6 +1258,7 @@ impl<'a> Lexer<'a> {
         );
         self.groups.clear();
         self.syms.clear();
+        self.indirect_syms.clear();
         self.pending_term.get_or_insert((start, end));
         self.shape = Shape::Empty;
     }
@@ -1358,6 +1413,7 @@ impl<'a> Lexer<'a> {
     fn unclosed_sym(&mut self, open: usize) {
         self.report(SyntaxErrorKind::UnclosedSymbolicWord, open, open + 2);
         self.syms.clear();
+        self.indirect_syms.clear();
     }
 
     /// `P0X = 5`: the user meant a variable, but a letter and a digit make a

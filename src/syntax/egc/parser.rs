@@ -409,11 +409,12 @@ fn expected_list(expected: &[String]) -> String {
         .collect();
     items.dedup();
     // Where a value may start, the unary `+` (LinuxCNC's) goes unsaid; so
-    // do LinuxCNC's own operator tokens, which only its brackets make.
+    // do LinuxCNC's own operator tokens, which only its brackets make, and
+    // the `#` of its indirect parameters.
     if items.iter().any(|i| i == "`!`") {
         items.retain(|i| i != "`+`");
     }
-    items.retain(|i| !matches!(i.as_str(), "`unary -`" | "`MOD`" | "`**`"));
+    items.retain(|i| !matches!(i.as_str(), "`unary -`" | "`MOD`" | "`**`" | "`#`"));
     if items.len() > 8 {
         return "an expression or statement".to_string();
     }
