@@ -1,10 +1,10 @@
-//! Arbitrary bytes as a program, read both as `.egc` and as plain G-code:
-//! ger must not panic, hang or run out of memory; it either compiles them
-//! or reports errors.
+//! Arbitrary bytes as a program, read as `.egc`, as plain G-code and as
+//! Fanuc Macro B (plain G-code `--from fanuc`): ger must not panic, hang
+//! or run out of memory; it either compiles them or reports errors.
 #![no_main]
 
 use ger::compile::{compile, CompileOptions};
-use ger::eval::EvalOptions;
+use ger::eval::{EvalOptions, Flavour};
 use ger::source::{decode, Sources};
 use ger::syntax::egc::Language;
 use ger::wizard::{standard_library, Library, WizardEngine};
@@ -24,9 +24,18 @@ fuzz_target!(|bytes: &[u8]| {
         },
         ..CompileOptions::default()
     };
-    for language in [Language::Egc, Language::Gcode] {
+    let readings = [
+        (Language::Egc, Flavour::Generic),
+        (Language::Gcode, Flavour::LinuxCnc),
+        (Language::Gcode, Flavour::Fanuc),
+    ];
+    for (language, from) in readings {
         let options = CompileOptions {
             input: Some(language),
+            eval: EvalOptions {
+                from,
+                ..options.eval.clone()
+            },
             ..options.clone()
         };
         let compiled = compile(&sources, file, &options, Some(&mut engine));

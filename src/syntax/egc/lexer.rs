@@ -1263,11 +1263,63 @@ impl<'a> Lexer<'a> {
         self.shape = Shape::Empty;
     }
 
+    /// A line of plain G-code with words and parameter assignments
+    /// (`#1=5 G1 X#1`): rs274 reads every word and value with the
+    /// parameters as they were before the line and sets them after it, so
+    /// the words become a statement of their own, followed by the
+    /// assignments. Any other mix is left for the parser to report.
+    fn assignments_after_words(&mut self, at: usize) {
+        let tokens = &self.out[self.stmt_start.min(self.out.len())..];
+        let mut words = Vec::new();
+        let mut assignments = Vec::new();
+        let mut i = 0;
+        while i < tokens.len() {
+            let end = match (tokens[i].1, tokens.get(i + 1).map(|t| t.1)) {
+                (Tok::Name(_), Some(Tok::Assign)) => match value_end(tokens, i + 2) {
+                    Some(end) => {
+                        assignments.push(i..end);
+                        end
+                    }
+                    None => return,
+                },
+                (Tok::Words(..), _) => {
+                    words.push(i..i + 1);
+                    i + 1
+                }
+                (Tok::SymOpen(_), _) => match closing(tokens, i, |t| t == Tok::SymClose) {
+                    Some(end) => {
+                        words.push(i..end);
+                        end
+                    }
+                    None => return,
+                },
+                _ => return,
+            };
+            i = end;
+        }
+        if words.is_empty() || assignments.is_empty() {
+            return;
+        }
+        let mut reordered: Vec<Spanned> = words
+            .into_iter()
+            .flat_map(|r| &tokens[r])
+            .copied()
+            .collect();
+        reordered.push((at, Tok::Term, at));
+        reordered.extend(assignments.into_iter().flat_map(|r| &tokens[r]).copied());
+        let from = self.stmt_start;
+        self.out.truncate(from);
+        self.out.extend(reordered);
+    }
+
     /// A line end or `;`: the statement ends (and a plain program's
     /// comments of the line follow it).
     fn statement_end(&mut self, start: usize, end: usize) {
         if let Some(&(open, _)) = self.syms.first() {
             self.unclosed_sym(open);
+        }
+        if self.language == Language::Gcode && self.pending_term.is_none() {
+            self.assignments_after_words(start);
         }
         self.logic.clear();
         if let Some(call) = self.pending_call.take() {
@@ -1519,6 +1571,43 @@ impl OWord {
             .find(|(k, _)| k.eq_ignore_ascii_case(text))
             .map(|&(_, w)| w)
     }
+}
+
+/// Where the value of an assignment that starts at `tokens[i]` ends: one
+/// value, as rs274 reads it (a number, a parameter, `[…]`, a function's
+/// call, after any signs and `#`s).
+fn value_end(tokens: &[Spanned], mut i: usize) -> Option<usize> {
+    while matches!(
+        tokens.get(i)?.1,
+        Tok::Minus | Tok::Plus | Tok::NegTight | Tok::Hash
+    ) {
+        i += 1;
+    }
+    match tokens.get(i)?.1 {
+        Tok::Name(_) if matches!(tokens.get(i + 1), Some((_, Tok::CallOpen, _))) => {
+            closing(tokens, i + 1, |t| t == Tok::RParen)
+        }
+        Tok::Number(_) | Tok::Name(_) => Some(i + 1),
+        Tok::LParen => closing(tokens, i, |t| t == Tok::RParen),
+        _ => None,
+    }
+}
+
+/// The end (one past) of the bracket that opens at `tokens[open]`,
+/// counting every group and symbolic word between.
+fn closing(tokens: &[Spanned], open: usize, closes: impl Fn(Tok) -> bool) -> Option<usize> {
+    let mut depth = 0usize;
+    for (k, &(_, tok, _)) in tokens.iter().enumerate().skip(open) {
+        match tok {
+            Tok::LParen | Tok::CallOpen | Tok::SymOpen(_) => depth += 1,
+            Tok::RParen | Tok::SymClose => depth -= 1,
+            _ => {}
+        }
+        if depth == 0 {
+            return closes(tok).then_some(k + 1);
+        }
+    }
+    None
 }
 
 fn find_word(table: &[(&str, Tok)], text: &str) -> Option<Tok> {
