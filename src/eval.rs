@@ -230,6 +230,9 @@ struct Evaluator<'a> {
     first_move: Option<Span>,
     /// The first G20/G21, which gives the output units without `SetUnits`.
     first_units: Option<ir::Units>,
+    /// An F came before the first G20/G21: it is in the machine's units,
+    /// so that G20/G21 cannot be moved up to the output's header.
+    feed_before_units: bool,
     /// The sink has been told the start ([`ir::Sink::start`]).
     started: bool,
     /// The warnings said once per program, by what they are about: a
@@ -303,6 +306,7 @@ impl<'a> Evaluator<'a> {
             made: 0,
             first_move: None,
             first_units: None,
+            feed_before_units: false,
             started: false,
             warned_once: Default::default(),
             machine_coordinates: false,
@@ -393,7 +397,10 @@ impl<'a> Evaluator<'a> {
         match &op {
             ir::Op::Comp { side, .. } => self.comp = Some((*side, span)),
             ir::Op::CompOff | ir::Op::End => self.comp = None,
-            ir::Op::Feed(_) => self.feed_set = true,
+            ir::Op::Feed(_) => {
+                self.feed_set = true;
+                self.feed_before_units |= self.first_units.is_none();
+            }
             ir::Op::Move(m) if m.motion != ir::Motion::Rapid && !self.feed_set => {
                 return Err(EvalError::new(EvalErrorKind::FeedBeforeRate, span).to_diagnostic());
             }
@@ -442,13 +449,16 @@ impl<'a> Evaluator<'a> {
 
     /// The setup is complete (the first move, or the end of a program
     /// without moves): tell the sink what it starts from. The output units
-    /// are `SetUnits`, else the first G20/G21 before the first move, else
-    /// `--units`; else the machine's own, with a warning (SPEC §3).
+    /// are `SetUnits`, else the first G20/G21 before the first move (unless
+    /// an F came before it: that F is in the machine's units, and the
+    /// G20/G21 stays where it is, after it), else `--units`; else the
+    /// machine's own, with a warning (SPEC §3).
     fn start(&mut self, at: Span) {
         self.started = true;
         let setup = self.setup.get().clone();
-        let output_units = setup.units.or(self.first_units).or(self.options.units);
-        if output_units.is_none() && at != Span::default() {
+        let first_units = self.first_units.filter(|_| !self.feed_before_units);
+        let output_units = setup.units.or(first_units).or(self.options.units);
+        if output_units.is_none() && self.first_units.is_none() && at != Span::default() {
             self.report(EvalError::new(EvalErrorKind::UnitsUnstated, at).to_diagnostic());
         }
         let start = ir::Start {

@@ -39,10 +39,6 @@ const TOOL_TABLES: &[(&str, &str)] = &[("020_", "T34 P34 D3 Z0 ;3MM CRB 2FL\n")]
 /// Programs whose path differs for a reason that is not ger's to fix.
 const KNOWN: &[(&str, &str)] = &[
     (
-        "002_",
-        "`G20 F6`: rs274 runs F before G20 in the units its machine starts in (mm); the feed is the machine's: ger keeps the number and warns",
-    ),
-    (
         "029_",
         "`G4 P4000` in a .nc file: ger reads a P without a decimal point as milliseconds (Fanuc) and warns; rs274 dwells 4000 s (`--from linuxcnc` gives its reading)",
     ),

@@ -77,6 +77,17 @@ impl ProgramPrinter {
                 }
                 // The header selected G17; repeat a plane only when it changes.
                 Op::Plane(plane) if *plane == self.p.plane => continue,
+                // A unit switch written in the output (the program's first
+                // G20/G21, after moves or an F in the machine's units): an F
+                // waiting for a move was given before it, in the units before
+                // it, so it is written on the switch's line, before it.
+                Op::Units(_) if self.pending_feed.is_some() => {
+                    self.p.begin(stmt.span, stmt.block_delete);
+                    self.feed_word();
+                    self.p.op(&stmt.op);
+                    self.p.end();
+                    continue;
+                }
                 // F goes on the next cutting move's line (and only if it changed).
                 Op::Feed(f) => {
                     self.pending_feed = Some(*f);

@@ -298,7 +298,7 @@ impl LowerError {
                 span,
                 "in the machine's units, which ger does not know",
             )
-            .with_note("LinuxCNC sets F before G20/G21 of the same line: the number is kept as it is")
+            .with_note("LinuxCNC sets F before G20/G21 of the same line: ger writes this F before the G20/G21 too, so it stays in the machine's units")
             .with_help("put G20/G21 on a line before the first F, or pass --units"),
             NoProgramEnd => warning(
                 "the program has no end (M2 or M30)",

@@ -1,6 +1,8 @@
 //! Pass units (SPEC §4.1): every length in the output units; G20/G21 are
 //! removed. Feeds are converted when they are given, so a feed set before a
-//! unit switch keeps its machine value, as on LinuxCNC. Tool and offset
+//! unit switch keeps its machine value, as on LinuxCNC; a feed given before
+//! the program's first G20/G21 is in the machine's units, and that G20/G21
+//! stays in the output after it (the printer writes the F before it). Tool and offset
 //! tables are already in the output units (§3). Under G16 the angle word is
 //! left alone: it is in degrees; so are A, B and C.
 //!
@@ -25,8 +27,9 @@ struct UnitsPass {
     /// Under G16 the plane's second axis word is an angle, not a length.
     polar: bool,
     plane: ir::Plane,
-    /// A feed in the machine's units was warned about.
-    warned_feed: bool,
+    /// A feed given in the machine's units, before the program's first
+    /// G20/G21: warned about when that G20/G21 comes.
+    machine_feed: Option<crate::source::Span>,
 }
 
 impl UnitsPass {
@@ -36,7 +39,7 @@ impl UnitsPass {
             current: cx.start.program_units,
             polar: false,
             plane: ir::Plane::XY,
-            warned_feed: false,
+            machine_feed: None,
         }
     }
 
@@ -68,6 +71,9 @@ impl Pass for UnitsPass {
         let scale = |v: &mut f64| *v *= k;
         match &mut stmt.op {
             Op::Units(u) => {
+                if let Some(feed) = self.machine_feed.take() {
+                    out.report(LowerError::new(LowerErrorKind::FeedInMachineUnits, feed));
+                }
                 self.current = Some(*u);
                 if self.output.is_none() {
                     // The first statement of units: it stays, and fixes them.
@@ -101,12 +107,8 @@ impl Pass for UnitsPass {
             | Op::LocalOffset(a)
             | Op::SetPosition(a) => *a = a.map_lengths(|v| v * k),
             Op::Feed(f) => {
-                if self.current.is_none() && self.output.is_some() && !self.warned_feed {
-                    self.warned_feed = true;
-                    out.report(LowerError::new(
-                        LowerErrorKind::FeedInMachineUnits,
-                        stmt.span,
-                    ));
+                if self.current.is_none() {
+                    self.machine_feed.get_or_insert(stmt.span);
                 }
                 scale(f)
             }
