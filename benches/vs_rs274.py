@@ -1,17 +1,19 @@
 #!/usr/bin/env python3
-"""Time ger against LinuxCNC's rs274 on the same input (issues 3 and 4).
+"""Time ger against LinuxCNC's rs274 and awk on the same inputs (issue 15).
 
-  benches/vs_rs274.py [--ger target/release/ger] [--runs 3]
+  benches/vs_rs274.py [--ger target/release/ger] [--runs 5]
 
+Side by side in one run, each figure the median of --runs runs:
 1. loop:  a 200,000-iteration loop, one move with two trig calls per pass
-          (ger `while` vs rs274 `o100 while`).
+          (ger `while` vs rs274 `o100 while`);
 2. plain: a generated 200,000-move plain program (lines and arcs):
-          ger compile vs rs274 -g vs `awk '{print}'`; ger's peak memory.
-
-Prints each time (best of --runs), the ratios and the goals. Times are wall
-clock on this machine; run on an idle machine.
+          ger compile vs rs274 -g vs `awk '{print}'`;
+3. big:   the same kind of program with 2,000,000 moves: ger's time (is it
+          linear in the size?) and its peak memory.
+Prints the figures with the goals, dated, ready for README's table. Times
+are wall clock on this machine; run on an idle machine.
 """
-import argparse, os, resource, subprocess, sys, tempfile, time
+import argparse, os, subprocess, sys, tempfile, time
 
 LOOP_EGC = """G21 G90 G17
 G0 X0 Y0 Z5
@@ -54,19 +56,28 @@ def plain_program(moves):
     return "\n".join(out) + "\n"
 
 
-def best(cmd, runs, cwd=None):
-    """Best wall time of `runs` runs, and the largest peak RSS (KiB)."""
+def median(cmd, runs, cwd=None):
+    """Median wall time of `runs` runs."""
     times = []
     for _ in range(runs):
-        before = resource.getrusage(resource.RUSAGE_CHILDREN).ru_maxrss
         t = time.perf_counter()
         r = subprocess.run(cmd, cwd=cwd, stdin=subprocess.DEVNULL,
                            stdout=subprocess.DEVNULL, stderr=subprocess.PIPE)
         times.append(time.perf_counter() - t)
         if r.returncode != 0:
             sys.exit("failed: %s\n%s" % (" ".join(cmd), r.stderr.decode()[-2000:]))
-    peak = resource.getrusage(resource.RUSAGE_CHILDREN).ru_maxrss
-    return min(times), peak
+    times.sort()
+    return times[len(times) // 2]
+
+
+def peak_mb(cmd):
+    """Peak resident memory of `cmd`, run alone in a fresh process tree."""
+    r = subprocess.run([sys.executable, "-c",
+                        "import resource,subprocess,sys;"
+                        "subprocess.run(sys.argv[1:],stdout=subprocess.DEVNULL);"
+                        "print(resource.getrusage(resource.RUSAGE_CHILDREN).ru_maxrss)"]
+                       + cmd, capture_output=True, text=True)
+    return int(r.stdout.strip()) / 1024
 
 
 def rs274_cmd(work, prog):
@@ -80,7 +91,7 @@ def rs274_cmd(work, prog):
 def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("--ger", default="target/release/ger")
-    ap.add_argument("--runs", type=int, default=3)
+    ap.add_argument("--runs", type=int, default=5)
     a = ap.parse_args()
     ger = os.path.abspath(a.ger)
     with tempfile.TemporaryDirectory() as work:
@@ -90,30 +101,28 @@ def main():
                 f.write(text)
             return p
 
-        egc, ngc = write("loop.egc", LOOP_EGC), write("loop.ngc", LOOP_NGC)
         out = os.path.join(work, "out.nc")
-        tg, _ = best([ger, "compile", egc, "-o", out], a.runs)
-        tr, _ = best(rs274_cmd(work, ngc), a.runs, cwd=work)
-        print("loop  200k iterations: ger %.3f s, rs274 %.3f s, ratio %.1fx (goal >= 25x)"
+        print("%s, medians of %d runs" % (time.strftime("%Y-%m-%d"), a.runs))
+
+        egc, ngc = write("loop.egc", LOOP_EGC), write("loop.ngc", LOOP_NGC)
+        tg = median([ger, "compile", egc, "-o", out], a.runs)
+        tr = median(rs274_cmd(work, ngc), a.runs, cwd=work)
+        print("loop  200k iterations: ger %.3f s, rs274 %.3f s: %.1fx (goal >= 25x)"
               % (tg, tr, tr / tg))
 
         plain = write("plain.ngc", plain_program(200_000))
-        tg, peak = best([ger, "compile", plain, "-o", out], a.runs)
-        tr, _ = best(rs274_cmd(work, plain), a.runs, cwd=work)
-        ta, _ = best(["awk", "{print}", plain], a.runs)
-        print("plain 200k moves: ger %.3f s, rs274 %.3f s, awk %.3f s" % (tg, tr, ta))
-        print("  ger vs rs274 %.1fx faster (goal >= 25x); ger / awk %.2f (goal <= 4)"
-              % (tr / tg, tg / ta))
-        print("  peak memory of the largest child so far: %.1f MB (ger's run is the "
-              "first measured after the loop; goal <= 200 MB)" % (peak / 1024))
-        # Peak of ger alone, measured in a fresh process tree.
-        r = subprocess.run([sys.executable, "-c",
-                            "import resource,subprocess,sys;"
-                            "subprocess.run(sys.argv[1:],stdout=subprocess.DEVNULL);"
-                            "print(resource.getrusage(resource.RUSAGE_CHILDREN).ru_maxrss)",
-                            ger, "compile", plain, "-o", out],
-                           capture_output=True, text=True)
-        print("  ger peak memory: %.1f MB" % (int(r.stdout.strip()) / 1024))
+        tg = median([ger, "compile", plain, "-o", out], a.runs)
+        tr = median(rs274_cmd(work, plain), a.runs, cwd=work)
+        ta = median(["awk", "{print}", plain], a.runs)
+        print("plain 200k moves: ger %.3f s, rs274 %.3f s: %.1fx (goal >= 25x); "
+              "awk %.4f s: ger / awk %.1f (goal <= 4)" % (tg, tr, tr / tg, ta, tg / ta))
+        print("  ger peak memory: %.1f MB" % peak_mb([ger, "compile", plain, "-o", out]))
+
+        big = write("big.ngc", plain_program(2_000_000))
+        tb = median([ger, "compile", big, "-o", out], max(1, a.runs // 2))
+        print("plain 2M moves: ger %.3f s (%.1fx the 200k time for 10x the moves); "
+              "peak memory %.1f MB (goal <= 30 MB)"
+              % (tb, tb / tg, peak_mb([ger, "compile", big, "-o", out])))
 
 
 if __name__ == "__main__":

@@ -608,7 +608,7 @@ impl<'a> Lexer<'a> {
                     && self
                         .out
                         .last()
-                        .is_some_and(|&(_, tok, _)| starts_value(tok)) =>
+                        .is_some_and(|&(_, tok, _)| expects_value(tok)) =>
             {
                 self.push(start, Tok::NegTight, end);
                 Some(end)
@@ -1219,34 +1219,10 @@ impl<'a> Lexer<'a> {
     /// A line end inside parentheses: the line goes on after `,`, `(` or an
     /// operator; otherwise the `(` was never closed.
     fn newline_in_group(&mut self, start: usize, end: usize) {
-        // A line may go on inside parentheses after `,`, `(` or an
-        // operator; otherwise the `(` was never closed.
-        let continues = matches!(
-            self.out.last(),
-            Some((
-                _,
-                Tok::Comma
-                    | Tok::LParen
-                    | Tok::CallOpen
-                    | Tok::Plus
-                    | Tok::Minus
-                    | Tok::Star
-                    | Tok::Slash
-                    | Tok::Percent
-                    | Tok::Caret
-                    | Tok::AndAnd
-                    | Tok::OrOr
-                    | Tok::EqEq
-                    | Tok::NotEq
-                    | Tok::Lt
-                    | Tok::Le
-                    | Tok::Gt
-                    | Tok::Ge
-                    | Tok::Word(_)
-                    | Tok::Bang,
-                _
-            ))
-        );
+        let continues = self
+            .out
+            .last()
+            .is_some_and(|&(_, tok, _)| expects_value(tok));
         if continues {
             return;
         }
@@ -1499,9 +1475,10 @@ impl<'a> Lexer<'a> {
 }
 
 /// The token a word of `table` stands for, matched without case.
-/// Whether a value starts after `tok`: a minus after it is LinuxCNC's
-/// unary minus.
-fn starts_value(tok: Tok) -> bool {
+/// Whether a value must come after `tok` (an operator, an opening
+/// bracket, a comma): a minus after it is LinuxCNC's unary minus, and a
+/// line end after it inside parentheses does not end the statement.
+fn expects_value(tok: Tok) -> bool {
     matches!(
         tok,
         Tok::LParen
@@ -1512,6 +1489,8 @@ fn starts_value(tok: Tok) -> bool {
             | Tok::Minus
             | Tok::Star
             | Tok::Slash
+            | Tok::Percent
+            | Tok::Caret
             | Tok::Mod
             | Tok::PowLeft
             | Tok::NegTight
@@ -1523,6 +1502,7 @@ fn starts_value(tok: Tok) -> bool {
             | Tok::Ge
             | Tok::AndAnd
             | Tok::OrOr
+            | Tok::Bang
             | Tok::Word(_)
     )
 }
