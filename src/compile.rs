@@ -9,7 +9,7 @@ use crate::eval::{self, EvalOptions, WizardHost};
 use crate::ir;
 use crate::lower::{self, Pipeline};
 use crate::source::{FileId, Locator, Sources};
-use crate::syntax::egc::Language;
+use crate::syntax::egc::{chunk, Language};
 use crate::toolpath::{Builder as ToolPathBuilder, ToolPath};
 use std::io::Write;
 use std::time::{Duration, Instant};
@@ -333,6 +333,16 @@ fn run<'a>(
         plain: language == Language::Gcode,
         ..options.eval.clone()
     };
+    let by_parts = language == Language::Gcode
+        && library.is_empty()
+        && options.stage != Some(Stage::Parse)
+        && chunk::by_parts()
+        && chunk::chunkable(text);
+    if by_parts {
+        let backend = Backend::new(text, file, options, out);
+        let parts = Parts::new(text, &locator, language);
+        return run_by_parts(parts, &eval_options, backend, diagnostics, clock);
+    }
     let (mut program, parse_diagnostics) =
         crate::syntax::egc::parse_program_files((text, &locator), &library, language);
     if from == eval::Flavour::Fanuc && language == Language::Gcode {
@@ -374,6 +384,83 @@ fn run<'a>(
         "expand",
         &[("lower", backend.lower_time), ("emit", backend.emit_time)],
     );
+    if diagnostics.iter().any(is_error) {
+        return Ok(());
+    }
+    let (lowered, written) = backend.finish();
+    diagnostics.extend(lowered);
+    written
+}
+
+/// A plain program read a part at a time ([`chunk`]): each part is parsed
+/// when the evaluator asks for it. After a syntax error nothing more is
+/// run, but every part is still read, so that all syntax errors are found.
+struct Parts<'a> {
+    text: &'a str,
+    at: &'a Locator,
+    language: Language,
+    ranges: Box<dyn Iterator<Item = std::ops::Range<usize>> + 'a>,
+    diagnostics: Vec<Diagnostic>,
+    broken: bool,
+    time: Duration,
+}
+
+impl<'a> Parts<'a> {
+    fn new(text: &'a str, at: &'a Locator, language: Language) -> Parts<'a> {
+        Parts {
+            text,
+            at,
+            language,
+            ranges: Box::new(chunk::chunks(text)),
+            diagnostics: Vec::new(),
+            broken: false,
+            time: Duration::ZERO,
+        }
+    }
+
+    /// The next part to run; `None` at the end, or after a syntax error
+    /// (the rest is read for its errors).
+    fn next(&mut self) -> Option<(Vec<crate::ast::Stmt>, crate::ast::Names)> {
+        for range in self.ranges.by_ref() {
+            let started = Instant::now();
+            let (stmts, names, found) =
+                chunk::parse_chunk(self.text, range, self.at, self.language);
+            self.time += started.elapsed();
+            self.broken |= found.iter().any(is_error);
+            self.diagnostics.extend(found);
+            if !self.broken {
+                return Some((stmts, names));
+            }
+        }
+        None
+    }
+}
+
+/// [`run`] for a program read a part at a time: the same diagnostics, in
+/// the same order, as reading it whole.
+fn run_by_parts(
+    mut parts: Parts<'_>,
+    eval_options: &EvalOptions,
+    mut backend: Backend<'_>,
+    diagnostics: &mut Vec<Diagnostic>,
+    clock: &mut Clock,
+) -> std::io::Result<()> {
+    let evaluated = eval::eval_chunks(eval_options, &mut backend, &mut || parts.next());
+    // The parts after the program's end, for their syntax errors.
+    while parts.next().is_some() {}
+    diagnostics.append(&mut parts.diagnostics);
+    clock.split(
+        "expand",
+        &[
+            ("parse", parts.time),
+            ("lower", backend.lower_time),
+            ("emit", backend.emit_time),
+        ],
+    );
+    if parts.broken {
+        return Ok(());
+    }
+    diagnostics.extend(evaluated);
     if diagnostics.iter().any(is_error) {
         return Ok(());
     }

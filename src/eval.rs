@@ -180,6 +180,32 @@ pub fn eval_program<'a>(
     ev.diagnostics
 }
 
+/// Stage 0 for a plain program read a part at a time
+/// ([`crate::syntax::egc::chunk`]): `next` gives each part's statements and
+/// names in order, and `None` at the end; it is not asked again after the
+/// program ends (M2/M30) or after an error that stops it. Returns the
+/// diagnostics, as [`eval_program`].
+pub fn eval_chunks(
+    options: &EvalOptions,
+    sink: &mut dyn ir::Sink,
+    next: &mut dyn FnMut() -> Option<(Vec<ast::Stmt>, Names)>,
+) -> Vec<Diagnostic> {
+    let empty = ast::Program {
+        main: Vec::new(),
+        main_number: None,
+        subprograms: Vec::new(),
+        names: Names::default(),
+    };
+    let mut ev = Evaluator::new(&empty, options, None, sink);
+    while let Some((stmts, names)) = next() {
+        if ev.exec_chunk(&stmts, &names) != Flow::Next {
+            break;
+        }
+    }
+    ev.finish();
+    ev.diagnostics
+}
+
 /// `value`, given at `span`, is beyond ±[`ir::MAX_LENGTH`]; `what` names
 /// the kind of number for the note.
 use error::{out_of_range, EvalError, EvalErrorKind};
@@ -750,26 +776,50 @@ impl<'a> Evaluator<'a> {
                 }
             }
             StmtKind::Error => Flow::Next,
-            StmtKind::Comment(c) => {
-                if self.options.plain {
-                    self.debug_message(self.names.text(*c), stmt.span);
-                }
-                if !self.options.keep_comments {
-                    return Flow::Next;
-                }
-                let op = ir::Op::Comment(self.names.text(*c).to_string());
-                self.emit_or_abort(op, stmt.span)
+            StmtKind::Comment(c) => self.comment(self.names.text(*c), stmt.span),
+            StmtKind::Command(c) => self.command(self.names.text(*c), stmt.span),
+        }
+    }
+
+    /// A comment of plain G-code: a note if it is LinuxCNC's DEBUG or
+    /// PRINT, and kept for the output unless `--comments drop`.
+    fn comment(&mut self, text: &str, span: Span) -> Flow {
+        if self.options.plain {
+            self.debug_message(text, span);
+        }
+        if !self.options.keep_comments {
+            return Flow::Next;
+        }
+        self.emit_or_abort(ir::Op::Comment(text.to_string()), span)
+    }
+
+    /// A controller command line (grbl's `$H`), passed through.
+    fn command(&mut self, text: &str, span: Span) -> Flow {
+        let text = text.to_string();
+        self.warn_once((b'$', 0), || {
+            EvalError::new(EvalErrorKind::CommandPassedThrough(text.clone()), span).to_diagnostic()
+        });
+        let op = ir::Op::Passthrough(ir::Passthrough::Line(text));
+        self.emit_or_abort(op, span)
+    }
+
+    /// The statements of one part of a plain program read a part at a time
+    /// ([`eval_chunks`]), whose comments are in `names`.
+    fn exec_chunk(&mut self, stmts: &[ast::Stmt], names: &Names) -> Flow {
+        for stmt in stmts {
+            let flow = match &stmt.kind {
+                StmtKind::Comment(c) => self.comment(names.text(*c), stmt.span),
+                StmtKind::Command(c) => self.command(names.text(*c), stmt.span),
+                _ => self.exec(stmt),
+            };
+            if flow != Flow::Next {
+                return flow;
             }
-            StmtKind::Command(c) => {
-                let text = self.names.text(*c).to_string();
-                self.warn_once((b'$', 0), || {
-                    EvalError::new(EvalErrorKind::CommandPassedThrough(text.clone()), stmt.span)
-                        .to_diagnostic()
-                });
-                let op = ir::Op::Passthrough(ir::Passthrough::Line(text));
-                self.emit_or_abort(op, stmt.span)
+            if self.too_many_errors() {
+                return Flow::Abort;
             }
         }
+        Flow::Next
     }
 
     /// LinuxCNC's `(DEBUG, …)` and `(PRINT, …)`: a note at the line, with

@@ -146,3 +146,76 @@ fn a_long_program_streams_like_a_short_one() {
     assert!(whole.contains("arc radius too small"), "{whole}");
     assert_eq!(run(path, &broken, None, 1000), whole);
 }
+
+/// Plain programs of words, comments and commands only are read a part at
+/// a time (`syntax::egc::chunk`). Every plain program of the repository,
+/// and of `../shared/real` where it is present, gives the same output and
+/// diagnostics read whole and read in parts of about 1, 40 and 4096 bytes
+/// (a part ends at a line end), as LinuxCNC's G-code and as Fanuc's.
+#[test]
+fn a_plain_program_read_in_parts_is_read_as_a_whole() {
+    use ger::eval::Flavour;
+    use ger::syntax::egc::chunk::{chunkable, with_part_size};
+    use ger::syntax::egc::Language;
+    let root = support::manifest();
+    let mut files: Vec<PathBuf> = Vec::new();
+    let mut dirs: Vec<PathBuf> = ["tests/oracle", "tests/cases"]
+        .iter()
+        .flat_map(|d| std::fs::read_dir(root.join(d)).unwrap().flatten())
+        .map(|e| e.path())
+        .filter(|p| p.is_dir())
+        .collect();
+    dirs.push(root.join("../shared/real"));
+    for dir in dirs {
+        for entry in std::fs::read_dir(&dir).into_iter().flatten().flatten() {
+            let path = entry.path();
+            let plain = path.extension().is_some_and(|x| {
+                ["nc", "ngc", "gcode", "tap", "txt", "egc"].contains(&&*x.to_string_lossy())
+            });
+            if plain && path.is_file() {
+                files.push(path);
+            }
+        }
+    }
+    let (mut compared, mut in_parts) = (0, 0);
+    for path in &files {
+        let Ok(bytes) = std::fs::read(path) else {
+            continue;
+        };
+        let Ok(text) = ger::source::decode(bytes) else {
+            continue;
+        };
+        in_parts += usize::from(chunkable(&text));
+        for from in [Flavour::LinuxCnc, Flavour::Fanuc] {
+            let compile_with = |part: Option<usize>| {
+                with_part_size(part, || {
+                    let mut sources = Sources::new();
+                    let file = sources.add(path.to_string_lossy(), text.clone());
+                    let options = CompileOptions {
+                        input: Some(Language::Gcode),
+                        from: Some(from),
+                        ..CompileOptions::default()
+                    };
+                    let compiled = compile(&sources, file, &options, None);
+                    format!(
+                        "{}\n--- diagnostics ---\n{}",
+                        compiled.output.as_deref().unwrap_or("<no output>"),
+                        render(&sources, &compiled.diagnostics)
+                    )
+                })
+            };
+            let whole = compile_with(None);
+            for part in [1, 40, 4096] {
+                let parts = compile_with(Some(part));
+                assert!(
+                    parts == whole,
+                    "{} ({from:?}) in parts of {part}:\n{parts}\nwhole:\n{whole}",
+                    path.display()
+                );
+            }
+            compared += 1;
+        }
+    }
+    assert!(compared > 100, "compared {compared}");
+    assert!(in_parts > 20, "only {in_parts} programs are read in parts");
+}

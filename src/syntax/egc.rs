@@ -2,6 +2,7 @@
 //! context rules and a LALRPOP grammar (`grammar/egc.lalrpop`), behind
 //! [`parse_program`]. What they find wrong is a [`error::SyntaxError`].
 
+pub mod chunk;
 pub mod error;
 pub mod lexer;
 pub mod parser;

@@ -341,13 +341,27 @@ pub fn lex(text: &str, at: &Locator, names: &mut Names) -> Lexed {
 }
 
 pub fn lex_as(text: &str, at: &Locator, names: &mut Names, language: Language) -> Lexed {
-    let mut lexer = Lexer::new(text, at, names);
+    lex_from(text, 0, at, names, language)
+}
+
+/// [`lex_as`] from the offset `from` of `text` (a line start), with spans
+/// in the whole text: the earlier lines are not read.
+pub fn lex_from(
+    text: &str,
+    from: usize,
+    at: &Locator,
+    names: &mut Names,
+    language: Language,
+) -> Lexed {
+    let mut lexer = Lexer::new(text, from, at, names);
     lexer.language = language;
     lexer.run()
 }
 
 struct Lexer<'a> {
     text: &'a str,
+    /// Where reading starts (a line start; [`lex_from`]).
+    from: usize,
     language: Language,
     at: &'a Locator,
     names: &'a mut Names,
@@ -411,15 +425,18 @@ struct PendingCall {
 }
 
 impl<'a> Lexer<'a> {
-    fn new(text: &'a str, at: &'a Locator, names: &'a mut Names) -> Lexer<'a> {
+    fn new(text: &'a str, from: usize, at: &'a Locator, names: &'a mut Names) -> Lexer<'a> {
+        let from = from.min(text.len());
+        let read = text.len() - from;
         Lexer {
             text,
+            from,
             language: Language::Egc,
             at,
             names,
             // Generous: untouched capacity costs no memory, regrowing copies.
-            out: Vec::with_capacity(text.len() / 4),
-            words: Vec::with_capacity(text.len() / 3),
+            out: Vec::with_capacity(read / 4),
+            words: Vec::with_capacity(read / 3),
             errors: Vec::new(),
             unclosed_brace: false,
             call_groups: Vec::new(),
@@ -456,6 +473,7 @@ impl<'a> Lexer<'a> {
 
     fn run(mut self) -> Lexed {
         let mut raw = Raw::lexer(self.text);
+        raw.bump(self.from);
         while let Some(result) = raw.next() {
             let range = raw.span();
             let (start, end) = (range.start, range.end);

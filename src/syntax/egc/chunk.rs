@@ -1,0 +1,156 @@
+//! Plain programs read a part at a time (issue 15): a program of G-code
+//! words, comments and controller commands only — no parameters, no
+//! expressions, no subprograms, no control flow — means the same read
+//! line by line as read whole, so it is parsed and run in parts of about
+//! [`CHUNK_BYTES`], each dropped before the next is read. Memory then
+//! grows with the longest part, not with the program.
+
+use super::lexer::Language;
+use super::parser::parse_program_from;
+use crate::ast::{Names, Stmt};
+use crate::diagnostic::Diagnostic;
+use crate::source::Locator;
+
+/// About this many bytes of text are parsed at a time.
+pub const CHUNK_BYTES: usize = 64 * 1024;
+
+thread_local! {
+    /// The size of a part on this thread; `None`: programs are read whole.
+    static PART_BYTES: std::cell::Cell<Option<usize>> =
+        const { std::cell::Cell::new(Some(CHUNK_BYTES)) };
+}
+
+/// Run `f` (a compile on this thread) reading plain programs in parts of
+/// about `bytes`, or whole with `None` (tests compare the two).
+pub fn with_part_size<T>(bytes: Option<usize>, f: impl FnOnce() -> T) -> T {
+    let before = PART_BYTES.with(|p| p.replace(bytes));
+    let result = f();
+    PART_BYTES.with(|p| p.set(before));
+    result
+}
+
+/// Whether plain programs are read in parts on this thread.
+pub fn by_parts() -> bool {
+    PART_BYTES.with(|p| p.get()).is_some()
+}
+
+/// Whether plain G-code `text` can be read in parts: outside its comments
+/// it has only one-letter words with numbers (no `#`, `[`, `=`, no names or
+/// keywords), no `O` words (subprograms, o-words, program numbers), no
+/// `M98`, `M99` or `G65`, and its `%` and `$` lines stand alone. Anything
+/// else is read whole, by the general path.
+pub fn chunkable(text: &str) -> bool {
+    text.lines().all(plain_line)
+}
+
+/// One line of a program [`chunkable`] accepts.
+fn plain_line(line: &str) -> bool {
+    let trimmed = line.trim_start_matches([' ', '\t', '\r']);
+    if trimmed.starts_with(['%', '$']) {
+        return true;
+    }
+    let bytes = line.as_bytes();
+    let mut i = 0;
+    while i < bytes.len() {
+        let b = bytes[i];
+        match b {
+            // The rest of the line is a comment (or a comment nested in
+            // parentheses, which ends with its line at the latest).
+            b';' => return true,
+            b'(' => match comment_end(bytes, i) {
+                Some(end) => i = end,
+                None => return true,
+            },
+            b' ' | b'\t' | b'\r' | b'/' => i += 1,
+            b'A'..=b'Z' | b'a'..=b'z' => match plain_word(bytes, i) {
+                Some(end) => i = end,
+                None => return false,
+            },
+            _ => return false,
+        }
+    }
+    true
+}
+
+/// Where the comment that opens at `bytes[open]` ends (one past its `)`),
+/// or `None` when it runs to the end of the line.
+fn comment_end(bytes: &[u8], open: usize) -> Option<usize> {
+    let mut depth = 0usize;
+    for (k, &b) in bytes.iter().enumerate().skip(open) {
+        match b {
+            b'(' => depth += 1,
+            b')' => {
+                depth -= 1;
+                if depth == 0 {
+                    return Some(k + 1);
+                }
+            }
+            _ => {}
+        }
+    }
+    None
+}
+
+/// The end of the word whose letter is `bytes[at]`, when it is a plain
+/// word (a letter, spaces, a signed decimal number) that is none of `O`,
+/// `M98`, `M99`, `G65`.
+fn plain_word(bytes: &[u8], at: usize) -> Option<usize> {
+    let letter = bytes[at].to_ascii_uppercase();
+    if letter == b'O' {
+        return None;
+    }
+    let mut i = at + 1;
+    while matches!(bytes.get(i), Some(b' ' | b'\t')) {
+        i += 1;
+    }
+    if matches!(bytes.get(i), Some(b'+' | b'-')) {
+        i += 1;
+    }
+    let digits = i;
+    while matches!(bytes.get(i), Some(b'0'..=b'9' | b'.')) {
+        i += 1;
+    }
+    if i == digits {
+        return None;
+    }
+    let number = std::str::from_utf8(&bytes[digits..i]).ok()?;
+    let whole = number.split('.').next().unwrap_or("");
+    let whole = whole.trim_start_matches('0');
+    let calls = matches!((letter, whole), (b'M', "98" | "99") | (b'G', "65"));
+    (!calls).then_some(i)
+}
+
+/// The parts of `text` to read one after another: byte ranges that end
+/// after a line end (the last at the end of the text).
+pub fn chunks(text: &str) -> impl Iterator<Item = std::ops::Range<usize>> + '_ {
+    let part = PART_BYTES.with(|p| p.get()).unwrap_or(CHUNK_BYTES).max(1);
+    let mut from = 0;
+    std::iter::from_fn(move || {
+        if from >= text.len() {
+            return None;
+        }
+        let want = (from + part).min(text.len());
+        // A line end is one byte, never inside a character.
+        let end = text.as_bytes()[want..]
+            .iter()
+            .position(|&b| b == b'\n')
+            .map_or(text.len(), |i| want + i + 1);
+        let range = from..end;
+        from = end;
+        Some(range)
+    })
+}
+
+/// Parse the part `range` of `text` (a range [`chunks`] gave) with spans
+/// in the whole text: its statements, their names, and its diagnostics.
+pub fn parse_chunk(
+    text: &str,
+    range: std::ops::Range<usize>,
+    at: &Locator,
+    language: Language,
+) -> (Vec<Stmt>, Names, Vec<Diagnostic>) {
+    let mut names = Names::default();
+    let (program, diagnostics) =
+        parse_program_from(&text[..range.end], range.start, at, language, &mut names);
+    (program.main, names, diagnostics)
+}
