@@ -339,9 +339,20 @@ fn run<'a>(
         && chunk::by_parts()
         && chunk::chunkable(text);
     if by_parts {
-        let backend = Backend::new(text, file, options, out);
-        let parts = Parts::new(text, &locator, language);
-        return run_by_parts(parts, &eval_options, backend, diagnostics, clock);
+        let backend = Backend::new(SourceFacts::Text(text), file, options, out);
+        let mut parts = Parts::new(PartSource::Text {
+            text,
+            at: &locator,
+            ranges: Box::new(chunk::chunks(text)),
+        });
+        return run_by_parts(
+            &mut parts,
+            language,
+            &eval_options,
+            backend,
+            diagnostics,
+            clock,
+        );
     }
     let (mut program, parse_diagnostics) =
         crate::syntax::egc::parse_program_files((text, &locator), &library, language);
@@ -366,7 +377,7 @@ fn run<'a>(
             Output::Path(_) => Ok(()),
         };
     }
-    let mut backend = Backend::new(text, file, options, out);
+    let mut backend = Backend::new(SourceFacts::Text(text), file, options, out);
     let eval_diagnostics = match wizards {
         Some(host) => eval::eval_program(
             &program,
@@ -392,39 +403,71 @@ fn run<'a>(
     written
 }
 
+/// What the back end needs to know of the source: its length (to size the
+/// output's buffer) and the most decimals its numbers are written with.
+enum SourceFacts<'a> {
+    Text(&'a str),
+    /// Of a file read a part at a time, found by [`scan_plain`].
+    Known(PlainFile),
+}
+
+impl SourceFacts<'_> {
+    fn len(&self) -> usize {
+        match self {
+            SourceFacts::Text(text) => text.len(),
+            SourceFacts::Known(file) => file.len,
+        }
+    }
+
+    fn decimals(&self) -> usize {
+        match self {
+            SourceFacts::Text(text) => input_decimals(text),
+            SourceFacts::Known(file) => file.decimals,
+        }
+    }
+}
+
+/// Where the parts of a plain program come from.
+enum PartSource<'a> {
+    /// Ranges of a text held whole.
+    Text {
+        text: &'a str,
+        at: &'a Locator,
+        ranges: Box<dyn Iterator<Item = std::ops::Range<usize>> + 'a>,
+    },
+    /// Lines read from a file as they are needed (its text is never held).
+    Reader(LineReader<'a>),
+}
+
 /// A plain program read a part at a time ([`chunk`]): each part is parsed
 /// when the evaluator asks for it. After a syntax error nothing more is
 /// run, but every part is still read, so that all syntax errors are found.
 struct Parts<'a> {
-    text: &'a str,
-    at: &'a Locator,
-    language: Language,
-    ranges: Box<dyn Iterator<Item = std::ops::Range<usize>> + 'a>,
+    source: PartSource<'a>,
     diagnostics: Vec<Diagnostic>,
     broken: bool,
     time: Duration,
+    /// The first read error; the program stops there.
+    read_error: Option<std::io::Error>,
 }
 
 impl<'a> Parts<'a> {
-    fn new(text: &'a str, at: &'a Locator, language: Language) -> Parts<'a> {
+    fn new(source: PartSource<'a>) -> Parts<'a> {
         Parts {
-            text,
-            at,
-            language,
-            ranges: Box::new(chunk::chunks(text)),
+            source,
             diagnostics: Vec::new(),
             broken: false,
             time: Duration::ZERO,
+            read_error: None,
         }
     }
 
     /// The next part to run; `None` at the end, or after a syntax error
     /// (the rest is read for its errors).
-    fn next(&mut self) -> Option<(Vec<crate::ast::Stmt>, crate::ast::Names)> {
-        for range in self.ranges.by_ref() {
+    fn next(&mut self, language: Language) -> Option<(Vec<crate::ast::Stmt>, crate::ast::Names)> {
+        loop {
             let started = Instant::now();
-            let (stmts, names, found) =
-                chunk::parse_chunk(self.text, range, self.at, self.language);
+            let (stmts, names, found) = self.parse_next(language)?;
             self.time += started.elapsed();
             self.broken |= found.iter().any(is_error);
             self.diagnostics.extend(found);
@@ -432,22 +475,192 @@ impl<'a> Parts<'a> {
                 return Some((stmts, names));
             }
         }
-        None
     }
+
+    /// The next part, parsed.
+    fn parse_next(
+        &mut self,
+        language: Language,
+    ) -> Option<(Vec<crate::ast::Stmt>, crate::ast::Names, Vec<Diagnostic>)> {
+        match &mut self.source {
+            PartSource::Text { text, at, ranges } => {
+                let range = ranges.next()?;
+                Some(chunk::parse_chunk(text, range, at, language))
+            }
+            PartSource::Reader(reader) => match reader.next_part() {
+                Ok(Some((text, at))) => {
+                    Some(chunk::parse_chunk(&text, 0..text.len(), &at, language))
+                }
+                Ok(None) => None,
+                Err(e) => {
+                    self.read_error = Some(e);
+                    None
+                }
+            },
+        }
+    }
+}
+
+/// Whole lines of a plain program, read from a file about
+/// [`chunk::CHUNK_BYTES`] at a time and decoded as [`crate::source::decode`]
+/// decodes the whole file (a file [`scan_plain`] accepted: no NUL, control
+/// character or lone CR, so the two agree).
+struct LineReader<'a> {
+    reader: &'a mut dyn std::io::BufRead,
+    file: FileId,
+    /// Where the next part starts in the decoded file, and its lines before.
+    base: usize,
+    lines_before: usize,
+    first: bool,
+    line: Vec<u8>,
+}
+
+impl<'a> LineReader<'a> {
+    fn new(reader: &'a mut dyn std::io::BufRead, file: FileId) -> LineReader<'a> {
+        LineReader {
+            reader,
+            file,
+            base: 0,
+            lines_before: 0,
+            first: true,
+            line: Vec::new(),
+        }
+    }
+
+    /// The next part's text and span maker; `None` at the end of the file.
+    fn next_part(&mut self) -> std::io::Result<Option<(String, Locator)>> {
+        let part = chunk::part_size();
+        let mut text = String::new();
+        let mut lines = 0;
+        while text.len() < part {
+            self.line.clear();
+            if self.reader.read_until(b'\n', &mut self.line)? == 0 {
+                break;
+            }
+            let bytes = without_bom(&self.line, std::mem::take(&mut self.first));
+            text.push_str(&decode_line(bytes));
+            lines += usize::from(bytes.ends_with(b"\n"));
+        }
+        if text.is_empty() {
+            return Ok(None);
+        }
+        let at = Locator::part(self.file, &text, self.base, self.lines_before);
+        self.base += text.len();
+        self.lines_before += lines;
+        Ok(Some((text, at)))
+    }
+}
+
+/// The line without the byte-order mark that may start the file.
+fn without_bom(line: &[u8], first: bool) -> &[u8] {
+    match line.strip_prefix(b"\xef\xbb\xbf") {
+        Some(rest) if first => rest,
+        _ => line,
+    }
+}
+
+/// A line as UTF-8, else as Latin-1 ([`crate::source::decode`]'s rule).
+fn decode_line(bytes: &[u8]) -> std::borrow::Cow<'_, str> {
+    match std::str::from_utf8(bytes) {
+        Ok(s) => std::borrow::Cow::Borrowed(s),
+        Err(_) => std::borrow::Cow::Owned(bytes.iter().map(|&b| b as char).collect()),
+    }
+}
+
+/// A plain program that can be compiled from a reader, a part at a time,
+/// without holding its text: its decoded length and the most decimals its
+/// numbers are written with.
+#[derive(Clone, Copy, Debug)]
+pub struct PlainFile {
+    pub len: usize,
+    pub decimals: usize,
+}
+
+/// Read a plain G-code program through once: whether it can be compiled a
+/// part at a time from a reader ([`compile_plain`]): its every line is one
+/// [`chunk::chunkable`] accepts, and it has no NUL, control character or
+/// lone CR (which [`crate::source::decode`] reports or rewrites). `None`:
+/// read it whole.
+pub fn scan_plain(reader: &mut dyn std::io::BufRead) -> std::io::Result<Option<PlainFile>> {
+    let mut line = Vec::new();
+    let (mut len, mut decimals, mut first) = (0, 0, true);
+    loop {
+        line.clear();
+        if reader.read_until(b'\n', &mut line)? == 0 {
+            return Ok(Some(PlainFile { len, decimals }));
+        }
+        let bytes = without_bom(&line, std::mem::take(&mut first));
+        let control = bytes
+            .iter()
+            .any(|&b| b < 0x20 && !matches!(b, b'\n' | b'\r' | b'\t'));
+        let body = bytes.strip_suffix(b"\n").unwrap_or(bytes);
+        let body = body.strip_suffix(b"\r").unwrap_or(body);
+        if control || body.contains(&b'\r') {
+            return Ok(None);
+        }
+        let text = decode_line(bytes);
+        if !chunk::plain_line(text.trim_end_matches(['\n', '\r'])) {
+            return Ok(None);
+        }
+        decimals = decimals.max(input_decimals(&text));
+        len += text.len();
+    }
+}
+
+/// Compile a plain program from `reader`, a part at a time, as file `file`
+/// (named `name`, for its flavour) of a [`Sources`] whose text stays empty:
+/// memory does not grow with the program. `plain` is [`scan_plain`]'s
+/// answer for the same bytes. The report is [`compile_to`]'s; its spans
+/// are in the decoded file (read it again to show them); `Err`: the file
+/// could not be read.
+pub fn compile_plain(
+    reader: &mut dyn std::io::BufRead,
+    name: &str,
+    file: FileId,
+    plain: PlainFile,
+    options: &CompileOptions,
+    out: &mut dyn Write,
+) -> std::io::Result<Report> {
+    let mut diagnostics = Vec::new();
+    let mut clock = Clock::new();
+    let eval_options = EvalOptions {
+        from: options.from.unwrap_or_else(|| eval::Flavour::of_file(name)),
+        plain: true,
+        ..options.eval.clone()
+    };
+    let backend = Backend::new(SourceFacts::Known(plain), file, options, Output::Text(out));
+    let mut parts = Parts::new(PartSource::Reader(LineReader::new(reader, file)));
+    let written = run_by_parts(
+        &mut parts,
+        Language::Gcode,
+        &eval_options,
+        backend,
+        &mut diagnostics,
+        &mut clock,
+    );
+    if let Some(e) = parts.read_error {
+        return Err(e);
+    }
+    Ok(Report {
+        diagnostics,
+        timings: clock.timings,
+        write_error: written.err(),
+    })
 }
 
 /// [`run`] for a program read a part at a time: the same diagnostics, in
 /// the same order, as reading it whole.
 fn run_by_parts(
-    mut parts: Parts<'_>,
+    parts: &mut Parts<'_>,
+    language: Language,
     eval_options: &EvalOptions,
     mut backend: Backend<'_>,
     diagnostics: &mut Vec<Diagnostic>,
     clock: &mut Clock,
 ) -> std::io::Result<()> {
-    let evaluated = eval::eval_chunks(eval_options, &mut backend, &mut || parts.next());
+    let evaluated = eval::eval_chunks(eval_options, &mut backend, &mut || parts.next(language));
     // The parts after the program's end, for their syntax errors.
-    while parts.next().is_some() {}
+    while parts.next(language).is_some() {}
     diagnostics.append(&mut parts.diagnostics);
     clock.split(
         "expand",
@@ -473,7 +686,7 @@ fn run_by_parts(
 /// lowered up to the requested stage and printed, then dropped, so the
 /// whole program is never held in memory (ARCHITECTURE.md, "streaming").
 struct Backend<'s> {
-    source: &'s str,
+    source: SourceFacts<'s>,
     file: FileId,
     options: &'s CompileOptions,
     out: Output<'s>,
@@ -500,7 +713,7 @@ enum Printer {
 
 impl<'s> Backend<'s> {
     fn new(
-        source: &'s str,
+        source: SourceFacts<'s>,
         file: FileId,
         options: &'s CompileOptions,
         out: Output<'s>,
@@ -558,7 +771,7 @@ impl<'s> Backend<'s> {
                             Some(ir::Units::Mm) => 3,
                             Some(ir::Units::Inch) | None => 4,
                         };
-                        emit.decimals = Some(input_decimals(self.source).clamp(least, 6));
+                        emit.decimals = Some(self.source.decimals().clamp(least, 6));
                     }
                     Printer::Program(Box::new(emit::ProgramPrinter::new(&emit, units, len, file)))
                 }

@@ -500,7 +500,22 @@ impl Job {
     /// Read `input` and everything it needs; on failure the exit code,
     /// with the problem printed.
     fn load(input: &str, options: &Options, stage: Option<Stage>) -> Result<Job, ExitCode> {
-        let bytes = match read_input(input) {
+        Job::load_as(input, options, stage, false)
+    }
+
+    /// [`Job::load`]; with `streamed`, the input's text is not read (it is
+    /// compiled from a reader, and read again only to show diagnostics).
+    fn load_as(
+        input: &str,
+        options: &Options,
+        stage: Option<Stage>,
+        streamed: bool,
+    ) -> Result<Job, ExitCode> {
+        let bytes = match streamed {
+            true => Ok(Vec::new()),
+            false => read_input(input),
+        };
+        let bytes = match bytes {
             Ok(bytes) => bytes,
             Err(e) => {
                 eprintln!("error: cannot read `{input}`: {e}");
@@ -573,7 +588,7 @@ impl Job {
             Some(InputArg::Egc) => false,
             None => !name.to_ascii_lowercase().ends_with(".egc"),
         };
-        if plain {
+        if plain && !streamed {
             match subroutine_files(&mut sources, file, &options.subroutine_dirs, part) {
                 Ok(library) => compile_options.library = library,
                 Err(e) => {
@@ -613,6 +628,11 @@ fn run(
         }
     }
     let started = std::time::Instant::now();
+    if let (true, Some(path)) = (write, output) {
+        if let Some(code) = run_streamed(input, path, options, stage, started) {
+            return code;
+        }
+    }
     let mut job = match Job::load(input, options, stage) {
         Ok(job) => job,
         Err(code) => return code,
@@ -630,19 +650,8 @@ fn run(
         (true, None) => compile(&mut text),
         (false, _) => compile(&mut std::io::sink()),
     };
-    eprint!("{}", render(sources, &report.diagnostics));
-    if options.timings {
-        for (stage, took) in &report.timings {
-            eprintln!("{stage:>8}: {:8.2} ms", took.as_secs_f64() * 1e3);
-        }
-        eprintln!("   total: {:8.2} ms", started.elapsed().as_secs_f64() * 1e3);
-    }
-    if !report.compiled() {
-        return ExitCode::from(1);
-    }
-    if let Some(e) = report.write_error {
-        eprintln!("error: cannot write output: {e}");
-        return ExitCode::from(2);
+    if let Some(code) = reported(sources, &report, options, started) {
+        return code;
     }
     if write && output.is_none() {
         if let Err(e) = std::io::stdout().lock().write_all(&text) {
@@ -651,6 +660,83 @@ fn run(
         }
     }
     ExitCode::SUCCESS
+}
+
+/// Print a compile's diagnostics (and `--timings`); the exit code when it
+/// failed.
+fn reported(
+    sources: &Sources,
+    report: &Report,
+    options: &Options,
+    started: std::time::Instant,
+) -> Option<ExitCode> {
+    eprint!("{}", render(sources, &report.diagnostics));
+    if options.timings {
+        for (stage, took) in &report.timings {
+            eprintln!("{stage:>8}: {:8.2} ms", took.as_secs_f64() * 1e3);
+        }
+        eprintln!("   total: {:8.2} ms", started.elapsed().as_secs_f64() * 1e3);
+    }
+    if !report.compiled() {
+        return Some(ExitCode::from(1));
+    }
+    if let Some(e) = &report.write_error {
+        eprintln!("error: cannot write output: {e}");
+        return Some(ExitCode::from(2));
+    }
+    None
+}
+
+/// Compile a plain program file to the file `output` without holding its
+/// text (issue 15): when it is one [`ger::compile::scan_plain`] accepts,
+/// it is read a part at a time. `None`: it is not; compile it whole.
+fn run_streamed(
+    input: &str,
+    output: &Path,
+    options: &Options,
+    stage: Option<Stage>,
+    started: std::time::Instant,
+) -> Option<ExitCode> {
+    let plain = match options.language {
+        Some(InputArg::Gcode) => true,
+        Some(InputArg::Egc) => false,
+        None => !input.to_ascii_lowercase().ends_with(".egc"),
+    };
+    if input == "-" || !plain || stage == Some(Stage::Parse) {
+        return None;
+    }
+    let open = || std::fs::File::open(input).map(|f| std::io::BufReader::with_capacity(1 << 16, f));
+    let facts = ger::compile::scan_plain(&mut open().ok()?).ok()??;
+    let mut job = match Job::load_as(input, options, stage, true) {
+        Ok(job) => job,
+        Err(code) => return Some(code),
+    };
+    let mut read_error = None;
+    let report = write_atomically(output, |out| {
+        let compiled = open().and_then(|mut reader| {
+            ger::compile::compile_plain(&mut reader, input, job.file, facts, &job.options, out)
+        });
+        compiled.unwrap_or_else(|e| {
+            read_error = Some(e);
+            Report {
+                diagnostics: Vec::new(),
+                timings: Vec::new(),
+                write_error: Some(std::io::Error::other("the input could not be read")),
+            }
+        })
+    });
+    if let Some(e) = read_error {
+        eprintln!("error: cannot read `{input}`: {e}");
+        return Some(ExitCode::from(2));
+    }
+    if !report.diagnostics.is_empty() {
+        // The diagnostics show the lines they are about.
+        match std::fs::read(input).map(ger::source::decode) {
+            Ok(Ok(text)) => job.sources.set_text(job.file, text),
+            _ => eprintln!("note: `{input}` could not be read again to show its lines"),
+        }
+    }
+    Some(reported(&job.sources, &report, options, started).unwrap_or(ExitCode::SUCCESS))
 }
 
 #[derive(Clone, Copy, PartialEq, Eq)]

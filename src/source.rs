@@ -90,6 +90,17 @@ impl Sources {
                 .files
                 .get(file)
                 .map_or_else(|| Arc::new(LineIndex::new("")), |f| Arc::clone(&f.lines)),
+            base: 0,
+            lines_before: 0,
+        }
+    }
+
+    /// Give `file` its text (a file compiled from a reader, read again to
+    /// show its diagnostics).
+    pub fn set_text(&mut self, file: FileId, text: String) {
+        if let Some(f) = self.files.get_mut(file) {
+            f.lines = Arc::new(LineIndex::new(&text));
+            f.text = text;
         }
     }
 
@@ -118,17 +129,30 @@ impl SourceFile {
     }
 }
 
-/// Makes the spans of one file: byte ranges with their line.
+/// Makes the spans of one file: byte ranges with their line. The text it
+/// is given may be a part of the file (read a part at a time): offsets in
+/// it are then moved by the part's place.
 pub struct Locator {
     file: FileId,
     lines: Arc<LineIndex>,
+    /// Where the text starts in the file, and the lines before it.
+    base: usize,
+    lines_before: usize,
 }
 
 impl Locator {
     pub fn new(file: FileId, text: &str) -> Locator {
+        Locator::part(file, text, 0, 0)
+    }
+
+    /// For `text`, the part of the file `file` that starts at byte `base`
+    /// after `lines_before` lines.
+    pub fn part(file: FileId, text: &str, base: usize, lines_before: usize) -> Locator {
         Locator {
             file,
             lines: Arc::new(LineIndex::new(text)),
+            base,
+            lines_before,
         }
     }
 
@@ -137,7 +161,13 @@ impl Locator {
     }
 
     pub fn span(&self, start: usize, end: usize) -> Span {
-        Span::new(self.file, self.lines.line(start as u32) as u32, start, end)
+        let line = self.lines_before + self.lines.line(start as u32);
+        self.span_on_line(line as u32, start, end)
+    }
+
+    /// [`Locator::span`] when its (1-based) line in the file is known.
+    pub fn span_on_line(&self, line: u32, start: usize, end: usize) -> Span {
+        Span::new(self.file, line, self.base + start, self.base + end)
     }
 }
 

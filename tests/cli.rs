@@ -266,3 +266,47 @@ fn subroutine_folders() {
     let out = ger(&["compile", "main.ngc", "--subroutines", "nowhere"], &dir);
     assert_eq!(out.status.code(), Some(2));
 }
+
+/// A plain program written to a file is compiled from the file a part at a
+/// time (its text is not held): the same bytes as through standard output,
+/// its warnings shown with their lines, and a syntax error far into it
+/// leaves the existing output alone.
+#[test]
+fn a_plain_program_compiled_to_a_file_is_read_in_parts() {
+    let dir = scratch("plain-parts");
+    let mut text = String::from("G21 G90 G17\nG64 P0.01\nG0 X0 Y0 Z2\nG1 Z-1 F300\n");
+    for i in 0..30_000 {
+        text.push_str(&format!(
+            "G1 X{:.3} Y{:.3} (pass {i})\n",
+            i as f64 * 0.01,
+            (i % 7) as f64
+        ));
+    }
+    text.push_str("G0 Z5\nM30\n");
+    std::fs::write(dir.join("long.ngc"), &text).unwrap();
+    let to_stdout = ger(&["compile", "long.ngc"], &dir);
+    let to_file = ger(&["compile", "long.ngc", "-o", "long.out"], &dir);
+    assert_eq!(to_file.status.code(), Some(0));
+    assert_eq!(
+        std::fs::read(dir.join("long.out")).unwrap(),
+        to_stdout.stdout
+    );
+    let warned = String::from_utf8_lossy(&to_file.stderr);
+    assert!(
+        warned.contains("G64 dropped") && warned.contains("2 │ G64 P0.01"),
+        "{warned}"
+    );
+    assert_eq!(warned, String::from_utf8_lossy(&to_stdout.stderr));
+    // A number with two points near the end: an error at its line, and
+    // the output of the earlier run stays.
+    let broken = text.replace("X299.900", "X299.9.0");
+    std::fs::write(dir.join("long.ngc"), broken).unwrap();
+    let failed = ger(&["compile", "long.ngc", "-o", "long.out"], &dir);
+    assert_eq!(failed.status.code(), Some(1));
+    let said = String::from_utf8_lossy(&failed.stderr);
+    assert!(said.contains("long.ngc:29995:4"), "{said}");
+    assert_eq!(
+        std::fs::read(dir.join("long.out")).unwrap(),
+        to_stdout.stdout
+    );
+}

@@ -151,9 +151,11 @@ fn a_long_program_streams_like_a_short_one() {
 /// a time (`syntax::egc::chunk`). Every plain program of the repository,
 /// and of `../shared/real` where it is present, gives the same output and
 /// diagnostics read whole and read in parts of about 1, 40 and 4096 bytes
-/// (a part ends at a line end), as LinuxCNC's G-code and as Fanuc's.
+/// (a part ends at a line end), as LinuxCNC's G-code and as Fanuc's; and
+/// compiled from a reader without its text (`compile::compile_plain`).
 #[test]
 fn a_plain_program_read_in_parts_is_read_as_a_whole() {
+    use ger::compile::{compile_plain, scan_plain};
     use ger::eval::Flavour;
     use ger::syntax::egc::chunk::{chunkable, with_part_size};
     use ger::syntax::egc::Language;
@@ -177,7 +179,7 @@ fn a_plain_program_read_in_parts_is_read_as_a_whole() {
             }
         }
     }
-    let (mut compared, mut in_parts) = (0, 0);
+    let (mut compared, mut in_parts, mut from_reader) = (0, 0, 0);
     for path in &files {
         let Ok(bytes) = std::fs::read(path) else {
             continue;
@@ -213,9 +215,56 @@ fn a_plain_program_read_in_parts_is_read_as_a_whole() {
                     path.display()
                 );
             }
+            // Compiled from a reader, its text never held (`ger compile -o`).
+            let raw = std::fs::read(path).unwrap();
+            if let Some(facts) = scan_plain(&mut raw.as_slice()).unwrap() {
+                for part in [1, 4096] {
+                    let read = with_part_size(Some(part), || {
+                        let mut sources = Sources::new();
+                        let file = sources.add(path.to_string_lossy(), String::new());
+                        let options = CompileOptions {
+                            input: Some(Language::Gcode),
+                            from: Some(from),
+                            ..CompileOptions::default()
+                        };
+                        let mut out = Vec::new();
+                        let name = path.to_string_lossy();
+                        let report = compile_plain(
+                            &mut raw.as_slice(),
+                            &name,
+                            file,
+                            facts,
+                            &options,
+                            &mut out,
+                        )
+                        .unwrap();
+                        sources.set_text(file, text.clone());
+                        let output = String::from_utf8(out).unwrap();
+                        format!(
+                            "{}\n--- diagnostics ---\n{}",
+                            if report.succeeded() {
+                                output.as_str()
+                            } else {
+                                "<no output>"
+                            },
+                            render(&sources, &report.diagnostics)
+                        )
+                    });
+                    assert!(
+                        read == whole,
+                        "{} ({from:?}) read in parts of {part}:\n{read}\nwhole:\n{whole}",
+                        path.display()
+                    );
+                }
+                from_reader += 1;
+            }
             compared += 1;
         }
     }
     assert!(compared > 100, "compared {compared}");
     assert!(in_parts > 20, "only {in_parts} programs are read in parts");
+    assert!(
+        from_reader > 40,
+        "only {from_reader} compiles from a reader"
+    );
 }

@@ -34,6 +34,11 @@ pub fn by_parts() -> bool {
     PART_BYTES.with(|p| p.get()).is_some()
 }
 
+/// The size of a part on this thread.
+pub fn part_size() -> usize {
+    PART_BYTES.with(|p| p.get()).unwrap_or(CHUNK_BYTES).max(1)
+}
+
 /// Whether plain G-code `text` can be read in parts: outside its comments
 /// it has only one-letter words with numbers (no `#`, `[`, `=`, no names or
 /// keywords), no `O` words (subprograms, o-words, program numbers), no
@@ -43,8 +48,8 @@ pub fn chunkable(text: &str) -> bool {
     text.lines().all(plain_line)
 }
 
-/// One line of a program [`chunkable`] accepts.
-fn plain_line(line: &str) -> bool {
+/// One line (without its line end) of a program [`chunkable`] accepts.
+pub fn plain_line(line: &str) -> bool {
     let trimmed = line.trim_start_matches([' ', '\t', '\r']);
     if trimmed.starts_with(['%', '$']) {
         return true;
@@ -123,7 +128,7 @@ fn plain_word(bytes: &[u8], at: usize) -> Option<usize> {
 /// The parts of `text` to read one after another: byte ranges that end
 /// after a line end (the last at the end of the text).
 pub fn chunks(text: &str) -> impl Iterator<Item = std::ops::Range<usize>> + '_ {
-    let part = PART_BYTES.with(|p| p.get()).unwrap_or(CHUNK_BYTES).max(1);
+    let part = part_size();
     let mut from = 0;
     std::iter::from_fn(move || {
         if from >= text.len() {

@@ -189,7 +189,7 @@ fn parse_from(
             .map(|e| Problem::new(ProblemKind::Read, e)),
     );
     problems.sort_by_key(|p| p.error.span.start);
-    (program, drop_cascades(problems, text))
+    (program, drop_cascades(problems))
 }
 
 /// A syntax problem and where it comes from, which decides whether it is
@@ -218,12 +218,9 @@ impl Problem {
 /// Keep the errors that say something new: a parse error on a line the
 /// lexer already reported, or at a `}` after an earlier error (its `{` was
 /// skipped while recovering), only repeats an error the user has.
-fn drop_cascades(problems: Vec<Problem>, text: &str) -> Vec<Diagnostic> {
-    let line_of = |e: &SyntaxError| {
-        let at = (e.span.start as usize).min(text.len());
-        text[..at].bytes().filter(|&b| b == b'\n').count()
-    };
-    let read_lines: Vec<usize> = problems
+fn drop_cascades(problems: Vec<Problem>) -> Vec<Diagnostic> {
+    let line_of = |e: &SyntaxError| (e.span.file, e.span.line);
+    let read_lines: Vec<(u32, u32)> = problems
         .iter()
         .filter(|p| p.kind == ProblemKind::Read)
         .map(|p| line_of(&p.error))
@@ -593,7 +590,7 @@ pub(crate) fn push_words(
             int_digits: w.word.int_digits,
             has_point: w.word.has_point,
         }),
-        span: Span::new(at.file(), number, w.start as usize, w.end as usize),
+        span: at.span_on_line(number, w.start as usize, w.end as usize),
     }));
 }
 
