@@ -401,6 +401,19 @@ impl<'a> Evaluator<'a> {
     }
 
     fn report_expr(&mut self, e: ExprError) {
+        // An expression in a loop fails at every pass: an error already
+        // said at the same place is not worded again (its "did you mean"
+        // looks through every name).
+        let said = |d: &Diagnostic| {
+            e.span().is_some_and(|span| {
+                d.labels
+                    .iter()
+                    .any(|l| l.file_id == span.file_id() && l.range == span.range())
+            })
+        };
+        if self.diagnostics.iter().rev().take(8).any(said) {
+            return;
+        }
         if let Some(d) = e.to_diagnostic(self.names, &self.vars, self.options.from) {
             self.report(d);
         }

@@ -46,17 +46,36 @@ fn found_round_trips_keep_the_tool_path() {
 
 #[test]
 fn found_inputs_give_their_diagnostic_at_once() {
-    use ger::eval::EvalOptions;
+    use ger::eval::{EvalOptions, Flavour};
+    use ger::syntax::egc::Language;
     use ger::wizard::{standard_library, Library, WizardEngine};
-    // (file, the error it must give): each once ran for more than the
-    // fuzzer's 10 s.
-    let cases = [("spiral_step_zero.egc", "this loop never ends")];
-    for (name, expected) in cases {
+    // (file, how it is read, the error it must give): each once ran for
+    // more than the fuzzer's 10 s.
+    let cases = [
+        (
+            "spiral_step_zero.egc",
+            (Language::Egc, Flavour::Generic),
+            "this loop never ends",
+        ),
+        (
+            "loop_error_did_you_mean.ngc",
+            (Language::Gcode, Flavour::Fanuc),
+            "this loop ran more than 1000 times",
+        ),
+        (
+            "loop_error_did_you_mean.ngc",
+            (Language::Gcode, Flavour::LinuxCnc),
+            "this loop ran more than 1000 times",
+        ),
+    ];
+    for (name, (language, from), expected) in cases {
         let path = Path::new(env!("CARGO_MANIFEST_DIR"))
             .join("tests/fuzz/compile_bytes")
             .join(name);
         let mut sources = Sources::new();
-        let file = sources.add(name, std::fs::read_to_string(&path).unwrap());
+        // Raw bytes (Latin-1 here), decoded as `ger` decodes a file.
+        let text = ger::source::decode(std::fs::read(&path).unwrap()).unwrap();
+        let file = sources.add(name, text);
         let mut engine = WizardEngine::new(Library::new(standard_library(), &mut sources));
         // A low limit: should the check go, the loop stops there with
         // another message instead of running for minutes.
@@ -65,6 +84,8 @@ fn found_inputs_give_their_diagnostic_at_once() {
                 max_iterations: 1000,
                 ..EvalOptions::default()
             },
+            input: Some(language),
+            from: Some(from),
             ..CompileOptions::default()
         };
         let compiled = compile(&sources, file, &options, Some(&mut engine));

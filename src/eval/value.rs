@@ -125,6 +125,20 @@ pub enum ExprError {
 }
 
 impl ExprError {
+    /// Where it is (`None` for [`ExprError::Poisoned`]).
+    pub fn span(&self) -> Option<Span> {
+        match self {
+            ExprError::Undefined { span, .. }
+            | ExprError::TypeMismatch { span, .. }
+            | ExprError::DivisionByZero { span }
+            | ExprError::NotFinite { span, .. }
+            | ExprError::Arity { span, .. }
+            | ExprError::UnknownFunction { span, .. }
+            | ExprError::NoSuchParameter { span, .. } => Some(*span),
+            ExprError::Poisoned => None,
+        }
+    }
+
     /// Its wording; `from` says which parameters are the machine's.
     pub fn to_diagnostic(
         &self,
