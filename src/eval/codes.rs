@@ -17,6 +17,21 @@ use error::{CodeError, CodeErrorKind as K};
 type Code = Option<(u8, u32)>;
 
 /// A G code in tenths: G1 is 10, G54.1 is 541.
+/// Why the G code `t` (in tenths) is not one ger reads.
+fn unsupported_g(t: u32) -> &'static str {
+    match t {
+        120 | 130 => "circle milling (G12/G13) is a Fanuc option; use G2/G3 or a CirclePocket wizard",
+        541 => "extended work offsets (G54.1 P…) are not supported; use G54–G59",
+        680 | 690 => "coordinate rotation is not supported",
+        500 | 510 => "scaling is not supported",
+        650 => "G65 is Fanuc's macro call: pass --from fanuc",
+        901 => "absolute arc centres (G90.1) are not supported; I/J/K are relative to the start",
+        930 | 950 => "only feed per minute (G94) is supported",
+        310 | 382..=385 => "a probing move stops where its switch trips, which only the machine knows; what follows it cannot be worked out",
+        _ => "ger does not know this code",
+    }
+}
+
 fn tenths(value: f64) -> Option<u32> {
     let t = (value * 10.0).round();
     ((value * 10.0 - t).abs() < 1e-6 && (0.0..100_000.0).contains(&t)).then_some(t as u32)
@@ -351,17 +366,7 @@ impl Evaluator<'_> {
                 })
             }
             _ => {
-                let why = match t {
-                    120 | 130 => "circle milling (G12/G13) is a Fanuc option; use G2/G3 or a CirclePocket wizard",
-                    541 => "extended work offsets (G54.1 P…) are not supported; use G54–G59",
-                    680 | 690 => "coordinate rotation is not supported",
-                    500 | 510 => "scaling is not supported",
-                    650 => "G65 is Fanuc's macro call: pass --from fanuc",
-                    901 => "absolute arc centres (G90.1) are not supported; I/J/K are relative to the start",
-                    930 | 950 => "only feed per minute (G94) is supported",
-                    310 | 382..=385 => "a probing move stops where its switch trips, which only the machine knows; what follows it cannot be worked out",
-                    _ => "ger does not know this code",
-                };
+                let why = unsupported_g(t);
                 let kind = K::Unsupported { code: name(), why };
                 return Err(CodeError::new(kind, at).into());
             }
