@@ -320,6 +320,7 @@ impl<'a> Evaluator<'a> {
             vars: Vars::new(
                 numbered_parameters(&program.names, options.from),
                 &program.names,
+                options.from == Flavour::Fanuc,
             ),
             messages: 0,
             changes: 0,
@@ -495,7 +496,11 @@ impl<'a> Evaluator<'a> {
     fn start(&mut self, at: Span) {
         self.started = true;
         let setup = self.setup.get().clone();
-        let first_units = self.first_units.filter(|_| !self.feed_before_units);
+        // With `--units` the F is in those units, and the G20/G21 may fix
+        // the output's as usual.
+        let first_units = self
+            .first_units
+            .filter(|_| !self.feed_before_units || self.options.units.is_some());
         let output_units = setup.units.or(first_units).or(self.options.units);
         if output_units.is_none() && self.first_units.is_none() && at != Span::default() {
             self.report(EvalError::new(EvalErrorKind::UnitsUnstated, at).to_diagnostic());
@@ -863,15 +868,17 @@ impl<'a> Evaluator<'a> {
             let after = &rest[at + 1..];
             match crate::syntax::egc::lexer::parameter_name(after) {
                 Ok((name, used)) => {
-                    let value = self
-                        .names
-                        .find(&name)
-                        .and_then(|s| self.vars.get(s.0 as usize))
-                        .and_then(|slot| match slot {
-                            Slot::Set(Value::Number(n)) => Some(*n),
-                            Slot::Set(Value::Bool(b)) => Some(f64::from(u8::from(*b))),
-                            _ => None,
-                        });
+                    // A numbered parameter the program never names has
+                    // its first value (rs274: 0 for #1–#5000).
+                    let slot = match self.names.find(&name) {
+                        Some(s) => self.vars.get(s.0 as usize).copied(),
+                        None => parameter_number(&name).map(|n| first_value(n, self.options.from)),
+                    };
+                    let value = slot.and_then(|slot| match slot {
+                        Slot::Set(Value::Number(n)) => Some(n),
+                        Slot::Set(Value::Bool(b)) => Some(f64::from(u8::from(b))),
+                        _ => None,
+                    });
                     match value {
                         Some(v) => out.push_str(&format!("{v:.6}")),
                         None => out.push_str("######"),
@@ -1240,13 +1247,21 @@ const MAX_MESSAGES: usize = 100;
 fn numbered_parameters(names: &Names, from: Flavour) -> Vec<Slot> {
     names
         .iter()
-        .map(|(_, text)| match (from, parameter_number(text)) {
-            (Flavour::Fanuc, Some(0..=33 | 100..=199)) => Slot::Vacant,
-            (Flavour::Fanuc, _) => Slot::Unset,
-            (_, Some(1..=LAST_USER_PARAMETER)) => Slot::Set(Value::Number(0.0)),
-            _ => Slot::Unset,
+        .map(|(_, text)| match parameter_number(text) {
+            Some(n) => first_value(n, from),
+            None => Slot::Unset,
         })
         .collect()
+}
+
+/// The value the numbered parameter `#n` starts with.
+fn first_value(n: u32, from: Flavour) -> Slot {
+    match (from, n) {
+        (Flavour::Fanuc, 0..=33 | 100..=199) => Slot::Vacant,
+        (Flavour::Fanuc, _) => Slot::Unset,
+        (_, 1..=LAST_USER_PARAMETER) => Slot::Set(Value::Number(0.0)),
+        _ => Slot::Unset,
+    }
 }
 
 /// Where the line labelled `N<label>` is among `stmts`.

@@ -702,9 +702,18 @@ fn run_streamed(
         Some(InputArg::Egc) => false,
         None => !input.to_ascii_lowercase().ends_with(".egc"),
     };
-    if input == "-" || !plain || stage == Some(Stage::Parse) {
+    // A file it reads twice: a regular one (not a pipe), whose subroutine
+    // folders need no reading.
+    let before = std::fs::metadata(input).ok()?;
+    if input == "-"
+        || !plain
+        || stage == Some(Stage::Parse)
+        || !before.is_file()
+        || !options.subroutine_dirs.is_empty()
+    {
         return None;
     }
+    let stamp = |m: &std::fs::Metadata| (m.len(), m.modified().ok());
     let open = || std::fs::File::open(input).map(|f| std::io::BufReader::with_capacity(1 << 16, f));
     let facts = ger::compile::scan_plain(&mut open().ok()?).ok()??;
     let mut job = match Job::load_as(input, options, stage, true) {
@@ -715,6 +724,12 @@ fn run_streamed(
     let report = write_atomically(output, |out| {
         let compiled = open().and_then(|mut reader| {
             ger::compile::compile_plain(&mut reader, input, job.file, facts, &job.options, out)
+        });
+        // Read twice, it must be the same file both times.
+        let unchanged = std::fs::metadata(input).is_ok_and(|m| stamp(&m) == stamp(&before));
+        let compiled = compiled.and_then(|report| match unchanged {
+            true => Ok(report),
+            false => Err(std::io::Error::other("it changed while it was compiled")),
         });
         compiled.unwrap_or_else(|e| {
             read_error = Some(e);

@@ -46,10 +46,13 @@ pub struct Vars {
     /// The symbol of `#n`, by n; empty when no `#[…]` was read (the lexer
     /// names every parameter when one is).
     numbered: Vec<Option<Symbol>>,
+    /// The lowest number `#[…]` may give: Fanuc's #0 (vacant), else #1.
+    lowest: u32,
 }
 
 impl Vars {
-    pub fn new(slots: Vec<Slot>, names: &Names) -> Vars {
+    /// `zero`: `#[…]` may give #0 (Fanuc's vacant variable; rs274 has none).
+    pub fn new(slots: Vec<Slot>, names: &Names, zero: bool) -> Vars {
         let mut numbered = Vec::new();
         if names.find(&format!("#{LAST_PARAMETER}")).is_some() {
             numbered = vec![None; LAST_PARAMETER as usize + 1];
@@ -59,7 +62,12 @@ impl Vars {
                 }
             }
         }
-        Vars { slots, numbered }
+        let lowest = u32::from(!zero);
+        Vars {
+            slots,
+            numbered,
+            lowest,
+        }
     }
 
     /// The numbered parameter `value` names (`#[value]`); as rs274, a
@@ -67,10 +75,15 @@ impl Vars {
     pub fn parameter(&self, value: f64, span: Span) -> Result<Symbol, ExprError> {
         let n = value.round();
         let whole = (value - n).abs() <= 1e-4;
-        let found = (whole && (0.0..=f64::from(LAST_PARAMETER)).contains(&n))
+        let found = (whole && (f64::from(self.lowest)..=f64::from(LAST_PARAMETER)).contains(&n))
             .then(|| self.numbered.get(n as usize).copied().flatten())
             .flatten();
-        found.ok_or(ExprError::NoSuchParameter { value, span })
+        let lowest = self.lowest;
+        found.ok_or(ExprError::NoSuchParameter {
+            value,
+            lowest,
+            span,
+        })
     }
 }
 
@@ -118,6 +131,8 @@ pub enum ExprError {
     /// `#[value]` where the value is no parameter's number.
     NoSuchParameter {
         value: f64,
+        /// The lowest number there is (#0 on Fanuc, else #1).
+        lowest: u32,
         span: Span,
     },
     /// Depends on a variable whose own error was already reported.
@@ -230,10 +245,14 @@ impl ExprError {
                 )
                 .with_note(format!("the functions are: {}", known.join(" ")))
             }
-            ExprError::NoSuchParameter { value, span } => error(
+            ExprError::NoSuchParameter {
+                value,
+                lowest,
+                span,
+            } => error(
                 format!("`#[{value}]` names no parameter"),
                 *span,
-                format!("a parameter's number is a whole number from 0 to {LAST_PARAMETER}"),
+                format!("a parameter's number is a whole number from {lowest} to {LAST_PARAMETER}"),
             ),
             ExprError::Poisoned => return None,
         })
@@ -348,7 +367,10 @@ fn finite(value: f64, span: Span, what: impl FnOnce() -> String) -> Result<f64, 
 pub fn vacant(expr: &Expr, vars: &Vars) -> bool {
     let name = match &expr.kind {
         ExprKind::Var(s) => Some(*s),
-        ExprKind::Indirect(e) => fast_number(e, vars).and_then(|n| vars.parameter(n, e.span).ok()),
+        // The number may be a vacant variable's (0: `#0`).
+        ExprKind::Indirect(e) => number(e, vars, &String::new)
+            .ok()
+            .and_then(|n| vars.parameter(n, e.span).ok()),
         _ => None,
     };
     name.is_some_and(|s| vars.get(s.0 as usize) == Some(&Slot::Vacant))

@@ -66,7 +66,16 @@ pub fn plain_line(line: &str) -> bool {
                 Some(end) => i = end,
                 None => return true,
             },
-            b' ' | b'\t' | b'\r' | b'/' => i += 1,
+            b' ' | b'\t' | b'\r' => i += 1,
+            // Block delete: first on its line, before a word.
+            b'/' if bytes[..i].iter().all(|b| matches!(b, b' ' | b'\t')) => {
+                let rest = &bytes[i + 1..];
+                let word = rest.iter().find(|b| !matches!(b, b' ' | b'\t'));
+                if !word.is_some_and(u8::is_ascii_alphabetic) {
+                    return false;
+                }
+                i += 1;
+            }
             b'A'..=b'Z' | b'a'..=b'z' => match plain_word(bytes, i) {
                 Some(end) => i = end,
                 None => return false,
@@ -158,4 +167,51 @@ pub fn parse_chunk(
     let (program, diagnostics) =
         parse_program_from(&text[..range.end], range.start, at, language, &mut names);
     (program.main, names, diagnostics)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn plain_lines_are_words_comments_and_commands() {
+        for line in [
+            "G0 X1.5 Y-2 Z  0.1",
+            "N10 G1 X1 F100 (a comment (nested) with # and [ ])",
+            "G1 X1 ; O100 call",
+            "% tape O0001",
+            "$H",
+            "/G1 X2",
+            "  / G1 X2",
+            "",
+        ] {
+            assert!(plain_line(line), "{line}");
+        }
+        for line in [
+            "#1 = 2",
+            "G1 X[1 + 2]",
+            "O1000",
+            "o100 sub",
+            "M98 P100",
+            "M99",
+            "G65 P9010 A1",
+            "IF [#1 GT 0] GOTO 10",
+            "G1 X",
+            "/",
+            "G1 X1 / Y2",
+            ":0097",
+            "G1 X1.0 é",
+        ] {
+            assert!(!plain_line(line), "{line}");
+        }
+    }
+
+    #[test]
+    fn parts_end_at_line_ends_and_cover_the_text() {
+        let text = "G0 X1\nG1 Y2 (é)\nG1 Z3";
+        with_part_size(Some(3), || {
+            let parts: Vec<_> = chunks(text).collect();
+            assert_eq!(parts, vec![0..6, 6..17, 17..22]);
+        });
+    }
 }

@@ -296,10 +296,9 @@ pub fn parameter_name(rest: &str) -> Result<(String, usize), NotAParameter> {
     Ok((format!("#{number}"), digits))
 }
 
-/// The last numbered parameter, LinuxCNC's (#5602; Fanuc's system
-/// variables from #1000 that ger can read are below it): a `#[…]` beyond it
-/// is an error.
-pub const LAST_PARAMETER: u32 = 5602;
+/// The last numbered parameter, LinuxCNC's (#5601: rs274 has 5602 from
+/// #0, which is not one); a `#[…]` beyond it is an error.
+pub const LAST_PARAMETER: u32 = 5601;
 /// Tokens in one statement. Expressions are trees the evaluator walks
 /// recursively, so their size is bounded where they are read; real
 /// statements are far shorter.
@@ -736,7 +735,8 @@ impl<'a> Lexer<'a> {
                 self.push(at, Tok::NegTight, at + 1);
             }
             let name_end = self.parameter(at + minus);
-            if matches!(self.out.last(), Some((_, Tok::Hash, _))) {
+            let bracket = self.text[name_end..].starts_with('[');
+            if bracket && matches!(self.out.last(), Some((_, Tok::Hash, _))) {
                 // `X#[…]`: the word ends where the group does.
                 self.syms.push((start, self.groups.len()));
                 self.indirect_syms.push(self.groups.len() + 1);
@@ -805,6 +805,12 @@ impl<'a> Lexer<'a> {
                 Err(NotAParameter::NoName) => {
                     let after = self.text[start + 1..].trim_start_matches([' ', '\t']);
                     let next = self.text.len() - after.len();
+                    // `# 1`: rs274 reads a line without its spaces.
+                    if let (true, Ok((name, used))) = (next > start + 1, parameter_name(after)) {
+                        let symbol = self.names.intern(&name);
+                        self.push(start, Tok::Name(symbol), next + used);
+                        return next + used;
+                    }
                     if !after.starts_with(['#', '[']) {
                         self.report(SyntaxErrorKind::NotAParameter, start, start + 1);
                         return start + 1;
@@ -1077,6 +1083,9 @@ impl<'a> Lexer<'a> {
 
     fn finish(mut self) -> Lexed {
         let eof = self.text.len();
+        if self.language == Language::Gcode && self.pending_term.is_none() {
+            self.assignments_after_words(eof);
+        }
         if !self.line_comments.is_empty() {
             self.flush_comments((eof, eof));
         }
@@ -1276,6 +1285,20 @@ impl<'a> Lexer<'a> {
                     }
                     None => return,
                 },
+                // `#[…] =`, `##1 =`: an indirect target.
+                (Tok::Hash, _) => {
+                    let target = value_end(tokens, i);
+                    match target.filter(|&t| matches!(tokens.get(t), Some((_, Tok::Assign, _)))) {
+                        Some(t) => match value_end(tokens, t + 1) {
+                            Some(end) => {
+                                assignments.push(i..end);
+                                end
+                            }
+                            None => return,
+                        },
+                        None => return,
+                    }
+                }
                 (Tok::Words(..), _) => {
                     words.push(i..i + 1);
                     i + 1
