@@ -310,3 +310,45 @@ fn a_plain_program_compiled_to_a_file_is_read_in_parts() {
         to_stdout.stdout
     );
 }
+
+/// A named pipe is read once: `-o` compiles it whole (reading a pipe a
+/// second time would find nothing, or wait for ever).
+#[test]
+fn a_pipe_is_read_once() {
+    let dir = scratch("fifo");
+    let fifo = dir.join("part.ngc");
+    let made = Command::new("mkfifo").arg(&fifo).status();
+    if !made.is_ok_and(|s| s.success()) {
+        eprintln!("no mkfifo here: skipped");
+        return;
+    }
+    let writer = {
+        let fifo = fifo.clone();
+        std::thread::spawn(move || {
+            // Blocks until ger opens the pipe; one program, then the end.
+            let mut pipe = std::fs::OpenOptions::new().write(true).open(fifo).unwrap();
+            pipe.write_all(GOOD.as_bytes()).unwrap();
+        })
+    };
+    let mut child = Command::new(env!("CARGO_BIN_EXE_ger"))
+        .args(["compile", "part.ngc", "-o", "part.out"])
+        .current_dir(&dir)
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    let started = std::time::Instant::now();
+    let status = loop {
+        if let Some(status) = child.try_wait().unwrap() {
+            break status;
+        }
+        if started.elapsed() > std::time::Duration::from_secs(30) {
+            let _ = child.kill();
+            panic!("ger waited for a second read of the pipe");
+        }
+        std::thread::sleep(std::time::Duration::from_millis(20));
+    };
+    writer.join().unwrap();
+    assert!(status.success());
+    let out = std::fs::read_to_string(dir.join("part.out")).unwrap();
+    assert!(out.contains("G1 X10.") && out.contains("M30"), "{out}");
+}
