@@ -57,19 +57,6 @@ pub fn parse_program_at(
     (program, diagnostics)
 }
 
-/// Parse `text` from the offset `from` (a line start; the lines before it
-/// are not read), with spans in the whole text, interning into `names`
-/// (left empty in the program).
-pub fn parse_program_from(
-    text: &str,
-    from: usize,
-    at: &Locator,
-    language: Language,
-    names: &mut Names,
-) -> (Program, Vec<Diagnostic>) {
-    parse_from(text, from, at, language, names)
-}
-
 /// The program of `main`, with the subprograms of the `library` files
 /// added (LinuxCNC's `o<name> sub` in a file of its own): each file is read
 /// with the same names, so `o<name>` has one number in all of them. What a
@@ -103,11 +90,13 @@ fn parse_into(
     language: Language,
     names: &mut Names,
 ) -> (Program, Vec<Diagnostic>) {
-    parse_from(text, 0, at, language, names)
+    parse_program_from(text, 0, at, language, names)
 }
 
-/// [`parse_into`] from the offset `from` of `text`.
-fn parse_from(
+/// Parse `text` from the offset `from` (a line start; the lines before it
+/// are not read), with spans in the whole text, interning into `names`
+/// (left empty in the program).
+pub fn parse_program_from(
     text: &str,
     from: usize,
     at: &Locator,
