@@ -573,12 +573,14 @@ impl<'a> Evaluator<'a> {
         let mut next = 0;
         while let Some(stmt) = stmts.get(next) {
             next += 1;
-            let flow = match &stmt.kind {
-                StmtKind::Assign {
-                    target: ast::Target::Name(name),
-                    value,
-                    ..
-                } if self.is_system_variable(*name) => {
+            let system = match &stmt.kind {
+                StmtKind::Assign { target, value, .. } => {
+                    self.system_target(target).map(|name| (name, value))
+                }
+                _ => None,
+            };
+            let flow = match system {
+                Some((name, value)) => {
                     // Its message is the comment after it on its line.
                     let message = match stmts.get(next) {
                         Some(c)
@@ -592,9 +594,9 @@ impl<'a> Evaluator<'a> {
                         _ => None,
                     };
                     next += usize::from(message.is_some());
-                    self.system_assign(*name, value, stmt.span, message)
+                    self.system_assign(name, value, stmt.span, message)
                 }
-                _ => self.exec(stmt),
+                None => self.exec(stmt),
             };
             match flow {
                 Flow::Next => {}
@@ -636,6 +638,19 @@ impl<'a> Evaluator<'a> {
     /// Fanuc's `#3000` (an alarm) and `#3006` (a stop with a message).
     fn is_system_variable(&self, name: Symbol) -> bool {
         matches!(self.fanuc_parameter(name), Some(3000 | 3006))
+    }
+
+    /// The system variable an assignment sets, if it sets one: by name, or
+    /// through `#[…]` (whose number's errors the assignment reports).
+    fn system_target(&self, target: &ast::Target) -> Option<Symbol> {
+        let name = match target {
+            ast::Target::Name(name) => *name,
+            ast::Target::Indirect(number) => {
+                let n = value::number(number, &self.vars, &String::new).ok()?;
+                self.vars.parameter(n, number.span).ok()?
+            }
+        };
+        self.is_system_variable(name).then_some(name)
     }
 
     /// `#3000 = n (MESSAGE)` stops the compile with the alarm, as the
