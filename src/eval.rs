@@ -35,7 +35,9 @@ pub struct EvalOptions {
     pub batch: usize,
     /// `--units`: the units of a program that states none.
     pub units: Option<ir::Units>,
-    /// `--from`: whose meaning holds where controllers disagree.
+    /// `--from`: whose meaning holds where controllers disagree. The
+    /// driver fills it from `CompileOptions::from` (or the file's name):
+    /// set that one.
     pub from: Flavour,
     /// `--tool-table`: tools known before the program's `SetTool`s.
     pub tools: std::collections::BTreeMap<u32, ir::Tool>,
@@ -382,11 +384,12 @@ impl<'a> Evaluator<'a> {
             }
             Flow::Next | Flow::Return | Flow::End | Flow::Abort => return flow,
         };
-        self.report(EvalError::new(kind, from).to_diagnostic());
+        self.report(EvalError::new(kind, from));
         Flow::Abort
     }
 
-    fn report(&mut self, d: Diagnostic) {
+    fn report(&mut self, d: impl Into<Diagnostic>) {
+        let d = d.into();
         // A statement in a loop or a repeated subprogram fails every time;
         // say it once.
         let same = |e: &Diagnostic| e.message == d.message && e.labels == d.labels;
@@ -426,14 +429,10 @@ impl<'a> Evaluator<'a> {
 
     fn emit(&mut self, op: ir::Op, span: Span) -> Result<(), Diagnostic> {
         if self.made >= self.options.max_statements {
-            return Err(EvalError::new(
-                EvalErrorKind::TooManyStatements(self.options.max_statements),
-                span,
-            )
-            .to_diagnostic());
+            let kind = EvalErrorKind::TooManyStatements(self.options.max_statements);
+            return Err(EvalError::new(kind, span).into());
         }
-        self.check_under_comp(&op, span)
-            .map_err(|e| e.to_diagnostic())?;
+        self.check_under_comp(&op, span)?;
         match &op {
             ir::Op::Comp { side, .. } => self.comp = Some((*side, span)),
             ir::Op::CompOff | ir::Op::End => self.comp = None,
@@ -442,7 +441,7 @@ impl<'a> Evaluator<'a> {
                 self.feed_before_units |= self.first_units.is_none();
             }
             ir::Op::Move(m) if m.motion != ir::Motion::Rapid && !self.feed_set => {
-                return Err(EvalError::new(EvalErrorKind::FeedBeforeRate, span).to_diagnostic());
+                return Err(EvalError::new(EvalErrorKind::FeedBeforeRate, span).into());
             }
             _ => {}
         }
@@ -481,7 +480,7 @@ impl<'a> Evaluator<'a> {
 
     /// Report the warning `make` builds, unless one about `key` was
     /// already given.
-    fn warn_once(&mut self, key: (u8, u32), make: impl FnOnce() -> Diagnostic) {
+    fn warn_once<D: Into<Diagnostic>>(&mut self, key: (u8, u32), make: impl FnOnce() -> D) {
         if self.warned_once.insert(key) {
             self.report(make());
         }
@@ -503,7 +502,7 @@ impl<'a> Evaluator<'a> {
             .filter(|_| !self.feed_before_units || self.options.units.is_some());
         let output_units = setup.units.or(first_units).or(self.options.units);
         if output_units.is_none() && self.first_units.is_none() && at != Span::default() {
-            self.report(EvalError::new(EvalErrorKind::UnitsUnstated, at).to_diagnostic());
+            self.report(EvalError::new(EvalErrorKind::UnitsUnstated, at));
         }
         let start = ir::Start {
             program_units: self.options.units.or(setup.units),
@@ -643,6 +642,9 @@ impl<'a> Evaluator<'a> {
     /// The system variable an assignment sets, if it sets one: by name, or
     /// through `#[…]` (whose number's errors the assignment reports).
     fn system_target(&self, target: &ast::Target) -> Option<Symbol> {
+        if self.options.from != Flavour::Fanuc {
+            return None;
+        }
         let name = match target {
             ast::Target::Name(name) => *name,
             ast::Target::Indirect(number) => {
@@ -672,7 +674,7 @@ impl<'a> Evaluator<'a> {
         let message = message.unwrap_or("").to_string();
         if self.fanuc_parameter(name) == Some(3000) {
             let kind = EvalErrorKind::Alarm { number, message };
-            self.report(EvalError::new(kind, span).to_diagnostic());
+            self.report(EvalError::new(kind, span));
             return Flow::Abort;
         }
         if !message.is_empty() {
@@ -693,7 +695,7 @@ impl<'a> Evaluator<'a> {
         self.gotos += 1;
         if self.gotos > self.options.max_iterations {
             let kind = EvalErrorKind::LoopLimit(self.options.max_iterations);
-            self.report(EvalError::new(kind, from).to_diagnostic());
+            self.report(EvalError::new(kind, from));
             return false;
         }
         // Between two jumps back from one place nothing changed: the
@@ -702,7 +704,7 @@ impl<'a> Evaluator<'a> {
             .goto_changes
             .insert((from.file, from.start), self.changes);
         if last == Some(self.changes) {
-            self.report(EvalError::new(EvalErrorKind::LoopNeverEnds, from).to_diagnostic());
+            self.report(EvalError::new(EvalErrorKind::LoopNeverEnds, from));
             return false;
         }
         true
@@ -799,7 +801,7 @@ impl<'a> Evaluator<'a> {
                     }
                     Ok(n) => {
                         let kind = EvalErrorKind::BadLabel(n);
-                        self.report(EvalError::new(kind, target.span).to_diagnostic());
+                        self.report(EvalError::new(kind, target.span));
                         Flow::Abort
                     }
                     Err(e) => {
@@ -830,7 +832,7 @@ impl<'a> Evaluator<'a> {
     fn command(&mut self, text: &str, span: Span) -> Flow {
         let text = text.to_string();
         self.warn_once((b'$', 0), || {
-            EvalError::new(EvalErrorKind::CommandPassedThrough(text.clone()), span).to_diagnostic()
+            EvalError::new(EvalErrorKind::CommandPassedThrough(text.clone()), span)
         });
         let op = ir::Op::Passthrough(ir::Passthrough::Line(text));
         self.emit_or_abort(op, span)
@@ -872,7 +874,7 @@ impl<'a> Evaluator<'a> {
         if self.messages > MAX_MESSAGES {
             if self.messages == MAX_MESSAGES + 1 {
                 let kind = EvalErrorKind::MessagesCut(MAX_MESSAGES);
-                self.report(EvalError::new(kind, span).to_diagnostic());
+                self.report(EvalError::new(kind, span));
             }
             return;
         }
@@ -911,7 +913,7 @@ impl<'a> Evaluator<'a> {
             kind,
             text: out.trim().to_string(),
         };
-        self.report(EvalError::new(kind, span).to_diagnostic());
+        self.report(EvalError::new(kind, span));
     }
 
     /// A condition: true or false, or in plain G-code (LinuxCNC's o-word
@@ -962,7 +964,7 @@ impl<'a> Evaluator<'a> {
             count += 1;
             if count > self.options.max_iterations {
                 let kind = EvalErrorKind::LoopLimit(self.options.max_iterations);
-                self.report(EvalError::new(kind, head).to_diagnostic());
+                self.report(EvalError::new(kind, head));
                 return Flow::Abort;
             }
             let changes = self.changes;
@@ -975,7 +977,7 @@ impl<'a> Evaluator<'a> {
             // The condition reads only variables: if a pass after it held
             // changed none, every pass after it does the same, for ever.
             if tested && self.changes == changes {
-                self.report(EvalError::new(EvalErrorKind::LoopNeverEnds, head).to_diagnostic());
+                self.report(EvalError::new(EvalErrorKind::LoopNeverEnds, head));
                 return Flow::Abort;
             }
             tested = true;
@@ -1010,7 +1012,7 @@ impl<'a> Evaluator<'a> {
     /// reported).
     fn assigned(&mut self, name: Symbol, name_span: Span, value: &ast::Expr) -> Option<Slot> {
         if self.names.text(name) == "PI" {
-            self.report(EvalError::new(EvalErrorKind::AssignToPi, name_span).to_diagnostic());
+            self.report(EvalError::new(EvalErrorKind::AssignToPi, name_span));
             return None;
         }
         if self
@@ -1018,7 +1020,7 @@ impl<'a> Evaluator<'a> {
             .is_some_and(|n| n == 0 || n >= 1000)
         {
             let kind = EvalErrorKind::ReadOnlyVariable(self.names.text(name).to_string());
-            self.report(EvalError::new(kind, name_span).to_diagnostic());
+            self.report(EvalError::new(kind, name_span));
             return None;
         }
         // A copy of a vacant variable is vacant (Fanuc).
@@ -1068,20 +1070,15 @@ impl<'a> Evaluator<'a> {
         if let Some(directive) = directive {
             if let Some(first) = self.first_move {
                 let directive = setup::Directive::NAMES[directive as usize];
-                self.report(
-                    EvalError::new(
-                        EvalErrorKind::SetupAfterFirstMove { directive, first },
-                        name_span,
-                    )
-                    .to_diagnostic(),
-                );
+                let kind = EvalErrorKind::SetupAfterFirstMove { directive, first };
+                self.report(EvalError::new(kind, name_span));
                 return Flow::Next;
             }
             if let Err(d) = self
                 .setup
                 .apply(directive, &values, name_span, &arg_spans, self.names)
             {
-                self.report(d.to_diagnostic());
+                self.report(d);
             }
             return Flow::Next;
         }
@@ -1133,7 +1130,7 @@ impl<'a> Evaluator<'a> {
             name: text.to_string(),
             nearest,
         };
-        self.report(EvalError::new(kind, span).to_diagnostic());
+        self.report(EvalError::new(kind, span));
     }
 }
 

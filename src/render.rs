@@ -558,12 +558,9 @@ impl RenderWarning {
             )
             .with_help("check the safe height before this move"),
         };
-        if self.more > 0 {
-            let mut d = d;
-            d.notes
-                .push(format!("{} more like it not shown", self.more));
-            return d;
+        match self.more {
+            0 => d,
+            more => d.with_notes(vec![format!("{more} more like it not shown")]),
         }
-        d
     }
 }

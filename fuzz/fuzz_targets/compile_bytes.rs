@@ -32,10 +32,7 @@ fuzz_target!(|bytes: &[u8]| {
     for (language, from) in readings {
         let options = CompileOptions {
             input: Some(language),
-            eval: EvalOptions {
-                from,
-                ..options.eval.clone()
-            },
+            from: Some(from),
             ..options.clone()
         };
         let compiled = compile(&sources, file, &options, Some(&mut engine));

@@ -79,7 +79,7 @@ impl Evaluator<'_> {
             }
             if let Some(first) = words.given(w.letter) {
                 let letter = w.letter as char;
-                self.report(CodeError::new(K::WordTwice { letter, first }, w.span).into());
+                self.report(CodeError::new(K::WordTwice { letter, first }, w.span));
                 return Flow::Next;
             }
             words.set(w.letter, value, i);
@@ -286,7 +286,7 @@ impl Evaluator<'_> {
             70 | 80 => {
                 // Folded into the X words as they are read (above).
                 if t == 70 {
-                    self.warn_once((b'G', 70), || CodeError::new(K::DiameterMode, at).into());
+                    self.warn_once((b'G', 70), || CodeError::new(K::DiameterMode, at));
                 }
                 return self.leftover_move(w, span, code).map(|_| Flow::Next);
             }
@@ -300,7 +300,7 @@ impl Evaluator<'_> {
             280 | 300 => {
                 let via = axis_words(w);
                 self.warn_once((b'G', t), || {
-                    CodeError::new(K::HomePassedThrough(name()), at).into()
+                    CodeError::new(K::HomePassedThrough(name()), at)
                 });
                 Op::Home {
                     home: if t == 280 {
@@ -318,7 +318,7 @@ impl Evaluator<'_> {
                 return self.leftover_move(w, span, code).map(|_| Flow::Next);
             }
             400 => Op::CompOff,
-            410 | 420 | 411 | 421 => self.comp_on(t, at, w).map_err(|e| e.to_diagnostic())?,
+            410 | 420 | 411 | 421 => self.comp_on(t, at, w)?,
             430 | 440 => {
                 let tool = match w.take(b'H') {
                     Some((h, hspan)) => whole(h, hspan, "a tool number")?,
@@ -335,7 +335,7 @@ impl Evaluator<'_> {
             610 | 611 | 640 => {
                 w.take(b'P');
                 w.take(b'Q');
-                self.report(CodeError::new(K::BlendingDropped(name()), at).into());
+                self.report(CodeError::new(K::BlendingDropped(name()), at));
                 return self.leftover_move(w, span, code).map(|_| Flow::Next);
             }
             760 => return Err(CodeError::new(K::G76, at).into()),
@@ -426,7 +426,7 @@ impl Evaluator<'_> {
                     }
                 }
                 self.warn_once((b'M', t), || {
-                    CodeError::new(K::MCodePassedThrough(number), at).into()
+                    CodeError::new(K::MCodePassedThrough(number), at)
                 });
                 (
                     Op::Passthrough(ir::Passthrough::MCode { number, words }),
@@ -476,7 +476,7 @@ impl Evaluator<'_> {
             Flavour::Generic => {
                 if self.options.plain && p > 0.0 {
                     self.warn_once((b'G', 40), || {
-                        CodeError::new(K::DwellInMilliseconds(p), pspan).into()
+                        CodeError::new(K::DwellInMilliseconds(p), pspan)
                     });
                 }
                 p / 1000.0

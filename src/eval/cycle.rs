@@ -139,28 +139,22 @@ impl Evaluator<'_> {
         if at.is_empty() {
             return Err(CycleBlockError::new(CycleBlockErrorKind::NoHole(kind), at_code).into());
         }
+        // A word as given, else the last block's (a repeat may leave it
+        // out), else missing.
         let sticky = self.sticky;
-        let missing = |what, help| missing(kind, what, help, at_code);
-        let r = match w.take(b'R') {
-            Some((r, _)) => r,
-            None if repeat => sticky.r,
-            None => {
-                return Err(missing(
-                    'R',
-                    "R is the level the hole starts from: `G81 X10 Y5 Z-3 R1`",
-                ))
-            }
-        };
-        let depth = match at.get(n) {
-            Some(d) => d,
-            None if repeat => sticky.depth,
-            None => {
-                return Err(missing(
-                    n.letter() as char,
-                    "the normal axis of the plane gives the hole's bottom",
-                ))
-            }
-        };
+        let last = |v: f64| repeat.then_some(v);
+        let r = w
+            .take(b'R')
+            .map(|(r, _)| r)
+            .or(last(sticky.r))
+            .ok_or_else(|| {
+                let help = "R is the level the hole starts from: `G81 X10 Y5 Z-3 R1`";
+                missing(kind, 'R', help, at_code)
+            })?;
+        let depth = at.get(n).or(last(sticky.depth)).ok_or_else(|| {
+            let help = "the normal axis of the plane gives the hole's bottom";
+            missing(kind, n.letter() as char, help, at_code)
+        })?;
         at.set(n, depth);
         let q = self.cycle_peck(kind, w, repeat, at_code)?;
         let dwell = self.cycle_dwell(kind, w, repeat, at_code)?;
@@ -221,19 +215,17 @@ impl Evaluator<'_> {
         if !pecks(kind) {
             return Ok(None);
         }
-        match w.take(b'Q') {
+        let q = match w.take(b'Q') {
             Some((q, qspan)) if q <= 0.0 => {
-                Err(CycleBlockError::new(CycleBlockErrorKind::PeckNotPositive, qspan).into())
+                return Err(
+                    CycleBlockError::new(CycleBlockErrorKind::PeckNotPositive, qspan).into(),
+                )
             }
-            Some((q, _)) => Ok(Some(q)),
-            None if repeat => Ok(Some(self.sticky.q)),
-            None => Err(missing(
-                kind,
-                'Q',
-                "Q is the depth of each peck: `G83 X10 Z-12 R1 Q3`",
-                at_code,
-            )),
-        }
+            given => given.map(|(q, _)| q),
+        };
+        let help = "Q is the depth of each peck: `G83 X10 Z-12 R1 Q3`";
+        let q = q.or(repeat.then_some(self.sticky.q));
+        q.map(Some).ok_or_else(|| missing(kind, 'Q', help, at_code))
     }
 
     /// The dwell at the bottom, in seconds, of a cycle that dwells (its P,
@@ -248,16 +240,12 @@ impl Evaluator<'_> {
         if !takes_dwell(kind) {
             return Ok(None);
         }
-        match w.take_number(b'P') {
-            Some((p, pspan, written)) => Ok(Some(self.seconds(p, pspan, written)?)),
-            None if repeat || !needs_dwell(kind) => Ok(Some(self.sticky.p)),
-            None => Err(missing(
-                kind,
-                'P',
-                "P is the dwell at the bottom in seconds: `G82 X10 Z-3 R1 P0.5`",
-                at_code,
-            )),
-        }
+        let p = match w.take_number(b'P') {
+            Some((p, pspan, written)) => Some(self.seconds(p, pspan, written)?),
+            None => (repeat || !needs_dwell(kind)).then_some(self.sticky.p),
+        };
+        let help = "P is the dwell at the bottom in seconds: `G82 X10 Z-3 R1 P0.5`";
+        p.map(Some).ok_or_else(|| missing(kind, 'P', help, at_code))
     }
 
     /// A warning, once, when a cycle comes before any G98/G99: where it
@@ -295,18 +283,11 @@ impl Evaluator<'_> {
         let mut fanuc_k = None;
         if kind == CycleKind::G87 {
             for (i, letter) in [b'I', b'J', b'K'].into_iter().enumerate() {
-                ijk[i] = match w.take(letter) {
-                    Some((v, _)) => Some(v),
-                    None if repeat => Some(self.sticky.ijk[i]),
-                    None => {
-                        let kind = CycleBlockErrorKind::Missing {
-                            kind,
-                            what: letter as char,
-                            help: "G87 needs I, J (the offset to pass the bar) and K (the back-bore level)",
-                        };
-                        return Err(CycleBlockError::new(kind, at_code).into());
-                    }
-                };
+                let given = w.take(letter).map(|(v, _)| v);
+                let help =
+                    "G87 needs I, J (the offset to pass the bar) and K (the back-bore level)";
+                let v = given.or(repeat.then_some(self.sticky.ijk[i]));
+                ijk[i] = Some(v.ok_or_else(|| missing(kind, letter as char, help, at_code))?);
             }
         } else {
             fanuc_k = w.take(b'K');
@@ -330,8 +311,8 @@ impl Evaluator<'_> {
 
     /// R above the hole's bottom (under G91 the depth goes down from R).
     fn check_levels(&self, r: f64, depth: f64, n: Axis, at_code: Span) -> Result<(), Diagnostic> {
+        let axis = n.letter() as char;
         if r < depth && self.distance == ir::Distance::Absolute {
-            let axis = n.letter() as char;
             return Err(CycleBlockError::new(
                 CycleBlockErrorKind::RBelowBottom { r, axis, depth },
                 at_code,
@@ -339,7 +320,6 @@ impl Evaluator<'_> {
             .into());
         }
         if self.distance == ir::Distance::Incremental && depth > 0.0 {
-            let axis = n.letter() as char;
             return Err(CycleBlockError::new(
                 CycleBlockErrorKind::BottomAboveR { axis, depth },
                 at_code,

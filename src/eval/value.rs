@@ -46,13 +46,14 @@ pub struct Vars {
     /// The symbol of `#n`, by n; empty when no `#[…]` was read (the lexer
     /// names every parameter when one is).
     numbered: Vec<Option<Symbol>>,
-    /// The lowest number `#[…]` may give: Fanuc's #0 (vacant), else #1.
-    lowest: u32,
+    /// Fanuc's: `#[…]` may give #0 (vacant), and variables may be vacant.
+    fanuc: bool,
 }
 
 impl Vars {
-    /// `zero`: `#[…]` may give #0 (Fanuc's vacant variable; rs274 has none).
-    pub fn new(slots: Vec<Slot>, names: &Names, zero: bool) -> Vars {
+    /// `fanuc`: Fanuc's variables (a `#[…]` may give #0, the vacant one;
+    /// rs274 has none).
+    pub fn new(slots: Vec<Slot>, names: &Names, fanuc: bool) -> Vars {
         let mut numbered = Vec::new();
         if names.find(&format!("#{LAST_PARAMETER}")).is_some() {
             numbered = vec![None; LAST_PARAMETER as usize + 1];
@@ -62,11 +63,10 @@ impl Vars {
                 }
             }
         }
-        let lowest = u32::from(!zero);
         Vars {
             slots,
             numbered,
-            lowest,
+            fanuc,
         }
     }
 
@@ -75,15 +75,11 @@ impl Vars {
     pub fn parameter(&self, value: f64, span: Span) -> Result<Symbol, ExprError> {
         let n = value.round();
         let whole = (value - n).abs() <= 1e-4;
-        let found = (whole && (f64::from(self.lowest)..=f64::from(LAST_PARAMETER)).contains(&n))
+        let lowest = u32::from(!self.fanuc);
+        let found = (whole && (f64::from(lowest)..=f64::from(LAST_PARAMETER)).contains(&n))
             .then(|| self.numbered.get(n as usize).copied().flatten())
             .flatten();
-        let lowest = self.lowest;
-        found.ok_or(ExprError::NoSuchParameter {
-            value,
-            lowest,
-            span,
-        })
+        found.ok_or(ExprError::NoSuchParameter { value, span })
     }
 }
 
@@ -131,8 +127,6 @@ pub enum ExprError {
     /// `#[value]` where the value is no parameter's number.
     NoSuchParameter {
         value: f64,
-        /// The lowest number there is (#0 on Fanuc, else #1).
-        lowest: u32,
         span: Span,
     },
     /// Depends on a variable whose own error was already reported.
@@ -245,15 +239,16 @@ impl ExprError {
                 )
                 .with_note(format!("the functions are: {}", known.join(" ")))
             }
-            ExprError::NoSuchParameter {
-                value,
-                lowest,
-                span,
-            } => error(
-                format!("`#[{value}]` names no parameter"),
-                *span,
-                format!("a parameter's number is a whole number from {lowest} to {LAST_PARAMETER}"),
-            ),
+            ExprError::NoSuchParameter { value, span } => {
+                let lowest = u32::from(from != super::Flavour::Fanuc);
+                error(
+                    format!("`#[{value}]` names no parameter"),
+                    *span,
+                    format!(
+                        "a parameter's number is a whole number from {lowest} to {LAST_PARAMETER}"
+                    ),
+                )
+            }
             ExprError::Poisoned => return None,
         })
     }
@@ -365,6 +360,10 @@ fn finite(value: f64, span: Span, what: impl FnOnce() -> String) -> Result<f64, 
 
 /// A variable that is vacant (Fanuc's null), written alone.
 pub fn vacant(expr: &Expr, vars: &Vars) -> bool {
+    // Only Fanuc's variables are ever vacant.
+    if !vars.fanuc {
+        return false;
+    }
     let name = match &expr.kind {
         ExprKind::Var(s) => Some(*s),
         // The number may be a vacant variable's (0: `#0`).

@@ -87,14 +87,13 @@ enum Shape {
     Arc { center: P2, t: i32, sweep: f64 },
 }
 
-/// A compensated arc at a concave corner: its centre and radius, whether
-/// the cutter is inside it, its turn, and the corner's angles (`beta`, the
-/// turn at the corner; `theta`, the offset's direction at its start).
+/// A compensated arc at a concave corner: its centre and radius, its
+/// turn, and the corner's angles (`beta`, the turn at the corner; `theta`,
+/// the offset's direction at its start).
 #[derive(Clone, Copy)]
 struct ArcCorner {
     centre: P2,
     radius: f64,
-    inside: bool,
     t: i32,
     beta: f64,
     theta: f64,
@@ -642,7 +641,6 @@ impl CompPass {
             let corner = ArcCorner {
                 centre: o,
                 radius: ra,
-                inside: ins,
                 t,
                 beta,
                 theta,
@@ -690,12 +688,11 @@ impl CompPass {
         let ArcCorner {
             centre: o,
             radius: ra,
-            inside: ins,
             t,
             beta,
             theta,
         } = *arc;
-        let r = on.r;
+        let (r, ins) = (on.r, inside(on.side, t));
         if let Some(Queued::Move(Held {
             shape: Shape::Arc {
                 center: a, t: tp, ..

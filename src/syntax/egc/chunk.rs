@@ -127,10 +127,13 @@ fn plain_word(bytes: &[u8], at: usize) -> Option<usize> {
     if i == digits {
         return None;
     }
-    let number = std::str::from_utf8(&bytes[digits..i]).ok()?;
-    let whole = number.split('.').next().unwrap_or("");
-    let whole = whole.trim_start_matches('0');
-    let calls = matches!((letter, whole), (b'M', "98" | "99") | (b'G', "65"));
+    let number = &bytes[digits..i];
+    let whole = number.split(|&b| b == b'.').next().unwrap_or(&[]);
+    let first = whole.iter().position(|&b| b != b'0').unwrap_or(whole.len());
+    let calls = matches!(
+        (letter, &whole[first..]),
+        (b'M', b"98" | b"99") | (b'G', b"65")
+    );
     (!calls).then_some(i)
 }
 

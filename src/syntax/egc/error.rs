@@ -264,22 +264,18 @@ impl Wording for SyntaxErrorKind {
                 at,
                 "an O number is a whole number from 0 to 99999999",
             ),
-            SubprogramWithoutM99 {
-                number,
-                next: Some(next),
-            } => error(
-                format!("subprogram O{number} has no M99"),
-                at,
-                "this subprogram is not closed",
-            )
-            .with_secondary(*next, "the next program starts here")
-            .with_help("end every subprogram with `M99`"),
-            SubprogramWithoutM99 { number, next: None } => error(
-                format!("subprogram O{number} has no M99"),
-                at,
-                "this subprogram is never closed",
-            )
-            .with_help("end every subprogram with `M99`"),
+            SubprogramWithoutM99 { number, next } => {
+                let label = match next {
+                    Some(_) => "this subprogram is not closed",
+                    None => "this subprogram is never closed",
+                };
+                let d = error(format!("subprogram O{number} has no M99"), at, label);
+                match next {
+                    Some(next) => d.with_secondary(*next, "the next program starts here"),
+                    None => d,
+                }
+                .with_help("end every subprogram with `M99`")
+            }
             SubprogramTwice { number, first } => error(
                 format!("O{number} is defined twice"),
                 at,

@@ -379,8 +379,6 @@ struct Lexer<'a> {
     /// Symbolic words `X#[…]` that close with their group: the depth of
     /// that group.
     indirect_syms: Vec<usize>,
-    /// `#0`…`#LAST_PARAMETER` are all named (a `#[…]` was read).
-    every_parameter_named: bool,
     braces: Vec<usize>,
     /// A statement end seen but not yet emitted: dropped if `{` or `else`
     /// comes next, so braces and `else` may start a new line.
@@ -402,14 +400,13 @@ struct Lexer<'a> {
     do_labels: Vec<f64>,
     /// An `oN repeat` line: its counter, and where `repeat` is.
     pending_repeat: Option<(Symbol, usize, usize)>,
-    /// LinuxCNC's named subroutines (`o<name>`), numbered as they come.
-    /// Per bracket depth: AND (1) and OR (2) seen there.
-    logic: Vec<u8>,
     /// The `oN while [c]` that ends a do loop, and Fanuc's `IF [c] THEN`
     /// and `IF [c] GOTO n`: the block closes at the line's end.
     close_at_line_end: bool,
     /// Fanuc's open `WHILE … DOm` loops: their m, innermost last.
     fanuc_loops: Vec<u32>,
+    /// `#0`…`#LAST_PARAMETER` are all named (a `#[…]` was read).
+    every_parameter_named: bool,
 }
 
 /// The program numbers given to LinuxCNC's named subroutines (`o<name>`).
@@ -444,7 +441,6 @@ impl<'a> Lexer<'a> {
             groups: Vec::new(),
             syms: Vec::new(),
             indirect_syms: Vec::new(),
-            every_parameter_named: false,
             braces: Vec::new(),
             pending_term: None,
             line_comments: Vec::new(),
@@ -455,9 +451,9 @@ impl<'a> Lexer<'a> {
             pending_call: None,
             do_labels: Vec::new(),
             pending_repeat: None,
-            logic: Vec::new(),
             close_at_line_end: false,
             fanuc_loops: Vec::new(),
+            every_parameter_named: false,
         }
     }
 
@@ -670,7 +666,6 @@ impl<'a> Lexer<'a> {
             }
         }
         self.groups.push(start);
-        self.logic.truncate(self.groups.len());
         let tok = if call { Tok::CallOpen } else { Tok::LParen };
         self.push(start, tok, start + 1);
         start + 1
@@ -1083,9 +1078,7 @@ impl<'a> Lexer<'a> {
 
     fn finish(mut self) -> Lexed {
         let eof = self.text.len();
-        if self.language == Language::Gcode && self.pending_term.is_none() {
-            self.assignments_after_words(eof);
-        }
+        self.assignments_after_words(eof);
         if !self.line_comments.is_empty() {
             self.flush_comments((eof, eof));
         }
@@ -1272,44 +1265,43 @@ impl<'a> Lexer<'a> {
     /// the words become a statement of their own, followed by the
     /// assignments. Any other mix is left for the parser to report.
     fn assignments_after_words(&mut self, at: usize) {
+        if self.language != Language::Gcode || self.pending_term.is_some() {
+            return;
+        }
         let tokens = &self.out[self.stmt_start.min(self.out.len())..];
+        if !tokens.iter().any(|t| t.1 == Tok::Assign) {
+            return;
+        }
         let mut words = Vec::new();
         let mut assignments = Vec::new();
         let mut i = 0;
         while i < tokens.len() {
-            let end = match (tokens[i].1, tokens.get(i + 1).map(|t| t.1)) {
-                (Tok::Name(_), Some(Tok::Assign)) => match value_end(tokens, i + 2) {
-                    Some(end) => {
-                        assignments.push(i..end);
-                        end
-                    }
-                    None => return,
-                },
-                // `#[…] =`, `##1 =`: an indirect target.
-                (Tok::Hash, _) => {
-                    let target = value_end(tokens, i);
-                    match target.filter(|&t| matches!(tokens.get(t), Some((_, Tok::Assign, _)))) {
-                        Some(t) => match value_end(tokens, t + 1) {
-                            Some(end) => {
-                                assignments.push(i..end);
-                                end
-                            }
-                            None => return,
-                        },
-                        None => return,
-                    }
+            // Where an assignment's target ends: a name, or `#[…]`/`##1`.
+            let target = match tokens[i].1 {
+                Tok::Name(_) => Some(i + 1),
+                Tok::Hash => value_end(tokens, i),
+                _ => None,
+            };
+            let assigned = target.filter(|&t| matches!(tokens.get(t), Some((_, Tok::Assign, _))));
+            let end = match (assigned, tokens[i].1) {
+                (Some(t), _) => {
+                    let Some(end) = value_end(tokens, t + 1) else {
+                        return;
+                    };
+                    assignments.push(i..end);
+                    end
                 }
-                (Tok::Words(..), _) => {
+                (None, Tok::Words(..)) => {
                     words.push(i..i + 1);
                     i + 1
                 }
-                (Tok::SymOpen(_), _) => match closing(tokens, i, |t| t == Tok::SymClose) {
-                    Some(end) => {
-                        words.push(i..end);
-                        end
-                    }
-                    None => return,
-                },
+                (None, Tok::SymOpen(_)) => {
+                    let Some(end) = closing(tokens, i, |t| t == Tok::SymClose) else {
+                        return;
+                    };
+                    words.push(i..end);
+                    end
+                }
                 _ => return,
             };
             i = end;
@@ -1335,10 +1327,7 @@ impl<'a> Lexer<'a> {
         if let Some(&(open, _)) = self.syms.first() {
             self.unclosed_sym(open);
         }
-        if self.language == Language::Gcode && self.pending_term.is_none() {
-            self.assignments_after_words(start);
-        }
-        self.logic.clear();
+        self.assignments_after_words(start);
         if let Some(call) = self.pending_call.take() {
             self.end_call(call);
         }

@@ -52,7 +52,7 @@ pub fn parse_program_at(
     language: Language,
 ) -> (Program, Vec<Diagnostic>) {
     let mut names = Names::default();
-    let (mut program, diagnostics) = parse_into(text, at, language, &mut names);
+    let (mut program, diagnostics) = parse_program_from(text, 0, at, language, &mut names);
     program.names = names;
     (program, diagnostics)
 }
@@ -68,9 +68,10 @@ pub fn parse_program_files(
     language: Language,
 ) -> (Program, Vec<Diagnostic>) {
     let mut names = Names::default();
-    let (mut program, mut diagnostics) = parse_into(main.0, main.1, language, &mut names);
+    let (mut program, mut diagnostics) =
+        parse_program_from(main.0, 0, main.1, language, &mut names);
     for (text, at) in library {
-        let (part, more) = parse_into(text, at, language, &mut names);
+        let (part, more) = parse_program_from(text, 0, at, language, &mut names);
         diagnostics.extend(more);
         for sub in part.subprograms {
             if !program.subprograms.iter().any(|s| s.number == sub.number) {
@@ -82,20 +83,10 @@ pub fn parse_program_files(
     (program, diagnostics)
 }
 
-/// Parse one file into a program whose names are `names` (left empty in
-/// the program: the caller puts them there).
-fn parse_into(
-    text: &str,
-    at: &Locator,
-    language: Language,
-    names: &mut Names,
-) -> (Program, Vec<Diagnostic>) {
-    parse_program_from(text, 0, at, language, names)
-}
-
 /// Parse `text` from the offset `from` (a line start; the lines before it
-/// are not read), with spans in the whole text, interning into `names`
-/// (left empty in the program).
+/// are not read; 0 for a whole file), with spans in the whole text,
+/// interning into `names` (left empty in the program: the caller puts them
+/// there).
 pub fn parse_program_from(
     text: &str,
     from: usize,
