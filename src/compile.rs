@@ -8,7 +8,7 @@ use crate::emit::{self, EmitOptions};
 use crate::eval::{self, EvalOptions, WizardHost};
 use crate::ir;
 use crate::lower::{self, Pipeline};
-use crate::source::{FileId, Locator, Sources};
+use crate::source::{self, FileId, Locator, Sources};
 use crate::syntax::egc::{chunk, Language};
 use crate::toolpath::{Builder as ToolPathBuilder, ToolPath};
 use std::io::Write;
@@ -501,29 +501,53 @@ impl<'a> Parts<'a> {
     }
 }
 
+/// The lines of a file, as bytes (the first without a byte-order mark),
+/// for [`scan_plain`] and [`LineReader`] alike.
+struct RawLines<'a> {
+    reader: &'a mut dyn std::io::BufRead,
+    first: bool,
+    line: Vec<u8>,
+}
+
+impl<'a> RawLines<'a> {
+    fn new(reader: &'a mut dyn std::io::BufRead) -> RawLines<'a> {
+        RawLines {
+            reader,
+            first: true,
+            line: Vec::new(),
+        }
+    }
+
+    /// The next line with its line end; `None` at the end of the file.
+    fn next(&mut self) -> std::io::Result<Option<&[u8]>> {
+        self.line.clear();
+        if self.reader.read_until(b'\n', &mut self.line)? == 0 {
+            return Ok(None);
+        }
+        let bom = std::mem::take(&mut self.first) && self.line.starts_with(source::BOM);
+        Ok(Some(&self.line[if bom { source::BOM.len() } else { 0 }..]))
+    }
+}
+
 /// Whole lines of a plain program, read from a file about
-/// [`chunk::CHUNK_BYTES`] at a time and decoded as [`crate::source::decode`]
+/// [`chunk::CHUNK_BYTES`] at a time and decoded as [`source::decode`]
 /// decodes the whole file (a file [`scan_plain`] accepted: no NUL, control
 /// character or lone CR, so the two agree).
 struct LineReader<'a> {
-    reader: &'a mut dyn std::io::BufRead,
+    lines: RawLines<'a>,
     file: FileId,
     /// Where the next part starts in the decoded file, and its lines before.
     base: usize,
     lines_before: usize,
-    first: bool,
-    line: Vec<u8>,
 }
 
 impl<'a> LineReader<'a> {
     fn new(reader: &'a mut dyn std::io::BufRead, file: FileId) -> LineReader<'a> {
         LineReader {
-            reader,
+            lines: RawLines::new(reader),
             file,
             base: 0,
             lines_before: 0,
-            first: true,
-            line: Vec::new(),
         }
     }
 
@@ -533,12 +557,10 @@ impl<'a> LineReader<'a> {
         let mut text = String::new();
         let mut lines = 0;
         while text.len() < part {
-            self.line.clear();
-            if self.reader.read_until(b'\n', &mut self.line)? == 0 {
+            let Some(bytes) = self.lines.next()? else {
                 break;
-            }
-            let bytes = without_bom(&self.line, std::mem::take(&mut self.first));
-            text.push_str(&decode_line(bytes));
+            };
+            text.push_str(&source::decode_line(bytes));
             lines += usize::from(bytes.ends_with(b"\n"));
         }
         if text.is_empty() {
@@ -548,22 +570,6 @@ impl<'a> LineReader<'a> {
         self.base += text.len();
         self.lines_before += lines;
         Ok(Some((text, at)))
-    }
-}
-
-/// The line without the byte-order mark that may start the file.
-fn without_bom(line: &[u8], first: bool) -> &[u8] {
-    match line.strip_prefix(b"\xef\xbb\xbf") {
-        Some(rest) if first => rest,
-        _ => line,
-    }
-}
-
-/// A line as UTF-8, else as Latin-1 ([`crate::source::decode`]'s rule).
-fn decode_line(bytes: &[u8]) -> std::borrow::Cow<'_, str> {
-    match std::str::from_utf8(bytes) {
-        Ok(s) => std::borrow::Cow::Borrowed(s),
-        Err(_) => std::borrow::Cow::Owned(bytes.iter().map(|&b| b as char).collect()),
     }
 }
 
@@ -582,29 +588,28 @@ pub struct PlainFile {
 /// lone CR (which [`crate::source::decode`] reports or rewrites). `None`:
 /// read it whole.
 pub fn scan_plain(reader: &mut dyn std::io::BufRead) -> std::io::Result<Option<PlainFile>> {
-    let mut line = Vec::new();
-    let (mut len, mut decimals, mut first) = (0, 0, true);
-    loop {
-        line.clear();
-        if reader.read_until(b'\n', &mut line)? == 0 {
-            return Ok(Some(PlainFile { len, decimals }));
-        }
-        let bytes = without_bom(&line, std::mem::take(&mut first));
+    let mut lines = RawLines::new(reader);
+    let (mut len, mut decimals) = (0, 0);
+    while let Some(bytes) = lines.next()? {
         let control = bytes
             .iter()
             .any(|&b| b < 0x20 && !matches!(b, b'\n' | b'\r' | b'\t'));
-        let body = bytes.strip_suffix(b"\n").unwrap_or(bytes);
-        let body = body.strip_suffix(b"\r").unwrap_or(body);
-        if control || body.contains(&b'\r') {
+        // A CR not before a LF (even at the end) is a line end to `decode`.
+        let lone_cr = bytes
+            .iter()
+            .enumerate()
+            .any(|(i, &b)| b == b'\r' && bytes.get(i + 1) != Some(&b'\n'));
+        if control || lone_cr {
             return Ok(None);
         }
-        let text = decode_line(bytes);
+        let text = source::decode_line(bytes);
         if !chunk::plain_line(text.trim_end_matches(['\n', '\r'])) {
             return Ok(None);
         }
         decimals = decimals.max(input_decimals(&text));
         len += text.len();
     }
+    Ok(Some(PlainFile { len, decimals }))
 }
 
 /// Compile a plain program from `reader`, a part at a time, as file `file`

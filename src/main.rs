@@ -500,22 +500,7 @@ impl Job {
     /// Read `input` and everything it needs; on failure the exit code,
     /// with the problem printed.
     fn load(input: &str, options: &Options, stage: Option<Stage>) -> Result<Job, ExitCode> {
-        Job::load_as(input, options, stage, false)
-    }
-
-    /// [`Job::load`]; with `streamed`, the input's text is not read (it is
-    /// compiled from a reader, and read again only to show diagnostics).
-    fn load_as(
-        input: &str,
-        options: &Options,
-        stage: Option<Stage>,
-        streamed: bool,
-    ) -> Result<Job, ExitCode> {
-        let bytes = match streamed {
-            true => Ok(Vec::new()),
-            false => read_input(input),
-        };
-        let bytes = match bytes {
+        let bytes = match read_input(input) {
             Ok(bytes) => bytes,
             Err(e) => {
                 eprintln!("error: cannot read `{input}`: {e}");
@@ -535,6 +520,17 @@ impl Job {
                 return Err(ExitCode::from(1));
             }
         };
+        Job::with_text(input, text, options, stage)
+    }
+
+    /// [`Job::load`] with the input's text given (empty for a file compiled
+    /// from a reader, read again only to show diagnostics).
+    fn with_text(
+        input: &str,
+        text: String,
+        options: &Options,
+        stage: Option<Stage>,
+    ) -> Result<Job, ExitCode> {
         let mut sources = Sources::new();
         let name = if input == "-" { "<stdin>" } else { input };
         let file = sources.add(name, text);
@@ -583,12 +579,7 @@ impl Job {
             return Err(ExitCode::from(2));
         }
         let part = (input != "-").then(|| Path::new(input));
-        let plain = match options.language {
-            Some(InputArg::Gcode) => true,
-            Some(InputArg::Egc) => false,
-            None => !name.to_ascii_lowercase().ends_with(".egc"),
-        };
-        if plain && !streamed {
+        if plain_input(options, name) {
             match subroutine_files(&mut sources, file, &options.subroutine_dirs, part) {
                 Ok(library) => compile_options.library = library,
                 Err(e) => {
@@ -628,19 +619,37 @@ fn run(
         }
     }
     let started = std::time::Instant::now();
-    if let (true, Some(path)) = (write, output) {
-        if let Some(code) = run_streamed(input, path, options, stage, started) {
-            return code;
-        }
-    }
-    let mut job = match Job::load(input, options, stage) {
+    // A plain program written to a file is compiled from its file, a part
+    // at a time, without holding its text.
+    let streamed = match (write, output) {
+        (true, Some(_)) => streamable(input, options, stage),
+        _ => None,
+    };
+    let loaded = match streamed {
+        Some(_) => Job::with_text(input, String::new(), options, stage),
+        None => Job::load(input, options, stage),
+    };
+    let mut job = match loaded {
         Ok(job) => job,
         Err(code) => return code,
     };
-    let (sources, file, compile_options) = (&job.sources, job.file, &job.options);
-    let engine = &mut job.engine;
-    let mut compile =
-        |out: &mut dyn Write| compile_to(sources, file, compile_options, Some(&mut *engine), out);
+    let (file, compile_options) = (job.file, &job.options);
+    let (sources, engine) = (&job.sources, &mut job.engine);
+    let mut read_error = None;
+    let mut compile = |out: &mut dyn Write| match &streamed {
+        Some(plain) => {
+            compile_from_file(input, plain, file, compile_options, out).unwrap_or_else(|e| {
+                read_error = Some(e);
+                // Not a compiled program: the output is thrown away.
+                Report {
+                    diagnostics: Vec::new(),
+                    timings: Vec::new(),
+                    write_error: Some(std::io::Error::other("the input could not be read")),
+                }
+            })
+        }
+        None => compile_to(sources, file, compile_options, Some(&mut *engine), out),
+    };
     // A file is written as the program is compiled; standard output gets
     // the program only once it is known to be whole (a pipe to a machine
     // must never see half of one).
@@ -650,6 +659,18 @@ fn run(
         (true, None) => compile(&mut text),
         (false, _) => compile(&mut std::io::sink()),
     };
+    if let Some(e) = read_error {
+        eprintln!("error: cannot read `{input}`: {e}");
+        return ExitCode::from(2);
+    }
+    if streamed.is_some() && !report.diagnostics.is_empty() {
+        // The diagnostics show the lines they are about.
+        match std::fs::read(input).map(ger::source::decode) {
+            Ok(Ok(text)) => job.sources.set_text(job.file, text),
+            _ => eprintln!("note: `{input}` could not be read again to show its lines"),
+        }
+    }
+    let sources = &job.sources;
     if let Some(code) = reported(sources, &report, options, started) {
         return code;
     }
@@ -687,71 +708,57 @@ fn reported(
     None
 }
 
-/// Compile a plain program file to the file `output` without holding its
-/// text (issue 15): when it is one [`ger::compile::scan_plain`] accepts,
-/// it is read a part at a time. `None`: it is not; compile it whole.
-fn run_streamed(
-    input: &str,
-    output: &Path,
-    options: &Options,
-    stage: Option<Stage>,
-    started: std::time::Instant,
-) -> Option<ExitCode> {
-    let plain = match options.language {
+/// Whether `input` is read as plain G-code (`--input`, else its name).
+fn plain_input(options: &Options, name: &str) -> bool {
+    match options.language {
         Some(InputArg::Gcode) => true,
         Some(InputArg::Egc) => false,
-        None => !input.to_ascii_lowercase().ends_with(".egc"),
-    };
-    // A file it reads twice: a regular one (not a pipe), whose subroutine
-    // folders need no reading.
+        None => ger::syntax::egc::Language::of_file(name) == ger::syntax::egc::Language::Gcode,
+    }
+}
+
+/// A plain program file that can be compiled from the file itself, a part
+/// at a time ([`ger::compile::scan_plain`]), with the metadata it had when
+/// it was read through: a regular file (a pipe cannot be read twice) whose
+/// subroutine folders need no reading. `None`: compile it whole.
+fn streamable(
+    input: &str,
+    options: &Options,
+    stage: Option<Stage>,
+) -> Option<(ger::compile::PlainFile, std::fs::Metadata)> {
     let before = std::fs::metadata(input).ok()?;
     if input == "-"
-        || !plain
+        || !plain_input(options, input)
         || stage == Some(Stage::Parse)
         || !before.is_file()
         || !options.subroutine_dirs.is_empty()
     {
         return None;
     }
+    let plain = ger::compile::scan_plain(&mut open_input(input).ok()?).ok()??;
+    Some((plain, before))
+}
+
+fn open_input(input: &str) -> std::io::Result<std::io::BufReader<std::fs::File>> {
+    std::fs::File::open(input).map(|f| std::io::BufReader::with_capacity(1 << 16, f))
+}
+
+/// Compile `input` from its file a part at a time ([`streamable`]); an
+/// error if it cannot be read or changed since it was read through.
+fn compile_from_file(
+    input: &str,
+    (plain, before): &(ger::compile::PlainFile, std::fs::Metadata),
+    file: usize,
+    options: &CompileOptions,
+    out: &mut dyn Write,
+) -> std::io::Result<Report> {
+    let report =
+        ger::compile::compile_plain(&mut open_input(input)?, input, file, *plain, options, out)?;
     let stamp = |m: &std::fs::Metadata| (m.len(), m.modified().ok());
-    let open = || std::fs::File::open(input).map(|f| std::io::BufReader::with_capacity(1 << 16, f));
-    let facts = ger::compile::scan_plain(&mut open().ok()?).ok()??;
-    let mut job = match Job::load_as(input, options, stage, true) {
-        Ok(job) => job,
-        Err(code) => return Some(code),
-    };
-    let mut read_error = None;
-    let report = write_atomically(output, |out| {
-        let compiled = open().and_then(|mut reader| {
-            ger::compile::compile_plain(&mut reader, input, job.file, facts, &job.options, out)
-        });
-        // Read twice, it must be the same file both times.
-        let unchanged = std::fs::metadata(input).is_ok_and(|m| stamp(&m) == stamp(&before));
-        let compiled = compiled.and_then(|report| match unchanged {
-            true => Ok(report),
-            false => Err(std::io::Error::other("it changed while it was compiled")),
-        });
-        compiled.unwrap_or_else(|e| {
-            read_error = Some(e);
-            Report {
-                diagnostics: Vec::new(),
-                timings: Vec::new(),
-                write_error: Some(std::io::Error::other("the input could not be read")),
-            }
-        })
-    });
-    if let Some(e) = read_error {
-        eprintln!("error: cannot read `{input}`: {e}");
-        return Some(ExitCode::from(2));
+    match std::fs::metadata(input)? {
+        now if stamp(&now) == stamp(before) => Ok(report),
+        _ => Err(std::io::Error::other("it changed while it was compiled")),
     }
-    if !report.diagnostics.is_empty() {
-        // The diagnostics show the lines they are about.
-        match std::fs::read(input).map(ger::source::decode) {
-            Ok(Ok(text)) => job.sources.set_text(job.file, text),
-            _ => eprintln!("note: `{input}` could not be read again to show its lines"),
-        }
-    }
-    Some(reported(&job.sources, &report, options, started).unwrap_or(ExitCode::SUCCESS))
 }
 
 #[derive(Clone, Copy, PartialEq, Eq)]

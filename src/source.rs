@@ -227,8 +227,8 @@ pub enum NotText {
 /// it is dropped. NUL bytes or other control characters mean the file is
 /// not text: refused before any parsing. Every span refers to this text.
 pub fn decode(mut bytes: Vec<u8>) -> Result<String, NotText> {
-    if bytes.starts_with(b"\xef\xbb\xbf") {
-        bytes.drain(..3);
+    if bytes.starts_with(BOM) {
+        bytes.drain(..BOM.len());
     }
     if let Some(eof) = bytes.iter().position(|&b| b == 0x1a) {
         if bytes[eof + 1..].iter().all(|b| b.is_ascii_whitespace()) {
@@ -264,13 +264,21 @@ pub fn decode(mut bytes: Vec<u8>) -> Result<String, NotText> {
             let bytes = e.into_bytes();
             let mut text = String::with_capacity(bytes.len() + bytes.len() / 8);
             for line in bytes.split_inclusive(|&b| b == b'\n') {
-                match std::str::from_utf8(line) {
-                    Ok(s) => text.push_str(s),
-                    Err(_) => text.extend(line.iter().map(|&b| b as char)),
-                }
+                text.push_str(&decode_line(line));
             }
             Ok(text)
         }
+    }
+}
+
+/// The UTF-8 byte-order mark, dropped where a file starts with it.
+pub const BOM: &[u8] = b"\xef\xbb\xbf";
+
+/// One line as UTF-8, else as Latin-1 ([`decode`]'s rule for each line).
+pub fn decode_line(line: &[u8]) -> std::borrow::Cow<'_, str> {
+    match std::str::from_utf8(line) {
+        Ok(s) => std::borrow::Cow::Borrowed(s),
+        Err(_) => std::borrow::Cow::Owned(line.iter().map(|&b| b as char).collect()),
     }
 }
 

@@ -269,8 +269,10 @@ fn subroutine_folders() {
 
 /// A plain program written to a file is compiled from the file a part at a
 /// time (its text is not held): the same bytes as through standard output,
-/// its warnings shown with their lines, and a syntax error far into it
-/// leaves the existing output alone.
+/// its warnings shown with their lines (read again for them), and a syntax
+/// error far into it leaves the existing output alone. That this path is
+/// the one taken shows only in memory; `tests/streaming.rs` compiles from a
+/// reader directly.
 #[test]
 fn a_plain_program_compiled_to_a_file_is_read_in_parts() {
     let dir = scratch("plain-parts");
