@@ -57,6 +57,22 @@ pub struct CompileOptions {
     pub library: Vec<FileId>,
 }
 
+impl CompileOptions {
+    /// Whose meaning holds for the file `name`: `--from`, else its name's.
+    fn flavour(&self, name: &str) -> eval::Flavour {
+        self.from.unwrap_or_else(|| eval::Flavour::of_file(name))
+    }
+
+    /// The evaluator's options for a file in `language` read as `from`.
+    fn eval_options(&self, from: eval::Flavour, language: Language) -> EvalOptions {
+        EvalOptions {
+            from,
+            plain: language == Language::Gcode,
+            ..self.eval.clone()
+        }
+    }
+}
+
 /// The result of a compile: the text (absent when there are errors) and
 /// every diagnostic, warnings included.
 pub struct Compiled {
@@ -305,7 +321,7 @@ impl<'a> Input<'a> {
             file,
             locator: sources.locator(file),
             language: options.input.unwrap_or_else(|| Language::of_file(name)),
-            from: options.from.unwrap_or_else(|| eval::Flavour::of_file(name)),
+            from: options.flavour(name),
         }
     }
 }
@@ -328,11 +344,7 @@ fn run<'a>(
         language,
         from,
     } = input;
-    let eval_options = EvalOptions {
-        from,
-        plain: language == Language::Gcode,
-        ..options.eval.clone()
-    };
+    let eval_options = options.eval_options(from, language);
     let by_parts = language == Language::Gcode
         && library.is_empty()
         && options.stage != Some(Stage::Parse)
@@ -628,11 +640,7 @@ pub fn compile_plain(
 ) -> std::io::Result<Report> {
     let mut diagnostics = Vec::new();
     let mut clock = Clock::new();
-    let eval_options = EvalOptions {
-        from: options.from.unwrap_or_else(|| eval::Flavour::of_file(name)),
-        plain: true,
-        ..options.eval.clone()
-    };
+    let eval_options = options.eval_options(options.flavour(name), Language::Gcode);
     let backend = Backend::new(SourceFacts::Known(plain), file, options, Output::Text(out));
     let mut parts = Parts::new(PartSource::Reader(LineReader::new(reader, file)));
     let written = run_by_parts(

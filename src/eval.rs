@@ -647,10 +647,7 @@ impl<'a> Evaluator<'a> {
         }
         let name = match target {
             ast::Target::Name(name) => *name,
-            ast::Target::Indirect(number) => {
-                let n = value::number(number, &self.vars, &String::new).ok()?;
-                self.vars.parameter(n, number.span).ok()?
-            }
+            ast::Target::Indirect(number) => self.vars.resolve(number, number.span).ok()?,
         };
         self.is_system_variable(name).then_some(name)
     }
@@ -991,9 +988,7 @@ impl<'a> Evaluator<'a> {
             ast::Target::Name(name) => return Some(*name),
             ast::Target::Indirect(number) => number,
         };
-        let found = value::number(number, &self.vars, &|| "the parameter's number".into())
-            .and_then(|n| self.vars.parameter(n, span));
-        match found {
+        match self.vars.resolve(number, span) {
             Ok(name) => Some(name),
             Err(e) => {
                 self.report_expr(e);

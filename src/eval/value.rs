@@ -70,6 +70,12 @@ impl Vars {
         }
     }
 
+    /// The numbered parameter `#[number]` names, reported at `span`.
+    pub fn resolve(&self, number: &Expr, span: Span) -> Result<Symbol, ExprError> {
+        let n = self::number(number, self, &|| "the parameter's number".into())?;
+        self.parameter(n, span)
+    }
+
     /// The numbered parameter `value` names (`#[value]`); as rs274, a
     /// value within 0.0001 of a whole number is that number.
     pub fn parameter(&self, value: f64, span: Span) -> Result<Symbol, ExprError> {
@@ -291,10 +297,7 @@ pub fn eval(expr: &Expr, vars: &Vars) -> Result<Value, ExprError> {
         ExprKind::Bool(b) => Ok(Value::Bool(*b)),
         ExprKind::Str(s) => Ok(Value::Str(*s)),
         ExprKind::Var(s) => read(vars, *s, expr.span),
-        ExprKind::Indirect(e) => {
-            let n = number(e, vars, &|| "the parameter's number".into())?;
-            read(vars, vars.parameter(n, expr.span)?, expr.span)
-        }
+        ExprKind::Indirect(e) => read(vars, vars.resolve(e, expr.span)?, expr.span),
         ExprKind::Unary(UnaryOp::Neg, e) => Ok(Value::Number(-number(e, vars, &|| "`-`".into())?)),
         ExprKind::Unary(UnaryOp::Not, e) => Ok(Value::Bool(!boolean(e, vars, &|| "`!`".into())?)),
         ExprKind::Binary(op, a, b) => binary(*op, a, b, expr.span, vars),
@@ -367,9 +370,7 @@ pub fn vacant(expr: &Expr, vars: &Vars) -> bool {
     let name = match &expr.kind {
         ExprKind::Var(s) => Some(*s),
         // The number may be a vacant variable's (0: `#0`).
-        ExprKind::Indirect(e) => number(e, vars, &String::new)
-            .ok()
-            .and_then(|n| vars.parameter(n, e.span).ok()),
+        ExprKind::Indirect(e) => vars.resolve(e, e.span).ok(),
         _ => None,
     };
     name.is_some_and(|s| vars.get(s.0 as usize) == Some(&Slot::Vacant))

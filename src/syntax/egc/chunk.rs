@@ -5,7 +5,7 @@
 //! [`CHUNK_BYTES`], each dropped before the next is read. Memory then
 //! grows with the longest part, not with the program.
 
-use super::lexer::Language;
+use super::lexer::{comment_end, Language};
 use super::parser::parse_program_from;
 use crate::ast::{Names, Stmt};
 use crate::diagnostic::Diagnostic;
@@ -84,25 +84,6 @@ pub fn plain_line(line: &str) -> bool {
         }
     }
     true
-}
-
-/// Where the comment that opens at `bytes[open]` ends (one past its `)`),
-/// or `None` when it runs to the end of the line.
-fn comment_end(bytes: &[u8], open: usize) -> Option<usize> {
-    let mut depth = 0usize;
-    for (k, &b) in bytes.iter().enumerate().skip(open) {
-        match b {
-            b'(' => depth += 1,
-            b')' => {
-                depth -= 1;
-                if depth == 0 {
-                    return Some(k + 1);
-                }
-            }
-            _ => {}
-        }
-    }
-    None
 }
 
 /// The end of the word whose letter is `bytes[at]`, when it is a plain

@@ -1016,18 +1016,8 @@ impl<'a> Lexer<'a> {
     /// A `( … )` comment of plain G-code, which may hold parentheses of its
     /// own; it ends with its line. Returns where the text goes on.
     fn nested_comment(&mut self, start: usize, line_end: usize) -> usize {
-        let mut depth = 0usize;
-        for (i, b) in self.text[start..line_end].bytes().enumerate() {
-            match b {
-                b'(' => depth += 1,
-                b')' => {
-                    depth -= 1;
-                    if depth == 0 {
-                        return start + i + 1;
-                    }
-                }
-                _ => {}
-            }
+        if let Some(end) = comment_end(&self.text.as_bytes()[..line_end], start) {
+            return end;
         }
         self.report(
             SyntaxErrorKind::UnclosedComment(Language::Gcode),
@@ -1615,6 +1605,26 @@ fn closing(tokens: &[Spanned], open: usize, closes: impl Fn(Tok) -> bool) -> Opt
         }
         if depth == 0 {
             return closes(tok).then_some(k + 1);
+        }
+    }
+    None
+}
+
+/// Where the plain G-code comment that opens at `bytes[open]` ends (one
+/// past the `)` that closes it, counting nested ones), or `None` when it
+/// runs to the end of `bytes` (its line).
+pub fn comment_end(bytes: &[u8], open: usize) -> Option<usize> {
+    let mut depth = 0usize;
+    for (k, &b) in bytes.iter().enumerate().skip(open) {
+        match b {
+            b'(' => depth += 1,
+            b')' => {
+                depth -= 1;
+                if depth == 0 {
+                    return Some(k + 1);
+                }
+            }
+            _ => {}
         }
     }
     None

@@ -24,11 +24,17 @@ impl Lexer<'_> {
         if *raw != Ok(Raw::Ident) {
             return None;
         }
-        let text = self.text[start..end].to_ascii_uppercase();
+        let text = &self.text[start..end];
         let (word, digits) = text.split_at(
             text.find(|c: char| c.is_ascii_digit())
                 .unwrap_or(text.len()),
         );
+        // Any other word (`EQ`, `sin`, a name) is not Macro B's: nothing
+        // more to look at.
+        const KEYWORDS: [&str; 6] = ["WHILE", "IF", "GOTO", "END", "DO", "THEN"];
+        let word = KEYWORDS
+            .into_iter()
+            .find(|k| k.eq_ignore_ascii_case(word))?;
         let head = self.statement_head();
         match (word, head) {
             ("WHILE" | "IF", Some(None)) if digits.is_empty() => {
