@@ -12,6 +12,7 @@ use crate::source::{self, FileId, Locator, Sources};
 use crate::syntax::egc::{chunk, Language};
 use crate::toolpath::{Builder as ToolPathBuilder, ToolPath};
 use std::io::Write;
+use std::sync::{mpsc, Mutex, PoisonError};
 use std::time::{Duration, Instant};
 
 /// The stages of SPEC §4, in order; `--stage NAME` stops after one.
@@ -131,6 +132,12 @@ impl Clock {
         self.timings.extend_from_slice(parts);
         self.last = now;
     }
+
+    /// Stages timed on another thread, at the same time as the last lap:
+    /// reported, not taken from it.
+    fn add(&mut self, stages: &[(&'static str, Duration)]) {
+        self.timings.extend_from_slice(stages);
+    }
 }
 
 /// Compile the file `file` of `sources` to a string.
@@ -164,7 +171,7 @@ pub fn compile_to(
     file: FileId,
     options: &CompileOptions,
     wizards: Option<&mut dyn WizardHost>,
-    out: &mut dyn Write,
+    out: &mut (dyn Write + Send),
 ) -> Report {
     let mut diagnostics = Vec::new();
     let mut clock = Clock::new();
@@ -292,7 +299,7 @@ fn named_subroutines(text: &str) -> (Vec<String>, Vec<String>) {
 
 /// Where the back end's result goes.
 enum Output<'a> {
-    Text(&'a mut dyn Write),
+    Text(&'a mut (dyn Write + Send)),
     Path(&'a mut Option<ToolPath>),
 }
 
@@ -389,24 +396,22 @@ fn run<'a>(
             Output::Path(_) => Ok(()),
         };
     }
-    let mut backend = Backend::new(SourceFacts::Text(text), file, options, out);
-    let eval_diagnostics = match wizards {
+    let backend = Backend::new(SourceFacts::Text(text), file, options, out);
+    let (eval_diagnostics, backend) = on_two_threads(backend, |sink| match wizards {
         Some(host) => eval::eval_program(
             &program,
             &eval_options,
             Some(&mut *host as &mut dyn WizardHost),
-            &mut backend,
+            sink,
         ),
-        None => eval::eval_program(&program, &eval_options, None, &mut backend),
-    };
+        None => eval::eval_program(&program, &eval_options, None, sink),
+    });
     diagnostics.extend(eval_diagnostics);
     drop(program);
-    // Evaluation, lowering and printing ran interleaved; the back end
-    // timed its own part.
-    clock.split(
-        "expand",
-        &[("lower", backend.lower_time), ("emit", backend.emit_time)],
-    );
+    // Evaluation ran on this thread while the back end lowered and printed
+    // on its own, and timed itself.
+    clock.lap("expand");
+    clock.add(&[("lower", backend.lower_time), ("emit", backend.emit_time)]);
     if diagnostics.iter().any(is_error) {
         return Ok(());
     }
@@ -636,7 +641,7 @@ pub fn compile_plain(
     file: FileId,
     plain: PlainFile,
     options: &CompileOptions,
-    out: &mut dyn Write,
+    out: &mut (dyn Write + Send),
 ) -> std::io::Result<Report> {
     let mut diagnostics = Vec::new();
     let mut clock = Clock::new();
@@ -667,22 +672,18 @@ fn run_by_parts(
     parts: &mut Parts<'_>,
     language: Language,
     eval_options: &EvalOptions,
-    mut backend: Backend<'_>,
+    backend: Backend<'_>,
     diagnostics: &mut Vec<Diagnostic>,
     clock: &mut Clock,
 ) -> std::io::Result<()> {
-    let evaluated = eval::eval_chunks(eval_options, &mut backend, &mut || parts.next(language));
+    let (evaluated, backend) = on_two_threads(backend, |sink| {
+        eval::eval_chunks(eval_options, sink, &mut || parts.next(language))
+    });
     // The parts after the program's end, for their syntax errors.
     while parts.next(language).is_some() {}
     diagnostics.append(&mut parts.diagnostics);
-    clock.split(
-        "expand",
-        &[
-            ("parse", parts.time),
-            ("lower", backend.lower_time),
-            ("emit", backend.emit_time),
-        ],
-    );
+    clock.split("expand", &[("parse", parts.time)]);
+    clock.add(&[("lower", backend.lower_time), ("emit", backend.emit_time)]);
     if parts.broken {
         return Ok(());
     }
@@ -884,6 +885,84 @@ impl Printer {
             Printer::Program(p) => Ok(p.finish()),
             Printer::Path(b) => Err(Box::new(b.finish())),
         }
+    }
+}
+
+/// Run `front` (the evaluator) with a sink that hands each batch to
+/// `backend` on a thread of its own, so lowering and printing one batch
+/// overlap making the next; `backend` is given back when both are done.
+/// Memory stays bounded: at most [`BATCHES_IN_FLIGHT`] batches wait between
+/// the two. The order of everything is the one thread's order. Where no
+/// thread can be started, both run on this one.
+fn on_two_threads<'s, R>(
+    backend: Backend<'s>,
+    front: impl FnOnce(&mut dyn ir::Sink) -> R,
+) -> (R, Backend<'s>) {
+    let backend = Mutex::new(backend);
+    let slot = &backend;
+    let result = std::thread::scope(|scope| {
+        let (to_back, from_front) = mpsc::sync_channel(BATCHES_IN_FLIGHT);
+        let (to_front, spare) = mpsc::sync_channel(BATCHES_IN_FLIGHT + 1);
+        let back = std::thread::Builder::new()
+            .name("ger back end".into())
+            .spawn_scoped(scope, move || {
+                let mut backend = slot.lock().unwrap_or_else(PoisonError::into_inner);
+                for handed in from_front {
+                    match handed {
+                        Handed::Start(start) => ir::Sink::start(&mut *backend, &start),
+                        Handed::Batch(mut batch) => {
+                            ir::Sink::batch(&mut *backend, &mut batch);
+                            // Full: the front allocates another.
+                            let _ = to_front.try_send(batch);
+                        }
+                    }
+                }
+            });
+        let Ok(back) = back else {
+            let mut backend = slot.lock().unwrap_or_else(PoisonError::into_inner);
+            return front(&mut *backend);
+        };
+        let result = front(&mut Handoff { to_back, spare });
+        // The hand-off is gone: the back end has seen the last batch.
+        if let Err(panic) = back.join() {
+            std::panic::resume_unwind(panic);
+        }
+        result
+    });
+    (
+        result,
+        backend.into_inner().unwrap_or_else(PoisonError::into_inner),
+    )
+}
+
+/// Batches made but not yet lowered, at most.
+const BATCHES_IN_FLIGHT: usize = 2;
+
+/// What the evaluator sends the back-end thread.
+enum Handed {
+    Start(Box<ir::Start>),
+    Batch(Vec<ir::Stmt>),
+}
+
+/// The evaluator's end of [`on_two_threads`].
+struct Handoff {
+    to_back: mpsc::SyncSender<Handed>,
+    /// Emptied batches coming back, to be filled again.
+    spare: mpsc::Receiver<Vec<ir::Stmt>>,
+}
+
+impl ir::Sink for Handoff {
+    fn start(&mut self, start: &ir::Start) {
+        let _ = self.to_back.send(Handed::Start(Box::new(start.clone())));
+    }
+
+    fn batch(&mut self, batch: &mut Vec<ir::Stmt>) {
+        let empty = self
+            .spare
+            .try_recv()
+            .unwrap_or_else(|_| Vec::with_capacity(batch.capacity()));
+        let full = std::mem::replace(batch, empty);
+        let _ = self.to_back.send(Handed::Batch(full));
     }
 }
 

@@ -31,8 +31,9 @@ use crate::ir::{self, Stmt};
 /// A lowering pass: a state machine over the statement stream.
 ///
 /// Architecture invariant: a pass matches [`ir::Op`] without a catch-all
-/// arm, and changes nothing but what its stage lowers.
-pub trait Pass {
+/// arm, and changes nothing but what its stage lowers. A pass is `Send`:
+/// the back end runs on a thread of its own (`compile::on_two_threads`).
+pub trait Pass: Send {
     /// Lower one statement: send what it becomes (nothing, itself, or
     /// several statements) to `out`, now or later.
     fn feed(&mut self, stmt: Stmt, out: &mut Out<'_>);

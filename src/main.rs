@@ -636,7 +636,7 @@ fn run(
     let (file, compile_options) = (job.file, &job.options);
     let (sources, engine) = (&job.sources, &mut job.engine);
     let mut read_error = None;
-    let mut compile = |out: &mut dyn Write| match &streamed {
+    let mut compile = |out: &mut (dyn Write + Send)| match &streamed {
         Some(plain) => {
             compile_from_file(input, plain, file, compile_options, out).unwrap_or_else(|e| {
                 read_error = Some(e);
@@ -750,7 +750,7 @@ fn compile_from_file(
     (plain, before): &(ger::compile::PlainFile, std::fs::Metadata),
     file: usize,
     options: &CompileOptions,
-    out: &mut dyn Write,
+    out: &mut (dyn Write + Send),
 ) -> std::io::Result<Report> {
     let report =
         ger::compile::compile_plain(&mut open_input(input)?, input, file, *plain, options, out)?;
@@ -1128,7 +1128,10 @@ fn same_file(a: &Path, b: &Path) -> bool {
 /// Compile into a temporary file beside the target, then rename it on
 /// success: a reader never sees half a program, and on failure (errors in
 /// the program, or in writing) the old file stays.
-fn write_atomically(path: &Path, compile: impl FnOnce(&mut dyn Write) -> Report) -> Report {
+fn write_atomically(
+    path: &Path,
+    compile: impl FnOnce(&mut (dyn Write + Send)) -> Report,
+) -> Report {
     let tmp = temporary_beside(path);
     let mut file = match std::fs::File::create(&tmp) {
         Ok(file) => file,
