@@ -1,11 +1,12 @@
 //! Lowering: IR → simpler IR, one pass per stage of SPEC §4, applied in
 //! the fixed order of [`PASSES`]. A pass is a [`Pass`]: it is fed the
-//! statements one at a time and may send zero, one or many statements on
-//! for each, keep look-ahead state, and flush it in [`Pass::finish`] at the
-//! end of the program. The passes are chained as a stream by [`Pipeline`]:
-//! no whole-program vector lies between them, so memory is bounded by the
-//! batch and by what the passes hold back. Passes never see the AST and
-//! never print.
+//! statements one at a time, where they lie, and lets each go on (changed
+//! or not) or sends zero, one or many statements in its place; it may keep
+//! look-ahead state, and flush it in [`Pass::finish`] at the end of the
+//! program. The passes are chained as a stream by [`Pipeline`]: no
+//! whole-program vector lies between them, so memory is bounded by the
+//! batch and by what the passes hold back, and a statement every pass lets
+//! go on is never copied. Passes never see the AST and never print.
 //!
 //! Order: units → polar → offsets → cycles → absolute → comp. Polar runs
 //! before offsets (SPEC §4 lists it after): a G90 polar point is relative
@@ -34,9 +35,12 @@ use crate::ir::{self, Stmt};
 /// arm, and changes nothing but what its stage lowers. A pass is `Send`:
 /// the back end runs on a thread of its own (`compile::on_two_threads`).
 pub trait Pass: Send {
-    /// Lower one statement: send what it becomes (nothing, itself, or
-    /// several statements) to `out`, now or later.
-    fn feed(&mut self, stmt: Stmt, out: &mut Out<'_>);
+    /// Lower one statement where it lies, and say whether it goes on.
+    /// `true`: it goes on, changed or not, after whatever the pass sent
+    /// to `out` while lowering it (the common case, which copies nothing).
+    /// `false`: it goes no further; what it becomes, if anything, the pass
+    /// sends to `out`, now or later (a copy it holds back).
+    fn feed(&mut self, stmt: &mut Stmt, out: &mut Out<'_>) -> bool;
 
     /// The program has ended: send what is held back, and report a state
     /// that cannot be closed.
@@ -97,10 +101,20 @@ pub struct Out<'a> {
     problems: &'a mut Problems,
     /// Takes the statements on when there are [`CHUNK`] of them.
     full: &'a mut dyn FnMut(&mut Vec<Stmt>),
+    /// The statements before this one that went on where they lie: they
+    /// come before anything the pass sends now.
+    waiting: &'a mut [Stmt],
+    /// `waiting` has been moved to `stmts`.
+    sent_waiting: bool,
 }
 
 impl Out<'_> {
     pub fn push(&mut self, stmt: Stmt) {
+        self.send_waiting();
+        self.push_one(stmt);
+    }
+
+    fn push_one(&mut self, stmt: Stmt) {
         self.stmts.push(stmt);
         if self.stmts.len() >= CHUNK {
             if self.problems.errors > 0 {
@@ -109,6 +123,20 @@ impl Out<'_> {
             } else {
                 (self.full)(self.stmts);
             }
+        }
+    }
+
+    /// Move the waiting statements to the output, before what comes next.
+    fn send_waiting(&mut self) {
+        if self.sent_waiting {
+            return;
+        }
+        self.sent_waiting = true;
+        let waiting = std::mem::take(&mut self.waiting);
+        for slot in waiting {
+            // The slot is never read again (`flow` goes on after it).
+            let span = slot.span;
+            self.push_one(std::mem::replace(slot, Stmt::new(ir::Op::End, span)));
         }
     }
 
@@ -214,6 +242,11 @@ pub const CHUNK: usize = 4096;
 /// last pass's to `sink`. After a pass has failed nothing more comes out
 /// of it: the later passes' problems would only follow from its own, and
 /// are not reported.
+///
+/// Statements a pass lets go on stay where they lie in `input`; only when
+/// the pass drops a statement or sends others are the ones before it moved
+/// to the pass's output buffer. A batch of statements every pass lets go
+/// on (most of a plain program) is lowered without a copy.
 fn flow(
     passes: &mut [(Box<dyn Pass>, Problems)],
     buffers: &mut [Vec<Stmt>],
@@ -231,24 +264,181 @@ fn flow(
         return;
     };
     let mut output = std::mem::take(buffer);
-    {
-        let mut next = |o: &mut Vec<Stmt>| flow(later, later_buffers, o, false, sink);
+    let mut next = |o: &mut Vec<Stmt>| flow(later, later_buffers, o, false, sink);
+    // input[waiting..] went on where they lie, and are not in `output` yet.
+    let mut waiting = 0;
+    for i in 0..input.len() {
+        let (before, rest) = input.split_at_mut(i);
         let mut out = Out {
             stmts: &mut output,
-            problems,
+            problems: &mut *problems,
             full: &mut next,
+            waiting: &mut before[waiting..],
+            sent_waiting: false,
         };
-        for stmt in input.drain(..) {
-            pass.feed(stmt, &mut out);
+        let Some(stmt) = rest.first_mut() else { break };
+        let goes_on = pass.feed(stmt, &mut out);
+        if !goes_on {
+            out.send_waiting();
+            waiting = i + 1;
+        } else if out.sent_waiting {
+            waiting = i;
         }
-        if last {
-            pass.finish(&mut out);
+    }
+    if last {
+        let mut out = Out {
+            stmts: &mut output,
+            problems: &mut *problems,
+            full: &mut next,
+            waiting: &mut input[waiting..],
+            sent_waiting: false,
+        };
+        pass.finish(&mut out);
+        if out.sent_waiting {
+            waiting = input.len();
         }
     }
     if problems.errors > 0 {
         output.clear();
-    } else if last || !output.is_empty() {
+    } else if waiting == 0 && output.is_empty() {
+        // Every statement went on where it lies.
+        if last || !input.is_empty() {
+            flow(later, later_buffers, input, last, sink);
+        }
+    } else {
+        output.extend(input.drain(waiting..));
         flow(later, later_buffers, &mut output, last, sink);
     }
+    input.clear();
     *buffer = output;
+}
+
+#[cfg(test)]
+mod tests {
+    //! `flow` against a model of the pass contract: each pass, run over the
+    //! whole program at once, with plain vectors.
+    #![allow(clippy::unwrap_used, clippy::panic)]
+
+    use super::*;
+    use crate::ir::Op;
+
+    fn stmt(k: u32) -> Stmt {
+        Stmt::new(Op::SelectTool(k), crate::source::Span::default())
+    }
+
+    fn number(s: &Stmt) -> u32 {
+        match s.op {
+            Op::SelectTool(k) => k,
+            _ => panic!("not a test statement: {s:?}"),
+        }
+    }
+
+    /// Drops every third statement.
+    struct Drop3;
+    /// Sends more than a chunk of statements before every fifth one.
+    struct Expand;
+    /// Holds every seventh statement back until after the next one.
+    #[derive(Default)]
+    struct Hold(Option<Stmt>);
+
+    impl Pass for Drop3 {
+        fn feed(&mut self, stmt: &mut Stmt, _: &mut Out<'_>) -> bool {
+            !number(stmt).is_multiple_of(3)
+        }
+    }
+
+    impl Pass for Expand {
+        fn feed(&mut self, stmt: &mut Stmt, out: &mut Out<'_>) -> bool {
+            let k = number(stmt);
+            if k % 5 == 1 {
+                for j in 0..CHUNK as u32 + 10 {
+                    out.push(super::tests::stmt(1_000_000 + k * 10_000 + j));
+                }
+            }
+            true
+        }
+    }
+
+    impl Pass for Hold {
+        fn feed(&mut self, stmt: &mut Stmt, out: &mut Out<'_>) -> bool {
+            if let Some(held) = self.0.take() {
+                out.push(stmt.clone());
+                out.push(held);
+                return false;
+            }
+            if number(stmt) % 7 == 2 {
+                self.0 = Some(stmt.clone());
+                return false;
+            }
+            true
+        }
+
+        fn finish(&mut self, out: &mut Out<'_>) {
+            if let Some(held) = self.0.take() {
+                out.push(held);
+            }
+        }
+    }
+
+    /// What the three passes make of `0..n`, pass by pass.
+    fn model(n: u32) -> Vec<u32> {
+        let dropped: Vec<u32> = (0..n).filter(|k| !k.is_multiple_of(3)).collect();
+        let mut expanded = Vec::new();
+        for k in dropped {
+            if k % 5 == 1 {
+                expanded.extend((0..CHUNK as u32 + 10).map(|j| 1_000_000 + k * 10_000 + j));
+            }
+            expanded.push(k);
+        }
+        let (mut held, mut out) = (None, Vec::new());
+        for k in expanded {
+            if let Some(h) = held.take() {
+                out.extend([k, h]);
+            } else if k % 7 == 2 {
+                held = Some(k);
+            } else {
+                out.push(k);
+            }
+        }
+        out.extend(held);
+        out
+    }
+
+    #[test]
+    fn flow_keeps_the_order_of_the_passes_run_one_after_another() {
+        for (n, batch) in [(40, 1), (40, 7), (300, 64), (300, 300), (9000, CHUNK)] {
+            let mut passes: Vec<(Box<dyn Pass>, Problems)> = vec![
+                (Box::new(Drop3), Problems::default()),
+                (Box::new(Expand), Problems::default()),
+                (Box::new(Hold::default()), Problems::default()),
+            ];
+            let mut buffers = vec![Vec::new(), Vec::new(), Vec::new()];
+            let mut got = Vec::new();
+            let mut sink = |o: &mut Vec<Stmt>| got.extend(o.drain(..).map(|s| number(&s)));
+            let all: Vec<u32> = (0..n).collect();
+            for part in all.chunks(batch) {
+                let mut input = part.iter().map(|&k| stmt(k)).collect();
+                flow(&mut passes, &mut buffers, &mut input, false, &mut sink);
+                assert!(input.is_empty());
+            }
+            flow(&mut passes, &mut buffers, &mut Vec::new(), true, &mut sink);
+            assert_eq!(got, model(n), "{n} statements in batches of {batch}");
+        }
+    }
+
+    #[test]
+    fn a_batch_every_pass_lets_go_on_is_not_copied() {
+        let mut passes: Vec<(Box<dyn Pass>, Problems)> =
+            vec![(Box::new(Expand), Problems::default())];
+        let mut buffers = vec![Vec::new()];
+        let mut input: Vec<Stmt> = [2, 3, 4].into_iter().map(stmt).collect();
+        let at = input.as_ptr();
+        let mut seen = None;
+        let mut sink = |o: &mut Vec<Stmt>| {
+            seen = Some(o.as_ptr());
+            o.clear();
+        };
+        flow(&mut passes, &mut buffers, &mut input, false, &mut sink);
+        assert_eq!(seen, Some(at));
+    }
 }

@@ -71,20 +71,20 @@ impl Pass for AbsolutePass {
         out.push(Stmt::new(Op::End, span));
     }
 
-    fn feed(&mut self, mut stmt: Stmt, out: &mut Out<'_>) {
+    fn feed(&mut self, stmt: &mut Stmt, out: &mut Out<'_>) -> bool {
         let span = stmt.span;
         self.last = Some(span);
         match &mut stmt.op {
             Op::Distance(d) => {
                 self.at.distance = *d;
-                return;
+                return false;
             }
             Op::Plane(p) => self.at.plane = *p,
             Op::End => self.ended = true,
             Op::Move(m) => {
                 if let Err(e) = self.lower_move(m, span) {
                     out.report(e);
-                    return;
+                    return false;
                 }
             }
             Op::MachineMove(_) => {
@@ -93,7 +93,7 @@ impl Pass for AbsolutePass {
                         LowerErrorKind::MachineMoveIncremental,
                         span,
                     ));
-                    return;
+                    return false;
                 }
                 self.at.forget_after(&stmt.op, span);
             }
@@ -109,12 +109,11 @@ impl Pass for AbsolutePass {
                     Err(_) if zero_steps => {
                         *incremental = true;
                         self.at.forget_after(&stmt.op, span);
-                        out.push(stmt);
-                        return;
+                        return true;
                     }
                     Err(e) => {
                         out.report(e);
-                        return;
+                        return false;
                     }
                 };
                 let mut absolute = Axes::default();
@@ -162,7 +161,7 @@ impl Pass for AbsolutePass {
             | Op::Comment(_)
             | Op::Passthrough(_) => {}
         }
-        out.push(stmt);
+        true
     }
 }
 

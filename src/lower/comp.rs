@@ -202,7 +202,8 @@ impl CompPass {
             .ok_or_else(|| LowerError::new(CompError::UnknownTool { tool }, span))
     }
 
-    fn feed(&mut self, stmt: Stmt, out: &mut Out<'_>) -> Result<(), LowerError> {
+    /// [`Pass::feed`]: whether the statement goes on as it is.
+    fn feed(&mut self, stmt: &mut Stmt, out: &mut Out<'_>) -> Result<bool, LowerError> {
         let span = stmt.span;
         match &stmt.op {
             Op::Comp { side, radius } => {
@@ -229,7 +230,7 @@ impl CompPass {
                     s: None,
                     entry_waits: false,
                 });
-                return Ok(());
+                return Ok(false);
             }
             Op::CompOff => {
                 if let Some(mut on) = self.on.take() {
@@ -239,7 +240,7 @@ impl CompPass {
                         self.after_off = Some(span);
                     }
                 }
-                return Ok(());
+                return Ok(false);
             }
             Op::Move(m) => {
                 let m = *m;
@@ -255,7 +256,7 @@ impl CompPass {
                         on.s = None;
                     }
                     if matches!(stmt.op, Op::End) {
-                        out.push(stmt);
+                        out.push(stmt.clone());
                         return Err(LowerError::new(
                             CompError::StillOn { since: on.since },
                             span,
@@ -268,8 +269,7 @@ impl CompPass {
             Op::SelectTool(t) => {
                 self.selected = Some(*t);
                 // rs274 selects at once, before a held move.
-                out.push(stmt);
-                return Ok(());
+                return Ok(true);
             }
             Op::ChangeTool => self.loaded = self.selected,
             Op::MachineMove(_)
@@ -298,20 +298,26 @@ impl CompPass {
             | Op::Passthrough(_) => {}
         }
         match &mut self.on {
-            Some(on) if !on.queue.is_empty() => on.queue.push(Queued::Other(stmt)),
-            _ => out.push(stmt),
+            Some(on) if !on.queue.is_empty() => {
+                on.queue.push(Queued::Other(stmt.clone()));
+                Ok(false)
+            }
+            _ => Ok(true),
         }
-        Ok(())
     }
 
     /// A move: passed on (compensation off or radius 0), or compensated.
-    fn motion(&mut self, stmt: Stmt, m: &ir::Move, out: &mut Out<'_>) -> Result<(), LowerError> {
+    fn motion(
+        &mut self,
+        stmt: &mut Stmt,
+        m: &ir::Move,
+        out: &mut Out<'_>,
+    ) -> Result<bool, LowerError> {
         let span = stmt.span;
         // After the absolute pass the written axes are absolute.
         let end = self.at.end_of(&m.to, "cutter compensation", span)?;
         let active = matches!(&self.on, Some(on) if on.r > 0.0);
         if !active {
-            let mut stmt = stmt;
             if let Some(off) = self.after_off.take() {
                 if m.motion.is_arc() {
                     return Err(LowerError::new(CompError::ArcAfterOff { off }, span));
@@ -327,16 +333,15 @@ impl CompPass {
                 }
             }
             self.at.position = end;
-            out.push(stmt);
-            return Ok(());
+            return Ok(true);
         }
         let Some(mut on) = self.on.take() else {
-            return Ok(());
+            return Ok(false);
         };
-        let result = self.compensate(&mut on, stmt, m, &end, out);
+        let result = self.compensate(&mut on, stmt.clone(), m, &end, out);
         self.on = Some(on);
         self.at.position = end;
-        result
+        result.map(|()| false)
     }
 
     fn compensate(
@@ -872,26 +877,25 @@ impl CompPass {
 }
 
 impl Pass for CompPass {
-    fn feed(&mut self, stmt: Stmt, out: &mut Out<'_>) {
+    fn feed(&mut self, stmt: &mut Stmt, out: &mut Out<'_>) -> bool {
         if self.keep {
-            out.push(stmt);
-            return;
+            return true;
         }
         // Compensation off (nearly every statement of most programs): a
         // move only moves the programmed point.
         if self.on.is_none() && self.after_off.is_none() {
             if let Op::Move(_) = &stmt.op {
                 self.at.follow(&stmt.op, stmt.span);
-                out.push(stmt);
-                return;
+                return true;
             }
         }
-        if let Err(e) = CompPass::feed(self, stmt, out) {
+        CompPass::feed(self, stmt, out).unwrap_or_else(|e| {
             out.report(e);
             // One error per profile: the rest of it would repeat it.
             self.on = None;
             self.after_off = None;
-        }
+            false
+        })
     }
 
     fn finish(&mut self, out: &mut Out<'_>) {

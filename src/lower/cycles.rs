@@ -372,21 +372,21 @@ impl Emitter<'_, '_, '_> {
 }
 
 impl Pass for CyclesPass {
-    fn feed(&mut self, stmt: Stmt, out: &mut Out<'_>) {
+    fn feed(&mut self, stmt: &mut Stmt, out: &mut Out<'_>) -> bool {
         match &stmt.op {
             Op::Cycle(c) => {
                 let c = **c;
-                if let Err(e) = self.cycle(&c, &stmt, out) {
+                if let Err(e) = self.cycle(&c, stmt, out) {
                     out.report(e);
                 }
-                return;
+                return false;
             }
             // Kept cycles carry their own.
             Op::ReturnLevel(level) => {
                 self.level = *level;
-                return;
+                return false;
             }
-            Op::CycleOff if !self.keep => return,
+            Op::CycleOff if !self.keep => return false,
             Op::Spindle(s) => self.spindle = *s,
             Op::Move(_)
             | Op::MachineMove(_)
@@ -419,6 +419,6 @@ impl Pass for CyclesPass {
             | Op::Passthrough(_) => {}
         }
         self.at.follow(&stmt.op, stmt.span);
-        out.push(stmt);
+        true
     }
 }

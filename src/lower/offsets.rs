@@ -154,7 +154,7 @@ impl OffsetsPass {
 }
 
 impl Pass for OffsetsPass {
-    fn feed(&mut self, mut stmt: Stmt, out: &mut Out<'_>) {
+    fn feed(&mut self, stmt: &mut Stmt, out: &mut Out<'_>) -> bool {
         let span = stmt.span;
         if Self::changes_offsets(&stmt.op) && self.distance == Distance::Incremental {
             out.report(LowerError::new(
@@ -163,10 +163,9 @@ impl Pass for OffsetsPass {
                 },
                 span,
             ));
-            return;
+            return false;
         }
-        // Whether the statement goes on to the output.
-        let keep = match &mut stmt.op {
+        match &mut stmt.op {
             Op::Distance(d) => {
                 self.distance = *d;
                 if *d == Distance::Incremental {
@@ -215,11 +214,11 @@ impl Pass for OffsetsPass {
             }
             Op::SelectWorkOffset(i) => {
                 let index = *i;
-                self.select_work_offset(index, &stmt, out)
+                self.select_work_offset(index, stmt, out)
             }
             Op::SetWorkOffset { index, origin } => {
                 let (index, origin) = (*index, *origin);
-                self.set_work_offset(index, &origin, &stmt, out);
+                self.set_work_offset(index, &origin, stmt, out);
                 false
             }
             Op::SetWorkOffsetHere { index, at } => {
@@ -243,7 +242,7 @@ impl Pass for OffsetsPass {
             }
             Op::ToolLength { tool, negative } => {
                 let (tool, negative) = (*tool, *negative);
-                self.tool_length_offset(tool, negative, &stmt, out)
+                self.tool_length_offset(tool, negative, stmt, out)
             }
             Op::CancelToolLength => {
                 self.tool_length = 0.0;
@@ -273,9 +272,6 @@ impl Pass for OffsetsPass {
             | Op::CompOff
             | Op::Comment(_)
             | Op::Passthrough(_) => true,
-        };
-        if keep {
-            out.push(stmt);
         }
     }
 }

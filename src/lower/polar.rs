@@ -54,7 +54,7 @@ impl PolarPass {
 }
 
 impl Pass for PolarPass {
-    fn feed(&mut self, mut stmt: Stmt, out: &mut Out<'_>) {
+    fn feed(&mut self, stmt: &mut Stmt, out: &mut Out<'_>) -> bool {
         let span = stmt.span;
         let on = self.polar.is_some();
         let mut report = |kind| out.report(LowerError::new(kind, span));
@@ -68,7 +68,7 @@ impl Pass for PolarPass {
                 } else {
                     self.polar = None;
                 }
-                return;
+                return false;
             }
             Op::Plane(p) => {
                 if on && Some(*p) != self.plane.or(Some(Plane::XY)) {
@@ -128,6 +128,6 @@ impl Pass for PolarPass {
             | Op::Comment(_)
             | Op::Passthrough(_) => {}
         }
-        out.push(stmt);
+        true
     }
 }

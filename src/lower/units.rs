@@ -66,7 +66,7 @@ impl UnitsPass {
 }
 
 impl Pass for UnitsPass {
-    fn feed(&mut self, mut stmt: Stmt, out: &mut Out<'_>) {
+    fn feed(&mut self, stmt: &mut Stmt, out: &mut Out<'_>) -> bool {
         let k = self.factor();
         let scale = |v: &mut f64| *v *= k;
         match &mut stmt.op {
@@ -75,12 +75,10 @@ impl Pass for UnitsPass {
                     out.report(LowerError::new(LowerErrorKind::FeedInMachineUnits, feed));
                 }
                 self.current = Some(*u);
-                if self.output.is_none() {
-                    // The first statement of units: it stays, and fixes them.
-                    self.output = Some(*u);
-                    out.push(stmt);
-                }
-                return;
+                // The first statement of units stays, and fixes them.
+                let first = self.output.is_none();
+                self.output.get_or_insert(*u);
+                return first;
             }
             Op::Polar(on) => self.polar = *on,
             Op::Plane(p) => self.plane = *p,
@@ -137,6 +135,6 @@ impl Pass for UnitsPass {
             | Op::Comment(_)
             | Op::Passthrough(_) => {}
         }
-        out.push(stmt);
+        true
     }
 }
