@@ -608,15 +608,17 @@ pub fn scan_plain(reader: &mut dyn std::io::BufRead) -> std::io::Result<Option<P
     let mut lines = RawLines::new(reader);
     let (mut len, mut decimals) = (0, 0);
     while let Some(bytes) = lines.next()? {
-        let control = bytes
-            .iter()
-            .any(|&b| b < 0x20 && !matches!(b, b'\n' | b'\r' | b'\t'));
-        // A CR not before a LF (even at the end) is a line end to `decode`.
-        let lone_cr = bytes
-            .iter()
-            .enumerate()
-            .any(|(i, &b)| b == b'\r' && bytes.get(i + 1) != Some(&b'\n'));
-        if control || lone_cr {
+        // A control character, or a CR not before a LF (even at the end),
+        // which is a line end to `decode`.
+        let unclean = bytes.iter().enumerate().any(|(i, &b)| {
+            b < 0x20
+                && match b {
+                    b'\n' | b'\t' => false,
+                    b'\r' => bytes.get(i + 1) != Some(&b'\n'),
+                    _ => true,
+                }
+        });
+        if unclean {
             return Ok(None);
         }
         let text = source::decode_line(bytes);
@@ -839,7 +841,21 @@ fn input_decimals(text: &str) -> usize {
     while i < bytes.len() {
         let b = bytes[i].to_ascii_uppercase();
         i += 1;
-        if !b"XYZIJKRABCUVW".contains(&b) {
+        if !matches!(
+            b,
+            b'X' | b'Y'
+                | b'Z'
+                | b'I'
+                | b'J'
+                | b'K'
+                | b'R'
+                | b'A'
+                | b'B'
+                | b'C'
+                | b'U'
+                | b'V'
+                | b'W'
+        ) {
             continue;
         }
         while i < bytes.len() && matches!(bytes[i], b' ' | b'\t' | b'+' | b'-') {

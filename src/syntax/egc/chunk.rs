@@ -5,8 +5,8 @@
 //! [`CHUNK_BYTES`], each dropped before the next is read. Memory then
 //! grows with the longest part, not with the program.
 
-use super::lexer::{comment_end, Language};
-use super::parser::parse_program_from;
+use super::lexer::{self, comment_end, Language};
+use super::parser::{fast_path, parse_program_from, words_stmt};
 use crate::ast::{Names, Stmt};
 use crate::diagnostic::Diagnostic;
 use crate::source::Locator;
@@ -141,6 +141,10 @@ pub fn chunks(text: &str) -> impl Iterator<Item = std::ops::Range<usize>> + '_ {
 
 /// Parse the part `range` of `text` (a range [`chunks`] gave) with spans
 /// in the whole text: its statements, their names, and its diagnostics.
+/// A line of plain words (most of a CAM program) is built straight from
+/// its bytes ([`lexer::plain_words`]); the lines between go to the lexer
+/// and the parser together. A plain program means the same cut at any line
+/// end, so the two give what the parser alone gives.
 pub fn parse_chunk(
     text: &str,
     range: std::ops::Range<usize>,
@@ -148,9 +152,42 @@ pub fn parse_chunk(
     language: Language,
 ) -> (Vec<Stmt>, Names, Vec<Diagnostic>) {
     let mut names = Names::default();
-    let (program, diagnostics) =
-        parse_program_from(&text[..range.end], range.start, at, language, &mut names);
-    (program.main, names, diagnostics)
+    let (mut stmts, mut diagnostics) = (Vec::new(), Vec::new());
+    let mut parse = |from: usize, to: usize, stmts: &mut Vec<Stmt>| {
+        if from < to {
+            let (program, found) = parse_program_from(&text[..to], from, at, language, &mut names);
+            stmts.extend(program.main);
+            diagnostics.extend(found);
+        }
+    };
+    if !fast_path() {
+        parse(range.start, range.end, &mut stmts);
+        return (stmts, names, diagnostics);
+    }
+    let mut words = Vec::new();
+    // Lines from `waiting` on are for the parser, not yet parsed.
+    let (mut waiting, mut line) = (range.start, range.start);
+    let mut number = at.span(line, line).line;
+    while line < range.end {
+        let line_end = text.as_bytes()[line..range.end]
+            .iter()
+            .position(|&b| b == b'\n')
+            .map_or(range.end, |i| line + i);
+        words.clear();
+        if lexer::plain_words(text, line, line_end, &mut words) {
+            parse(waiting, line, &mut stmts);
+            if let (Some(first), Some(last)) = (words.first(), words.last()) {
+                let (start, end) = (first.start as usize, last.end as usize);
+                let run = (0, words.len() as u32);
+                stmts.push(words_stmt(&words, run, (start, end), number, at));
+            }
+            waiting = (line_end + 1).min(range.end);
+        }
+        line = line_end + 1;
+        number += 1;
+    }
+    parse(waiting, range.end, &mut stmts);
+    (stmts, names, diagnostics)
 }
 
 #[cfg(test)]

@@ -1637,6 +1637,70 @@ fn find_word(table: &[(&str, Tok)], text: &str) -> Option<Tok> {
         .map(|&(_, t)| t)
 }
 
+/// The words of the line `text[start..end]` (without its line end) when
+/// it holds plain words only — a letter other than `O`, then a decimal
+/// number, perhaps after spaces — with spaces and tabs around them: what
+/// the lexer would read there (`Raw::Word`, or a letter and its number
+/// apart), without it; a blank line has none. `false` (and `words` as it
+/// was): anything else is on the line, for the lexer.
+pub(crate) fn plain_words(
+    text: &str,
+    start: usize,
+    end: usize,
+    words: &mut Vec<LexedWord>,
+) -> bool {
+    let bytes = &text.as_bytes()[..end];
+    let before = words.len();
+    let blank = |b: u8| matches!(b, b' ' | b'\t' | b'\r' | b'\x0c');
+    let mut i = start;
+    loop {
+        while i < end && blank(bytes[i]) {
+            i += 1;
+        }
+        if i == end {
+            break;
+        }
+        let letter = bytes[i];
+        if !letter.is_ascii_alphabetic() || letter.eq_ignore_ascii_case(&b'O') {
+            words.truncate(before);
+            return false;
+        }
+        let word_start = i;
+        i += 1;
+        while i < end && matches!(bytes[i], b' ' | b'\t') {
+            i += 1;
+        }
+        let number = i;
+        if i < end && matches!(bytes[i], b'+' | b'-') {
+            i += 1;
+        }
+        let (digits, mut points) = (i, 0);
+        while i < end && matches!(bytes[i], b'0'..=b'9' | b'.') {
+            points += usize::from(bytes[i] == b'.');
+            i += 1;
+        }
+        // What follows is a blank, the next word's letter, or refused
+        // there.
+        let body = &bytes[digits..i];
+        if body.is_empty() || body == b"." || points > 1 {
+            words.truncate(before);
+            return false;
+        }
+        let (value, int_digits, has_point) = scan_decimal(&text[number..i]);
+        words.push(LexedWord {
+            word: WordTok {
+                letter: letter.to_ascii_uppercase(),
+                value,
+                int_digits,
+                has_point,
+            },
+            start: word_start as u32,
+            end: i as u32,
+        });
+    }
+    true
+}
+
 fn word(text: &str) -> WordTok {
     let (value, int_digits, has_point) = scan_decimal(&text[1..]);
     WordTok {

@@ -120,19 +120,12 @@ pub fn parse_program_from(
         _ => false,
     };
     let mut top = Vec::with_capacity(tokens.len() / 2 + 1);
-    for piece in pieces(&tokens, FAST_PATH.with(|f| f.get())) {
+    for piece in pieces(&tokens, fast_path()) {
         match piece {
-            Piece::Line(start, run, end) => top.push(Stmt {
-                kind: StmtKind::Line(Line {
-                    words: {
-                        let mut v = Vec::with_capacity(run.1 as usize);
-                        push_words(&mut v, &words, run, at);
-                        v
-                    },
-                    block_delete: false,
-                }),
-                span: at.span(start, end),
-            }),
+            Piece::Line(start, run, end) => {
+                let number = at.span(start, end).line;
+                top.push(words_stmt(&words, run, (start, end), number, at));
+            }
             Piece::Grammar(slice) => {
                 let mut recovered = Vec::new();
                 let result = grammar::ProgramParser::new().parse(
@@ -222,6 +215,11 @@ fn drop_cascades(problems: Vec<Problem>) -> Vec<Diagnostic> {
 thread_local! {
     /// Tests turn the fast path off to check it builds the grammar's tree.
     static FAST_PATH: std::cell::Cell<bool> = const { std::cell::Cell::new(true) };
+}
+
+/// Whether plain lines take the fast path on this thread.
+pub(crate) fn fast_path() -> bool {
+    FAST_PATH.with(|f| f.get())
 }
 
 /// Parse with or without the fast path for plain lines (for tests).
@@ -551,6 +549,38 @@ fn block_has_m99<'a>(mut rest: impl Iterator<Item = &'a Stmt>) -> bool {
 // Grammar actions: kept here so the grammar file stays declarative.
 
 /// Append the words of a run token (`Tok::Words`) to a line.
+/// The statement of a line that is one run of plain words
+/// (`words[run]`, from `start` to `end` on line `number` of the file):
+/// what the grammar's `Words` rule builds.
+pub(crate) fn words_stmt(
+    words: &[lexer::LexedWord],
+    run: (u32, u32),
+    (start, end): (usize, usize),
+    number: u32,
+    at: &Locator,
+) -> Stmt {
+    let (first, len) = (run.0 as usize, run.1 as usize);
+    let line = words[first..first + len]
+        .iter()
+        .map(|w| Word {
+            letter: w.word.letter,
+            value: WordValue::Number(Number {
+                value: w.word.value,
+                int_digits: w.word.int_digits,
+                has_point: w.word.has_point,
+            }),
+            span: at.span_on_line(number, w.start as usize, w.end as usize),
+        })
+        .collect();
+    Stmt {
+        kind: StmtKind::Line(Line {
+            words: line,
+            block_delete: false,
+        }),
+        span: at.span_on_line(number, start, end),
+    }
+}
+
 pub(crate) fn push_words(
     line: &mut Vec<Word>,
     words: &[lexer::LexedWord],
