@@ -535,6 +535,14 @@ impl<'a> RawLines<'a> {
         }
     }
 
+    /// The lines of a file from a line after its first (no byte-order mark).
+    fn after_start(reader: &'a mut dyn std::io::BufRead) -> RawLines<'a> {
+        RawLines {
+            first: false,
+            ..RawLines::new(reader)
+        }
+    }
+
     /// The next line with its line end; `None` at the end of the file.
     fn next(&mut self) -> std::io::Result<Option<&[u8]>> {
         self.line.clear();
@@ -593,7 +601,7 @@ impl<'a> LineReader<'a> {
 /// A plain program that can be compiled from a reader, a part at a time,
 /// without holding its text: its decoded length and the most decimals its
 /// numbers are written with.
-#[derive(Clone, Copy, Debug)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct PlainFile {
     pub len: usize,
     pub decimals: usize,
@@ -605,7 +613,43 @@ pub struct PlainFile {
 /// lone CR (which [`crate::source::decode`] reports or rewrites). `None`:
 /// read it whole.
 pub fn scan_plain(reader: &mut dyn std::io::BufRead) -> std::io::Result<Option<PlainFile>> {
-    let mut lines = RawLines::new(reader);
+    scan_lines(RawLines::new(reader))
+}
+
+/// [`scan_plain`] of the file at `path`, its two halves (cut at a line end)
+/// read at the same time on two threads.
+pub fn scan_plain_file(path: &std::path::Path) -> std::io::Result<Option<PlainFile>> {
+    use std::io::{BufRead, Read, Seek};
+    let open = || std::fs::File::open(path).map(|f| std::io::BufReader::with_capacity(1 << 16, f));
+    let mut second = open()?;
+    let middle = second.seek(std::io::SeekFrom::End(0))? / 2;
+    second.seek(std::io::SeekFrom::Start(middle))?;
+    // The first half ends with the line the middle is on.
+    let cut = middle + second.read_until(b'\n', &mut Vec::new())? as u64;
+    let scan_first = move || scan_lines(RawLines::new(&mut open()?.take(cut)));
+    let (first, second) = std::thread::scope(|scope| {
+        let first = std::thread::Builder::new().spawn_scoped(scope, scan_first);
+        let second = scan_lines(RawLines::after_start(&mut second));
+        let first = match first {
+            Ok(thread) => thread
+                .join()
+                .unwrap_or_else(|panic| std::panic::resume_unwind(panic)),
+            // No second thread: one after the other.
+            Err(_) => scan_first(),
+        };
+        (first, second)
+    });
+    Ok(match (first?, second?) {
+        (Some(a), Some(b)) => Some(PlainFile {
+            len: a.len + b.len,
+            decimals: a.decimals.max(b.decimals),
+        }),
+        _ => None,
+    })
+}
+
+/// [`scan_plain`] of the lines `lines` reads.
+fn scan_lines(mut lines: RawLines<'_>) -> std::io::Result<Option<PlainFile>> {
     let (mut len, mut decimals) = (0, 0);
     while let Some(bytes) = lines.next()? {
         // A control character, or a CR not before a LF (even at the end),

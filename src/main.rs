@@ -735,7 +735,7 @@ fn streamable(
     {
         return None;
     }
-    let plain = ger::compile::scan_plain(&mut open_input(input).ok()?).ok()??;
+    let plain = ger::compile::scan_plain_file(Path::new(input)).ok()??;
     Some((plain, before))
 }
 

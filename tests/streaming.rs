@@ -272,3 +272,46 @@ fn a_plain_program_read_in_parts_is_read_as_a_whole() {
         "only {from_reader} compiles from a reader"
     );
 }
+
+/// `ger compile -o` scans a file in two halves at once
+/// (`compile::scan_plain_file`): the answer must be the one reader's,
+/// wherever the middle falls (files of every length from 0 to 80 bytes of
+/// each kind), with a byte-order mark, CRLF and lone CR, Latin-1 comments,
+/// the most decimals or a line that is not plain in either half.
+#[test]
+fn a_file_scanned_in_halves_is_scanned_as_one() {
+    use ger::compile::{scan_plain, scan_plain_file};
+    let kinds: [&[u8]; 7] = [
+        b"G1 X1\nG1 X2.5\nG1 Y3\nG1 X1.123456\nM30\n",
+        b"\xef\xbb\xbfG0 X1\nG1 X2.25 (a)\nM30",
+        b"G0 X1\r\nG1 X2.5\r\nG1 Y1.75\r\nM30\r\n",
+        b"G0 X1\nG1 X2\nG1 X3\rM30\r",
+        b"G0 X1\nG1 X2\nG1 X3.5\n#1 = 2\nM30\n",
+        b"G0 X1 (\xb0)\nG1 X2 (\xe9t\xe9)\nG1 Y3.25\nM30\n",
+        b"G0 X1\nG1 X2\n\xef\xbb\xbfG1 X3\nM30\n",
+    ];
+    let dir = std::env::temp_dir().join(format!("ger-halves-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let path = dir.join("p.ngc");
+    let (mut plain, mut not_plain) = (0, 0);
+    for kind in kinds {
+        let long: Vec<u8> = kind.iter().copied().cycle().take(kind.len() * 2).collect();
+        for len in 0..=long.len().min(80) {
+            let bytes = &long[..len];
+            std::fs::write(&path, bytes).unwrap();
+            let one = scan_plain(&mut &bytes[..]).unwrap();
+            let halves = scan_plain_file(&path).unwrap();
+            assert_eq!(halves, one, "{:?}", String::from_utf8_lossy(bytes));
+            if one.is_some() {
+                plain += 1;
+            } else {
+                not_plain += 1;
+            }
+        }
+    }
+    std::fs::remove_dir_all(&dir).unwrap();
+    assert!(
+        plain > 100 && not_plain > 100,
+        "{plain} plain, {not_plain} not"
+    );
+}
