@@ -559,8 +559,10 @@ impl<'a> RawLines<'a> {
 /// decodes the whole file (a file [`scan_plain`] accepted: no NUL, control
 /// character or lone CR, so the two agree).
 struct LineReader<'a> {
-    lines: RawLines<'a>,
+    reader: &'a mut dyn std::io::BufRead,
     file: FileId,
+    /// No part read yet (the first may start with a byte-order mark).
+    first: bool,
     /// Where the next part starts in the decoded file, and its lines before.
     base: usize,
     lines_before: usize,
@@ -569,28 +571,47 @@ struct LineReader<'a> {
 impl<'a> LineReader<'a> {
     fn new(reader: &'a mut dyn std::io::BufRead, file: FileId) -> LineReader<'a> {
         LineReader {
-            lines: RawLines::new(reader),
+            reader,
             file,
+            first: true,
             base: 0,
             lines_before: 0,
         }
     }
 
     /// The next part's text and span maker; `None` at the end of the file.
+    /// A part is the lines up to the one with its [`chunk::part_size`]th
+    /// byte, read in blocks.
     fn next_part(&mut self) -> std::io::Result<Option<(String, Locator)>> {
         let part = chunk::part_size();
-        let mut text = String::new();
-        let mut lines = 0;
-        while text.len() < part {
-            let Some(bytes) = self.lines.next()? else {
+        let mut bytes = Vec::with_capacity(part + 256);
+        while bytes.len() < part {
+            let block = self.reader.fill_buf()?;
+            if block.is_empty() {
                 break;
-            };
-            text.push_str(&source::decode_line(bytes));
-            lines += usize::from(bytes.ends_with(b"\n"));
+            }
+            let take = block.len().min(part - bytes.len());
+            bytes.extend_from_slice(&block[..take]);
+            self.reader.consume(take);
         }
-        if text.is_empty() {
+        if !bytes.is_empty() && !bytes.ends_with(b"\n") {
+            self.reader.read_until(b'\n', &mut bytes)?;
+        }
+        if bytes.is_empty() {
             return Ok(None);
         }
+        if std::mem::take(&mut self.first) && bytes.starts_with(source::BOM) {
+            bytes.drain(..source::BOM.len());
+        }
+        let lines = bytes.iter().filter(|&&b| b == b'\n').count();
+        let text = String::from_utf8(bytes).unwrap_or_else(|e| {
+            // Some line is not UTF-8: each is decoded on its own.
+            let bytes = e.into_bytes();
+            bytes
+                .split_inclusive(|&b| b == b'\n')
+                .map(source::decode_line)
+                .collect()
+        });
         let at = Locator::part(self.file, &text, self.base, self.lines_before);
         self.base += text.len();
         self.lines_before += lines;

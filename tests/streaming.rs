@@ -315,3 +315,40 @@ fn a_file_scanned_in_halves_is_scanned_as_one() {
         "{plain} plain, {not_plain} not"
     );
 }
+
+/// A plain file read from a reader in parts (`compile::compile_plain`)
+/// with a byte-order mark, CRLF line ends and Latin-1 comments (decoded
+/// line by line) gives what the decoded text compiled whole gives.
+#[test]
+fn a_file_with_a_bom_and_latin1_lines_reads_in_parts_as_whole() {
+    use ger::compile::{compile_plain, scan_plain};
+    let bytes: &[u8] = b"\xef\xbb\xbfG21 G90\r\nG0 X1 (25\xb0)\r\nG1 X2.5 F100 (\xe9t\xe9)\r\n\
+                         G1 Y3 (caf\xc3\xa9)\r\nG1 X1 (\xb0)\r\nM30\r\n";
+    let text = ger::source::decode(bytes.to_vec()).unwrap();
+    let whole = {
+        let mut sources = Sources::new();
+        let file = sources.add("p.ngc", text.clone());
+        compile(&sources, file, &CompileOptions::default(), None)
+    };
+    let facts = scan_plain(&mut &bytes[..]).unwrap().expect("a plain file");
+    for part in [1, 8, 40, 4096] {
+        let mut out = Vec::new();
+        let report = ger::syntax::egc::chunk::with_part_size(Some(part), || {
+            compile_plain(
+                &mut &bytes[..],
+                "p.ngc",
+                0,
+                facts,
+                &CompileOptions::default(),
+                &mut out,
+            )
+        })
+        .unwrap();
+        assert!(report.succeeded(), "{:?}", report.diagnostics);
+        assert_eq!(
+            Some(String::from_utf8(out).unwrap()),
+            whole.output,
+            "in parts of {part}"
+        );
+    }
+}
