@@ -9,7 +9,16 @@ pub fn push_int(out: &mut Vec<u8>, n: i64) {
     }
     let mut buf = [0u8; 20];
     let start = digits_before(&mut buf, 20, n.unsigned_abs());
-    out.extend_from_slice(&buf[start..]);
+    push_short(out, &buf[start..]);
+}
+
+/// `out.extend_from_slice(bytes)` for a few bytes, without a call to
+/// `memcpy` (most of the cost of so short a copy).
+fn push_short(out: &mut Vec<u8>, bytes: &[u8]) {
+    out.reserve(bytes.len());
+    for &b in bytes {
+        out.push(b);
+    }
 }
 
 /// Write the decimal digits of `n` (at least one) into `buf`, ending just
@@ -81,7 +90,7 @@ pub fn push_scaled(out: &mut Vec<u8>, q: i64, decimals: usize) {
         i -= 1;
         buf[i] = b'-';
     }
-    out.extend_from_slice(&buf[i..]);
+    push_short(out, &buf[i..]);
 }
 
 /// [`push_fixed_bytes`] onto a `String`.

@@ -84,14 +84,25 @@ impl Tracker {
         match op {
             Op::Distance(d) => self.distance = *d,
             Op::Plane(p) => self.plane = *p,
-            Op::Move(m) => match self.end_of(&m.to, "", span) {
-                Ok(end) => self.position = end,
-                Err(_) => {
-                    for (axis, _) in m.to.iter() {
-                        self.position[axis.index()] = None;
+            Op::Move(m) => {
+                // [`Tracker::end_of`] without its error, in place.
+                let incremental = self.distance == Distance::Incremental;
+                let mut end = [None; 9];
+                for (axis, v) in m.to.iter() {
+                    let i = axis.index();
+                    end[i] = match self.position[i] {
+                        Some(p) if incremental => Some(p + v),
+                        None if incremental => None,
+                        _ => Some(v),
                     }
+                    .filter(|&e| ir::is_position(e));
                 }
-            },
+                let known = m.to.iter().all(|(axis, _)| end[axis.index()].is_some());
+                for (axis, _) in m.to.iter() {
+                    let i = axis.index();
+                    self.position[i] = if known { end[i] } else { None };
+                }
+            }
             _ => self.forget_after(op, span),
         }
     }
