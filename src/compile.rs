@@ -674,16 +674,16 @@ fn scan_lines(mut lines: RawLines<'_>) -> std::io::Result<Option<PlainFile>> {
     let (mut len, mut decimals) = (0, 0);
     while let Some(bytes) = lines.next()? {
         // A control character, or a CR not before a LF (even at the end),
-        // which is a line end to `decode`.
-        let unclean = bytes.iter().enumerate().any(|(i, &b)| {
-            b < 0x20
-                && match b {
-                    b'\n' | b'\t' => false,
-                    b'\r' => bytes.get(i + 1) != Some(&b'\n'),
-                    _ => true,
-                }
-        });
-        if unclean {
+        // which is a line end to `decode`. (Two loops: the first is the
+        // one that runs, and it vectorises.)
+        let control = bytes
+            .iter()
+            .any(|&b| b < 0x20 && !matches!(b, b'\n' | b'\r' | b'\t'));
+        let lone_cr = || {
+            let cr = bytes.iter().position(|&b| b == b'\r');
+            cr.is_some_and(|i| bytes[i..] != *b"\r\n")
+        };
+        if control || lone_cr() {
             return Ok(None);
         }
         let text = source::decode_line(bytes);
@@ -896,6 +896,19 @@ impl<'s> Backend<'s> {
     }
 }
 
+/// The letters of coordinate words, either case: X Y Z I J K R and the
+/// other axes A B C U V W.
+const COORDINATE: [bool; 256] = {
+    let mut table = [false; 256];
+    let letters = b"XYZIJKRABCUVWxyzijkrabcuvw";
+    let mut i = 0;
+    while i < letters.len() {
+        table[letters[i] as usize] = true;
+        i += 1;
+    }
+    table
+};
+
 /// The most decimals any coordinate word (X Y Z I J K R, and the other
 /// axes) of the source has: one pass over its bytes. A word inside a
 /// comment counts too, which can only add precision.
@@ -904,23 +917,9 @@ fn input_decimals(text: &str) -> usize {
     let mut most = 0;
     let mut i = 0;
     while i < bytes.len() {
-        let b = bytes[i].to_ascii_uppercase();
+        let b = bytes[i];
         i += 1;
-        if !matches!(
-            b,
-            b'X' | b'Y'
-                | b'Z'
-                | b'I'
-                | b'J'
-                | b'K'
-                | b'R'
-                | b'A'
-                | b'B'
-                | b'C'
-                | b'U'
-                | b'V'
-                | b'W'
-        ) {
+        if !COORDINATE[usize::from(b)] {
             continue;
         }
         while i < bytes.len() && matches!(bytes[i], b' ' | b'\t' | b'+' | b'-') {

@@ -32,10 +32,9 @@ impl Owned {
 /// own order stands (one code or none, two codes of one modal group, or a
 /// code ger does not place).
 pub fn in_order(line: &Line) -> Option<Vec<Owned>> {
+    // Most lines have one code: no allocation for them.
+    line.words.iter().filter(|w| w.is_code()).nth(1)?;
     let codes: Vec<&Word> = line.words.iter().filter(|w| w.is_code()).collect();
-    if codes.len() < 2 {
-        return None;
-    }
     let kinds: Vec<Kind> = codes.iter().map(|c| kind_of(c)).collect::<Option<_>>()?;
     for (i, kind) in kinds.iter().enumerate() {
         let group = kind.group();
