@@ -86,11 +86,7 @@ pub enum StmtKind {
     /// A line of G-code words. One line may hold several statements; see
     /// [`Line::statements`] for how it is cut.
     Line(Line),
-    Assign {
-        target: Target,
-        name_span: Span,
-        value: Box<Expr>,
-    },
+    Assign(Box<Assignment>),
     /// Several assignments on one line (LinuxCNC's `#1=2 #2=[#1+1]`): every
     /// value is worked out first, with the variables as they were before
     /// the line, then all are set, in order.
@@ -119,7 +115,8 @@ pub enum StmtKind {
     Error,
 }
 
-/// One of the assignments of [`StmtKind::Assigns`].
+/// A `target = value` statement ([`StmtKind::Assign`]), or one of the
+/// assignments of [`StmtKind::Assigns`].
 #[derive(Debug, Clone)]
 pub struct Assignment {
     pub target: Target,
@@ -293,6 +290,14 @@ impl Target {
     }
 }
 
+impl Assignment {
+    /// Change every function the target and the value call.
+    pub fn map_functions(&mut self, f: &impl Fn(Function) -> Function) {
+        self.target.map_functions(f);
+        self.value.map_functions(f);
+    }
+}
+
 impl Stmt {
     /// Change every function the statement (and any block in it) calls.
     pub fn map_functions(&mut self, f: &impl Fn(Function) -> Function) {
@@ -305,14 +310,8 @@ impl Stmt {
                     }
                 }
             }
-            StmtKind::Assign { target, value, .. } => {
-                target.map_functions(f);
-                value.map_functions(f);
-            }
-            StmtKind::Assigns(all) => all.iter_mut().for_each(|a| {
-                a.target.map_functions(f);
-                a.value.map_functions(f);
-            }),
+            StmtKind::Assign(a) => a.map_functions(f),
+            StmtKind::Assigns(all) => all.iter_mut().for_each(|a| a.map_functions(f)),
             StmtKind::Call { args, .. } => args.iter_mut().for_each(|a| a.map_functions(f)),
             StmtKind::If(if_) => {
                 for (cond, body) in &mut if_.branches {

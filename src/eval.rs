@@ -573,9 +573,7 @@ impl<'a> Evaluator<'a> {
         while let Some(stmt) = stmts.get(next) {
             next += 1;
             let system = match &stmt.kind {
-                StmtKind::Assign { target, value, .. } => {
-                    self.system_target(target).map(|name| (name, value))
-                }
+                StmtKind::Assign(a) => self.system_target(&a.target).map(|name| (name, &a.value)),
                 _ => None,
             };
             let flow = match system {
@@ -738,13 +736,9 @@ impl<'a> Evaluator<'a> {
     fn exec(&mut self, stmt: &ast::Stmt) -> Flow {
         match &stmt.kind {
             StmtKind::Line(line) => self.exec_line(line),
-            StmtKind::Assign {
-                target,
-                name_span,
-                value,
-            } => {
-                if let Some(name) = self.target(target, *name_span) {
-                    self.assign(name, *name_span, value);
+            StmtKind::Assign(a) => {
+                if let Some(name) = self.target(&a.target, a.name_span) {
+                    self.assign(name, a.name_span, &a.value);
                 }
                 Flow::Next
             }

@@ -62,15 +62,12 @@ impl AstPrinter<'_> {
                     self.line(&format!("{slash}{}", words.join(" ")));
                 }
             }
-            StmtKind::Assign { target, value, .. } => {
-                let text = format!("{} = {}", self.target(target), self.expr(value));
+            StmtKind::Assign(a) => {
+                let text = self.assignment(a);
                 self.line(&text);
             }
             StmtKind::Assigns(all) => {
-                let parts: Vec<String> = all
-                    .iter()
-                    .map(|a| format!("{} = {}", self.target(&a.target), self.expr(&a.value)))
-                    .collect();
+                let parts: Vec<String> = all.iter().map(|a| self.assignment(a)).collect();
                 self.line(&parts.join(" "));
             }
             StmtKind::Call { name, args, .. } => {
@@ -149,6 +146,10 @@ impl AstPrinter<'_> {
         let mut s = String::new();
         self.write_expr(&mut s, e);
         s
+    }
+
+    fn assignment(&self, a: &Assignment) -> String {
+        format!("{} = {}", self.target(&a.target), self.expr(&a.value))
     }
 
     fn target(&self, target: &Target) -> String {
