@@ -357,6 +357,15 @@ pub fn lex_from(
     lexer.run()
 }
 
+/// A symbolic word being read (`X<…>`, `X[…]`, `X#[…]`).
+struct OpenSym {
+    start: usize,
+    /// The group depth it was opened at.
+    depth: usize,
+    /// It closes with the group opened after it (`X#[…]`).
+    with_group: bool,
+}
+
 struct Lexer<'a> {
     text: &'a str,
     /// Where reading starts (a line start; [`lex_from`]).
@@ -374,11 +383,8 @@ struct Lexer<'a> {
     stmt_start: usize,
     /// Open group parentheses, innermost last.
     groups: Vec<usize>,
-    /// Open symbolic words: the group depth at which each was opened.
-    syms: Vec<(usize, usize)>,
-    /// Symbolic words `X#[…]` that close with their group: the depth of
-    /// that group.
-    indirect_syms: Vec<usize>,
+    /// Open symbolic words, innermost last.
+    syms: Vec<OpenSym>,
     braces: Vec<usize>,
     /// A statement end seen but not yet emitted: dropped if `{` or `else`
     /// comes next, so braces and `else` may start a new line.
@@ -440,7 +446,6 @@ impl<'a> Lexer<'a> {
             stmt_start: 0,
             groups: Vec::new(),
             syms: Vec::new(),
-            indirect_syms: Vec::new(),
             braces: Vec::new(),
             pending_term: None,
             line_comments: Vec::new(),
@@ -691,18 +696,33 @@ impl<'a> Lexer<'a> {
         open + 1
     }
 
+    /// A symbolic word starts at `start`; `with_group`: it ends where the
+    /// group opened next does (`X#[…]`), not with its own `]` or `>`.
+    fn open_sym(&mut self, start: usize, with_group: bool) {
+        let depth = self.groups.len();
+        self.syms.push(OpenSym {
+            start,
+            depth,
+            with_group,
+        });
+    }
+
     /// A `]` at `start`: the end of a symbolic word or of a group.
     fn close_bracket(&mut self, start: usize) -> usize {
         match self.syms.last() {
-            Some(&(_, depth)) if depth == self.groups.len() => {
+            Some(sym) if sym.depth == self.groups.len() => {
                 self.syms.pop();
                 self.push(start, Tok::SymClose, start + 1);
             }
             _ if self.groups.pop().is_some() => {
                 self.push(start, Tok::RParen, start + 1);
                 // `X#[…]`: the word ends with the group.
-                if self.indirect_syms.last() == Some(&(self.groups.len() + 1)) {
-                    self.indirect_syms.pop();
+                let depth = self.groups.len();
+                if self
+                    .syms
+                    .last()
+                    .is_some_and(|s| s.with_group && s.depth == depth)
+                {
                     self.syms.pop();
                     self.push(start + 1, Tok::SymClose, start + 1);
                 }
@@ -719,7 +739,7 @@ impl<'a> Lexer<'a> {
         let at = self.text.len() - after.len();
         let letter = self.text.as_bytes()[start].to_ascii_uppercase();
         if after.starts_with('[') {
-            self.syms.push((start, self.groups.len()));
+            self.open_sym(start, false);
             self.push(start, Tok::SymOpen(letter), at + 1);
             Some(at + 1)
         } else if after.starts_with('#') || after.starts_with("-#") {
@@ -733,8 +753,7 @@ impl<'a> Lexer<'a> {
             let bracket = self.text[name_end..].starts_with('[');
             if bracket && matches!(self.out.last(), Some((_, Tok::Hash, _))) {
                 // `X#[…]`: the word ends where the group does.
-                self.syms.push((start, self.groups.len()));
-                self.indirect_syms.push(self.groups.len() + 1);
+                self.open_sym(start, true);
             } else {
                 self.push(name_end, Tok::SymClose, name_end);
             }
@@ -1072,8 +1091,8 @@ impl<'a> Lexer<'a> {
         if !self.line_comments.is_empty() {
             self.flush_comments((eof, eof));
         }
-        if let Some(&(open, _)) = self.syms.first() {
-            self.unclosed_sym(open);
+        if let Some(sym) = self.syms.first() {
+            self.unclosed_sym(sym.start);
         }
         if let Some(&open) = self.groups.first() {
             self.report(
@@ -1167,7 +1186,7 @@ impl<'a> Lexer<'a> {
                 return;
             }
             Raw::SymOpen => {
-                self.syms.push((start, self.groups.len()));
+                self.open_sym(start, false);
                 Tok::SymOpen(text.as_bytes()[0].to_ascii_uppercase())
             }
             Raw::Ident => self.ident(text),
@@ -1194,7 +1213,7 @@ impl<'a> Lexer<'a> {
                 None => return,
             },
             Raw::Gt => match self.syms.last() {
-                Some(&(_, depth)) if depth == self.groups.len() => {
+                Some(sym) if sym.depth == self.groups.len() => {
                     self.syms.pop();
                     Tok::SymClose
                 }
@@ -1244,7 +1263,6 @@ impl<'a> Lexer<'a> {
         );
         self.groups.clear();
         self.syms.clear();
-        self.indirect_syms.clear();
         self.pending_term.get_or_insert((start, end));
         self.shape = Shape::Empty;
     }
@@ -1314,8 +1332,8 @@ impl<'a> Lexer<'a> {
     /// A line end or `;`: the statement ends (and a plain program's
     /// comments of the line follow it).
     fn statement_end(&mut self, start: usize, end: usize) {
-        if let Some(&(open, _)) = self.syms.first() {
-            self.unclosed_sym(open);
+        if let Some(sym) = self.syms.first() {
+            self.unclosed_sym(sym.start);
         }
         self.assignments_after_words(start);
         if let Some(call) = self.pending_call.take() {
@@ -1461,7 +1479,6 @@ impl<'a> Lexer<'a> {
     fn unclosed_sym(&mut self, open: usize) {
         self.report(SyntaxErrorKind::UnclosedSymbolicWord, open, open + 2);
         self.syms.clear();
-        self.indirect_syms.clear();
     }
 
     /// `P0X = 5`: the user meant a variable, but a letter and a digit make a
