@@ -52,7 +52,9 @@ fn found_inputs_give_their_diagnostic_at_once() {
     // (file, how it is read, the error it must give): each once ran for
     // more than the fuzzer's 10 s. The first case's fix is checked here (it
     // made the error); the second's was speed only, which no test times:
-    // this only keeps its diagnostics as they are.
+    // this only keeps its diagnostics as they are. The third (a subprogram
+    // calling itself with `L3`) went on past the depth limit until the
+    // statement limit: its one error must be the depth's.
     let cases = [
         (
             "spiral_step_zero.egc",
@@ -68,6 +70,16 @@ fn found_inputs_give_their_diagnostic_at_once() {
             "loop_error_did_you_mean.ngc",
             (Language::Gcode, Flavour::LinuxCnc),
             "this loop ran more than 1000 times",
+        ),
+        (
+            "recursion_with_repeats.ngc",
+            (Language::Gcode, Flavour::Fanuc),
+            "subprograms nested more than 64 deep",
+        ),
+        (
+            "recursion_with_repeats.ngc",
+            (Language::Gcode, Flavour::Generic),
+            "subprograms nested more than 64 deep",
         ),
     ];
     for (name, (language, from), expected) in cases {
@@ -92,6 +104,9 @@ fn found_inputs_give_their_diagnostic_at_once() {
         };
         let compiled = compile(&sources, file, &options, Some(&mut engine));
         assert!(compiled.output.is_none(), "{name}");
+        if name == "recursion_with_repeats.ngc" {
+            assert_eq!(compiled.diagnostics.len(), 1, "{name}");
+        }
         assert!(
             compiled.diagnostics.iter().any(|d| d.message == expected),
             "{name}: {:?}",

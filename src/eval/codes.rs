@@ -628,7 +628,10 @@ impl Evaluator<'_> {
                 limit: self.options.max_call_depth,
                 recursion,
             };
-            return Err(CodeError::new(kind, at).into());
+            // It stops the program: going on, each level would run the
+            // rest of its body and its repeats (`L3` at 64 levels: 3^64).
+            self.report(CodeError::new(kind, at));
+            return Ok(Flow::Abort);
         }
         self.calls.push((number, at));
         let saved = enter(self);
