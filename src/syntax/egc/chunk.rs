@@ -108,6 +108,9 @@ fn plain_word(bytes: &[u8], at: usize) -> Option<usize> {
     if i == digits {
         return None;
     }
+    if !matches!(letter, b'M' | b'G') {
+        return Some(i);
+    }
     let number = &bytes[digits..i];
     let whole = number.split(|&b| b == b'.').next().unwrap_or(&[]);
     let first = whole.iter().position(|&b| b != b'0').unwrap_or(whole.len());
