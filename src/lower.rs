@@ -39,7 +39,10 @@ pub trait Pass: Send {
     /// `true`: it goes on, changed or not, after whatever the pass sent
     /// to `out` while lowering it (the common case, which copies nothing).
     /// `false`: it goes no further; what it becomes, if anything, the pass
-    /// sends to `out`, now or later (a copy it holds back).
+    /// sends to `out`, now or later (a copy it holds back). A statement
+    /// followed by others it makes is sent by the pass too (a copy, then
+    /// the others) and answered `false`: what `out` is sent comes before a
+    /// statement that goes on.
     fn feed(&mut self, stmt: &mut Stmt, out: &mut Out<'_>) -> bool;
 
     /// The program has ended: send what is held back, and report a state
@@ -134,9 +137,11 @@ impl Out<'_> {
         self.sent_waiting = true;
         let waiting = std::mem::take(&mut self.waiting);
         for slot in waiting {
-            // The slot is never read again (`flow` goes on after it).
-            let span = slot.span;
-            self.push_one(std::mem::replace(slot, Stmt::new(ir::Op::End, span)));
+            // The slot is never read again (`flow` goes on after it). What
+            // is left there is an empty comment, harmless even if a slip
+            // ever printed it (an `End` would end the program).
+            let vacated = Stmt::new(ir::Op::Comment(String::new()), slot.span);
+            self.push_one(std::mem::replace(slot, vacated));
         }
     }
 
@@ -335,7 +340,8 @@ mod tests {
 
     /// Drops every third statement.
     struct Drop3;
-    /// Sends more than a chunk of statements before every fifth one.
+    /// Sends more than a chunk of statements before every fifth one, and
+    /// three more at the end (which the next pass gets with its own end).
     struct Expand;
     /// Holds every seventh statement back until after the next one.
     #[derive(Default)]
@@ -354,6 +360,49 @@ mod tests {
                 for j in 0..CHUNK as u32 + 10 {
                     out.push(super::tests::stmt(1_000_000 + k * 10_000 + j));
                 }
+            }
+            true
+        }
+
+        fn finish(&mut self, out: &mut Out<'_>) {
+            for k in TAIL {
+                out.push(stmt(k));
+            }
+        }
+    }
+
+    /// What [`Expand`] sends at the end: the last is held back by [`Hold`].
+    const TAIL: [u32; 3] = [900_000_000, 900_000_001, 900_000_002];
+
+    /// Holds the first statement back until the end of the program, where
+    /// it comes after the statements the earlier passes sent at their end.
+    #[derive(Default)]
+    struct HoldFirst(Option<Stmt>, bool);
+
+    impl Pass for HoldFirst {
+        fn feed(&mut self, stmt: &mut Stmt, _: &mut Out<'_>) -> bool {
+            if std::mem::replace(&mut self.1, true) {
+                return true;
+            }
+            self.0 = Some(stmt.clone());
+            false
+        }
+
+        fn finish(&mut self, out: &mut Out<'_>) {
+            if let Some(first) = self.0.take() {
+                out.push(first);
+            }
+        }
+    }
+
+    /// Fails at statement 50 (and sends nothing on after it).
+    struct Fail;
+
+    impl Pass for Fail {
+        fn feed(&mut self, stmt: &mut Stmt, out: &mut Out<'_>) -> bool {
+            if number(stmt) == 50 {
+                let kind = LowerErrorKind::MachineMoveIncremental;
+                out.report(LowerError::new(kind, stmt.span));
             }
             true
         }
@@ -380,7 +429,7 @@ mod tests {
         }
     }
 
-    /// What the three passes make of `0..n`, pass by pass.
+    /// What the four passes make of `0..n`, pass by pass.
     fn model(n: u32) -> Vec<u32> {
         let dropped: Vec<u32> = (0..n).filter(|k| !k.is_multiple_of(3)).collect();
         let mut expanded = Vec::new();
@@ -390,6 +439,7 @@ mod tests {
             }
             expanded.push(k);
         }
+        expanded.extend(TAIL);
         let (mut held, mut out) = (None, Vec::new());
         for k in expanded {
             if let Some(h) = held.take() {
@@ -401,6 +451,7 @@ mod tests {
             }
         }
         out.extend(held);
+        out.rotate_left(1);
         out
     }
 
@@ -411,8 +462,9 @@ mod tests {
                 (Box::new(Drop3), Problems::default()),
                 (Box::new(Expand), Problems::default()),
                 (Box::new(Hold::default()), Problems::default()),
+                (Box::new(HoldFirst::default()), Problems::default()),
             ];
-            let mut buffers = vec![Vec::new(), Vec::new(), Vec::new()];
+            let mut buffers = vec![Vec::new(), Vec::new(), Vec::new(), Vec::new()];
             let mut got = Vec::new();
             let mut sink = |o: &mut Vec<Stmt>| got.extend(o.drain(..).map(|s| number(&s)));
             let all: Vec<u32> = (0..n).collect();
@@ -423,6 +475,28 @@ mod tests {
             }
             flow(&mut passes, &mut buffers, &mut Vec::new(), true, &mut sink);
             assert_eq!(got, model(n), "{n} statements in batches of {batch}");
+        }
+    }
+
+    #[test]
+    fn after_a_pass_fails_nothing_more_comes_out_of_it() {
+        for batch in [1, 7, 64, 300] {
+            let mut passes: Vec<(Box<dyn Pass>, Problems)> = vec![
+                (Box::new(Drop3), Problems::default()),
+                (Box::new(Fail), Problems::default()),
+                (Box::new(Hold::default()), Problems::default()),
+            ];
+            let mut buffers = vec![Vec::new(), Vec::new(), Vec::new()];
+            let mut got = Vec::new();
+            let mut sink = |o: &mut Vec<Stmt>| got.extend(o.drain(..).map(|s| number(&s)));
+            let all: Vec<u32> = (0..300).collect();
+            for part in all.chunks(batch) {
+                let mut input = part.iter().map(|&k| stmt(k)).collect();
+                flow(&mut passes, &mut buffers, &mut input, false, &mut sink);
+            }
+            flow(&mut passes, &mut buffers, &mut Vec::new(), true, &mut sink);
+            assert!(got.iter().all(|&k| k < 50), "batches of {batch}: {got:?}");
+            assert_eq!(passes[1].1.errors, 1);
         }
     }
 

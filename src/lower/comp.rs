@@ -316,8 +316,7 @@ impl CompPass {
         let span = stmt.span;
         // After the absolute pass the written axes are absolute.
         let end = self.at.end_of(&m.to, "cutter compensation", span)?;
-        let active = matches!(&self.on, Some(on) if on.r > 0.0);
-        if !active {
+        let Some(mut on) = self.on.take_if(|on| on.r > 0.0) else {
             if let Some(off) = self.after_off.take() {
                 if m.motion.is_arc() {
                     return Err(LowerError::new(CompError::ArcAfterOff { off }, span));
@@ -334,9 +333,6 @@ impl CompPass {
             }
             self.at.position = end;
             return Ok(true);
-        }
-        let Some(mut on) = self.on.take() else {
-            return Ok(false);
         };
         let result = self.compensate(&mut on, stmt.clone(), m, &end, out);
         self.on = Some(on);
