@@ -519,7 +519,7 @@ impl<'a> Parts<'a> {
 }
 
 /// The lines of a file, as bytes (the first without a byte-order mark),
-/// for [`scan_plain`] and [`LineReader`] alike.
+/// for [`scan_plain`].
 struct RawLines<'a> {
     reader: &'a mut dyn std::io::BufRead,
     first: bool,
@@ -604,14 +604,7 @@ impl<'a> LineReader<'a> {
             bytes.drain(..source::BOM.len());
         }
         let lines = bytes.iter().filter(|&&b| b == b'\n').count();
-        let text = String::from_utf8(bytes).unwrap_or_else(|e| {
-            // Some line is not UTF-8: each is decoded on its own.
-            let bytes = e.into_bytes();
-            bytes
-                .split_inclusive(|&b| b == b'\n')
-                .map(source::decode_line)
-                .collect()
-        });
+        let text = source::decode_lines(bytes);
         let at = Locator::part(self.file, &text, self.base, self.lines_before);
         self.base += text.len();
         self.lines_before += lines;

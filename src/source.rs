@@ -258,17 +258,20 @@ pub fn decode(mut bytes: Vec<u8>) -> Result<String, NotText> {
             }
         }
     }
-    match String::from_utf8(bytes) {
-        Ok(text) => Ok(text),
-        Err(e) => {
-            let bytes = e.into_bytes();
-            let mut text = String::with_capacity(bytes.len() + bytes.len() / 8);
-            for line in bytes.split_inclusive(|&b| b == b'\n') {
-                text.push_str(&decode_line(line));
-            }
-            Ok(text)
+    Ok(decode_lines(bytes))
+}
+
+/// Clean bytes as text: UTF-8 when they all are, else each line as UTF-8
+/// or Latin-1 ([`decode_line`]).
+pub fn decode_lines(bytes: Vec<u8>) -> String {
+    String::from_utf8(bytes).unwrap_or_else(|e| {
+        let bytes = e.into_bytes();
+        let mut text = String::with_capacity(bytes.len() + bytes.len() / 8);
+        for line in bytes.split_inclusive(|&b| b == b'\n') {
+            text.push_str(&decode_line(line));
         }
-    }
+        text
+    })
 }
 
 /// The UTF-8 byte-order mark, dropped where a file starts with it.

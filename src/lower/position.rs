@@ -87,7 +87,7 @@ impl Tracker {
             Op::Move(m) => {
                 // [`Tracker::end_of`] without its error, in place.
                 let incremental = self.distance == Distance::Incremental;
-                let mut end = [None; 9];
+                let mut end: Position = [None; Axis::ALL.len()];
                 for (axis, v) in m.to.iter() {
                     let i = axis.index();
                     end[i] = match self.position[i] {

@@ -5,7 +5,7 @@
 //! [`CHUNK_BYTES`], each dropped before the next is read. Memory then
 //! grows with the longest part, not with the program.
 
-use super::lexer::{self, comment_end, Language};
+use super::lexer::{self, comment_end, Language, WordNumber};
 use super::parser::{fast_path, parse_program_from, words_stmt};
 use crate::ast::{Names, Stmt};
 use crate::diagnostic::Diagnostic;
@@ -94,31 +94,20 @@ fn plain_word(bytes: &[u8], at: usize) -> Option<usize> {
     if letter == b'O' {
         return None;
     }
-    let mut i = at + 1;
-    while matches!(bytes.get(i), Some(b' ' | b'\t')) {
-        i += 1;
-    }
-    if matches!(bytes.get(i), Some(b'+' | b'-')) {
-        i += 1;
-    }
-    let digits = i;
-    while matches!(bytes.get(i), Some(b'0'..=b'9' | b'.')) {
-        i += 1;
-    }
-    if i == digits {
+    let number = WordNumber::after(bytes, at + 1, bytes.len());
+    if !number.has_digits() {
         return None;
     }
     if !matches!(letter, b'M' | b'G') {
-        return Some(i);
+        return Some(number.end);
     }
-    let number = &bytes[digits..i];
-    let whole = number.split(|&b| b == b'.').next().unwrap_or(&[]);
+    let whole = number.body().split(|&b| b == b'.').next().unwrap_or(&[]);
     let first = whole.iter().position(|&b| b != b'0').unwrap_or(whole.len());
     let calls = matches!(
         (letter, &whole[first..]),
         (b'M', b"98" | b"99") | (b'G', b"65")
     );
-    (!calls).then_some(i)
+    (!calls).then_some(number.end)
 }
 
 /// The parts of `text` to read one after another: byte ranges that end

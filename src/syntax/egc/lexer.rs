@@ -573,21 +573,13 @@ impl<'a> Lexer<'a> {
             }
             // `G0Z  0.1`: spaces between a letter and its number.
             Ok(Raw::Letter) => {
-                let rest = &self.text[end..line_end];
-                let spaces = rest.len() - rest.trim_start_matches([' ', '\t']).len();
-                let number = &rest[spaces..];
-                let sign = usize::from(number.starts_with(['+', '-']));
-                let digits = number[sign..]
-                    .find(|c: char| !c.is_ascii_digit() && c != '.')
-                    .unwrap_or(number.len() - sign);
-                let body = &number[sign..sign + digits];
-                if body.is_empty() || body == "." || body.matches('.').count() > 1 {
+                let number = WordNumber::after(self.text.as_bytes(), end, line_end);
+                if !number.is_decimal() {
                     return None;
                 }
-                let word_end = end + spaces + sign + digits;
-                let compact = format!("{}{}", &self.text[start..end], &number[..sign + digits]);
-                self.push_word(word(&compact), start, word_end);
-                Some(word_end)
+                let compact = format!("{}{}", &self.text[start..end], &self.text[number.range()]);
+                self.push_word(word(&compact), start, number.end);
+                Some(number.end)
             }
             _ => None,
         }
@@ -1198,7 +1190,9 @@ impl<'a> Lexer<'a> {
                 return;
             }
             Raw::RParen => {
-                if self.groups.pop().is_none() {
+                // In G-code `(` starts a comment: every group there is a
+                // `[…]`, which a `)` does not close (`X#[1)]` is a typo).
+                if self.language == Language::Gcode || self.groups.pop().is_none() {
                     self.report(SyntaxErrorKind::UnmatchedParen, start, end);
                     return;
                 }
@@ -1678,16 +1672,52 @@ pub(crate) fn plain_words(
             break;
         }
         let letter = bytes[i];
-        if !letter.is_ascii_alphabetic() || letter.eq_ignore_ascii_case(&b'O') {
+        // What follows a number is a blank, the next word's letter, or
+        // refused here.
+        let number = WordNumber::after(bytes, i + 1, end);
+        if !letter.is_ascii_alphabetic()
+            || letter.eq_ignore_ascii_case(&b'O')
+            || !number.is_decimal()
+        {
             words.truncate(before);
             return false;
         }
-        let word_start = i;
-        i += 1;
+        let (value, int_digits, has_point) = scan_decimal(&text[number.range()]);
+        words.push(LexedWord {
+            word: WordTok {
+                letter: letter.to_ascii_uppercase(),
+                value,
+                int_digits,
+                has_point,
+            },
+            start: i as u32,
+            end: number.end as u32,
+        });
+        i = number.end;
+    }
+    true
+}
+
+/// The number after a word's letter, as plain G-code writes it: spaces
+/// or tabs, a sign, then digits and points (`G0Z  0.1`, `X -1.5`).
+pub(crate) struct WordNumber<'a> {
+    bytes: &'a [u8],
+    /// Where its sign (or its first digit) is.
+    sign: usize,
+    /// Where its digits and points start, and its end.
+    digits: usize,
+    pub end: usize,
+    points: usize,
+}
+
+impl WordNumber<'_> {
+    /// The number in `bytes[from..end]`, `from` just after the letter.
+    pub(crate) fn after(bytes: &[u8], from: usize, end: usize) -> WordNumber<'_> {
+        let mut i = from;
         while i < end && matches!(bytes[i], b' ' | b'\t') {
             i += 1;
         }
-        let number = i;
+        let sign = i;
         if i < end && matches!(bytes[i], b'+' | b'-') {
             i += 1;
         }
@@ -1696,26 +1726,34 @@ pub(crate) fn plain_words(
             points += usize::from(bytes[i] == b'.');
             i += 1;
         }
-        // What follows is a blank, the next word's letter, or refused
-        // there.
-        let body = &bytes[digits..i];
-        if body.is_empty() || body == b"." || points > 1 {
-            words.truncate(before);
-            return false;
+        WordNumber {
+            bytes,
+            sign,
+            digits,
+            end: i,
+            points,
         }
-        let (value, int_digits, has_point) = scan_decimal(&text[number..i]);
-        words.push(LexedWord {
-            word: WordTok {
-                letter: letter.to_ascii_uppercase(),
-                value,
-                int_digits,
-                has_point,
-            },
-            start: word_start as u32,
-            end: i as u32,
-        });
     }
-    true
+
+    /// The sign and digits, without the blanks before them.
+    pub(crate) fn range(&self) -> std::ops::Range<usize> {
+        self.sign..self.end
+    }
+
+    /// Some digits and points.
+    pub(crate) fn has_digits(&self) -> bool {
+        self.end > self.digits
+    }
+
+    /// The digits and points of the number (after its sign).
+    pub(crate) fn body(&self) -> &[u8] {
+        &self.bytes[self.digits..self.end]
+    }
+
+    /// A decimal number the lexer reads: a digit, and one point at most.
+    pub(crate) fn is_decimal(&self) -> bool {
+        self.has_digits() && self.body() != b"." && self.points <= 1
+    }
 }
 
 fn word(text: &str) -> WordTok {

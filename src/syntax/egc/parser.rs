@@ -548,7 +548,6 @@ fn block_has_m99<'a>(mut rest: impl Iterator<Item = &'a Stmt>) -> bool {
 
 // Grammar actions: kept here so the grammar file stays declarative.
 
-/// Append the words of a run token (`Tok::Words`) to a line.
 /// The statement of a line that is one run of plain words
 /// (`words[run]`, from `start` to `end` on line `number` of the file):
 /// what the grammar's `Words` rule builds.
@@ -562,15 +561,7 @@ pub(crate) fn words_stmt(
     let (first, len) = (run.0 as usize, run.1 as usize);
     let line = words[first..first + len]
         .iter()
-        .map(|w| Word {
-            letter: w.word.letter,
-            value: WordValue::Number(Number {
-                value: w.word.value,
-                int_digits: w.word.int_digits,
-                has_point: w.word.has_point,
-            }),
-            span: at.span_on_line(number, w.start as usize, w.end as usize),
-        })
+        .map(|w| ast_word(w, number, at))
         .collect();
     Stmt {
         kind: StmtKind::Line(Line {
@@ -581,6 +572,7 @@ pub(crate) fn words_stmt(
     }
 }
 
+/// Append the words of a run token (`Tok::Words`) to a line.
 pub(crate) fn push_words(
     line: &mut Vec<Word>,
     words: &[lexer::LexedWord],
@@ -593,7 +585,12 @@ pub(crate) fn push_words(
     let number = run
         .first()
         .map_or(0, |w| at.span(w.start as usize, w.end as usize).line);
-    line.extend(run.iter().map(|w| Word {
+    line.extend(run.iter().map(|w| ast_word(w, number, at)));
+}
+
+/// A lexed word on line `number` of the file.
+fn ast_word(w: &lexer::LexedWord, number: u32, at: &Locator) -> Word {
+    Word {
         letter: w.word.letter,
         value: WordValue::Number(Number {
             value: w.word.value,
@@ -601,7 +598,7 @@ pub(crate) fn push_words(
             has_point: w.word.has_point,
         }),
         span: at.span_on_line(number, w.start as usize, w.end as usize),
-    }));
+    }
 }
 
 pub(crate) fn binary(at: &Locator, l: usize, r: usize, op: BinaryOp, a: Expr, b: Expr) -> Expr {
