@@ -111,7 +111,22 @@ pub struct Out<'a> {
     sent_waiting: bool,
 }
 
-impl Out<'_> {
+impl<'a> Out<'a> {
+    fn new(
+        stmts: &'a mut Vec<Stmt>,
+        problems: &'a mut Problems,
+        full: &'a mut dyn FnMut(&mut Vec<Stmt>),
+        waiting: &'a mut [Stmt],
+    ) -> Out<'a> {
+        Out {
+            stmts,
+            problems,
+            full,
+            waiting,
+            sent_waiting: false,
+        }
+    }
+
     pub fn push(&mut self, stmt: Stmt) {
         self.send_waiting();
         self.push_one(stmt);
@@ -274,13 +289,7 @@ fn flow(
     let mut waiting = 0;
     for i in 0..input.len() {
         let (before, rest) = input.split_at_mut(i);
-        let mut out = Out {
-            stmts: &mut output,
-            problems: &mut *problems,
-            full: &mut next,
-            waiting: &mut before[waiting..],
-            sent_waiting: false,
-        };
+        let mut out = Out::new(&mut output, problems, &mut next, &mut before[waiting..]);
         let Some(stmt) = rest.first_mut() else { break };
         let goes_on = pass.feed(stmt, &mut out);
         if !goes_on {
@@ -291,13 +300,7 @@ fn flow(
         }
     }
     if last {
-        let mut out = Out {
-            stmts: &mut output,
-            problems: &mut *problems,
-            full: &mut next,
-            waiting: &mut input[waiting..],
-            sent_waiting: false,
-        };
+        let mut out = Out::new(&mut output, problems, &mut next, &mut input[waiting..]);
         pass.finish(&mut out);
         if out.sent_waiting {
             waiting = input.len();

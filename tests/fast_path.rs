@@ -7,6 +7,8 @@
 use ger::syntax::egc::parse_program_with_fast_path;
 use std::path::Path;
 
+mod support;
+
 #[test]
 fn fast_path_builds_the_grammars_tree() {
     let root = Path::new(env!("CARGO_MANIFEST_DIR"));
@@ -55,63 +57,39 @@ fn fast_path_builds_the_grammars_tree() {
 #[test]
 fn plain_word_lines_are_what_the_parser_builds() {
     use ger::source::{Locator, Sources};
-    use ger::syntax::egc::chunk::{chunkable, parse_chunk};
+    use ger::syntax::egc::chunk::{chunks, parse_chunk, with_part_size};
     use ger::syntax::egc::parser::with_fast_path;
     use ger::syntax::egc::Language;
-    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
-    let mut dirs: Vec<std::path::PathBuf> = ["tests/oracle", "tests/cases"]
-        .iter()
-        .flat_map(|d| std::fs::read_dir(root.join(d)).unwrap().flatten())
-        .map(|e| e.path())
-        .filter(|p| p.is_dir())
-        .collect();
-    dirs.push(root.join("../shared/real"));
     let (mut checked, mut lines) = (0, 0);
     // Lines near the edge of the fast path, one program read in parts.
     let edges = "G 1 X - 1\nx+.5y-.5 f 100\nG1X1.5.3\nN10G1X1\n  \t\x0c\r\nG1 X1e5\nGX1\nX.\n\
                  G1 X1 (c)\nX1-2\nD01\nDO1\ng0z  0.1\r\nX12345678901234567.5\n/G1 X2\n$H\n\
                  % tape\nM3S1000\nG1 X1;c\nX1 Y\n";
     let mut plain = vec![("edges".to_string(), edges.to_string())];
-    for dir in dirs {
-        for entry in std::fs::read_dir(&dir).into_iter().flatten().flatten() {
-            let path = entry.path();
-            let Ok(text) = std::fs::read(&path).map(ger::source::decode) else {
-                continue;
-            };
-            let Ok(text) = text else { continue };
-            if path.is_file() && chunkable(&text) {
-                plain.push((path.display().to_string(), text));
-            }
-        }
-    }
+    plain.extend(
+        support::plain_programs()
+            .into_iter()
+            .map(|(path, text)| (path.display().to_string(), text)),
+    );
     for (name, text) in plain {
-        {
-            let mut sources = Sources::new();
-            let file = sources.add(name.clone(), String::new());
-            let at = Locator::new(file, &text);
-            // Parts of about 200 bytes: lines of words among the others.
-            let mut ranges = Vec::new();
-            let mut start = 0;
-            while start < text.len() {
-                let want = (start + 200).min(text.len());
-                let end = text[want..].find('\n').map_or(text.len(), |i| want + i + 1);
-                ranges.push(start..end);
-                start = end;
-            }
-            for range in &ranges {
-                let parse = |fast| {
-                    with_fast_path(fast, || {
-                        let (stmts, _, diagnostics) =
-                            parse_chunk(&text, range.clone(), &at, Language::Gcode);
-                        format!("{stmts:?}\n{diagnostics:?}")
-                    })
-                };
-                let (fast, slow) = (parse(true), parse(false));
-                assert_eq!(fast, slow, "{name} at {range:?}");
-            }
-            lines += text.lines().count();
-            checked += 1;
+        let mut sources = Sources::new();
+        let file = sources.add(name.clone(), String::new());
+        let at = Locator::new(file, &text);
+        // Parts of about 200 bytes: lines of words among the others.
+        let ranges: Vec<_> = with_part_size(Some(200), || chunks(&text).collect());
+        for range in &ranges {
+            let parse = |fast| {
+                with_fast_path(fast, || {
+                    let (stmts, _, diagnostics) =
+                        parse_chunk(&text, range.clone(), &at, Language::Gcode);
+                    format!("{stmts:?}\n{diagnostics:?}")
+                })
+            };
+            let (fast, slow) = (parse(true), parse(false));
+            assert_eq!(fast, slow, "{name} at {range:?}");
         }
+        lines += text.lines().count();
+        checked += 1;
     }
     assert!(checked > 30, "only {checked} plain programs found");
     assert!(lines > 10_000, "only {lines} lines");

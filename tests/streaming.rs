@@ -157,40 +157,11 @@ fn a_long_program_streams_like_a_short_one() {
 fn a_plain_program_read_in_parts_is_read_as_a_whole() {
     use ger::compile::{compile_plain, scan_plain};
     use ger::eval::Flavour;
-    use ger::syntax::egc::chunk::{chunkable, with_part_size};
+    use ger::syntax::egc::chunk::with_part_size;
     use ger::syntax::egc::Language;
-    let root = support::manifest();
-    let mut files: Vec<PathBuf> = Vec::new();
-    let mut dirs: Vec<PathBuf> = ["tests/oracle", "tests/cases"]
-        .iter()
-        .flat_map(|d| std::fs::read_dir(root.join(d)).unwrap().flatten())
-        .map(|e| e.path())
-        .filter(|p| p.is_dir())
-        .collect();
-    dirs.push(root.join("../shared/real"));
-    for dir in dirs {
-        for entry in std::fs::read_dir(&dir).into_iter().flatten().flatten() {
-            let path = entry.path();
-            let plain = path.extension().is_some_and(|x| {
-                ["nc", "ngc", "gcode", "tap", "txt", "egc"].contains(&&*x.to_string_lossy())
-            });
-            if plain && path.is_file() {
-                files.push(path);
-            }
-        }
-    }
     let (mut compared, mut in_parts, mut from_reader) = (0, 0, 0);
-    for path in &files {
-        let Ok(bytes) = std::fs::read(path) else {
-            continue;
-        };
-        let Ok(text) = ger::source::decode(bytes) else {
-            continue;
-        };
-        // Any other program is read whole either way: nothing to compare.
-        if !chunkable(&text) {
-            continue;
-        }
+    // Any other program is read whole either way: nothing to compare.
+    for (path, text) in &support::plain_programs() {
         in_parts += 1;
         for from in [Flavour::LinuxCnc, Flavour::Fanuc] {
             let compile_with = |part: Option<usize>| {

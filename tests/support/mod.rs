@@ -17,6 +17,45 @@ pub fn egc_files(dir: &Path) -> Vec<PathBuf> {
     files_with(dir, "egc")
 }
 
+/// The programs of every case folder of `tests/oracle` and `tests/cases`
+/// and of `../shared/real` (where it is present) that are read a part at a
+/// time (`chunk::chunkable`), with their decoded text.
+pub fn plain_programs() -> Vec<(PathBuf, String)> {
+    let root = manifest();
+    let mut dirs: Vec<PathBuf> = ["tests/oracle", "tests/cases"]
+        .iter()
+        .flat_map(|d| {
+            std::fs::read_dir(root.join(d))
+                .into_iter()
+                .flatten()
+                .flatten()
+        })
+        .map(|e| e.path())
+        .filter(|p| p.is_dir())
+        .collect();
+    dirs.push(root.join("../shared/real"));
+    let mut found = Vec::new();
+    for dir in dirs {
+        for entry in std::fs::read_dir(&dir).into_iter().flatten().flatten() {
+            let path = entry.path();
+            let program = path.extension().is_some_and(|x| {
+                ["nc", "ngc", "gcode", "tap", "txt", "egc"].contains(&&*x.to_string_lossy())
+            });
+            if !program || !path.is_file() {
+                continue;
+            }
+            let text = std::fs::read(&path)
+                .ok()
+                .and_then(|b| ger::source::decode(b).ok());
+            if let Some(text) = text.filter(|t| ger::syntax::egc::chunk::chunkable(t)) {
+                found.push((path, text));
+            }
+        }
+    }
+    found.sort();
+    found
+}
+
 /// The files of `dir` whose extension is `extension`, sorted.
 #[allow(dead_code)]
 pub fn files_with(dir: &Path, extension: &str) -> Vec<PathBuf> {
