@@ -374,8 +374,9 @@ mod tests {
         }
     }
 
-    /// What [`Expand`] sends at the end: the last is held back by [`Hold`].
-    const TAIL: [u32; 3] = [900_000_000, 900_000_001, 900_000_002];
+    /// What [`Expand`] sends at the end: the last (2 mod 7) is held back
+    /// by [`Hold`] and sent at its end.
+    const TAIL: [u32; 3] = [900_000_000, 900_000_001, 900_000_005];
 
     /// Holds the first statement back until the end of the program, where
     /// it comes after the statements the earlier passes sent at their end.
@@ -481,6 +482,8 @@ mod tests {
         }
     }
 
+    /// (In batches of 64 and more nothing at all comes out: the batch with
+    /// the failure is thrown away whole.)
     #[test]
     fn after_a_pass_fails_nothing_more_comes_out_of_it() {
         for batch in [1, 7, 64, 300] {
