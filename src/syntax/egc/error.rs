@@ -11,10 +11,11 @@ use crate::source::Span;
 pub enum SyntaxErrorKind {
     /// A character no token starts with.
     UnknownCharacter(char),
-    /// A group `(` still open when its line ended (`on_its_line`) or when
-    /// the file ended.
+    /// A group (`(` in `.egc`, `[` in G-code: `bracket`) still open when
+    /// its line ended (`on_its_line`) or when the file ended.
     UnclosedParen {
         on_its_line: bool,
+        bracket: char,
     },
     /// `)` with no group open.
     UnmatchedParen,
@@ -30,7 +31,9 @@ pub enum SyntaxErrorKind {
     /// `}` with no block open.
     UnmatchedBrace,
     /// `X<` whose `>` never comes on its line.
-    UnclosedSymbolicWord,
+    /// `X<…` (`.egc`) or `X[…`, `X#[…` (LinuxCNC, Fanuc) without its
+    /// closing bracket on the line; the opening bracket.
+    UnclosedSymbolicWord(char),
     /// `( … )` with no `)`: plain G-code's ends with its line, `.egc`'s
     /// at the next `)`.
     UnclosedComment(Language),
@@ -121,16 +124,26 @@ impl Wording for SyntaxErrorKind {
                 "ger does not know this character",
             )
             .with_help("comments are written `( … )` on G-code lines or `// …` anywhere"),
-            UnclosedParen { on_its_line } => error(
-                "unclosed `(`",
-                at,
-                if *on_its_line {
-                    "this parenthesis is not closed on its line"
+            UnclosedParen {
+                on_its_line,
+                bracket,
+            } => {
+                let (name, close) = match bracket {
+                    '[' => ("bracket", ']'),
+                    _ => ("parenthesis", ')'),
+                };
+                let when = if *on_its_line {
+                    "is not closed on its line"
                 } else {
-                    "this parenthesis is never closed"
-                },
-            )
-            .with_help("add the matching `)`"),
+                    "is never closed"
+                };
+                error(
+                    format!("unclosed `{bracket}`"),
+                    at,
+                    format!("this {name} {when}"),
+                )
+                .with_help(format!("add the matching `{close}`"))
+            }
             UnmatchedParen => error("unmatched `)`", at, "no `(` is open here"),
             UnmatchedBracket => error("unmatched `]`", at, "no `[` is open here"),
             EndMismatch { end, open } => match open {
@@ -146,12 +159,18 @@ impl Wording for SyntaxErrorKind {
                 .with_help("add the matching `}`"),
             UnmatchedBrace => error("unmatched `}`", at, "no block is open here")
                 .with_help("remove it, or add the `{` that opens the block"),
-            UnclosedSymbolicWord => error(
+            UnclosedSymbolicWord('<') => error(
                 "unclosed `<` in a symbolic word",
                 at,
                 "this `<` is never closed",
             )
             .with_help("a symbolic word is written `X<expression>`, all on one line"),
+            UnclosedSymbolicWord(open) => error(
+                format!("unclosed `{open}` in a word's expression"),
+                at,
+                format!("this `{open}` is never closed"),
+            )
+            .with_help("a word's expression is written `X[expression]`, all on one line"),
             UnclosedComment(Language::Gcode) => error(
                 "unclosed comment",
                 at,

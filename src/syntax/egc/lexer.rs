@@ -1087,8 +1087,12 @@ impl<'a> Lexer<'a> {
             self.unclosed_sym(sym.start);
         }
         if let Some(&open) = self.groups.first() {
+            let bracket = self.bracket_at(open);
             self.report(
-                SyntaxErrorKind::UnclosedParen { on_its_line: false },
+                SyntaxErrorKind::UnclosedParen {
+                    on_its_line: false,
+                    bracket,
+                },
                 open,
                 open + 1,
             );
@@ -1250,8 +1254,12 @@ impl<'a> Lexer<'a> {
             return;
         }
         let open = self.groups[0];
+        let bracket = self.bracket_at(open);
         self.report(
-            SyntaxErrorKind::UnclosedParen { on_its_line: true },
+            SyntaxErrorKind::UnclosedParen {
+                on_its_line: true,
+                bracket,
+            },
             open,
             open + 1,
         );
@@ -1470,8 +1478,22 @@ impl<'a> Lexer<'a> {
         self.text[line_start..start].trim().is_empty() && self.text[end..line_end].trim().is_empty()
     }
 
+    /// The bracket that opened the group at `open`: `(`, or G-code's `[`.
+    fn bracket_at(&self, open: usize) -> char {
+        self.text[open..].chars().next().unwrap_or('(')
+    }
+
     fn unclosed_sym(&mut self, open: usize) {
-        self.report(SyntaxErrorKind::UnclosedSymbolicWord, open, open + 2);
+        // `X<`, or G-code's `X[`, `X #[`: the bracket after the letter.
+        let bracket = self.text[open + 1..]
+            .chars()
+            .find(|c| matches!(c, '<' | '['))
+            .unwrap_or('<');
+        let end = self.text[open + 1..]
+            .find(bracket)
+            .map_or(open + 2, |i| open + 2 + i);
+        let kind = SyntaxErrorKind::UnclosedSymbolicWord(bracket);
+        self.report(kind, open, end);
         self.syms.clear();
     }
 
@@ -1826,7 +1848,10 @@ mod tests {
         let lexed = lex(src, &Locator::new(0, src), &mut names);
         assert_eq!(
             lexed.errors[0].kind,
-            SyntaxErrorKind::UnclosedParen { on_its_line: true }
+            SyntaxErrorKind::UnclosedParen {
+                on_its_line: true,
+                bracket: '('
+            }
         );
     }
 
