@@ -408,9 +408,18 @@ fn run<'a>(
     });
     diagnostics.extend(eval_diagnostics);
     drop(program);
-    // Evaluation ran on this thread while the back end lowered and printed
-    // on its own, and timed itself.
     clock.lap("expand");
+    finish_back_end(backend, diagnostics, clock)
+}
+
+/// After evaluation: the back end's times (it ran on its own thread, at the
+/// same time), and unless a stage before it failed, the end of its output
+/// and its diagnostics.
+fn finish_back_end(
+    backend: Backend<'_>,
+    diagnostics: &mut Vec<Diagnostic>,
+    clock: &mut Clock,
+) -> std::io::Result<()> {
     clock.add(&[("lower", backend.lower_time), ("emit", backend.emit_time)]);
     if diagnostics.iter().any(is_error) {
         return Ok(());
@@ -743,17 +752,12 @@ fn run_by_parts(
     while parts.next(language).is_some() {}
     diagnostics.append(&mut parts.diagnostics);
     clock.split("expand", &[("parse", parts.time)]);
-    clock.add(&[("lower", backend.lower_time), ("emit", backend.emit_time)]);
-    if parts.broken {
-        return Ok(());
+    // A syntax error (among `diagnostics` now) stops the compile: what the
+    // evaluator said of the parts before it is not reported.
+    if !parts.broken {
+        diagnostics.extend(evaluated);
     }
-    diagnostics.extend(evaluated);
-    if diagnostics.iter().any(is_error) {
-        return Ok(());
-    }
-    let (lowered, written) = backend.finish();
-    diagnostics.extend(lowered);
-    written
+    finish_back_end(backend, diagnostics, clock)
 }
 
 /// The back end as the evaluator's sink: each batch of statements is
