@@ -59,6 +59,11 @@ pub struct CompileOptions {
 }
 
 impl CompileOptions {
+    /// The language of the file `name`: `--input`, else its name's.
+    pub fn language(&self, name: &str) -> Language {
+        self.input.unwrap_or_else(|| Language::of_file(name))
+    }
+
     /// Whose meaning holds for the file `name`: `--from`, else its name's.
     fn flavour(&self, name: &str) -> eval::Flavour {
         self.from.unwrap_or_else(|| eval::Flavour::of_file(name))
@@ -327,7 +332,7 @@ impl<'a> Input<'a> {
             text: sources.text(file),
             file,
             locator: sources.locator(file),
-            language: options.input.unwrap_or_else(|| Language::of_file(name)),
+            language: options.language(name),
             from: options.flavour(name),
         }
     }
@@ -558,8 +563,10 @@ impl<'a> RawLines<'a> {
         if self.reader.read_until(b'\n', &mut self.line)? == 0 {
             return Ok(None);
         }
-        let bom = std::mem::take(&mut self.first) && self.line.starts_with(source::BOM);
-        Ok(Some(&self.line[if bom { source::BOM.len() } else { 0 }..]))
+        if std::mem::take(&mut self.first) {
+            source::drop_bom(&mut self.line);
+        }
+        Ok(Some(&self.line))
     }
 }
 
@@ -609,8 +616,8 @@ impl<'a> LineReader<'a> {
         if bytes.is_empty() {
             return Ok(None);
         }
-        if std::mem::take(&mut self.first) && bytes.starts_with(source::BOM) {
-            bytes.drain(..source::BOM.len());
+        if std::mem::take(&mut self.first) {
+            source::drop_bom(&mut bytes);
         }
         let lines = bytes.iter().filter(|&&b| b == b'\n').count();
         let text = source::decode_lines(bytes);

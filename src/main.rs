@@ -579,7 +579,7 @@ impl Job {
             return Err(ExitCode::from(2));
         }
         let part = (input != "-").then(|| Path::new(input));
-        if plain_input(options, name) {
+        if compile_options.language(name) == ger::syntax::egc::Language::Gcode {
             match subroutine_files(&mut sources, file, &options.subroutine_dirs, part) {
                 Ok(library) => compile_options.library = library,
                 Err(e) => {
@@ -708,15 +708,6 @@ fn reported(
     None
 }
 
-/// Whether `input` is read as plain G-code (`--input`, else its name).
-fn plain_input(options: &Options, name: &str) -> bool {
-    match options.language {
-        Some(InputArg::Gcode) => true,
-        Some(InputArg::Egc) => false,
-        None => ger::syntax::egc::Language::of_file(name) == ger::syntax::egc::Language::Gcode,
-    }
-}
-
 /// A plain program file that can be compiled from the file itself, a part
 /// at a time ([`ger::compile::scan_plain`]), with the metadata it had when
 /// it was read through: a regular file (a pipe cannot be read twice) whose
@@ -728,7 +719,7 @@ fn streamable(
 ) -> Option<(ger::compile::PlainFile, std::fs::Metadata)> {
     let before = std::fs::metadata(input).ok()?;
     if input == "-"
-        || !plain_input(options, input)
+        || options.compile_options(stage).language(input) != ger::syntax::egc::Language::Gcode
         || stage == Some(Stage::Parse)
         || !before.is_file()
         || !options.subroutine_dirs.is_empty()

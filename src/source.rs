@@ -227,9 +227,7 @@ pub enum NotText {
 /// it is dropped. NUL bytes or other control characters mean the file is
 /// not text: refused before any parsing. Every span refers to this text.
 pub fn decode(mut bytes: Vec<u8>) -> Result<String, NotText> {
-    if bytes.starts_with(BOM) {
-        bytes.drain(..BOM.len());
-    }
+    drop_bom(&mut bytes);
     if let Some(eof) = bytes.iter().position(|&b| b == 0x1a) {
         if bytes[eof + 1..].iter().all(|b| b.is_ascii_whitespace()) {
             bytes.truncate(eof);
@@ -276,6 +274,13 @@ pub fn decode_lines(bytes: Vec<u8>) -> String {
 
 /// The UTF-8 byte-order mark, dropped where a file starts with it.
 pub const BOM: &[u8] = b"\xef\xbb\xbf";
+
+/// Drop the byte-order mark `bytes` (a file's start) begins with, if any.
+pub fn drop_bom(bytes: &mut Vec<u8>) {
+    if bytes.starts_with(BOM) {
+        bytes.drain(..BOM.len());
+    }
+}
 
 /// One line as UTF-8, else as Latin-1 ([`decode`]'s rule for each line).
 pub fn decode_line(line: &[u8]) -> std::borrow::Cow<'_, str> {
