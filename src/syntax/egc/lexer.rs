@@ -336,15 +336,11 @@ pub struct Lexed {
 }
 
 pub fn lex(text: &str, at: &Locator, names: &mut Names) -> Lexed {
-    lex_as(text, at, names, Language::Egc)
+    lex_from(text, 0, at, names, Language::Egc)
 }
 
-pub fn lex_as(text: &str, at: &Locator, names: &mut Names, language: Language) -> Lexed {
-    lex_from(text, 0, at, names, language)
-}
-
-/// [`lex_as`] from the offset `from` of `text` (a line start), with spans
-/// in the whole text: the earlier lines are not read.
+/// The tokens of `text` in `language` from the offset `from` (a line
+/// start), with spans in the whole text: the earlier lines are not read.
 pub fn lex_from(
     text: &str,
     from: usize,
@@ -360,6 +356,8 @@ pub fn lex_from(
 /// A symbolic word being read (`X<…>`, `X[…]`, `X#[…]`).
 struct OpenSym {
     start: usize,
+    /// `<` (`.egc`) or `[`.
+    bracket: char,
     /// The group depth it was opened at.
     depth: usize,
     /// It closes with the group opened after it (`X#[…]`).
@@ -381,8 +379,9 @@ struct Lexer<'a> {
     shape: Shape,
     /// Index in `out` where the current statement starts.
     stmt_start: usize,
-    /// Open group parentheses, innermost last.
-    groups: Vec<usize>,
+    /// Open groups, innermost last: where each opened, and its bracket
+    /// (`(`, or LinuxCNC's and Fanuc's `[`).
+    groups: Vec<(usize, char)>,
     /// Open symbolic words, innermost last.
     syms: Vec<OpenSym>,
     braces: Vec<usize>,
@@ -662,7 +661,7 @@ impl<'a> Lexer<'a> {
                 *e = start;
             }
         }
-        self.groups.push(start);
+        self.groups.push((start, '['));
         let tok = if call { Tok::CallOpen } else { Tok::LParen };
         self.push(start, tok, start + 1);
         start + 1
@@ -688,12 +687,14 @@ impl<'a> Lexer<'a> {
         open + 1
     }
 
-    /// A symbolic word starts at `start`; `with_group`: it ends where the
-    /// group opened next does (`X#[…]`), not with its own `]` or `>`.
-    fn open_sym(&mut self, start: usize, with_group: bool) {
+    /// A symbolic word starts at `start` with `bracket` (`<`, `[`);
+    /// `with_group`: it ends where the group opened next does (`X#[…]`),
+    /// not with its own `]` or `>`.
+    fn open_sym(&mut self, start: usize, bracket: char, with_group: bool) {
         let depth = self.groups.len();
         self.syms.push(OpenSym {
             start,
+            bracket,
             depth,
             with_group,
         });
@@ -731,7 +732,7 @@ impl<'a> Lexer<'a> {
         let at = self.text.len() - after.len();
         let letter = self.text.as_bytes()[start].to_ascii_uppercase();
         if after.starts_with('[') {
-            self.open_sym(start, false);
+            self.open_sym(start, '[', false);
             self.push(start, Tok::SymOpen(letter), at + 1);
             Some(at + 1)
         } else if after.starts_with('#') || after.starts_with("-#") {
@@ -745,7 +746,7 @@ impl<'a> Lexer<'a> {
             let bracket = self.text[name_end..].starts_with('[');
             if bracket && matches!(self.out.last(), Some((_, Tok::Hash, _))) {
                 // `X#[…]`: the word ends where the group does.
-                self.open_sym(start, true);
+                self.open_sym(start, '[', true);
             } else {
                 self.push(name_end, Tok::SymClose, name_end);
             }
@@ -1083,11 +1084,10 @@ impl<'a> Lexer<'a> {
         if !self.line_comments.is_empty() {
             self.flush_comments((eof, eof));
         }
-        if let Some(sym) = self.syms.first() {
-            self.unclosed_sym(sym.start);
+        if let Some(&OpenSym { start, bracket, .. }) = self.syms.first() {
+            self.unclosed_sym(start, bracket);
         }
-        if let Some(&open) = self.groups.first() {
-            let bracket = self.bracket_at(open);
+        if let Some(&(open, bracket)) = self.groups.first() {
             self.report(
                 SyntaxErrorKind::UnclosedParen {
                     on_its_line: false,
@@ -1130,7 +1130,7 @@ impl<'a> Lexer<'a> {
             };
         if grouping {
             let call = matches!(self.out.last(), Some(&(_, Tok::Name(_), e)) if e == start);
-            self.groups.push(start);
+            self.groups.push((start, '('));
             if self.shape == Shape::NameHead {
                 self.call_groups.push(self.span(start, start + 1));
             }
@@ -1182,7 +1182,7 @@ impl<'a> Lexer<'a> {
                 return;
             }
             Raw::SymOpen => {
-                self.open_sym(start, false);
+                self.open_sym(start, '<', false);
                 Tok::SymOpen(text.as_bytes()[0].to_ascii_uppercase())
             }
             Raw::Ident => self.ident(text),
@@ -1194,12 +1194,13 @@ impl<'a> Lexer<'a> {
                 return;
             }
             Raw::RParen => {
-                // In G-code `(` starts a comment: every group there is a
-                // `[…]`, which a `)` does not close (`X#[1)]` is a typo).
-                if self.language == Language::Gcode || self.groups.pop().is_none() {
+                // A `)` closes only a `(`: in G-code, where `(` starts a
+                // comment, no group (`X#[1)]` is a typo).
+                if self.groups.last().is_none_or(|&(_, open)| open != '(') {
                     self.report(SyntaxErrorKind::UnmatchedParen, start, end);
                     return;
                 }
+                self.groups.pop();
                 Tok::RParen
             }
             Raw::LBrace => match self.open_brace(start, end) {
@@ -1253,8 +1254,7 @@ impl<'a> Lexer<'a> {
         if continues {
             return;
         }
-        let open = self.groups[0];
-        let bracket = self.bracket_at(open);
+        let (open, bracket) = self.groups[0];
         self.report(
             SyntaxErrorKind::UnclosedParen {
                 on_its_line: true,
@@ -1334,8 +1334,8 @@ impl<'a> Lexer<'a> {
     /// A line end or `;`: the statement ends (and a plain program's
     /// comments of the line follow it).
     fn statement_end(&mut self, start: usize, end: usize) {
-        if let Some(sym) = self.syms.first() {
-            self.unclosed_sym(sym.start);
+        if let Some(&OpenSym { start, bracket, .. }) = self.syms.first() {
+            self.unclosed_sym(start, bracket);
         }
         self.assignments_after_words(start);
         if let Some(call) = self.pending_call.take() {
@@ -1478,17 +1478,9 @@ impl<'a> Lexer<'a> {
         self.text[line_start..start].trim().is_empty() && self.text[end..line_end].trim().is_empty()
     }
 
-    /// The bracket that opened the group at `open`: `(`, or G-code's `[`.
-    fn bracket_at(&self, open: usize) -> char {
-        self.text[open..].chars().next().unwrap_or('(')
-    }
-
-    fn unclosed_sym(&mut self, open: usize) {
-        // `X<`, or G-code's `X[`, `X #[`: the bracket after the letter.
-        let bracket = self.text[open + 1..]
-            .chars()
-            .find(|c| matches!(c, '<' | '['))
-            .unwrap_or('<');
+    /// The symbolic word opened at `open` with `bracket` is not closed.
+    fn unclosed_sym(&mut self, open: usize, bracket: char) {
+        // From the letter to its bracket (`X<`, `X [`, `X#[`).
         let end = self.text[open + 1..]
             .find(bracket)
             .map_or(open + 2, |i| open + 2 + i);
@@ -1599,10 +1591,7 @@ impl OWord {
             ("break", OWord::Break),
             ("continue", OWord::Continue),
         ];
-        KEYWORDS
-            .iter()
-            .find(|(k, _)| k.eq_ignore_ascii_case(text))
-            .map(|&(_, w)| w)
+        find_word(&KEYWORDS, text)
     }
 }
 
@@ -1663,7 +1652,8 @@ pub fn comment_end(bytes: &[u8], open: usize) -> Option<usize> {
     None
 }
 
-fn find_word(table: &[(&str, Tok)], text: &str) -> Option<Tok> {
+/// The entry of `table` whose word is `text`, in either case.
+fn find_word<T: Copy>(table: &[(&str, T)], text: &str) -> Option<T> {
     table
         .iter()
         .find(|(k, _)| k.eq_ignore_ascii_case(text))
