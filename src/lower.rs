@@ -290,8 +290,7 @@ fn flow(
     for i in 0..input.len() {
         let (before, rest) = input.split_at_mut(i);
         let mut out = Out::new(&mut output, problems, &mut next, &mut before[waiting..]);
-        let Some(stmt) = rest.first_mut() else { break };
-        let goes_on = pass.feed(stmt, &mut out);
+        let goes_on = pass.feed(&mut rest[0], &mut out);
         if !goes_on {
             out.send_waiting();
             waiting = i + 1;

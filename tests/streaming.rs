@@ -159,7 +159,7 @@ fn a_plain_program_read_in_parts_is_read_as_a_whole() {
     use ger::eval::Flavour;
     use ger::syntax::egc::chunk::with_part_size;
     use ger::syntax::egc::Language;
-    let (mut compared, mut in_parts, mut from_reader) = (0, 0, 0);
+    let (mut in_parts, mut from_reader) = (0, 0);
     // Any other program is read whole either way: nothing to compare.
     for (path, text) in &support::plain_programs() {
         in_parts += 1;
@@ -233,11 +233,9 @@ fn a_plain_program_read_in_parts_is_read_as_a_whole() {
                 }
                 from_reader += 1;
             }
-            compared += 1;
         }
     }
     assert!(in_parts > 20, "only {in_parts} programs are read in parts");
-    assert_eq!(compared, 2 * in_parts);
     assert!(
         from_reader > 40,
         "only {from_reader} compiles from a reader"

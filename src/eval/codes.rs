@@ -16,7 +16,6 @@ use error::{CodeError, CodeErrorKind as K};
 /// A code for messages: its letter and number in tenths.
 type Code = Option<(u8, u32)>;
 
-/// A G code in tenths: G1 is 10, G54.1 is 541.
 /// Why the G code `t` (in tenths) is not one ger reads.
 fn unsupported_g(t: u32) -> &'static str {
     match t {
@@ -32,6 +31,7 @@ fn unsupported_g(t: u32) -> &'static str {
     }
 }
 
+/// A G code in tenths: G1 is 10, G54.1 is 541.
 fn tenths(value: f64) -> Option<u32> {
     let t = (value * 10.0).round();
     ((value * 10.0 - t).abs() < 1e-6 && (0.0..100_000.0).contains(&t)).then_some(t as u32)
