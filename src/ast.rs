@@ -19,9 +19,30 @@ pub struct Symbol(pub u32);
 pub struct Names {
     texts: Vec<Box<str>>,
     ids: HashMap<Box<str>, Symbol>,
+    /// Comments and controller commands: text for the output, never a
+    /// name, so not among the names [`Names::find`] and [`Names::iter`]
+    /// see. A program read in parts drops each part's
+    /// ([`Names::forget_notes`]) while its names stay.
+    notes: Vec<Box<str>>,
 }
 
+/// The bit that marks a [`Symbol`] as a note's.
+const NOTE: u32 = 1 << 31;
+
 impl Names {
+    /// The text of a comment or a command, kept until
+    /// [`Names::forget_notes`].
+    pub fn note(&mut self, text: &str) -> Symbol {
+        let s = Symbol(NOTE | self.notes.len() as u32);
+        self.notes.push(text.into());
+        s
+    }
+
+    /// Drop the notes' texts (their symbols must not be used again).
+    pub fn forget_notes(&mut self) {
+        self.notes.clear();
+    }
+
     pub fn intern(&mut self, text: &str) -> Symbol {
         if let Some(&s) = self.ids.get(text) {
             return s;
@@ -33,7 +54,10 @@ impl Names {
     }
 
     pub fn text(&self, s: Symbol) -> &str {
-        &self.texts[s.0 as usize]
+        match s.0 & NOTE {
+            0 => &self.texts[s.0 as usize],
+            _ => &self.notes[(s.0 & !NOTE) as usize],
+        }
     }
 
     /// The symbol of `text`, if the program has it.

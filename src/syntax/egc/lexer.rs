@@ -554,7 +554,7 @@ impl<'a> Lexer<'a> {
             // grbl's `$H`, `$X`, `$$`: a command to the controller.
             Err(()) if self.text[start..].starts_with('$') && first_on_line() => {
                 let command = self.text[start..line_end].trim_end();
-                let symbol = self.names.intern(command);
+                let symbol = self.names.note(command);
                 self.push(start, Tok::Command(symbol), start + command.len());
                 Some(line_end)
             }
@@ -1045,7 +1045,7 @@ impl<'a> Lexer<'a> {
         if text.is_empty() {
             return;
         }
-        let symbol = self.names.intern(text);
+        let symbol = self.names.note(text);
         self.line_comments.push((start, symbol, end));
     }
 
