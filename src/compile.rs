@@ -3,6 +3,7 @@
 //! point for a whole compile; it does no I/O of its own, and writes only to
 //! the `Write` it is handed.
 
+use crate::ast::Names;
 use crate::diagnostic::{is_error, Diagnostic};
 use crate::emit::{self, EmitOptions};
 use crate::eval::{self, EvalOptions, WizardHost};
@@ -357,22 +358,35 @@ fn run<'a>(
         from,
     } = input;
     let eval_options = options.eval_options(from, language);
-    let by_parts = language == Language::Gcode
-        && library.is_empty()
-        && options.stage != Some(Stage::Parse)
-        && chunk::by_parts()
-        && chunk::chunkable(text);
-    if by_parts {
+    let fanuc_functions = from == eval::Flavour::Fanuc && language == Language::Gcode;
+    // A program is read in parts, unless it needs to be read whole.
+    type Ranges<'r> = Box<dyn Iterator<Item = std::ops::Range<usize>> + 'r>;
+    let ranges: Option<(Ranges, bool)> =
+        match library.is_empty() && options.stage != Some(Stage::Parse) && chunk::by_parts() {
+            false => None,
+            true if language == Language::Gcode && chunk::chunkable(text) => {
+                Some((Box::new(chunk::chunks(text)), true))
+            }
+            true => {
+                let cuts = chunk::cuts(text, &locator, language);
+                clock.lap("cut");
+                cuts.map(|c| (Box::new(c.into_iter()) as Ranges, false))
+            }
+        };
+    if let Some((ranges, plain)) = ranges {
         let backend = Backend::new(SourceFacts::Text(text), file, options, out);
         let mut parts = Parts::new(PartSource::Text {
             text,
             at: &locator,
-            ranges: Box::new(chunk::chunks(text)),
+            ranges,
+            plain,
         });
         return run_by_parts(
             &mut parts,
             language,
+            fanuc_functions,
             &eval_options,
+            wizards,
             backend,
             diagnostics,
             clock,
@@ -380,14 +394,10 @@ fn run<'a>(
     }
     let (mut program, parse_diagnostics) =
         crate::syntax::egc::parse_program_files((text, &locator), &library, language);
-    if from == eval::Flavour::Fanuc && language == Language::Gcode {
-        let on_fanuc = |f: crate::ast::Function| f.on_fanuc();
-        let subprograms = program
-            .subprograms
-            .iter_mut()
-            .flat_map(|s| s.body.iter_mut());
-        for stmt in program.main.iter_mut().chain(subprograms) {
-            stmt.map_functions(&on_fanuc);
+    if fanuc_functions {
+        map_fanuc_functions(&mut program.main);
+        for sub in &mut program.subprograms {
+            map_fanuc_functions(&mut sub.body);
         }
     }
     diagnostics.extend(parse_diagnostics);
@@ -415,6 +425,15 @@ fn run<'a>(
     drop(program);
     clock.lap("expand");
     finish_back_end(backend, diagnostics, clock)
+}
+
+/// Fanuc's meaning for the functions whose names Fanuc and LinuxCNC
+/// share.
+fn map_fanuc_functions(stmts: &mut [crate::ast::Stmt]) {
+    let on_fanuc = |f: crate::ast::Function| f.on_fanuc();
+    for stmt in stmts {
+        stmt.map_functions(&on_fanuc);
+    }
 }
 
 /// After evaluation: the back end's times (it ran on its own thread, at the
@@ -465,6 +484,9 @@ enum PartSource<'a> {
         text: &'a str,
         at: &'a Locator,
         ranges: Box<dyn Iterator<Item = std::ops::Range<usize>> + 'a>,
+        /// Every line is plain ([`chunk::chunkable`]): a line of plain
+        /// words can be parsed alone.
+        plain: bool,
     },
     /// Lines read from a file as they are needed (its text is never held).
     Reader(LineReader<'a>),
@@ -495,15 +517,15 @@ impl<'a> Parts<'a> {
 
     /// The next part to run; `None` at the end, or after a syntax error
     /// (the rest is read for its errors).
-    fn next(&mut self, language: Language) -> Option<(Vec<crate::ast::Stmt>, crate::ast::Names)> {
+    fn next(&mut self, language: Language, names: &mut Names) -> Option<Vec<crate::ast::Stmt>> {
         loop {
             let started = Instant::now();
-            let (stmts, names, found) = self.parse_next(language)?;
+            let (stmts, found) = self.parse_next(language, names)?;
             self.time += started.elapsed();
             self.broken |= found.iter().any(is_error);
             self.diagnostics.extend(found);
             if !self.broken {
-                return Some((stmts, names));
+                return Some(stmts);
             }
         }
     }
@@ -512,16 +534,29 @@ impl<'a> Parts<'a> {
     fn parse_next(
         &mut self,
         language: Language,
-    ) -> Option<(Vec<crate::ast::Stmt>, crate::ast::Names, Vec<Diagnostic>)> {
+        names: &mut Names,
+    ) -> Option<(Vec<crate::ast::Stmt>, Vec<Diagnostic>)> {
         match &mut self.source {
-            PartSource::Text { text, at, ranges } => {
+            PartSource::Text {
+                text,
+                at,
+                ranges,
+                plain,
+            } => {
                 let range = ranges.next()?;
-                Some(chunk::parse_chunk(text, range, at, language))
+                Some(match plain {
+                    true => chunk::parse_chunk(text, range, at, language, names),
+                    false => chunk::parse_part(text, range, at, language, names),
+                })
             }
             PartSource::Reader(reader) => match reader.next_part() {
-                Ok(Some((text, at))) => {
-                    Some(chunk::parse_chunk(&text, 0..text.len(), &at, language))
-                }
+                Ok(Some((text, at))) => Some(chunk::parse_chunk(
+                    &text,
+                    0..text.len(),
+                    &at,
+                    language,
+                    names,
+                )),
                 Ok(None) => None,
                 Err(e) => {
                     self.read_error = Some(e);
@@ -721,13 +756,16 @@ pub fn compile_plain(
 ) -> std::io::Result<Report> {
     let mut diagnostics = Vec::new();
     let mut clock = Clock::new();
-    let eval_options = options.eval_options(options.flavour(name), Language::Gcode);
+    let from = options.flavour(name);
+    let eval_options = options.eval_options(from, Language::Gcode);
     let backend = Backend::new(SourceFacts::Known(plain), file, options, Output::Text(out));
     let mut parts = Parts::new(PartSource::Reader(LineReader::new(reader, file)));
     let written = run_by_parts(
         &mut parts,
         Language::Gcode,
+        from == eval::Flavour::Fanuc,
         &eval_options,
+        None,
         backend,
         &mut diagnostics,
         &mut clock,
@@ -744,19 +782,31 @@ pub fn compile_plain(
 
 /// [`run`] for a program read a part at a time: the same diagnostics, in
 /// the same order, as reading it whole.
+#[allow(clippy::too_many_arguments)]
 fn run_by_parts(
     parts: &mut Parts<'_>,
     language: Language,
+    fanuc_functions: bool,
     eval_options: &EvalOptions,
+    wizards: Option<&mut dyn WizardHost>,
     backend: Backend<'_>,
     diagnostics: &mut Vec<Diagnostic>,
     clock: &mut Clock,
 ) -> std::io::Result<()> {
     let (evaluated, backend) = on_two_threads(backend, |sink| {
-        eval::eval_chunks(eval_options, sink, &mut || parts.next(language))
+        eval::eval_chunks(eval_options, wizards, sink, &mut |names| {
+            let mut stmts = parts.next(language, names)?;
+            if fanuc_functions {
+                map_fanuc_functions(&mut stmts);
+            }
+            Some(stmts)
+        })
     });
     // The parts after the program's end, for their syntax errors.
-    while parts.next(language).is_some() {}
+    let mut names = Names::default();
+    while parts.next(language, &mut names).is_some() {
+        names.forget_notes();
+    }
     diagnostics.append(&mut parts.diagnostics);
     clock.split("expand", &[("parse", parts.time)]);
     // A syntax error (among `diagnostics` now) stops the compile: what the

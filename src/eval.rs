@@ -18,6 +18,7 @@ use crate::ast::{self, Names, StmtKind, Symbol};
 use crate::diagnostic::Diagnostic;
 use crate::ir;
 use crate::source::Span;
+use std::rc::Rc;
 use value::{ExprError, Slot, Value, Vars};
 
 /// Limits that keep evaluation bounded whatever the input.
@@ -182,15 +183,19 @@ pub fn eval_program<'a>(
     ev.diagnostics
 }
 
-/// Stage 0 for a plain program read a part at a time
-/// ([`crate::syntax::egc::chunk`]): `next` gives each part's statements and
-/// names in order, and `None` at the end; it is not asked again after the
-/// program ends (M2/M30) or after an error that stops it. Returns the
-/// diagnostics, as [`eval_program`].
+/// Stage 0 for a program read a part at a time
+/// ([`crate::syntax::egc::chunk`]): `next` gives each part's statements in
+/// order, interning into the names it is handed (the program's, which the
+/// parts share; the last part's comments are dropped first), and `None` at
+/// the end. A part has no subprogram and no `GOTO`; it ends outside every
+/// block. `next` is not asked again after the program ends (M2/M30) or
+/// after an error that stops it. Returns the diagnostics, as
+/// [`eval_program`].
 pub fn eval_chunks(
     options: &EvalOptions,
+    wizards: Option<&mut dyn WizardHost>,
     sink: &mut dyn ir::Sink,
-    next: &mut dyn FnMut() -> Option<(Vec<ast::Stmt>, Names)>,
+    next: &mut dyn FnMut(&mut Names) -> Option<Vec<ast::Stmt>>,
 ) -> Vec<Diagnostic> {
     let empty = ast::Program {
         main: Vec::new(),
@@ -198,9 +203,18 @@ pub fn eval_chunks(
         subprograms: Vec::new(),
         names: Names::default(),
     };
-    let mut ev = Evaluator::new(&empty, options, None, sink);
-    while let Some((stmts, names)) = next() {
-        if ev.exec_chunk(&stmts, &names) != Flow::Next {
+    let wizards = wizards.map(|w| w as &mut dyn WizardHost);
+    let mut ev = Evaluator::new(&empty, options, wizards, sink);
+    loop {
+        // No statement of an earlier part is run again: its notes can go.
+        let names = Rc::make_mut(&mut ev.names);
+        names.forget_notes();
+        let Some(stmts) = next(names) else {
+            break;
+        };
+        ev.names_added();
+        let flow = ev.exec_block(&stmts);
+        if ev.no_label(flow) != Flow::Next {
             break;
         }
     }
@@ -231,7 +245,9 @@ enum Flow {
 
 struct Evaluator<'a> {
     program: &'a ast::Program,
-    names: &'a Names,
+    /// The program's names; those of a program read in parts grow with
+    /// each part ([`Evaluator::names_added`]).
+    names: Rc<Names>,
     options: &'a EvalOptions,
     wizards: Option<&'a mut dyn WizardHost>,
     vars: Vars,
@@ -316,7 +332,7 @@ impl<'a> Evaluator<'a> {
     ) -> Self {
         Evaluator {
             program,
-            names: &program.names,
+            names: Rc::new(program.names.clone()),
             options,
             wizards,
             vars: Vars::new(
@@ -360,6 +376,17 @@ impl<'a> Evaluator<'a> {
             distance: ir::Distance::Absolute,
             polar: false,
             feed_set: false,
+        }
+    }
+
+    /// The next part of a program read in parts has added names: their
+    /// variables, as the whole program's would have started.
+    fn names_added(&mut self) {
+        let (names, known) = (Rc::clone(&self.names), self.vars.len());
+        if names.len() > known {
+            let from = self.options.from;
+            self.vars.grow(&names, known, |text| first_slot(text, from));
+            self.linuxcnc.add(&names, known);
         }
     }
 
@@ -418,7 +445,7 @@ impl<'a> Evaluator<'a> {
         if self.diagnostics.iter().rev().take(8).any(said) {
             return;
         }
-        if let Some(d) = e.to_diagnostic(self.names, &self.vars, self.options.from) {
+        if let Some(d) = e.to_diagnostic(&self.names, &self.vars, self.options.from) {
             self.report(d);
         }
     }
@@ -578,13 +605,14 @@ impl<'a> Evaluator<'a> {
             };
             let flow = match system {
                 Some((name, value)) => {
+                    let names = Rc::clone(&self.names);
                     // Its message is the comment after it on its line.
                     let message = match stmts.get(next) {
                         Some(c)
                             if c.span.line == stmt.span.line && c.span.file == stmt.span.file =>
                         {
                             match &c.kind {
-                                StmtKind::Comment(text) => Some(self.names.text(*text).trim()),
+                                StmtKind::Comment(text) => Some(names.text(*text).trim()),
                                 _ => None,
                             }
                         }
@@ -802,8 +830,8 @@ impl<'a> Evaluator<'a> {
                 }
             }
             StmtKind::Error => Flow::Next,
-            StmtKind::Comment(c) => self.comment(self.names.text(*c), stmt.span),
-            StmtKind::Command(c) => self.command(self.names.text(*c), stmt.span),
+            StmtKind::Comment(c) => self.comment(Rc::clone(&self.names).text(*c), stmt.span),
+            StmtKind::Command(c) => self.command(Rc::clone(&self.names).text(*c), stmt.span),
         }
     }
 
@@ -827,25 +855,6 @@ impl<'a> Evaluator<'a> {
         });
         let op = ir::Op::Passthrough(ir::Passthrough::Line(text));
         self.emit_or_abort(op, span)
-    }
-
-    /// The statements of one part of a plain program read a part at a time
-    /// ([`eval_chunks`]), whose comments are in `names`.
-    fn exec_chunk(&mut self, stmts: &[ast::Stmt], names: &Names) -> Flow {
-        for stmt in stmts {
-            let flow = match &stmt.kind {
-                StmtKind::Comment(c) => self.comment(names.text(*c), stmt.span),
-                StmtKind::Command(c) => self.command(names.text(*c), stmt.span),
-                _ => self.exec(stmt),
-            };
-            if flow != Flow::Next {
-                return flow;
-            }
-            if self.too_many_errors() {
-                return Flow::Abort;
-            }
-        }
-        Flow::Next
     }
 
     /// LinuxCNC's `(DEBUG, …)` and `(PRINT, …)`: a note at the line, with
@@ -1038,7 +1047,8 @@ impl<'a> Evaluator<'a> {
     }
 
     fn call(&mut self, name: Symbol, name_span: Span, args: &[ast::Expr], span: Span) -> Flow {
-        let text = self.names.text(name);
+        let names = Rc::clone(&self.names);
+        let text = names.text(name);
         let directive = setup::Directive::from_name(text);
         if directive.is_none() && !self.wizards.as_ref().is_some_and(|h| h.has(text)) {
             let known = self.wizards.as_ref().map(|h| h.names()).unwrap_or_default();
@@ -1065,7 +1075,7 @@ impl<'a> Evaluator<'a> {
             }
             if let Err(d) = self
                 .setup
-                .apply(directive, &values, name_span, &arg_spans, self.names)
+                .apply(directive, &values, name_span, &arg_spans, &self.names)
             {
                 self.report(d);
             }
@@ -1077,7 +1087,7 @@ impl<'a> Evaluator<'a> {
         let call = WizardCall {
             span,
             arg_spans: &arg_spans,
-            names: self.names,
+            names: &names,
         };
         let result = {
             let mut ctx = Context { ev: self, span };
@@ -1248,11 +1258,16 @@ const MAX_MESSAGES: usize = 100;
 fn numbered_parameters(names: &Names, from: Flavour) -> Vec<Slot> {
     names
         .iter()
-        .map(|(_, text)| match parameter_number(text) {
-            Some(n) => first_value(n, from),
-            None => Slot::Unset,
-        })
+        .map(|(_, text)| first_slot(text, from))
         .collect()
+}
+
+/// The value the variable named `text` starts with.
+fn first_slot(text: &str, from: Flavour) -> Slot {
+    match parameter_number(text) {
+        Some(n) => first_value(n, from),
+        None => Slot::Unset,
+    }
 }
 
 /// The value the numbered parameter `#n` starts with.
@@ -1300,27 +1315,32 @@ impl LinuxCncNames {
             numbered: [None; 33],
             named: Vec::new(),
         };
-        for (symbol, text) in names.iter() {
+        found.add(names, 0);
+        found
+    }
+
+    /// The names from the symbol `from` on.
+    fn add(&mut self, names: &Names, from: usize) {
+        for (symbol, text) in names.iter().skip(from) {
             let i = symbol.0 as usize;
             if text == "#<call>" {
-                found.marker = Some(i);
+                self.marker = Some(i);
             } else if let Some(k) = text
                 .strip_prefix("#<call:")
                 .and_then(|t| t.strip_suffix('>'))
                 .and_then(|k| k.parse::<usize>().ok())
             {
                 if (1..=30).contains(&k) {
-                    found.args[k - 1] = Some(i);
+                    self.args[k - 1] = Some(i);
                 }
             } else if let Some(k) = parameter_number(text) {
                 if (1..=33).contains(&k) {
-                    found.numbered[k as usize - 1] = Some(i);
+                    self.numbered[k as usize - 1] = Some(i);
                 }
             } else if text.starts_with("#<") && !text.starts_with("#<_") {
-                found.named.push(i);
+                self.named.push(i);
             }
         }
-        found
     }
 }
 

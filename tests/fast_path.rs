@@ -80,8 +80,9 @@ fn plain_word_lines_are_what_the_parser_builds() {
         for range in &ranges {
             let parse = |fast| {
                 with_fast_path(fast, || {
-                    let (stmts, _, diagnostics) =
-                        parse_chunk(&text, range.clone(), &at, Language::Gcode);
+                    let mut names = ger::ast::Names::default();
+                    let (stmts, diagnostics) =
+                        parse_chunk(&text, range.clone(), &at, Language::Gcode, &mut names);
                     format!("{stmts:?}\n{diagnostics:?}")
                 })
             };

@@ -147,6 +147,86 @@ fn a_long_program_streams_like_a_short_one() {
     assert_eq!(run(path, &broken, None, 1000), whole);
 }
 
+/// Any program is read a part at a time, its parts cut outside every
+/// block (`chunk::cuts`), unless it needs the whole program (subprograms,
+/// calls, `GOTO`). Every program of the repository, and of `../shared/real`
+/// where it is present, gives the same output and diagnostics read whole
+/// and read in parts of about 1, 40 and 4096 bytes, in its own language
+/// and flavour and as Fanuc's; with the wizards, whose calls can fall in
+/// any part.
+#[test]
+fn any_program_read_in_parts_is_read_as_a_whole() {
+    use ger::eval::Flavour;
+    use ger::source::Locator;
+    use ger::syntax::egc::chunk::{cuts, with_part_size};
+    use ger::syntax::egc::Language;
+    let (mut cut, mut whole_only) = (0, 0);
+    for (path, text) in &support::programs() {
+        let language = Language::of_file(&path.to_string_lossy());
+        let parts = with_part_size(Some(40), || {
+            cuts(text, &Locator::new(0, text), language).map(|c| c.len())
+        });
+        match parts {
+            Some(n) if n > 1 => cut += 1,
+            Some(_) => {}
+            None => whole_only += 1,
+        }
+        for from in [None, Some(Flavour::Fanuc)] {
+            let compile_with = |part: Option<usize>, stage: Option<Stage>| {
+                with_part_size(part, || {
+                    let mut sources = Sources::new();
+                    let file = sources.add(path.to_string_lossy(), text.clone());
+                    let mut found = user_wizards();
+                    found.extend(standard_library());
+                    let mut engine = WizardEngine::new(Library::new(found, &mut sources));
+                    let options = CompileOptions {
+                        eval: EvalOptions {
+                            max_iterations: 100_000,
+                            ..EvalOptions::default()
+                        },
+                        from,
+                        stage,
+                        ..CompileOptions::default()
+                    };
+                    let compiled = compile(&sources, file, &options, Some(&mut engine));
+                    format!(
+                        "{}\n--- diagnostics ---\n{}",
+                        compiled.output.as_deref().unwrap_or("<no output>"),
+                        render(&sources, &compiled.diagnostics)
+                    )
+                })
+            };
+            let whole = compile_with(None, None);
+            for part in [1, 40, 4096] {
+                let parts = compile_with(Some(part), None);
+                assert!(
+                    parts == whole,
+                    "{} ({from:?}) in parts of {part}:\n{parts}\nwhole:\n{whole}",
+                    path.display()
+                );
+            }
+            // Every stage's text, where there is one.
+            if from.is_some() || whole.starts_with("<no output>") {
+                continue;
+            }
+            for stage in stages() {
+                let (whole, parts) = (compile_with(None, stage), compile_with(Some(40), stage));
+                assert!(
+                    parts == whole,
+                    "{} at stage {stage:?} in parts of 40:\n{parts}\nwhole:\n{whole}",
+                    path.display()
+                );
+            }
+        }
+    }
+    // The corpus has both kinds: cut, and read whole.
+    assert!(cut > 150, "only {cut} programs are cut in parts");
+    assert!(
+        whole_only > 10,
+        "only {whole_only} programs need to be read whole"
+    );
+}
+
 /// Plain programs of words, comments and commands only are read a part at
 /// a time (`syntax::egc::chunk`). Every plain program of the repository,
 /// and of `../shared/real` where it is present, gives the same output and

@@ -54,19 +54,37 @@ impl Vars {
     /// `fanuc`: Fanuc's variables (a `#[…]` may give #0, the vacant one;
     /// rs274 has none).
     pub fn new(slots: Vec<Slot>, names: &Names, fanuc: bool) -> Vars {
-        let mut numbered = Vec::new();
-        if names.find(&format!("#{LAST_PARAMETER}")).is_some() {
-            numbered = vec![None; LAST_PARAMETER as usize + 1];
-            for (symbol, text) in names.iter() {
-                if let Some(n) = super::parameter_number(text).filter(|&n| n <= LAST_PARAMETER) {
-                    numbered[n as usize] = Some(symbol);
-                }
-            }
-        }
-        Vars {
+        let mut vars = Vars {
             slots,
-            numbered,
+            numbered: Vec::new(),
             fanuc,
+        };
+        vars.number(names, 0);
+        vars
+    }
+
+    /// Names were added to `names` from the symbol `from` on (a part of a
+    /// program read in parts): their slots, each holding `first(text)`.
+    pub fn grow(&mut self, names: &Names, from: usize, first: impl Fn(&str) -> Slot) {
+        self.slots
+            .extend(names.iter().skip(from).map(|(_, text)| first(text)));
+        self.number(names, from);
+    }
+
+    /// Where the numbered parameters among the names from `from` on are,
+    /// once the lexer has named them all (on the first `#[…]`).
+    fn number(&mut self, names: &Names, mut from: usize) {
+        if self.numbered.is_empty() {
+            if names.find(&format!("#{LAST_PARAMETER}")).is_none() {
+                return;
+            }
+            self.numbered = vec![None; LAST_PARAMETER as usize + 1];
+            from = 0;
+        }
+        for (symbol, text) in names.iter().skip(from) {
+            if let Some(n) = super::parameter_number(text).filter(|&n| n <= LAST_PARAMETER) {
+                self.numbered[n as usize] = Some(symbol);
+            }
         }
     }
 

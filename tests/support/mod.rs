@@ -19,8 +19,19 @@ pub fn egc_files(dir: &Path) -> Vec<PathBuf> {
 
 /// The programs of every case folder of `tests/oracle` and `tests/cases`
 /// and of `../shared/real` (where it is present) that are read a part at a
-/// time (`chunk::chunkable`), with their decoded text.
+/// time as plain programs (`chunk::chunkable`), with their decoded text.
+#[allow(dead_code)]
 pub fn plain_programs() -> Vec<(PathBuf, String)> {
+    programs()
+        .into_iter()
+        .filter(|(_, t)| ger::syntax::egc::chunk::chunkable(t))
+        .collect()
+}
+
+/// The programs of `examples`, of every case folder of `tests/oracle` and
+/// `tests/cases` and of `../shared/real` (where it is present), with their
+/// decoded text.
+pub fn programs() -> Vec<(PathBuf, String)> {
     let root = manifest();
     let mut dirs: Vec<PathBuf> = ["tests/oracle", "tests/cases"]
         .iter()
@@ -34,6 +45,7 @@ pub fn plain_programs() -> Vec<(PathBuf, String)> {
         .filter(|p| p.is_dir())
         .collect();
     dirs.push(root.join("../shared/real"));
+    dirs.push(root.join("examples"));
     let mut found = Vec::new();
     for dir in dirs {
         for entry in std::fs::read_dir(&dir).into_iter().flatten().flatten() {
@@ -47,7 +59,7 @@ pub fn plain_programs() -> Vec<(PathBuf, String)> {
             let text = std::fs::read(&path)
                 .ok()
                 .and_then(|b| ger::source::decode(b).ok());
-            if let Some(text) = text.filter(|t| ger::syntax::egc::chunk::chunkable(t)) {
+            if let Some(text) = text {
                 found.push((path, text));
             }
         }

@@ -7,7 +7,7 @@
 
 use super::lexer::{self, comment_end, Language, WordNumber};
 use super::parser::{fast_path, parse_program_from, words_stmt};
-use crate::ast::{Names, Stmt};
+use crate::ast::{Names, Stmt, StmtKind, WordValue};
 use crate::diagnostic::Diagnostic;
 use crate::source::Locator;
 
@@ -131,8 +131,121 @@ pub fn chunks(text: &str) -> impl Iterator<Item = std::ops::Range<usize>> + '_ {
     })
 }
 
-/// Parse the part `range` of `text` (a range [`chunks`] gave) with spans
-/// in the whole text: its statements, their names, and its diagnostics.
+/// The parts of a program that is not plain, to read one after another
+/// as [`chunks`] does, or `None` when it must be read whole: a part ends
+/// at a line end outside every block (`while`, `if`, `oN …`, `WHILE … DO`),
+/// before a plain line (so nothing after the cut continues a statement:
+/// no `else`, no `while` closing a `do`), and reads without a syntax error
+/// (else it grows to the next such line end, and at the last to the end of
+/// the text, which then has the errors). A program whose parts would have
+/// a subprogram, a call (`M98`, `M99`, `G65`, `oN call`), an `O` word or a
+/// `GOTO` is read whole: those need the whole program. So is one with a
+/// `G` or `M` code given by an expression (it could be one of those).
+/// Every part is parsed here once, to check it; its statements are thrown
+/// away.
+pub fn cuts(text: &str, at: &Locator, language: Language) -> Option<Vec<std::ops::Range<usize>>> {
+    let mut names = Names::default();
+    let mut found = Vec::new();
+    let mut from = 0;
+    while from < text.len() {
+        let mut want = part_size();
+        loop {
+            let end = cut_after(text, from + want);
+            names.forget_notes();
+            let (program, diagnostics) =
+                parse_program_from(&text[..end], from, at, language, &mut names);
+            let clean = !diagnostics.iter().any(crate::diagnostic::is_error);
+            if end < text.len() && !clean {
+                want = want.saturating_mul(2);
+                continue;
+            }
+            let first = found.is_empty();
+            if !program.subprograms.is_empty()
+                || (program.main_number.is_some() && !first)
+                || program.main.iter().any(needs_whole)
+            {
+                return None;
+            }
+            found.push(from..end);
+            from = end;
+            break;
+        }
+    }
+    Some(found)
+}
+
+/// The first line end at or after `want` that is followed by a plain line
+/// ([`plain_line`]), or the end of the text.
+fn cut_after(text: &str, want: usize) -> usize {
+    let bytes = text.as_bytes();
+    let mut at = want.min(bytes.len());
+    loop {
+        // A line end is one byte, never inside a character.
+        let Some(i) = bytes[at..].iter().position(|&b| b == b'\n') else {
+            return bytes.len();
+        };
+        let end = at + i + 1;
+        let next = bytes[end..]
+            .iter()
+            .position(|&b| b == b'\n')
+            .map_or(bytes.len(), |i| end + i);
+        if end == bytes.len() || plain_line(&text[end..next]) {
+            return end;
+        }
+        at = end;
+    }
+}
+
+/// Whether `stmt` needs the whole program to run: a `GOTO`, an `O` word,
+/// a subprogram call or return, or a code given by an expression.
+fn needs_whole(stmt: &Stmt) -> bool {
+    match &stmt.kind {
+        StmtKind::Goto(_) => true,
+        StmtKind::Line(line) => line.words.iter().any(|w| match (w.letter, &w.value) {
+            (b'O', _) => true,
+            (b'G' | b'M', WordValue::Expr(_)) => true,
+            (b'M', WordValue::Number(n)) => matches!(n.value, 98.0 | 99.0),
+            (b'G', WordValue::Number(n)) => n.value == 65.0,
+            _ => false,
+        }),
+        StmtKind::If(f) => f
+            .branches
+            .iter()
+            .flat_map(|(_, body)| body)
+            .chain(f.otherwise.iter().flatten())
+            .any(needs_whole),
+        StmtKind::While(w) => w.body.iter().any(needs_whole),
+        StmtKind::Assign(_)
+        | StmtKind::Assigns(_)
+        | StmtKind::Call { .. }
+        | StmtKind::Break(_)
+        | StmtKind::Continue(_)
+        | StmtKind::Command(_)
+        | StmtKind::Comment(_)
+        | StmtKind::Error => false,
+    }
+}
+
+/// Parse the part `range` of `text` (a range [`cuts`] gave) with spans in
+/// the whole text, interning into `names` (the program's): its statements
+/// and its diagnostics.
+pub fn parse_part(
+    text: &str,
+    range: std::ops::Range<usize>,
+    at: &Locator,
+    language: Language,
+    names: &mut Names,
+) -> (Vec<Stmt>, Vec<Diagnostic>) {
+    let (program, diagnostics) =
+        parse_program_from(&text[..range.end], range.start, at, language, names);
+    // A part [`cuts`] accepted has no subprogram.
+    debug_assert!(program.subprograms.is_empty());
+    (program.main, diagnostics)
+}
+
+/// Parse the part `range` of the plain program `text` (a range [`chunks`]
+/// gave) with spans in the whole text, interning into `names` (the
+/// program's): its statements and its diagnostics.
 /// A line of plain words (most of a CAM program) is built straight from
 /// its bytes ([`lexer::plain_words`]); the lines between go to the lexer
 /// and the parser together. A plain program means the same cut at any line
@@ -142,19 +255,21 @@ pub fn parse_chunk(
     range: std::ops::Range<usize>,
     at: &Locator,
     language: Language,
-) -> (Vec<Stmt>, Names, Vec<Diagnostic>) {
-    let mut names = Names::default();
+    names: &mut Names,
+) -> (Vec<Stmt>, Vec<Diagnostic>) {
     let (mut stmts, mut diagnostics) = (Vec::new(), Vec::new());
     let mut parse = |from: usize, to: usize, stmts: &mut Vec<Stmt>| {
         if from < to {
-            let (program, found) = parse_program_from(&text[..to], from, at, language, &mut names);
+            let (program, found) = parse_program_from(&text[..to], from, at, language, names);
+            // A part of a plain program has no subprogram.
+            debug_assert!(program.subprograms.is_empty());
             stmts.extend(program.main);
             diagnostics.extend(found);
         }
     };
     if !fast_path() {
         parse(range.start, range.end, &mut stmts);
-        return (stmts, names, diagnostics);
+        return (stmts, diagnostics);
     }
     let mut words = Vec::new();
     // Lines from `waiting` on are for the parser, not yet parsed.
@@ -179,7 +294,7 @@ pub fn parse_chunk(
         number += 1;
     }
     parse(waiting, range.end, &mut stmts);
-    (stmts, names, diagnostics)
+    (stmts, diagnostics)
 }
 
 #[cfg(test)]
