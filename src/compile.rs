@@ -457,8 +457,8 @@ fn finish_back_end(
 /// output's buffer) and the most decimals its numbers are written with.
 enum SourceFacts<'a> {
     Text(&'a str),
-    /// Of a file read a part at a time, found by [`scan_plain`].
-    Known(PlainFile),
+    /// Of a file read a part at a time, found by [`scan_file`].
+    Known(FileScan),
 }
 
 impl SourceFacts<'_> {
@@ -490,6 +490,8 @@ enum PartSource<'a> {
     },
     /// Lines read from a file as they are needed (its text is never held).
     Reader(LineReader<'a>),
+    /// A program that is not plain, read from a file a part at a time.
+    Program(ProgramReader<'a>),
 }
 
 /// A plain program read a part at a time ([`chunk`]): each part is parsed
@@ -502,6 +504,8 @@ struct Parts<'a> {
     time: Duration,
     /// The first read error; the program stops there.
     read_error: Option<std::io::Error>,
+    /// A part needs the whole program; nothing more is read.
+    whole: bool,
 }
 
 impl<'a> Parts<'a> {
@@ -512,6 +516,7 @@ impl<'a> Parts<'a> {
             broken: false,
             time: Duration::ZERO,
             read_error: None,
+            whole: false,
         }
     }
 
@@ -563,12 +568,25 @@ impl<'a> Parts<'a> {
                     None
                 }
             },
+            PartSource::Program(_) if self.whole => None,
+            PartSource::Program(reader) => match reader.next_part(names) {
+                Ok(Some(Ok(parsed))) => Some(parsed),
+                Ok(Some(Err(Whole))) => {
+                    self.whole = true;
+                    None
+                }
+                Ok(None) => None,
+                Err(e) => {
+                    self.read_error = Some(e);
+                    None
+                }
+            },
         }
     }
 }
 
 /// The lines of a file, as bytes (the first without a byte-order mark),
-/// for [`scan_plain`].
+/// for [`scan_file`].
 struct RawLines<'a> {
     reader: &'a mut dyn std::io::BufRead,
     first: bool,
@@ -607,7 +625,7 @@ impl<'a> RawLines<'a> {
 
 /// Whole lines of a plain program, read from a file about
 /// [`chunk::CHUNK_BYTES`] at a time and decoded as [`source::decode`]
-/// decodes the whole file (a file [`scan_plain`] accepted: no NUL, control
+/// decodes the whole file (a file [`scan_file`] accepted: no NUL, control
 /// character or lone CR, so the two agree).
 struct LineReader<'a> {
     reader: &'a mut dyn std::io::BufRead,
@@ -632,9 +650,20 @@ impl<'a> LineReader<'a> {
 
     /// The next part's text and span maker; `None` at the end of the file.
     /// A part is the lines up to the one with its [`chunk::part_size`]th
-    /// byte, read in blocks.
+    /// byte.
     fn next_part(&mut self) -> std::io::Result<Option<(String, Locator)>> {
-        let part = chunk::part_size();
+        let Some((text, lines)) = self.next_lines(chunk::part_size())? else {
+            return Ok(None);
+        };
+        let at = Locator::part(self.file, &text, self.base, self.lines_before);
+        self.base += text.len();
+        self.lines_before += lines;
+        Ok(Some((text, at)))
+    }
+
+    /// The next lines, up to the one with the `part`th byte, decoded, and
+    /// how many they are; `None` at the end of the file. Read in blocks.
+    fn next_lines(&mut self, part: usize) -> std::io::Result<Option<(String, usize)>> {
         let mut bytes = Vec::with_capacity(part + 256);
         while bytes.len() < part {
             let block = self.reader.fill_buf()?;
@@ -655,35 +684,96 @@ impl<'a> LineReader<'a> {
             source::drop_bom(&mut bytes);
         }
         let lines = bytes.iter().filter(|&&b| b == b'\n').count();
-        let text = source::decode_lines(bytes);
-        let at = Locator::part(self.file, &text, self.base, self.lines_before);
-        self.base += text.len();
-        self.lines_before += lines;
-        Ok(Some((text, at)))
+        Ok(Some((source::decode_lines(bytes), lines)))
     }
 }
 
-/// A plain program that can be compiled from a reader, a part at a time,
-/// without holding its text: its decoded length and the most decimals its
-/// numbers are written with.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub struct PlainFile {
-    pub len: usize,
-    pub decimals: usize,
+/// A part's statements and diagnostics.
+type Parsed = (Vec<crate::ast::Stmt>, Vec<Diagnostic>);
+
+/// The program must be read whole ([`chunk::cut_part`]).
+struct Whole;
+
+/// The parts of a program that is not plain, read from a file as they are
+/// needed ([`chunk::cut_part`]): the text from the last cut on is held
+/// until the next.
+struct ProgramReader<'a> {
+    lines: LineReader<'a>,
+    language: Language,
+    /// The text read from the last cut on, and where it is in the file.
+    text: String,
+    base: usize,
+    lines_before: usize,
+    /// The file has been read to its end.
+    read_all: bool,
 }
 
-/// Read a plain G-code program through once: whether it can be compiled a
-/// part at a time from a reader ([`compile_plain`]): its every line is one
-/// [`chunk::chunkable`] accepts, and it has no NUL, control character or
-/// lone CR (which [`crate::source::decode`] reports or rewrites). `None`:
-/// read it whole.
-pub fn scan_plain(reader: &mut dyn std::io::BufRead) -> std::io::Result<Option<PlainFile>> {
+impl<'a> ProgramReader<'a> {
+    fn new(lines: LineReader<'a>, language: Language) -> ProgramReader<'a> {
+        ProgramReader {
+            lines,
+            language,
+            text: String::new(),
+            base: 0,
+            lines_before: 0,
+            read_all: false,
+        }
+    }
+
+    /// The next part, parsed into `names`: its statements and diagnostics,
+    /// or `Err` if the program must be read whole; `None` at the end of the
+    /// file.
+    fn next_part(&mut self, names: &mut Names) -> std::io::Result<Option<Result<Parsed, Whole>>> {
+        let mut want = chunk::part_size();
+        loop {
+            while !self.read_all && self.text.len() < want.saturating_mul(2) {
+                match self.lines.next_lines(want)? {
+                    Some((more, _)) => self.text.push_str(&more),
+                    None => self.read_all = true,
+                }
+            }
+            if self.text.is_empty() {
+                return Ok(None);
+            }
+            let (file, complete) = (self.lines.file, self.read_all);
+            let at = Locator::part(file, &self.text, self.base, self.lines_before);
+            let cut = chunk::cut_part(&self.text, 0, want, complete, &at, self.language, names);
+            match cut {
+                chunk::Cut::Grow => want = want.saturating_mul(2),
+                chunk::Cut::Part(end, stmts, diagnostics) => {
+                    self.base += end;
+                    self.lines_before += self.text[..end].bytes().filter(|&b| b == b'\n').count();
+                    self.text.drain(..end);
+                    return Ok(Some(Ok((stmts, diagnostics))));
+                }
+                chunk::Cut::Whole => return Ok(Some(Err(Whole))),
+            }
+        }
+    }
+}
+
+/// A program that can be compiled from a reader, a part at a time, without
+/// holding its text: its decoded length, the most decimals its numbers are
+/// written with, and whether it is plain (its every line one
+/// [`chunk::chunkable`] accepts).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct FileScan {
+    pub len: usize,
+    pub decimals: usize,
+    pub plain: bool,
+}
+
+/// Read a program through once: whether it can be compiled a part at a
+/// time from a reader ([`compile_file`]): it has no NUL, control character
+/// or lone CR (which [`crate::source::decode`] reports or rewrites).
+/// `None`: read it whole.
+pub fn scan_file(reader: &mut dyn std::io::BufRead) -> std::io::Result<Option<FileScan>> {
     scan_lines(RawLines::new(reader))
 }
 
-/// [`scan_plain`] of the file at `path`, its two halves (cut at a line end)
+/// [`scan_file`] of the file at `path`, its two halves (cut at a line end)
 /// read at the same time on two threads.
-pub fn scan_plain_file(path: &std::path::Path) -> std::io::Result<Option<PlainFile>> {
+pub fn scan_path(path: &std::path::Path) -> std::io::Result<Option<FileScan>> {
     use std::io::{BufRead, Read, Seek};
     let open = || std::fs::File::open(path).map(|f| std::io::BufReader::with_capacity(1 << 16, f));
     let mut second = open()?;
@@ -705,17 +795,18 @@ pub fn scan_plain_file(path: &std::path::Path) -> std::io::Result<Option<PlainFi
         (first, second)
     });
     Ok(match (first?, second?) {
-        (Some(a), Some(b)) => Some(PlainFile {
+        (Some(a), Some(b)) => Some(FileScan {
             len: a.len + b.len,
             decimals: a.decimals.max(b.decimals),
+            plain: a.plain && b.plain,
         }),
         _ => None,
     })
 }
 
-/// [`scan_plain`] of the lines `lines` reads.
-fn scan_lines(mut lines: RawLines<'_>) -> std::io::Result<Option<PlainFile>> {
-    let (mut len, mut decimals) = (0, 0);
+/// [`scan_file`] of the lines `lines` reads.
+fn scan_lines(mut lines: RawLines<'_>) -> std::io::Result<Option<FileScan>> {
+    let (mut len, mut decimals, mut plain) = (0, 0, true);
     while let Some(bytes) = lines.next()? {
         // A control character, or a CR not before a LF (even at the end),
         // which is a line end to `decode`. (Two loops: the first is the
@@ -731,41 +822,51 @@ fn scan_lines(mut lines: RawLines<'_>) -> std::io::Result<Option<PlainFile>> {
             return Ok(None);
         }
         let text = source::decode_line(bytes);
-        if !chunk::plain_line(text.trim_end_matches(['\n', '\r'])) {
-            return Ok(None);
-        }
+        plain = plain && chunk::plain_line(text.trim_end_matches(['\n', '\r']));
         decimals = decimals.max(input_decimals(&text));
         len += text.len();
     }
-    Ok(Some(PlainFile { len, decimals }))
+    Ok(Some(FileScan {
+        len,
+        decimals,
+        plain,
+    }))
 }
 
-/// Compile a plain program from `reader`, a part at a time, as file `file`
-/// (named `name`, for its flavour) of a [`Sources`] whose text stays empty:
-/// memory does not grow with the program. `plain` is [`scan_plain`]'s
-/// answer for the same bytes. The report is [`compile_to`]'s; its spans
-/// are in the decoded file (read it again to show them); `Err`: the file
-/// could not be read.
-pub fn compile_plain(
+/// Compile a program from `reader`, a part at a time, as file `file`
+/// (named `name`, for its language and flavour) of a [`Sources`] whose text
+/// stays empty: memory grows with the longest part, not with the program.
+/// `scan` is [`scan_file`]'s answer for the same bytes. The report is
+/// [`compile_to`]'s; its spans are in the decoded file (read it again to
+/// show them). `Ok(None)`: a part needs the whole program
+/// ([`chunk::cut_part`]), which must be compiled whole instead, by
+/// [`compile_to`] (what was written is incomplete: throw it away). `Err`:
+/// the file could not be read.
+pub fn compile_file(
     reader: &mut dyn std::io::BufRead,
     name: &str,
     file: FileId,
-    plain: PlainFile,
+    scan: FileScan,
     options: &CompileOptions,
+    wizards: Option<&mut dyn WizardHost>,
     out: &mut (dyn Write + Send),
-) -> std::io::Result<Report> {
+) -> std::io::Result<Option<Report>> {
     let mut diagnostics = Vec::new();
     let mut clock = Clock::new();
-    let from = options.flavour(name);
-    let eval_options = options.eval_options(from, Language::Gcode);
-    let backend = Backend::new(SourceFacts::Known(plain), file, options, Output::Text(out));
-    let mut parts = Parts::new(PartSource::Reader(LineReader::new(reader, file)));
+    let (from, language) = (options.flavour(name), options.language(name));
+    let eval_options = options.eval_options(from, language);
+    let backend = Backend::new(SourceFacts::Known(scan), file, options, Output::Text(out));
+    let lines = LineReader::new(reader, file);
+    let mut parts = Parts::new(match scan.plain && language == Language::Gcode {
+        true => PartSource::Reader(lines),
+        false => PartSource::Program(ProgramReader::new(lines, language)),
+    });
     let written = run_by_parts(
         &mut parts,
-        Language::Gcode,
-        from == eval::Flavour::Fanuc,
+        language,
+        from == eval::Flavour::Fanuc && language == Language::Gcode,
         &eval_options,
-        None,
+        wizards,
         backend,
         &mut diagnostics,
         &mut clock,
@@ -773,11 +874,14 @@ pub fn compile_plain(
     if let Some(e) = parts.read_error {
         return Err(e);
     }
-    Ok(Report {
+    if parts.whole {
+        return Ok(None);
+    }
+    Ok(Some(Report {
         diagnostics,
         timings: clock.timings,
         write_error: written.err(),
-    })
+    }))
 }
 
 /// [`run`] for a program read a part at a time: the same diagnostics, in

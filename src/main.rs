@@ -619,34 +619,72 @@ fn run(
         }
     }
     let started = std::time::Instant::now();
-    // A plain program written to a file is compiled from its file, a part
-    // at a time, without holding its text.
+    // A program written to a file is compiled from its file, a part at a
+    // time, without holding its text; one that needs the whole program
+    // (subprograms, `GOTO`) is then read whole.
     let streamed = match (write, output) {
         (true, Some(_)) => streamable(input, options, stage),
         _ => None,
     };
+    if let Some(streamed) = streamed {
+        if let Some(code) = compile_job(
+            input,
+            output,
+            options,
+            stage,
+            write,
+            Some(streamed),
+            started,
+        ) {
+            return code;
+        }
+    }
+    compile_job(input, output, options, stage, write, None, started).unwrap_or(ExitCode::FAILURE)
+}
+
+/// Compile `input` as `run` says, from its file a part at a time when
+/// `streamed` (what [`streamable`] found); `None`: it needs to be read
+/// whole (nothing was written or reported).
+fn compile_job(
+    input: &str,
+    output: Option<&Path>,
+    options: &Options,
+    stage: Option<Stage>,
+    write: bool,
+    streamed: Option<(ger::compile::FileScan, std::fs::Metadata)>,
+    started: std::time::Instant,
+) -> Option<ExitCode> {
     let loaded = match streamed {
         Some(_) => Job::with_text(input, String::new(), options, stage),
         None => Job::load(input, options, stage),
     };
     let mut job = match loaded {
         Ok(job) => job,
-        Err(code) => return code,
+        Err(code) => return Some(code),
     };
     let (file, compile_options) = (job.file, &job.options);
     let (sources, engine) = (&job.sources, &mut job.engine);
-    let mut read_error = None;
+    let (mut read_error, mut whole) = (None, false);
+    // Not a compiled program: the output is thrown away.
+    let not_compiled = |why: &str| Report {
+        diagnostics: Vec::new(),
+        timings: Vec::new(),
+        write_error: Some(std::io::Error::other(why.to_string())),
+    };
     let mut compile = |out: &mut (dyn Write + Send)| match &streamed {
-        Some(plain) => {
-            compile_from_file(input, plain, file, compile_options, out).unwrap_or_else(|e| {
-                read_error = Some(e);
-                // Not a compiled program: the output is thrown away.
-                Report {
-                    diagnostics: Vec::new(),
-                    timings: Vec::new(),
-                    write_error: Some(std::io::Error::other("the input could not be read")),
+        Some(scan) => {
+            let engine = Some(&mut *engine as &mut dyn ger::eval::WizardHost);
+            match compile_from_file(input, scan, file, compile_options, engine, out) {
+                Ok(Some(report)) => report,
+                Ok(None) => {
+                    whole = true;
+                    not_compiled("the program needs to be read whole")
                 }
-            })
+                Err(e) => {
+                    read_error = Some(e);
+                    not_compiled("the input could not be read")
+                }
+            }
         }
         None => compile_to(sources, file, compile_options, Some(&mut *engine), out),
     };
@@ -659,9 +697,12 @@ fn run(
         (true, None) => compile(&mut text),
         (false, _) => compile(&mut std::io::sink()),
     };
+    if whole {
+        return None;
+    }
     if let Some(e) = read_error {
         eprintln!("error: cannot read `{input}`: {e}");
-        return ExitCode::from(2);
+        return Some(ExitCode::from(2));
     }
     if streamed.is_some() && !report.diagnostics.is_empty() {
         // The diagnostics show the lines they are about.
@@ -672,15 +713,15 @@ fn run(
     }
     let sources = &job.sources;
     if let Some(code) = reported(sources, &report, options, started) {
-        return code;
+        return Some(code);
     }
     if write && output.is_none() {
         if let Err(e) = std::io::stdout().lock().write_all(&text) {
             eprintln!("error: cannot write output: {e}");
-            return ExitCode::from(2);
+            return Some(ExitCode::from(2));
         }
     }
-    ExitCode::SUCCESS
+    Some(ExitCode::SUCCESS)
 }
 
 /// Print a compile's diagnostics (and `--timings`); the exit code when it
@@ -708,26 +749,25 @@ fn reported(
     None
 }
 
-/// A plain program file that can be compiled from the file itself, a part
-/// at a time ([`ger::compile::scan_plain`]), with the metadata it had when
-/// it was read through: a regular file (a pipe cannot be read twice) whose
+/// A program file that can be compiled from the file itself, a part at a
+/// time ([`ger::compile::scan_file`]), with the metadata it had when it was
+/// read through: a regular file (a pipe cannot be read twice) whose
 /// subroutine folders need no reading. `None`: compile it whole.
 fn streamable(
     input: &str,
     options: &Options,
     stage: Option<Stage>,
-) -> Option<(ger::compile::PlainFile, std::fs::Metadata)> {
+) -> Option<(ger::compile::FileScan, std::fs::Metadata)> {
     let before = std::fs::metadata(input).ok()?;
     if input == "-"
-        || options.compile_options(stage).language(input) != ger::syntax::egc::Language::Gcode
         || stage == Some(Stage::Parse)
         || !before.is_file()
         || !options.subroutine_dirs.is_empty()
     {
         return None;
     }
-    let plain = ger::compile::scan_plain_file(Path::new(input)).ok()??;
-    Some((plain, before))
+    let scan = ger::compile::scan_path(Path::new(input)).ok()??;
+    Some((scan, before))
 }
 
 fn open_input(input: &str) -> std::io::Result<std::io::BufReader<std::fs::File>> {
@@ -738,16 +778,21 @@ fn open_input(input: &str) -> std::io::Result<std::io::BufReader<std::fs::File>>
 /// error if it cannot be read or changed since it was read through.
 fn compile_from_file(
     input: &str,
-    (plain, before): &(ger::compile::PlainFile, std::fs::Metadata),
+    (scan, before): &(ger::compile::FileScan, std::fs::Metadata),
     file: usize,
     options: &CompileOptions,
+    wizards: Option<&mut dyn ger::eval::WizardHost>,
     out: &mut (dyn Write + Send),
-) -> std::io::Result<Report> {
-    let report =
-        ger::compile::compile_plain(&mut open_input(input)?, input, file, *plain, options, out)?;
+) -> std::io::Result<Option<Report>> {
+    let mut reader = open_input(input)?;
+    let compiled =
+        ger::compile::compile_file(&mut reader, input, file, *scan, options, wizards, out)?;
+    let Some(report) = compiled else {
+        return Ok(None);
+    };
     let stamp = |m: &std::fs::Metadata| (m.len(), m.modified().ok());
     match std::fs::metadata(input)? {
-        now if stamp(&now) == stamp(before) => Ok(report),
+        now if stamp(&now) == stamp(before) => Ok(Some(report)),
         _ => Err(std::io::Error::other("it changed while it was compiled")),
     }
 }

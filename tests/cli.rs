@@ -313,6 +313,48 @@ fn a_plain_program_compiled_to_a_file_is_read_in_parts() {
     );
 }
 
+/// Any program written to a file is compiled from its file a part at a
+/// time, a loop body or an `if` in one part; one whose parts need the
+/// whole program (a subroutine called after a part holding its
+/// definition) is compiled whole instead, from the start: the file and the
+/// diagnostics are those of a compile to standard output, said once.
+#[test]
+fn any_program_compiled_to_a_file_is_read_in_parts_or_whole() {
+    let dir = scratch("any-parts");
+    let mut egc = String::from("G21 G90 G17\nG64 P0.01\nG0 X0 Y0 Z2\nG1 Z-1 F300\nIi = 0\n");
+    let mut ngc =
+        String::from("G21 G90 G17\nG64 P0.01\no<peck> sub\nG1 Z-1 F100\nG0 Z2\no<peck> endsub\n");
+    for i in 0..3_000 {
+        egc.push_str(&format!(
+            "while (Ii < {}) {{\n  G1 X<Ii * 0.01> Y{}\n  Ii = Ii + 1\n}}\n",
+            (i + 1) * 3,
+            i % 7
+        ));
+        egc.push_str(&format!(
+            "if (Ii % 2 == 0) {{\n  G1 Z-1.5\n}} else {{\n  G1 Z-1\n}}\nG1 X{i}.5 (pass {i})\n"
+        ));
+        ngc.push_str(&format!("#1 = {i}\nG0 X[#1 * 0.1] Y{}\n", i % 7));
+    }
+    egc.push_str("G0 Z5\nM30\n");
+    ngc.push_str("o<peck> call\nG0 Z5\nM30\n");
+    std::fs::write(dir.join("long.egc"), &egc).unwrap();
+    std::fs::write(dir.join("long.ngc"), &ngc).unwrap();
+    for name in ["long.egc", "long.ngc"] {
+        let to_stdout = ger(&["compile", name], &dir);
+        assert_eq!(to_stdout.status.code(), Some(0), "{name}");
+        let to_file = ger(&["compile", name, "-o", "long.out"], &dir);
+        assert_eq!(to_file.status.code(), Some(0), "{name}");
+        assert_eq!(
+            std::fs::read(dir.join("long.out")).unwrap(),
+            to_stdout.stdout,
+            "{name}"
+        );
+        let warned = String::from_utf8_lossy(&to_file.stderr);
+        assert_eq!(warned.matches("G64 dropped").count(), 1, "{name}: {warned}");
+        assert_eq!(warned, String::from_utf8_lossy(&to_stdout.stderr), "{name}");
+    }
+}
+
 /// A named pipe is read once: `-o` compiles it whole (reading a pipe a
 /// second time would find nothing, or wait for ever).
 #[test]

@@ -160,7 +160,7 @@ fn any_program_read_in_parts_is_read_as_a_whole() {
     use ger::source::Locator;
     use ger::syntax::egc::chunk::{cuts, with_part_size};
     use ger::syntax::egc::Language;
-    let (mut cut, mut whole_only) = (0, 0);
+    let (mut cut, mut whole_only, mut read_in_parts) = (0, 0, 0);
     for (path, text) in &support::programs() {
         let language = Language::of_file(&path.to_string_lossy());
         let parts = with_part_size(Some(40), || {
@@ -205,6 +205,35 @@ fn any_program_read_in_parts_is_read_as_a_whole() {
                     path.display()
                 );
             }
+            // From a reader, its text never held: the same, or read whole
+            // (as `ger compile -o` then does) exactly when the parts of the
+            // text held whole say so.
+            let options = CompileOptions {
+                eval: EvalOptions {
+                    max_iterations: 100_000,
+                    ..EvalOptions::default()
+                },
+                from,
+                ..CompileOptions::default()
+            };
+            for part in [1, 4096] {
+                match from_reader(path, text, &options, part, true) {
+                    Read::Compiled(read) => {
+                        read_in_parts += 1;
+                        assert!(
+                            read == whole,
+                            "{} ({from:?}) read in parts of {part}:\n{read}\nwhole:\n{whole}",
+                            path.display()
+                        );
+                    }
+                    Read::Whole => {
+                        let at = Locator::new(0, text);
+                        let cut = with_part_size(Some(part), || cuts(text, &at, language));
+                        assert!(cut.is_none(), "{} read whole", path.display());
+                    }
+                    Read::Refused => {}
+                }
+            }
             // Every stage's text, where there is one.
             if from.is_some() || whole.starts_with("<no output>") {
                 continue;
@@ -225,6 +254,10 @@ fn any_program_read_in_parts_is_read_as_a_whole() {
         whole_only > 10,
         "only {whole_only} programs need to be read whole"
     );
+    assert!(
+        read_in_parts > 1000,
+        "only {read_in_parts} compiles from a reader"
+    );
 }
 
 /// Plain programs of words, comments and commands only are read a part at
@@ -232,14 +265,13 @@ fn any_program_read_in_parts_is_read_as_a_whole() {
 /// and of `../shared/real` where it is present, gives the same output and
 /// diagnostics read whole and read in parts of about 1, 40 and 4096 bytes
 /// (a part ends at a line end), as LinuxCNC's G-code and as Fanuc's; and
-/// compiled from a reader without its text (`compile::compile_plain`).
+/// compiled from a reader without its text (`compile::compile_file`).
 #[test]
 fn a_plain_program_read_in_parts_is_read_as_a_whole() {
-    use ger::compile::{compile_plain, scan_plain};
     use ger::eval::Flavour;
     use ger::syntax::egc::chunk::with_part_size;
     use ger::syntax::egc::Language;
-    let (mut in_parts, mut from_reader) = (0, 0);
+    let (mut in_parts, mut from_readers) = (0, 0);
     // Any other program is read whole either way: nothing to compare.
     for (path, text) in &support::plain_programs() {
         in_parts += 1;
@@ -271,65 +303,101 @@ fn a_plain_program_read_in_parts_is_read_as_a_whole() {
                 );
             }
             // Compiled from a reader, its text never held (`ger compile -o`).
-            let raw = std::fs::read(path).unwrap();
-            if let Some(facts) = scan_plain(&mut raw.as_slice()).unwrap() {
-                for part in [1, 4096] {
-                    let read = with_part_size(Some(part), || {
-                        let mut sources = Sources::new();
-                        let file = sources.add(path.to_string_lossy(), String::new());
-                        let options = CompileOptions {
-                            input: Some(Language::Gcode),
-                            from: Some(from),
-                            ..CompileOptions::default()
-                        };
-                        let mut out = Vec::new();
-                        let name = path.to_string_lossy();
-                        let report = compile_plain(
-                            &mut raw.as_slice(),
-                            &name,
-                            file,
-                            facts,
-                            &options,
-                            &mut out,
-                        )
-                        .unwrap();
-                        sources.set_text(file, text.clone());
-                        let output = String::from_utf8(out).unwrap();
-                        format!(
-                            "{}\n--- diagnostics ---\n{}",
-                            if report.succeeded() {
-                                output.as_str()
-                            } else {
-                                "<no output>"
-                            },
-                            render(&sources, &report.diagnostics)
-                        )
-                    });
-                    assert!(
-                        read == whole,
-                        "{} ({from:?}) read in parts of {part}:\n{read}\nwhole:\n{whole}",
-                        path.display()
-                    );
-                }
-                from_reader += 1;
+            let options = CompileOptions {
+                input: Some(Language::Gcode),
+                from: Some(from),
+                ..CompileOptions::default()
+            };
+            for part in [1, 4096] {
+                let read = from_reader(path, text, &options, part, false);
+                assert!(
+                    read == Read::Compiled(whole.clone()),
+                    "{} ({from:?}) read in parts of {part}:\n{read:?}\nwhole:\n{whole}",
+                    path.display()
+                );
             }
+            from_readers += 1;
         }
     }
     assert!(in_parts > 20, "only {in_parts} programs are read in parts");
     assert!(
-        from_reader > 40,
-        "only {from_reader} compiles from a reader"
+        from_readers > 40,
+        "only {from_readers} compiles from a reader"
     );
 }
 
+/// `path` (its decoded `text`) compiled from a reader in parts of about
+/// `part` bytes, its text never held, as `ger compile -o` compiles it
+/// (`compile::scan_file`, `compile::compile_file`), with the wizards of
+/// `wizards/` and the standard library if `wizards`: its text (`<no
+/// output>` on errors) and diagnostics.
+fn from_reader(
+    path: &Path,
+    text: &str,
+    options: &CompileOptions,
+    part: usize,
+    wizards: bool,
+) -> Read {
+    use ger::compile::{compile_file, scan_file};
+    use ger::syntax::egc::chunk::with_part_size;
+    let raw = std::fs::read(path).unwrap();
+    let Some(scan) = scan_file(&mut raw.as_slice()).unwrap() else {
+        return Read::Refused;
+    };
+    let read = with_part_size(Some(part), || {
+        let mut sources = Sources::new();
+        let file = sources.add(path.to_string_lossy(), String::new());
+        let mut found = user_wizards();
+        found.extend(standard_library());
+        let mut engine = WizardEngine::new(Library::new(found, &mut sources));
+        let engine = wizards.then_some(&mut engine as &mut dyn ger::eval::WizardHost);
+        let mut out = Vec::new();
+        let name = path.to_string_lossy();
+        let report = compile_file(
+            &mut raw.as_slice(),
+            &name,
+            file,
+            scan,
+            options,
+            engine,
+            &mut out,
+        )
+        .unwrap()?;
+        sources.set_text(file, text.to_string());
+        let output = String::from_utf8(out).unwrap();
+        Some(format!(
+            "{}\n--- diagnostics ---\n{}",
+            if report.succeeded() {
+                output.as_str()
+            } else {
+                "<no output>"
+            },
+            render(&sources, &report.diagnostics)
+        ))
+    });
+    read.map_or(Read::Whole, Read::Compiled)
+}
+
+/// What [`from_reader`] did.
+#[derive(Debug, PartialEq)]
+enum Read {
+    /// The scan refused the file (a control character, a lone CR): it is
+    /// read whole.
+    Refused,
+    /// A part needs the whole program.
+    Whole,
+    /// The text and diagnostics.
+    Compiled(String),
+}
+
 /// `ger compile -o` scans a file in two halves at once
-/// (`compile::scan_plain_file`): the answer must be the one reader's,
+/// (`compile::scan_path`): the answer must be the one reader's,
 /// wherever the middle falls (files of every length from 0 to 80 bytes of
 /// each kind), with a byte-order mark, CRLF and lone CR, Latin-1 comments,
 /// the most decimals or a line that is not plain in either half.
 #[test]
 fn a_file_scanned_in_halves_is_scanned_as_one() {
-    use ger::compile::{scan_plain, scan_plain_file};
+    use ger::compile::{scan_file, scan_path};
     let kinds: [&[u8]; 7] = [
         b"G1 X1\nG1 X2.5\nG1 Y3\nG1 X1.123456\nM30\n",
         b"\xef\xbb\xbfG0 X1\nG1 X2.25 (a)\nM30",
@@ -348,10 +416,10 @@ fn a_file_scanned_in_halves_is_scanned_as_one() {
         for len in 0..=long.len().min(80) {
             let bytes = &long[..len];
             std::fs::write(&path, bytes).unwrap();
-            let one = scan_plain(&mut &bytes[..]).unwrap();
-            let halves = scan_plain_file(&path).unwrap();
+            let one = scan_file(&mut &bytes[..]).unwrap();
+            let halves = scan_path(&path).unwrap();
             assert_eq!(halves, one, "{:?}", String::from_utf8_lossy(bytes));
-            if one.is_some() {
+            if one.is_some_and(|scan| scan.plain) {
                 plain += 1;
             } else {
                 not_plain += 1;
@@ -365,12 +433,12 @@ fn a_file_scanned_in_halves_is_scanned_as_one() {
     );
 }
 
-/// A plain file read from a reader in parts (`compile::compile_plain`)
+/// A plain file read from a reader in parts (`compile::compile_file`)
 /// with a byte-order mark, CRLF line ends and Latin-1 comments (decoded
 /// line by line) gives what the decoded text compiled whole gives.
 #[test]
 fn a_file_with_a_bom_and_latin1_lines_reads_in_parts_as_whole() {
-    use ger::compile::{compile_plain, scan_plain};
+    use ger::compile::{compile_file, scan_file};
     let bytes: &[u8] = b"\xef\xbb\xbfG21 G90\r\nG0 X1 (25\xb0)\r\nG1 X2.5 F100 (\xe9t\xe9)\r\n\
                          G1 Y3 (caf\xc3\xa9)\r\nG1 X1 (\xb0)\r\nM30\r\n";
     let text = ger::source::decode(bytes.to_vec()).unwrap();
@@ -379,20 +447,22 @@ fn a_file_with_a_bom_and_latin1_lines_reads_in_parts_as_whole() {
         let file = sources.add("p.ngc", text.clone());
         compile(&sources, file, &CompileOptions::default(), None)
     };
-    let facts = scan_plain(&mut &bytes[..]).unwrap().expect("a plain file");
+    let facts = scan_file(&mut &bytes[..]).unwrap().expect("a plain file");
     for part in [1, 8, 40, 4096] {
         let mut out = Vec::new();
         let report = ger::syntax::egc::chunk::with_part_size(Some(part), || {
-            compile_plain(
+            compile_file(
                 &mut &bytes[..],
                 "p.ngc",
                 0,
                 facts,
                 &CompileOptions::default(),
+                None,
                 &mut out,
             )
         })
-        .unwrap();
+        .unwrap()
+        .expect("read in parts");
         assert!(report.succeeded(), "{:?}", report.diagnostics);
         assert_eq!(
             Some(String::from_utf8(out).unwrap()),

@@ -132,17 +132,9 @@ pub fn chunks(text: &str) -> impl Iterator<Item = std::ops::Range<usize>> + '_ {
 }
 
 /// The parts of a program that is not plain, to read one after another
-/// as [`chunks`] does, or `None` when it must be read whole: a part ends
-/// at a line end outside every block (`while`, `if`, `oN …`, `WHILE … DO`),
-/// before a plain line (so nothing after the cut continues a statement:
-/// no `else`, no `while` closing a `do`), and reads without a syntax error
-/// (else it grows to the next such line end, and at the last to the end of
-/// the text, which then has the errors). A program whose parts would have
-/// a subprogram, a call (`M98`, `M99`, `G65`, `oN call`), an `O` word or a
-/// `GOTO` is read whole: those need the whole program. So is one with a
-/// `G` or `M` code given by an expression (it could be one of those).
-/// Every part is parsed here once, to check it; its statements are thrown
-/// away.
+/// as [`chunks`] does, or `None` when it must be read whole ([`cut_part`]
+/// says where each ends and when). Every part is parsed here once, to
+/// check it; its statements are thrown away.
 pub fn cuts(text: &str, at: &Locator, language: Language) -> Option<Vec<std::ops::Range<usize>>> {
     let mut names = Names::default();
     let mut found = Vec::new();
@@ -150,50 +142,100 @@ pub fn cuts(text: &str, at: &Locator, language: Language) -> Option<Vec<std::ops
     while from < text.len() {
         let mut want = part_size();
         loop {
-            let end = cut_after(text, from + want);
             names.forget_notes();
-            let (program, diagnostics) =
-                parse_program_from(&text[..end], from, at, language, &mut names);
-            let clean = !diagnostics.iter().any(crate::diagnostic::is_error);
-            if end < text.len() && !clean {
-                want = want.saturating_mul(2);
-                continue;
+            match cut_part(text, from, want, true, at, language, &mut names) {
+                Cut::Part(end, ..) => {
+                    found.push(from..end);
+                    from = end;
+                    break;
+                }
+                Cut::Grow => want = want.saturating_mul(2),
+                Cut::Whole => return None,
             }
-            let first = found.is_empty();
-            if !program.subprograms.is_empty()
-                || (program.main_number.is_some() && !first)
-                || program.main.iter().any(needs_whole)
-            {
-                return None;
-            }
-            found.push(from..end);
-            from = end;
-            break;
         }
     }
     Some(found)
 }
 
-/// The first line end at or after `want` that is followed by a plain line
-/// ([`plain_line`]), or the end of the text.
-fn cut_after(text: &str, want: usize) -> usize {
+/// What [`cut_part`] found.
+pub enum Cut {
+    /// The part ends at this offset: its statements and diagnostics.
+    Part(usize, Vec<Stmt>, Vec<Diagnostic>),
+    /// Ask again with more wanted (and, if the text is not complete, more
+    /// of it).
+    Grow,
+    /// The program must be read whole.
+    Whole,
+}
+
+/// The part of a program that is not plain starting at `from` (a line
+/// start after the last cut) in `text`, about `want` bytes long, parsed
+/// into `names`; `complete`: nothing follows `text` (else it ends with a
+/// line end). A part ends at a line end outside every block (`while`,
+/// `if`, `oN …`, `WHILE … DO`), before a line that does not continue the
+/// statement before it (a line end ends a statement unless `{` or `else`
+/// follows it, [`continues`]), and reads without a syntax error (so no
+/// block, group or comment is open at the cut), or at the end of the text,
+/// which then has the errors. A program whose part has a subprogram, a call (`M98`,
+/// `M99`, `G65`, `oN call`), an `O` word (but the program's number, first
+/// in it) or a `GOTO` is read whole: those need the whole program. So is
+/// one with a `G` or `M` code given by an expression (it could be one of
+/// those).
+pub fn cut_part(
+    text: &str,
+    from: usize,
+    want: usize,
+    complete: bool,
+    at: &Locator,
+    language: Language,
+    names: &mut Names,
+) -> Cut {
+    let end = match cut_after(text, from.saturating_add(want)) {
+        Some(end) => end,
+        None if complete => text.len(),
+        None => return Cut::Grow,
+    };
+    let (program, diagnostics) = parse_program_from(&text[..end], from, at, language, names);
+    let clean = !diagnostics.iter().any(crate::diagnostic::is_error);
+    if !clean && (end < text.len() || !complete) {
+        return Cut::Grow;
+    }
+    let first = at.span(from, from).line == 1;
+    if !program.subprograms.is_empty()
+        || (program.main_number.is_some() && !first)
+        || program.main.iter().any(needs_whole)
+    {
+        return Cut::Whole;
+    }
+    Cut::Part(end, program.main, diagnostics)
+}
+
+/// The first line end at or after `want` that is followed by a whole line
+/// that does not [`continue`](continues) the statement before it, if `text`
+/// has one.
+fn cut_after(text: &str, want: usize) -> Option<usize> {
     let bytes = text.as_bytes();
     let mut at = want.min(bytes.len());
     loop {
         // A line end is one byte, never inside a character.
-        let Some(i) = bytes[at..].iter().position(|&b| b == b'\n') else {
-            return bytes.len();
-        };
-        let end = at + i + 1;
-        let next = bytes[end..]
-            .iter()
-            .position(|&b| b == b'\n')
-            .map_or(bytes.len(), |i| end + i);
-        if end == bytes.len() || plain_line(&text[end..next]) {
-            return end;
+        let end = at + bytes[at..].iter().position(|&b| b == b'\n')? + 1;
+        let next = end + bytes[end..].iter().position(|&b| b == b'\n')?;
+        if !continues(&text[end..next]) {
+            return Some(end);
         }
         at = end;
     }
+}
+
+/// Whether `line` may go on with the statement of the line before: it
+/// starts with `{` or `else` (in any case), which the lexer puts after a
+/// line end without ending the statement.
+fn continues(line: &str) -> bool {
+    let line = line.trim_start();
+    line.starts_with('{')
+        || line
+            .get(..4)
+            .is_some_and(|word| word.eq_ignore_ascii_case("else"))
 }
 
 /// Whether `stmt` needs the whole program to run: a `GOTO`, an `O` word,

@@ -330,9 +330,10 @@ pub struct Lexed {
     pub errors: Vec<SyntaxError>,
     /// A `{` was never closed: the lexer closed it at the end of the file.
     pub unclosed_brace: bool,
-    /// Spans of `(` groups opened in wizard calls; a parse error inside one
+    /// Where `(` groups opened in wizard calls (offsets in the text read,
+    /// not spans: a part starts inside its file); a parse error inside one
     /// gets a hint that comments there are written with `//`.
-    pub call_groups: Vec<Span>,
+    pub call_groups: Vec<usize>,
 }
 
 pub fn lex(text: &str, at: &Locator, names: &mut Names) -> Lexed {
@@ -375,7 +376,7 @@ struct Lexer<'a> {
     words: Vec<LexedWord>,
     errors: Vec<SyntaxError>,
     unclosed_brace: bool,
-    call_groups: Vec<Span>,
+    call_groups: Vec<usize>,
     shape: Shape,
     /// Index in `out` where the current statement starts.
     stmt_start: usize,
@@ -1132,7 +1133,7 @@ impl<'a> Lexer<'a> {
             let call = matches!(self.out.last(), Some(&(_, Tok::Name(_), e)) if e == start);
             self.groups.push((start, '('));
             if self.shape == Shape::NameHead {
-                self.call_groups.push(self.span(start, start + 1));
+                self.call_groups.push(start);
             }
             self.push(
                 start,
@@ -1508,7 +1509,9 @@ impl<'a> Lexer<'a> {
             respelled: (letters.len() >= 2).then(|| format!("{letters}{digits}")),
         };
         // The letters of the name were reported one by one; this says it all.
-        let (from32, to32) = (from as u32, assign_at as u32);
+        // (Spans are in the file; a part's text starts inside it.)
+        let written_span = self.span(from, assign_at);
+        let (from32, to32) = (written_span.start, written_span.end);
         self.errors
             .retain(|e| e.span.start < from32 || e.span.start >= to32);
         self.report(kind, from, from + written.len());

@@ -296,7 +296,7 @@ struct ErrorContext<'a> {
     at: &'a Locator,
     text: &'a str,
     names: &'a Names,
-    call_groups: &'a [Span],
+    call_groups: &'a [usize],
     tokens: &'a [lexer::Spanned],
     words: &'a [lexer::LexedWord],
 }
@@ -382,10 +382,9 @@ impl ErrorContext<'_> {
     }
 
     fn in_call_group(&self, at: usize) -> bool {
-        self.call_groups.iter().any(|g| {
-            let open = g.start as usize;
-            open <= at && !self.text[open..at].contains('\n')
-        })
+        self.call_groups
+            .iter()
+            .any(|&open| open <= at && !self.text[open..at].contains('\n'))
     }
 }
 
