@@ -155,7 +155,7 @@ pub fn compile(
 ) -> Compiled {
     let mut text = Vec::new();
     // Writing to a Vec cannot fail.
-    let report = compile_to(sources, file, options, wizards, &mut text);
+    let report = compile_to_vec(sources, file, options, wizards, &mut text);
     let output = report.succeeded().then(|| {
         String::from_utf8(text)
             .unwrap_or_else(|e| String::from_utf8_lossy(e.as_bytes()).into_owned())
@@ -181,19 +181,67 @@ pub fn compile_to(
 ) -> Report {
     let mut diagnostics = Vec::new();
     let mut clock = Clock::new();
-    let write_error = run(
-        Input::of(sources, file, options),
+    let input = Input::of(sources, file, options);
+    let written = run(
+        input,
         options,
         wizards,
         Output::Text(out),
         &mut diagnostics,
         &mut clock,
-    )
-    .err();
+        Cutting::Checked,
+    );
     Report {
         diagnostics,
         timings: clock.timings,
-        write_error,
+        // A checked cut never needs the whole program part way.
+        write_error: written.unwrap_or(Ok(())).err(),
+    }
+}
+
+/// [`compile_to`] into `out`, which is cleared first. A program that is
+/// not plain is cut as it is read (each part parsed once); if a part needs
+/// the whole program, `out` is cleared and it is compiled again, whole.
+pub fn compile_to_vec(
+    sources: &Sources,
+    file: FileId,
+    options: &CompileOptions,
+    mut wizards: Option<&mut dyn WizardHost>,
+    out: &mut Vec<u8>,
+) -> Report {
+    for cutting in [Cutting::AsItGoes, Cutting::Never] {
+        out.clear();
+        let mut diagnostics = Vec::new();
+        let mut clock = Clock::new();
+        let input = Input::of(sources, file, options);
+        let wizards = wizards.as_mut().map(|w| &mut **w as &mut dyn WizardHost);
+        if let Ok(written) = run(
+            input,
+            options,
+            wizards,
+            Output::Text(out),
+            &mut diagnostics,
+            &mut clock,
+            cutting,
+        ) {
+            return Report {
+                diagnostics,
+                timings: clock.timings,
+                write_error: written.err(),
+            };
+        }
+    }
+    unreachable_whole()
+}
+
+/// A compile with [`Cutting::Never`] never stops for the whole program.
+fn unreachable_whole() -> Report {
+    Report {
+        diagnostics: Vec::new(),
+        timings: Vec::new(),
+        write_error: Some(std::io::Error::other(
+            "internal: a whole read asked for a whole read",
+        )),
     }
 }
 
@@ -211,15 +259,27 @@ pub fn tool_path(
         stage: None,
         ..options.clone()
     };
-    // Nothing is written: no write can fail.
-    let _ = run(
-        Input::of(sources, file, &options),
-        &options,
-        wizards,
-        Output::Path(&mut path),
-        &mut diagnostics,
-        &mut Clock::new(),
-    );
+    let mut wizards = wizards;
+    for cutting in [Cutting::AsItGoes, Cutting::Never] {
+        (path, diagnostics) = (None, Vec::new());
+        let input = Input::of(sources, file, &options);
+        let wizards = wizards.as_mut().map(|w| &mut **w as &mut dyn WizardHost);
+        let out = Output::Path(&mut path);
+        // Nothing is written: no write can fail.
+        if run(
+            input,
+            &options,
+            wizards,
+            out,
+            &mut diagnostics,
+            &mut Clock::new(),
+            cutting,
+        )
+        .is_ok()
+        {
+            break;
+        }
+    }
     if diagnostics.iter().any(is_error) {
         path = None;
     }
@@ -339,8 +399,23 @@ impl<'a> Input<'a> {
     }
 }
 
+/// How [`run`] reads a program that is not plain in parts.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Cutting {
+    /// Every part is checked first ([`chunk::cuts`]), since what is
+    /// written cannot be taken back.
+    Checked,
+    /// Cut as it is read; a part that needs the whole program stops the
+    /// compile (`Err(Whole)`: the caller throws the output away and
+    /// starts again, whole).
+    AsItGoes,
+    /// Read whole.
+    Never,
+}
+
 /// The stages in order, writing to `out`; they stop at the first stage
-/// that reports an error.
+/// that reports an error. `Err`: a part needs the whole program
+/// ([`Cutting::AsItGoes`]).
 fn run<'a>(
     input: Input<'a>,
     options: &'a CompileOptions,
@@ -348,7 +423,8 @@ fn run<'a>(
     out: Output<'a>,
     diagnostics: &mut Vec<Diagnostic>,
     clock: &mut Clock,
-) -> std::io::Result<()> {
+    cutting: Cutting,
+) -> Result<std::io::Result<()>, Whole> {
     let Input {
         library,
         text,
@@ -361,27 +437,41 @@ fn run<'a>(
     let fanuc_functions = from == eval::Flavour::Fanuc && language == Language::Gcode;
     // A program is read in parts, unless it needs to be read whole.
     type Ranges<'r> = Box<dyn Iterator<Item = std::ops::Range<usize>> + 'r>;
-    let ranges: Option<(Ranges, bool)> =
+    let at = &locator;
+    let source =
         match library.is_empty() && options.stage != Some(Stage::Parse) && chunk::by_parts() {
             false => None,
             true if language == Language::Gcode && chunk::chunkable(text) => {
-                Some((Box::new(chunk::chunks(text)), true))
+                let ranges = Box::new(chunk::chunks(text));
+                Some(PartSource::Text {
+                    text,
+                    at,
+                    ranges,
+                    plain: true,
+                })
             }
-            true => {
-                let cuts = chunk::cuts(text, &locator, language);
-                clock.lap("cut");
-                cuts.map(|c| (Box::new(c.into_iter()) as Ranges, false))
-            }
+            true => match cutting {
+                Cutting::Never => None,
+                Cutting::AsItGoes => Some(PartSource::TextCut { text, at, from: 0 }),
+                Cutting::Checked => {
+                    let cuts = chunk::cuts(text, at, language);
+                    clock.lap("cut");
+                    cuts.map(|c| {
+                        let ranges = Box::new(c.into_iter()) as Ranges;
+                        PartSource::Text {
+                            text,
+                            at,
+                            ranges,
+                            plain: false,
+                        }
+                    })
+                }
+            },
         };
-    if let Some((ranges, plain)) = ranges {
+    if let Some(source) = source {
         let backend = Backend::new(SourceFacts::Text(text), file, options, out);
-        let mut parts = Parts::new(PartSource::Text {
-            text,
-            at: &locator,
-            ranges,
-            plain,
-        });
-        return run_by_parts(
+        let mut parts = Parts::new(source);
+        let written = run_by_parts(
             &mut parts,
             language,
             fanuc_functions,
@@ -391,6 +481,10 @@ fn run<'a>(
             diagnostics,
             clock,
         );
+        return match parts.whole {
+            true => Err(Whole),
+            false => Ok(written),
+        };
     }
     let (mut program, parse_diagnostics) =
         crate::syntax::egc::parse_program_files((text, &locator), &library, language);
@@ -403,13 +497,13 @@ fn run<'a>(
     diagnostics.extend(parse_diagnostics);
     clock.lap("parse");
     if diagnostics.iter().any(is_error) {
-        return Ok(());
+        return Ok(Ok(()));
     }
     if options.stage == Some(Stage::Parse) {
-        return match out {
+        return Ok(match out {
             Output::Text(out) => out.write_all(program.to_text().as_bytes()),
             Output::Path(_) => Ok(()),
-        };
+        });
     }
     let backend = Backend::new(SourceFacts::Text(text), file, options, out);
     let (eval_diagnostics, backend) = on_two_threads(backend, |sink| match wizards {
@@ -424,7 +518,7 @@ fn run<'a>(
     diagnostics.extend(eval_diagnostics);
     drop(program);
     clock.lap("expand");
-    finish_back_end(backend, diagnostics, clock)
+    Ok(finish_back_end(backend, diagnostics, clock))
 }
 
 /// Fanuc's meaning for the functions whose names Fanuc and LinuxCNC
@@ -487,6 +581,13 @@ enum PartSource<'a> {
         /// Every line is plain ([`chunk::chunkable`]): a line of plain
         /// words can be parsed alone.
         plain: bool,
+    },
+    /// A program that is not plain, held whole, cut as it is read
+    /// ([`chunk::next_cut`]: each part parsed once, where it is cut).
+    TextCut {
+        text: &'a str,
+        at: &'a Locator,
+        from: usize,
     },
     /// Lines read from a file as they are needed (its text is never held).
     Reader(LineReader<'a>),
@@ -568,7 +669,20 @@ impl<'a> Parts<'a> {
                     None
                 }
             },
-            PartSource::Program(_) if self.whole => None,
+            PartSource::TextCut { .. } | PartSource::Program(_) if self.whole => None,
+            PartSource::TextCut { text, from, .. } if *from >= text.len() => None,
+            PartSource::TextCut { text, at, from } => {
+                match chunk::next_cut(text, *from, at, language, names) {
+                    chunk::Cut::Part(end, stmts, diagnostics) => {
+                        *from = end;
+                        Some((stmts, diagnostics))
+                    }
+                    chunk::Cut::Grow | chunk::Cut::Whole => {
+                        self.whole = true;
+                        None
+                    }
+                }
+            }
             PartSource::Program(reader) => match reader.next_part(names) {
                 Ok(Some(Ok(parsed))) => Some(parsed),
                 Ok(Some(Err(Whole))) => {

@@ -694,7 +694,12 @@ fn compile_job(
     let mut text = Vec::new();
     let report = match (write, output) {
         (true, Some(path)) => write_atomically(path, compile),
-        (true, None) => compile(&mut text),
+        (true, None) => {
+            // Held in memory: a program found to need a whole read part
+            // way is compiled again into an emptied buffer.
+            let engine = Some(&mut *engine as &mut dyn ger::eval::WizardHost);
+            ger::compile::compile_to_vec(sources, file, compile_options, engine, &mut text)
+        }
         (false, _) => compile(&mut std::io::sink()),
     };
     if whole {

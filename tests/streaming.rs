@@ -172,7 +172,10 @@ fn any_program_read_in_parts_is_read_as_a_whole() {
             None => whole_only += 1,
         }
         for from in [None, Some(Flavour::Fanuc)] {
-            let compile_with = |part: Option<usize>, stage: Option<Stage>| {
+            // `checked`: through `compile_to`, which checks every part
+            // before it runs one (what it writes cannot be taken back);
+            // `compile` cuts as it goes and starts again when it must.
+            let compile_with = |part: Option<usize>, stage: Option<Stage>, checked: bool| {
                 with_part_size(part, || {
                     let mut sources = Sources::new();
                     let file = sources.add(path.to_string_lossy(), text.clone());
@@ -188,20 +191,40 @@ fn any_program_read_in_parts_is_read_as_a_whole() {
                         stage,
                         ..CompileOptions::default()
                     };
-                    let compiled = compile(&sources, file, &options, Some(&mut engine));
+                    let (output, diagnostics) = if checked {
+                        let mut out = Vec::new();
+                        let report = ger::compile::compile_to(
+                            &sources,
+                            file,
+                            &options,
+                            Some(&mut engine),
+                            &mut out,
+                        );
+                        let output = report.succeeded().then(|| String::from_utf8(out).unwrap());
+                        (output, report.diagnostics)
+                    } else {
+                        let compiled = compile(&sources, file, &options, Some(&mut engine));
+                        (compiled.output, compiled.diagnostics)
+                    };
                     format!(
                         "{}\n--- diagnostics ---\n{}",
-                        compiled.output.as_deref().unwrap_or("<no output>"),
-                        render(&sources, &compiled.diagnostics)
+                        output.as_deref().unwrap_or("<no output>"),
+                        render(&sources, &diagnostics)
                     )
                 })
             };
-            let whole = compile_with(None, None);
-            for part in [1, 40, 4096] {
-                let parts = compile_with(Some(part), None);
+            let whole = compile_with(None, None, false);
+            for (part, checked) in [
+                (1, false),
+                (40, false),
+                (4096, false),
+                (1, true),
+                (40, true),
+            ] {
+                let parts = compile_with(Some(part), None, checked);
                 assert!(
                     parts == whole,
-                    "{} ({from:?}) in parts of {part}:\n{parts}\nwhole:\n{whole}",
+                    "{} ({from:?}) in parts of {part} (checked: {checked}):\n{parts}\nwhole:\n{whole}",
                     path.display()
                 );
             }
@@ -239,7 +262,8 @@ fn any_program_read_in_parts_is_read_as_a_whole() {
                 continue;
             }
             for stage in stages() {
-                let (whole, parts) = (compile_with(None, stage), compile_with(Some(40), stage));
+                let whole = compile_with(None, stage, false);
+                let parts = compile_with(Some(40), stage, false);
                 assert!(
                     parts == whole,
                     "{} at stage {stage:?} in parts of 40:\n{parts}\nwhole:\n{whole}",

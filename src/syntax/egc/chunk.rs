@@ -140,21 +140,34 @@ pub fn cuts(text: &str, at: &Locator, language: Language) -> Option<Vec<std::ops
     let mut found = Vec::new();
     let mut from = 0;
     while from < text.len() {
-        let mut want = part_size();
-        loop {
-            names.forget_notes();
-            match cut_part(text, from, want, true, at, language, &mut names) {
-                Cut::Part(end, ..) => {
-                    found.push(from..end);
-                    from = end;
-                    break;
-                }
-                Cut::Grow => want = want.saturating_mul(2),
-                Cut::Whole => return None,
+        names.forget_notes();
+        match next_cut(text, from, at, language, &mut names) {
+            Cut::Part(end, ..) => {
+                found.push(from..end);
+                from = end;
             }
+            Cut::Grow | Cut::Whole => return None,
         }
     }
     Some(found)
+}
+
+/// The part of the text `text` held whole from `from` on ([`cut_part`],
+/// grown until it ends): never [`Cut::Grow`].
+pub fn next_cut(
+    text: &str,
+    from: usize,
+    at: &Locator,
+    language: Language,
+    names: &mut Names,
+) -> Cut {
+    let mut want = part_size();
+    loop {
+        match cut_part(text, from, want, true, at, language, names) {
+            Cut::Grow => want = want.saturating_mul(2),
+            cut => return cut,
+        }
+    }
 }
 
 /// What [`cut_part`] found.
