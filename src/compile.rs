@@ -571,7 +571,7 @@ impl SourceFacts<'_> {
     }
 }
 
-/// Where the parts of a plain program come from.
+/// Where the parts of a program come from.
 enum PartSource<'a> {
     /// Ranges of a text held whole.
     Text {
@@ -595,7 +595,7 @@ enum PartSource<'a> {
     Program(ProgramReader<'a>),
 }
 
-/// A plain program read a part at a time ([`chunk`]): each part is parsed
+/// A program read a part at a time ([`chunk`]): each part is parsed
 /// when the evaluator asks for it. After a syntax error nothing more is
 /// run, but every part is still read, so that all syntax errors are found.
 struct Parts<'a> {
@@ -677,6 +677,7 @@ impl<'a> Parts<'a> {
                         *from = end;
                         Some((stmts, diagnostics))
                     }
+                    // (`next_cut` never asks to grow: the text is all there.)
                     chunk::Cut::Grow | chunk::Cut::Whole => {
                         self.whole = true;
                         None

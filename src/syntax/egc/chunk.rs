@@ -1,9 +1,13 @@
-//! Plain programs read a part at a time (issue 15): a program of G-code
-//! words, comments and controller commands only — no parameters, no
-//! expressions, no subprograms, no control flow — means the same read
-//! line by line as read whole, so it is parsed and run in parts of about
-//! [`CHUNK_BYTES`], each dropped before the next is read. Memory then
-//! grows with the longest part, not with the program.
+//! Programs read a part at a time (issue 15): parsed and run in parts of
+//! about [`CHUNK_BYTES`], each dropped before the next is read, so memory
+//! grows with the longest part, not with the program. A part of any
+//! program ends outside every block, where the statement before the cut
+//! is complete ([`cut_part`]); a program with subprograms, calls or
+//! `GOTO` is read whole. A plain program of G-code words, comments and
+//! controller commands only — no parameters, no expressions, no
+//! subprograms, no control flow — means the same cut at any line end
+//! ([`chunkable`], [`chunks`]), and its lines of plain words are built
+//! straight from their bytes ([`parse_chunk`]).
 
 use super::lexer::{self, comment_end, Language, WordNumber};
 use super::parser::{fast_path, parse_program_from, words_stmt};
