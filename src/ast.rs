@@ -24,10 +24,14 @@ pub struct Names {
     /// see. A program read in parts drops each part's
     /// ([`Names::forget_notes`]) while its names stay.
     notes: Vec<Box<str>>,
+    /// Notes kept past their part ([`Names::keep_note`]: those of a
+    /// subprogram, which outlives it).
+    kept: Vec<Box<str>>,
 }
 
-/// The bit that marks a [`Symbol`] as a note's.
+/// The bits that mark a [`Symbol`] as a note's, and as a kept note's.
 const NOTE: u32 = 1 << 31;
+const KEPT: u32 = 1 << 30;
 
 impl Names {
     /// The text of a comment or a command, kept until
@@ -38,9 +42,21 @@ impl Names {
         s
     }
 
-    /// Drop the notes' texts (their symbols must not be used again).
+    /// Drop the notes' texts (their symbols must not be used again), but
+    /// those kept.
     pub fn forget_notes(&mut self) {
         self.notes.clear();
+    }
+
+    /// The symbol of `s`'s text past [`Names::forget_notes`]: `s` itself
+    /// unless it is a note.
+    pub fn keep_note(&mut self, s: Symbol) -> Symbol {
+        if s.0 & NOTE == 0 {
+            return s;
+        }
+        let kept = Symbol(KEPT | self.kept.len() as u32);
+        self.kept.push(self.notes[(s.0 & !NOTE) as usize].clone());
+        kept
     }
 
     pub fn intern(&mut self, text: &str) -> Symbol {
@@ -54,9 +70,10 @@ impl Names {
     }
 
     pub fn text(&self, s: Symbol) -> &str {
-        match s.0 & NOTE {
+        match s.0 & (NOTE | KEPT) {
             0 => &self.texts[s.0 as usize],
-            _ => &self.notes[(s.0 & !NOTE) as usize],
+            NOTE => &self.notes[(s.0 & !NOTE) as usize],
+            _ => &self.kept[(s.0 & !KEPT) as usize],
         }
     }
 
@@ -264,6 +281,18 @@ pub struct Number {
     pub has_point: bool,
 }
 
+impl Number {
+    /// The program number and repeat count of `M98 P<p>`, `p` this number
+    /// made whole: Fanuc's `P31000` (more than four digits, no point) is
+    /// three runs of program 1000.
+    pub fn m98_split(&self, p: u32) -> (u32, u32) {
+        match self.int_digits > 4 && !self.has_point {
+            true => (p % 10_000, p / 10_000),
+            false => (p, 1),
+        }
+    }
+}
+
 #[derive(Debug, Clone)]
 pub struct Expr {
     pub kind: ExprKind,
@@ -323,6 +352,32 @@ impl Assignment {
 }
 
 impl Stmt {
+    /// Change the symbol of every comment and command of the statement
+    /// (and of any block in it) by `f`.
+    pub fn map_notes(&mut self, f: &mut impl FnMut(Symbol) -> Symbol) {
+        let mut block = |stmts: &mut Vec<Stmt>| stmts.iter_mut().for_each(|s| s.map_notes(f));
+        match &mut self.kind {
+            StmtKind::Command(s) | StmtKind::Comment(s) => *s = f(*s),
+            StmtKind::If(if_) => {
+                for (_, body) in &mut if_.branches {
+                    block(body);
+                }
+                if let Some(body) = &mut if_.otherwise {
+                    block(body);
+                }
+            }
+            StmtKind::While(w) => block(&mut w.body),
+            StmtKind::Line(_)
+            | StmtKind::Assign(_)
+            | StmtKind::Assigns(_)
+            | StmtKind::Call { .. }
+            | StmtKind::Goto(_)
+            | StmtKind::Break(_)
+            | StmtKind::Continue(_)
+            | StmtKind::Error => {}
+        }
+    }
+
     /// Change every function the statement (and any block in it) calls.
     pub fn map_functions(&mut self, f: &impl Fn(Function) -> Function) {
         let block = |stmts: &mut Vec<Stmt>| stmts.iter_mut().for_each(|s| s.map_functions(f));

@@ -452,7 +452,12 @@ fn run<'a>(
             }
             true => match cutting {
                 Cutting::Never => None,
-                Cutting::AsItGoes => Some(PartSource::TextCut { text, at, from: 0 }),
+                Cutting::AsItGoes => Some(PartSource::TextCut {
+                    text,
+                    at,
+                    from: 0,
+                    defined: Vec::new(),
+                }),
                 Cutting::Checked => {
                     let cuts = chunk::cuts(text, at, language);
                     clock.lap("cut");
@@ -588,6 +593,8 @@ enum PartSource<'a> {
         text: &'a str,
         at: &'a Locator,
         from: usize,
+        /// The subprograms of the parts read ([`chunk::cut_part`]).
+        defined: Vec<u32>,
     },
     /// Lines read from a file as they are needed (its text is never held).
     Reader(LineReader<'a>),
@@ -623,25 +630,23 @@ impl<'a> Parts<'a> {
 
     /// The next part to run; `None` at the end, or after a syntax error
     /// (the rest is read for its errors).
-    fn next(&mut self, language: Language, names: &mut Names) -> Option<Vec<crate::ast::Stmt>> {
+    fn next(&mut self, language: Language, names: &mut Names) -> Option<eval::Part> {
         loop {
             let started = Instant::now();
-            let (stmts, found) = self.parse_next(language, names)?;
+            let (stmts, subprograms, found) = self.parse_next(language, names)?;
             self.time += started.elapsed();
             self.broken |= found.iter().any(is_error);
             self.diagnostics.extend(found);
             if !self.broken {
-                return Some(stmts);
+                return Some((stmts, subprograms));
             }
         }
     }
 
     /// The next part, parsed.
-    fn parse_next(
-        &mut self,
-        language: Language,
-        names: &mut Names,
-    ) -> Option<(Vec<crate::ast::Stmt>, Vec<Diagnostic>)> {
+    fn parse_next(&mut self, language: Language, names: &mut Names) -> Option<Parsed> {
+        // A plain program has no subprogram.
+        let no_subprograms = |(stmts, diagnostics)| (stmts, Vec::new(), diagnostics);
         match &mut self.source {
             PartSource::Text {
                 text,
@@ -651,18 +656,18 @@ impl<'a> Parts<'a> {
             } => {
                 let range = ranges.next()?;
                 Some(match plain {
-                    true => chunk::parse_chunk(text, range, at, language, names),
+                    true => no_subprograms(chunk::parse_chunk(text, range, at, language, names)),
                     false => chunk::parse_part(text, range, at, language, names),
                 })
             }
             PartSource::Reader(reader) => match reader.next_part() {
-                Ok(Some((text, at))) => Some(chunk::parse_chunk(
+                Ok(Some((text, at))) => Some(no_subprograms(chunk::parse_chunk(
                     &text,
                     0..text.len(),
                     &at,
                     language,
                     names,
-                )),
+                ))),
                 Ok(None) => None,
                 Err(e) => {
                     self.read_error = Some(e);
@@ -671,11 +676,16 @@ impl<'a> Parts<'a> {
             },
             PartSource::TextCut { .. } | PartSource::Program(_) if self.whole => None,
             PartSource::TextCut { text, from, .. } if *from >= text.len() => None,
-            PartSource::TextCut { text, at, from } => {
-                match chunk::next_cut(text, *from, at, language, names) {
-                    chunk::Cut::Part(end, stmts, diagnostics) => {
+            PartSource::TextCut {
+                text,
+                at,
+                from,
+                defined,
+            } => {
+                match chunk::next_cut(text, *from, at, language, names, defined) {
+                    chunk::Cut::Part(end, stmts, subprograms, diagnostics) => {
                         *from = end;
-                        Some((stmts, diagnostics))
+                        Some((stmts, subprograms, diagnostics))
                     }
                     // (`next_cut` never asks to grow: the text is all there.)
                     chunk::Cut::Grow | chunk::Cut::Whole => {
@@ -804,7 +814,11 @@ impl<'a> LineReader<'a> {
 }
 
 /// A part's statements and diagnostics.
-type Parsed = (Vec<crate::ast::Stmt>, Vec<Diagnostic>);
+type Parsed = (
+    Vec<crate::ast::Stmt>,
+    Vec<crate::ast::Subprogram>,
+    Vec<Diagnostic>,
+);
 
 /// The program must be read whole ([`chunk::cut_part`]).
 struct Whole;
@@ -821,6 +835,8 @@ struct ProgramReader<'a> {
     lines_before: usize,
     /// The file has been read to its end.
     read_all: bool,
+    /// The subprograms of the parts read ([`chunk::cut_part`]).
+    defined: Vec<u32>,
 }
 
 impl<'a> ProgramReader<'a> {
@@ -832,6 +848,7 @@ impl<'a> ProgramReader<'a> {
             base: 0,
             lines_before: 0,
             read_all: false,
+            defined: Vec::new(),
         }
     }
 
@@ -852,14 +869,23 @@ impl<'a> ProgramReader<'a> {
             }
             let (file, complete) = (self.lines.file, self.read_all);
             let at = Locator::part(file, &self.text, self.base, self.lines_before);
-            let cut = chunk::cut_part(&self.text, 0, want, complete, &at, self.language, names);
+            let cut = chunk::cut_part(
+                &self.text,
+                0,
+                want,
+                complete,
+                &at,
+                self.language,
+                names,
+                &mut self.defined,
+            );
             match cut {
                 chunk::Cut::Grow => want = want.saturating_mul(2),
-                chunk::Cut::Part(end, stmts, diagnostics) => {
+                chunk::Cut::Part(end, stmts, subprograms, diagnostics) => {
                     self.base += end;
                     self.lines_before += self.text[..end].bytes().filter(|&b| b == b'\n').count();
                     self.text.drain(..end);
-                    return Ok(Some(Ok((stmts, diagnostics))));
+                    return Ok(Some(Ok((stmts, subprograms, diagnostics))));
                 }
                 chunk::Cut::Whole => return Ok(Some(Err(Whole))),
             }
@@ -1014,11 +1040,14 @@ fn run_by_parts(
 ) -> std::io::Result<()> {
     let (evaluated, backend) = on_two_threads(backend, |sink| {
         eval::eval_chunks(eval_options, wizards, sink, &mut |names| {
-            let mut stmts = parts.next(language, names)?;
+            let (mut stmts, mut subprograms) = parts.next(language, names)?;
             if fanuc_functions {
                 map_fanuc_functions(&mut stmts);
+                for sub in &mut subprograms {
+                    map_fanuc_functions(&mut sub.body);
+                }
             }
-            Some(stmts)
+            Some((stmts, subprograms))
         })
     });
     // The parts after the program's end, for their syntax errors.

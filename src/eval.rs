@@ -183,19 +183,23 @@ pub fn eval_program<'a>(
     ev.diagnostics
 }
 
+/// A part of a program read in parts: its statements and subprograms.
+pub type Part = (Vec<ast::Stmt>, Vec<ast::Subprogram>);
+
 /// Stage 0 for a program read a part at a time
-/// ([`crate::syntax::egc::chunk`]): `next` gives each part's statements in
-/// order, interning into the names it is handed (the program's, which the
-/// parts share; the last part's comments are dropped first), and `None` at
-/// the end. A part has no subprogram and no `GOTO`; it ends outside every
-/// block. `next` is not asked again after the program ends (M2/M30) or
-/// after an error that stops it. Returns the diagnostics, as
+/// ([`crate::syntax::egc::chunk`]): `next` gives each part's statements and
+/// subprograms in order, interning into the names it is handed (the
+/// program's, which the parts share; the last part's comments are dropped
+/// first), and `None` at the end. A part ends outside every block, has no
+/// `GOTO`, and calls only subprograms of its own or of the parts before
+/// it, which are kept. `next` is not asked again after the program ends
+/// (M2/M30) or after an error that stops it. Returns the diagnostics, as
 /// [`eval_program`].
 pub fn eval_chunks(
     options: &EvalOptions,
     wizards: Option<&mut dyn WizardHost>,
     sink: &mut dyn ir::Sink,
-    next: &mut dyn FnMut(&mut Names) -> Option<Vec<ast::Stmt>>,
+    next: &mut dyn FnMut(&mut Names) -> Option<Part>,
 ) -> Vec<Diagnostic> {
     let empty = ast::Program {
         main: Vec::new(),
@@ -209,10 +213,18 @@ pub fn eval_chunks(
         // No statement of an earlier part is run again: its notes can go.
         let names = Rc::make_mut(&mut ev.names);
         names.forget_notes();
-        let Some(stmts) = next(names) else {
+        let Some((stmts, subprograms)) = next(names) else {
             break;
         };
         ev.names_added();
+        // A subprogram outlives its part, and so do its comments.
+        let names = Rc::make_mut(&mut ev.names);
+        for mut sub in subprograms {
+            for stmt in &mut sub.body {
+                stmt.map_notes(&mut |s| names.keep_note(s));
+            }
+            ev.kept.push(Rc::new(sub));
+        }
         let flow = ev.exec_block(&stmts);
         if ev.no_label(flow) != Flow::Next {
             break;
@@ -248,6 +260,8 @@ struct Evaluator<'a> {
     /// The program's names; those of a program read in parts grow with
     /// each part ([`Evaluator::names_added`]).
     names: Rc<Names>,
+    /// The subprograms of the parts read so far (a program read in parts).
+    kept: Vec<Rc<ast::Subprogram>>,
     options: &'a EvalOptions,
     wizards: Option<&'a mut dyn WizardHost>,
     vars: Vars,
@@ -333,6 +347,7 @@ impl<'a> Evaluator<'a> {
         Evaluator {
             program,
             names: Rc::new(program.names.clone()),
+            kept: Vec::new(),
             options,
             wizards,
             vars: Vars::new(

@@ -314,16 +314,17 @@ fn a_plain_program_compiled_to_a_file_is_read_in_parts() {
 }
 
 /// Any program written to a file is compiled from its file a part at a
-/// time, a loop body or an `if` in one part; one whose parts need the
-/// whole program (a subroutine called after a part holding its
-/// definition) is compiled whole instead, from the start: the file and the
-/// diagnostics are those of a compile to standard output, said once.
+/// time, a loop body or an `if` in one part, a subroutine kept for the
+/// parts after it; one whose last part needs the whole program (it calls
+/// a subroutine written after the call) is compiled whole instead, from the
+/// start: the file and the diagnostics are those of a compile to standard
+/// output, said once.
 #[test]
 fn any_program_compiled_to_a_file_is_read_in_parts_or_whole() {
     let dir = scratch("any-parts");
     let mut egc = String::from("G21 G90 G17\nG64 P0.01\nG0 X0 Y0 Z2\nG1 Z-1 F300\nIi = 0\n");
-    let mut ngc =
-        String::from("G21 G90 G17\nG64 P0.01\no<peck> sub\nG1 Z-1 F100\nG0 Z2\no<peck> endsub\n");
+    let sub = "o<peck> sub\nG1 Z-1 F100\n(up)\nG0 Z2\no<peck> endsub\n";
+    let mut ngc = String::from("G21 G90 G17\nG64 P0.01\n");
     for i in 0..3_000 {
         egc.push_str(&format!(
             "while (Ii < {}) {{\n  G1 X<Ii * 0.01> Y{}\n  Ii = Ii + 1\n}}\n",
@@ -333,13 +334,25 @@ fn any_program_compiled_to_a_file_is_read_in_parts_or_whole() {
         egc.push_str(&format!(
             "if (Ii % 2 == 0) {{\n  G1 Z-1.5\n}} else {{\n  G1 Z-1\n}}\nG1 X{i}.5 (pass {i})\n"
         ));
-        ngc.push_str(&format!("#1 = {i}\nG0 X[#1 * 0.1] Y{}\n", i % 7));
+        ngc.push_str(&format!(
+            "#1 = {i}\nG0 X[#1 * 0.1] Y{}\no<peck> call\n",
+            i % 7
+        ));
     }
     egc.push_str("G0 Z5\nM30\n");
-    ngc.push_str("o<peck> call\nG0 Z5\nM30\n");
+    ngc.push_str("G0 Z5\nM2\n");
     std::fs::write(dir.join("long.egc"), &egc).unwrap();
-    std::fs::write(dir.join("long.ngc"), &ngc).unwrap();
-    for name in ["long.egc", "long.ngc"] {
+    let kept = ngc.replacen("G64 P0.01\n", &format!("G64 P0.01\n{sub}"), 1);
+    std::fs::write(dir.join("kept.ngc"), kept).unwrap();
+    // Called once, at the end, before the subroutine is written more than
+    // a part (64 KB) further on: found out in the last part run, after
+    // most of the output.
+    let later = ngc
+        .replace("o<peck> call\n", "")
+        .replace("M2\n", "o<peck> call\nM2\n");
+    let notes = "(the subroutine, written after the end of the program)\n".repeat(2_000);
+    std::fs::write(dir.join("later.ngc"), later + &notes + sub).unwrap();
+    for name in ["long.egc", "kept.ngc", "later.ngc"] {
         let to_stdout = ger(&["compile", name], &dir);
         assert_eq!(to_stdout.status.code(), Some(0), "{name}");
         let to_file = ger(&["compile", name, "-o", "long.out"], &dir);

@@ -8,6 +8,7 @@ use crate::ast::{self, LineStmt, WordValue};
 use crate::diagnostic::Diagnostic;
 use crate::ir::{self, Arc, ArcGeometry, Axes, Axis, Motion, Op};
 use crate::source::Span;
+use std::rc::Rc;
 
 mod error;
 
@@ -543,11 +544,7 @@ impl Evaluator<'_> {
             return Err(CodeError::new(K::M98WithoutP, at).into());
         };
         let p = whole(p, pspan, "a program number")?;
-        let (mut number, mut count) = (p, 1);
-        if written.int_digits > 4 && !written.has_point {
-            number = p % 10_000;
-            count = p / 10_000;
-        }
+        let (number, mut count) = written.m98_split(p);
         if let Some((l, lspan)) = w.take(b'L') {
             if count != 1 {
                 return Err(CodeError::new(K::M98CountTwice, lspan).into());
@@ -593,29 +590,39 @@ impl Evaluator<'_> {
         at: Span,
         enter: impl FnOnce(&mut Self) -> Vec<(usize, super::Slot)>,
     ) -> Result<Flow, Diagnostic> {
-        let program = self.program;
+        let (program, names) = (self.program, Rc::clone(&self.names));
         // A LinuxCNC `o<name>` is numbered by its name's symbol.
         let name_of = |number: u32| {
             number
                 .checked_sub(crate::syntax::egc::lexer::NAMED_SUB_BASE)
-                .filter(|&i| (i as usize) < program.names.len())
-                .map(|i| program.names.text(ast::Symbol(i)))
+                .filter(|&i| (i as usize) < names.len())
+                .map(|i| names.text(ast::Symbol(i)))
                 .filter(|text| text.starts_with("o<"))
                 .map_or_else(|| format!("O{number}"), str::to_string)
         };
-        let Some(sub) = program.subprograms.iter().find(|s| s.number == number) else {
-            let name = name_of(number);
-            let file = name
-                .strip_prefix("o<")
-                .and_then(|n| n.strip_suffix('>'))
-                .map(str::to_string);
-            let known = program
-                .subprograms
-                .iter()
-                .map(|s| name_of(s.number))
-                .collect();
-            let kind = K::NoSubprogram { name, file, known };
-            return Err(CodeError::new(kind, pspan).into());
+        // The program's, or one a part read before kept.
+        let kept = || self.kept.iter().find(|s| s.number == number).cloned();
+        let sub = match program.subprograms.iter().find(|s| s.number == number) {
+            Some(sub) => Sub::Program(sub),
+            None => match kept() {
+                Some(sub) => Sub::Kept(sub),
+                None => {
+                    let name = name_of(number);
+                    let file = name
+                        .strip_prefix("o<")
+                        .and_then(|n| n.strip_suffix('>'))
+                        .map(str::to_string);
+                    let numbers = program.subprograms.iter().map(|s| s.number);
+                    let kept = self.kept.iter().map(|s| s.number);
+                    let known = numbers.chain(kept).map(name_of).collect();
+                    let kind = K::NoSubprogram { name, file, known };
+                    return Err(CodeError::new(kind, pspan).into());
+                }
+            },
+        };
+        let body: &[ast::Stmt] = match &sub {
+            Sub::Program(sub) => &sub.body,
+            Sub::Kept(sub) => &sub.body,
         };
         if self.calls.len() >= self.options.max_call_depth {
             // Runaway recursion is the usual cause: say where it started.
@@ -637,7 +644,7 @@ impl Evaluator<'_> {
         let saved = enter(self);
         let mut flow = Flow::Next;
         for _ in 0..count {
-            flow = match self.exec_block(&sub.body) {
+            flow = match self.exec_block(body) {
                 Flow::Return | Flow::Next => Flow::Next,
                 other => self.no_label(other),
             };
@@ -654,6 +661,13 @@ impl Evaluator<'_> {
         self.calls.pop();
         Ok(flow)
     }
+}
+
+/// A subprogram found for a call: the program's, or one kept from a part
+/// read before ([`super::eval_chunks`]).
+enum Sub<'a> {
+    Program(&'a ast::Subprogram),
+    Kept(Rc<ast::Subprogram>),
 }
 
 /// Fanuc's argument specification I: the local each letter of a `G65`

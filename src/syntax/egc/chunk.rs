@@ -11,7 +11,7 @@
 
 use super::lexer::{self, comment_end, Language, WordNumber};
 use super::parser::{fast_path, parse_program_from, words_stmt};
-use crate::ast::{Names, Stmt, StmtKind, WordValue};
+use crate::ast::{Names, Stmt, StmtKind, Subprogram, WordValue};
 use crate::diagnostic::Diagnostic;
 use crate::source::Locator;
 
@@ -140,12 +140,12 @@ pub fn chunks(text: &str) -> impl Iterator<Item = std::ops::Range<usize>> + '_ {
 /// says where each ends and when). Every part is parsed here once, to
 /// check it; its statements are thrown away.
 pub fn cuts(text: &str, at: &Locator, language: Language) -> Option<Vec<std::ops::Range<usize>>> {
-    let mut names = Names::default();
+    let (mut names, mut defined) = (Names::default(), Vec::new());
     let mut found = Vec::new();
     let mut from = 0;
     while from < text.len() {
         names.forget_notes();
-        match next_cut(text, from, at, language, &mut names) {
+        match next_cut(text, from, at, language, &mut names, &mut defined) {
             Cut::Part(end, ..) => {
                 found.push(from..end);
                 from = end;
@@ -164,10 +164,11 @@ pub fn next_cut(
     at: &Locator,
     language: Language,
     names: &mut Names,
+    defined: &mut Vec<u32>,
 ) -> Cut {
     let mut want = part_size();
     loop {
-        match cut_part(text, from, want, true, at, language, names) {
+        match cut_part(text, from, want, true, at, language, names, defined) {
             Cut::Grow => want = want.saturating_mul(2),
             cut => return cut,
         }
@@ -176,8 +177,9 @@ pub fn next_cut(
 
 /// What [`cut_part`] found.
 pub enum Cut {
-    /// The part ends at this offset: its statements and diagnostics.
-    Part(usize, Vec<Stmt>, Vec<Diagnostic>),
+    /// The part ends at this offset: its statements, its subprograms and
+    /// its diagnostics.
+    Part(usize, Vec<Stmt>, Vec<Subprogram>, Vec<Diagnostic>),
     /// Ask again with more wanted (and, if the text is not complete, more
     /// of it).
     Grow,
@@ -193,11 +195,16 @@ pub enum Cut {
 /// statement before it (a line end ends a statement unless `{` or `else`
 /// follows it, [`continues`]), and reads without a syntax error (so no
 /// block, group or comment is open at the cut), or at the end of the text,
-/// which then has the errors. A program whose part has a subprogram, a call (`M98`,
-/// `M99`, `G65`, `oN call`), an `O` word (but the program's number, first
-/// in it) or a `GOTO` is read whole: those need the whole program. So is
-/// one with a `G` or `M` code given by an expression (it could be one of
-/// those).
+/// which then has the errors. A part may hold subprograms (`O` … `M99`,
+/// LinuxCNC's `sub` … `endsub`) and call those of its own and of the parts
+/// before it (`defined`, their numbers, which a part taken adds its own
+/// to). A program whose part calls any other (it may be written further
+/// on), defines one a part before it did, has `M99` outside a subprogram,
+/// an `O` word (but the program's number, first in it) or a `GOTO` (it may
+/// jump back) is read whole: those need the whole program. So is one with
+/// a `G` or `M` code or a program number given by an expression (it could
+/// be one of those).
+#[allow(clippy::too_many_arguments)]
 pub fn cut_part(
     text: &str,
     from: usize,
@@ -206,6 +213,7 @@ pub fn cut_part(
     at: &Locator,
     language: Language,
     names: &mut Names,
+    defined: &mut Vec<u32>,
 ) -> Cut {
     let end = match cut_after(text, from.saturating_add(want)) {
         Some(end) => end,
@@ -218,13 +226,27 @@ pub fn cut_part(
         return Cut::Grow;
     }
     let first = at.span(from, from).line == 1;
-    if !program.subprograms.is_empty()
-        || (program.main_number.is_some() && !first)
-        || program.main.iter().any(needs_whole)
+    // A part after the first that starts with an `O` line but has no
+    // `M99` (the parser takes it for the program's number): a subprogram
+    // that goes on past the cut.
+    if program.main_number.is_some() && !first && (end < text.len() || !complete) {
+        return Cut::Grow;
+    }
+    let own = |n: u32| program.subprograms.iter().any(|s| s.number == n);
+    let known = |n: u32| own(n) || defined.contains(&n);
+    let in_subs = program.subprograms.iter().flat_map(|s| &s.body);
+    if (program.main_number.is_some() && !first)
+        || program
+            .subprograms
+            .iter()
+            .any(|s| defined.contains(&s.number))
+        || program.main.iter().any(|s| needs_whole(s, &known, false))
+        || in_subs.clone().any(|s| needs_whole(s, &known, true))
     {
         return Cut::Whole;
     }
-    Cut::Part(end, program.main, diagnostics)
+    defined.extend(program.subprograms.iter().map(|s| s.number));
+    Cut::Part(end, program.main, program.subprograms, diagnostics)
 }
 
 /// The first line end at or after `want` that is followed by a whole line
@@ -256,24 +278,44 @@ fn continues(line: &str) -> bool {
 }
 
 /// Whether `stmt` needs the whole program to run: a `GOTO`, an `O` word,
-/// a subprogram call or return, or a code given by an expression.
-fn needs_whole(stmt: &Stmt) -> bool {
+/// a call of a subprogram not `known`, an `M99` outside a subprogram
+/// (`in_sub`), or a code or program number given by an expression.
+fn needs_whole(stmt: &Stmt, known: &dyn Fn(u32) -> bool, in_sub: bool) -> bool {
+    let needs = |s: &Stmt| needs_whole(s, known, in_sub);
     match &stmt.kind {
         StmtKind::Goto(_) => true,
-        StmtKind::Line(line) => line.words.iter().any(|w| match (w.letter, &w.value) {
-            (b'O', _) => true,
-            (b'G' | b'M', WordValue::Expr(_)) => true,
-            (b'M', WordValue::Number(n)) => matches!(n.value, 98.0 | 99.0),
-            (b'G', WordValue::Number(n)) => n.value == 65.0,
-            _ => false,
-        }),
+        StmtKind::Line(line) => {
+            let odd = |w: &crate::ast::Word| {
+                w.letter == b'O' || (w.is_code() && matches!(w.value, WordValue::Expr(_)))
+            };
+            line.words.iter().any(odd)
+                || line.statements().any(|s| {
+                    let Some(WordValue::Number(code)) = s.code.map(|c| &c.value) else {
+                        return false;
+                    };
+                    let letter = s.code.map_or(0, |c| c.letter);
+                    let m98 = (letter, code.value) == (b'M', 98.0);
+                    match (letter, code.value) {
+                        (b'M', 99.0) => !in_sub,
+                        (b'M', 98.0) | (b'G', 65.0) => {
+                            let p = s.args.iter().find(|w| w.letter == b'P');
+                            let target = match p.map(|w| &w.value) {
+                                Some(WordValue::Number(p)) => called(p, m98),
+                                _ => None,
+                            };
+                            !target.is_some_and(known)
+                        }
+                        _ => false,
+                    }
+                })
+        }
         StmtKind::If(f) => f
             .branches
             .iter()
             .flat_map(|(_, body)| body)
             .chain(f.otherwise.iter().flatten())
-            .any(needs_whole),
-        StmtKind::While(w) => w.body.iter().any(needs_whole),
+            .any(needs),
+        StmtKind::While(w) => w.body.iter().any(needs),
         StmtKind::Assign(_)
         | StmtKind::Assigns(_)
         | StmtKind::Call { .. }
@@ -285,21 +327,27 @@ fn needs_whole(stmt: &Stmt) -> bool {
     }
 }
 
+/// The program `M98 P<p>` (`m98`) or `G65 P<p>` calls, as the evaluator
+/// reads `p`; `None` if it is not a whole number (an error there).
+fn called(p: &crate::ast::Number, m98: bool) -> Option<u32> {
+    let whole = p.value >= 0.0 && p.value.fract() == 0.0 && p.value <= f64::from(u32::MAX);
+    let number = p.value as u32;
+    whole.then(|| if m98 { p.m98_split(number).0 } else { number })
+}
+
 /// Parse the part `range` of `text` (a range [`cuts`] gave) with spans in
-/// the whole text, interning into `names` (the program's): its statements
-/// and its diagnostics.
+/// the whole text, interning into `names` (the program's): its statements,
+/// subprograms and diagnostics.
 pub fn parse_part(
     text: &str,
     range: std::ops::Range<usize>,
     at: &Locator,
     language: Language,
     names: &mut Names,
-) -> (Vec<Stmt>, Vec<Diagnostic>) {
+) -> (Vec<Stmt>, Vec<Subprogram>, Vec<Diagnostic>) {
     let (program, diagnostics) =
         parse_program_from(&text[..range.end], range.start, at, language, names);
-    // A part [`cuts`] accepted has no subprogram.
-    debug_assert!(program.subprograms.is_empty());
-    (program.main, diagnostics)
+    (program.main, program.subprograms, diagnostics)
 }
 
 /// Parse the part `range` of the plain program `text` (a range [`chunks`]
@@ -390,6 +438,42 @@ mod tests {
             "G1 X1.0 é",
         ] {
             assert!(!plain_line(line), "{line}");
+        }
+    }
+
+    /// The parts of `text` (G-code) at the smallest part size: how many,
+    /// or `None` when it must be read whole.
+    fn parts_of(text: &str) -> Option<usize> {
+        let at = Locator::new(0, text);
+        with_part_size(Some(1), || cuts(text, &at, Language::Gcode)).map(|c| c.len())
+    }
+
+    #[test]
+    fn a_subprogram_is_kept_for_the_parts_after_it() {
+        let sub = "o<dip> sub\nG1 Z-1 F100\n(down)\nG0 Z1\no<dip> endsub\n";
+        let fanuc_sub = "O0100\nG1 Z-1 F100\nM99\n";
+        let main = "G0 X1\n#1 = 2\nG0 X#1\n";
+        // Defined before its calls, in a part of its own: cut.
+        let before = format!("G21\n{sub}{main}o<dip> call\n{main}o<dip> call\nM2\n");
+        assert!(parts_of(&before).is_some_and(|n| n > 4), "{before}");
+        let repeated = format!("G21\n{fanuc_sub}{main}M98 P30100\n{main}M98 P100 L2\nM30\n");
+        assert!(parts_of(&repeated).is_some_and(|n| n > 4), "{repeated}");
+        for whole in [
+            // Called before it is written.
+            format!("G21\n{main}o<dip> call\n{sub}M2\n"),
+            format!("G21\n{main}M98 P100\nM30\n{fanuc_sub}"),
+            // `P30100` is three runs of O0100, not O30100.
+            format!("G21\nO30100\nG0 X1\nM99\n{main}M98 P30100\nM30\n"),
+            // Written twice (an error the whole read reports).
+            format!("G21\n{fanuc_sub}{main}{fanuc_sub}M30\n"),
+            // The program number given by an expression, `M99` in the
+            // main program, a `GOTO`, an `O` word after the first line.
+            format!("G21\n{fanuc_sub}{main}M98 P#1\nM30\n"),
+            format!("G21\n{main}M99\n"),
+            format!("G21\nN10 {main}GOTO 10\nM30\n"),
+            format!("G21\n{main}O1\n{main}M30\n"),
+        ] {
+            assert_eq!(parts_of(&whole), None, "{whole}");
         }
     }
 
