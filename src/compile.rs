@@ -179,24 +179,9 @@ pub fn compile_to(
     wizards: Option<&mut dyn WizardHost>,
     out: &mut (dyn Write + Send),
 ) -> Report {
-    let mut diagnostics = Vec::new();
-    let mut clock = Clock::new();
-    let input = Input::of(sources, file, options);
-    let written = run(
-        input,
-        options,
-        wizards,
-        Output::Text(out),
-        &mut diagnostics,
-        &mut clock,
-        Cutting::Checked,
-    );
-    Report {
-        diagnostics,
-        timings: clock.timings,
-        // A checked cut never needs the whole program part way.
-        write_error: written.unwrap_or(Ok(())).err(),
-    }
+    // What was written cannot be taken back: every part is checked first.
+    attempt(sources, file, options, wizards, out, Cutting::Checked)
+        .unwrap_or_else(|Whole| unreachable_whole())
 }
 
 /// [`compile_to`] into `out`, which is cleared first. A program that is
@@ -209,32 +194,47 @@ pub fn compile_to_vec(
     mut wizards: Option<&mut dyn WizardHost>,
     out: &mut Vec<u8>,
 ) -> Report {
-    for cutting in [Cutting::AsItGoes, Cutting::Never] {
+    let mut compile = |out: &mut Vec<u8>, cutting| {
         out.clear();
-        let mut diagnostics = Vec::new();
-        let mut clock = Clock::new();
-        let input = Input::of(sources, file, options);
         let wizards = wizards.as_mut().map(|w| &mut **w as &mut dyn WizardHost);
-        if let Ok(written) = run(
-            input,
-            options,
-            wizards,
-            Output::Text(out),
-            &mut diagnostics,
-            &mut clock,
-            cutting,
-        ) {
-            return Report {
-                diagnostics,
-                timings: clock.timings,
-                write_error: written.err(),
-            };
-        }
-    }
-    unreachable_whole()
+        attempt(sources, file, options, wizards, out, cutting)
+    };
+    compile(out, Cutting::AsItGoes)
+        .or_else(|Whole| compile(out, Cutting::Never))
+        .unwrap_or_else(|Whole| unreachable_whole())
 }
 
-/// A compile with [`Cutting::Never`] never stops for the whole program.
+/// One compile of the file `file` into `out`, a program that is not plain
+/// read in parts as `cutting` says; `Err`: a part needs the whole program.
+fn attempt(
+    sources: &Sources,
+    file: FileId,
+    options: &CompileOptions,
+    wizards: Option<&mut dyn WizardHost>,
+    out: &mut (dyn Write + Send),
+    cutting: Cutting,
+) -> Result<Report, Whole> {
+    let (mut diagnostics, mut clock) = (Vec::new(), Clock::new());
+    let input = Input::of(sources, file, options);
+    let out = Output::Text(out);
+    let written = run(
+        input,
+        options,
+        wizards,
+        out,
+        &mut diagnostics,
+        &mut clock,
+        cutting,
+    )?;
+    Ok(Report {
+        diagnostics,
+        timings: clock.timings,
+        write_error: written.err(),
+    })
+}
+
+/// The report of a compile that stopped for the whole program where it
+/// cannot ([`Cutting::Checked`], [`Cutting::Never`]): none is ever made.
 fn unreachable_whole() -> Report {
     Report {
         diagnostics: Vec::new(),

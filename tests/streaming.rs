@@ -19,23 +19,34 @@ use std::path::{Path, PathBuf};
 
 mod support;
 
-/// Text and rendered diagnostics of one compile.
-fn run(path: &Path, text: &str, stage: Option<Stage>, batch: usize) -> String {
-    let mut sources = Sources::new();
-    let file = sources.add(path.to_string_lossy(), text.to_string());
-    let mut found = user_wizards();
-    found.extend(standard_library());
-    let mut engine = WizardEngine::new(Library::new(found, &mut sources));
-    let options = CompileOptions {
+/// The options of these tests: `from`, `stage`, batches of `batch`.
+fn options(from: Option<ger::eval::Flavour>, stage: Option<Stage>, batch: usize) -> CompileOptions {
+    CompileOptions {
         eval: EvalOptions {
             batch,
             // Runaway-loop cases: the same error, sooner.
             max_iterations: 100_000,
             ..EvalOptions::default()
         },
+        from,
         stage,
         ..CompileOptions::default()
-    };
+    }
+}
+
+/// The wizards of `wizards/` and the standard library, in `sources`.
+fn engine(sources: &mut Sources) -> WizardEngine {
+    let mut found = user_wizards();
+    found.extend(standard_library());
+    WizardEngine::new(Library::new(found, sources))
+}
+
+/// Text and rendered diagnostics of one compile.
+fn run(path: &Path, text: &str, stage: Option<Stage>, batch: usize) -> String {
+    let mut sources = Sources::new();
+    let file = sources.add(path.to_string_lossy(), text.to_string());
+    let mut engine = engine(&mut sources);
+    let options = options(None, stage, batch);
     let compiled = compile(&sources, file, &options, Some(&mut engine));
     format!(
         "{}\n--- diagnostics ---\n{}",
@@ -179,18 +190,8 @@ fn any_program_read_in_parts_is_read_as_a_whole() {
                 with_part_size(part, || {
                     let mut sources = Sources::new();
                     let file = sources.add(path.to_string_lossy(), text.clone());
-                    let mut found = user_wizards();
-                    found.extend(standard_library());
-                    let mut engine = WizardEngine::new(Library::new(found, &mut sources));
-                    let options = CompileOptions {
-                        eval: EvalOptions {
-                            max_iterations: 100_000,
-                            ..EvalOptions::default()
-                        },
-                        from,
-                        stage,
-                        ..CompileOptions::default()
-                    };
+                    let mut engine = engine(&mut sources);
+                    let options = options(from, stage, EvalOptions::default().batch);
                     let (output, diagnostics) = if checked {
                         let mut out = Vec::new();
                         let report = ger::compile::compile_to(
@@ -231,14 +232,7 @@ fn any_program_read_in_parts_is_read_as_a_whole() {
             // From a reader, its text never held: the same, or read whole
             // (as `ger compile -o` then does) exactly when the parts of the
             // text held whole say so.
-            let options = CompileOptions {
-                eval: EvalOptions {
-                    max_iterations: 100_000,
-                    ..EvalOptions::default()
-                },
-                from,
-                ..CompileOptions::default()
-            };
+            let options = options(from, None, EvalOptions::default().batch);
             for part in [1, 4096] {
                 match from_reader(path, text, &options, part, true) {
                     Read::Compiled(read) => {
@@ -371,9 +365,7 @@ fn from_reader(
     let read = with_part_size(Some(part), || {
         let mut sources = Sources::new();
         let file = sources.add(path.to_string_lossy(), String::new());
-        let mut found = user_wizards();
-        found.extend(standard_library());
-        let mut engine = WizardEngine::new(Library::new(found, &mut sources));
+        let mut engine = engine(&mut sources);
         let engine = wizards.then_some(&mut engine as &mut dyn ger::eval::WizardHost);
         let mut out = Vec::new();
         let name = path.to_string_lossy();
