@@ -258,15 +258,24 @@ fn cut_after(text: &str, want: usize) -> Option<usize> {
     loop {
         // A line end is one byte, never inside a character.
         let end = at + bytes[at..].iter().position(|&b| b == b'\n')? + 1;
-        let next = end + bytes[end..].iter().position(|&b| b == b'\n')?;
-        if !continues(&text[end..next]) {
+        // The statement before the cut goes on past blank and comment
+        // lines: the line that decides is the first with something else.
+        let mut line = end;
+        let decides = loop {
+            let next = line + bytes[line..].iter().position(|&b| b == b'\n')?;
+            if !blank_or_comment(&text[line..next]) {
+                break &text[line..next];
+            }
+            line = next + 1;
+        };
+        if !continues(decides) {
             return Some(end);
         }
         at = end;
     }
 }
 
-/// Whether `line` may go on with the statement of the line before: it
+/// Whether `line` may go on with the statement of the lines before: it
 /// starts with `{` or `else` (in any case), which the lexer puts after a
 /// line end without ending the statement.
 fn continues(line: &str) -> bool {
@@ -275,6 +284,15 @@ fn continues(line: &str) -> bool {
         || line
             .get(..4)
             .is_some_and(|word| word.eq_ignore_ascii_case("else"))
+}
+
+/// Whether `line` is blank or may be a comment only (`//`, `;`, `(`):
+/// no token the lexer would put between a statement and its `else`. (A
+/// line taken for one that is not only looks further for the line that
+/// decides a cut.)
+fn blank_or_comment(line: &str) -> bool {
+    let line = line.trim();
+    line.is_empty() || line.starts_with("//") || line.starts_with([';', '('])
 }
 
 /// Whether `stmt` needs the whole program to run: a `GOTO`, an `O` word,
@@ -474,6 +492,19 @@ mod tests {
             format!("G21\n{main}O1\n{main}M30\n"),
         ] {
             assert_eq!(parts_of(&whole), None, "{whole}");
+        }
+    }
+
+    #[test]
+    fn no_part_ends_before_the_else_of_its_if() {
+        // The `else` after blank and comment lines still belongs to the if.
+        let text = "G0 X0\nif (1 > 0) {\n  G0 X1\n}\n\n// the other side\n(also)\nelse {\n  G0 X2\n}\nG0 X3\n";
+        let at = Locator::new(0, text);
+        let cuts = with_part_size(Some(1), || cuts(text, &at, Language::Egc)).unwrap();
+        let (close, other) = (text.find("}\n").unwrap(), text.find("else").unwrap());
+        assert!(cuts.len() >= 3, "{cuts:?}");
+        for range in &cuts {
+            assert!(!(close..other).contains(&range.end), "{range:?} in {cuts:?}");
         }
     }
 
