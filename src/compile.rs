@@ -171,7 +171,9 @@ pub fn compile(
 /// is made (once the output units are known, memory does not grow with the
 /// program's length). When the report has errors what was written is
 /// incomplete: the caller must throw it away (`ger` writes to a temporary
-/// file and renames it on success).
+/// file and renames it on success). What was written cannot be taken
+/// back, so only a plain program is read in parts; any other is read
+/// whole ([`compile_to_vec`] and [`check`] read it in parts).
 pub fn compile_to(
     sources: &Sources,
     file: FileId,
@@ -179,8 +181,7 @@ pub fn compile_to(
     wizards: Option<&mut dyn WizardHost>,
     out: &mut (dyn Write + Send),
 ) -> Report {
-    // What was written cannot be taken back: every part is checked first.
-    attempt(sources, file, options, wizards, out, Cutting::Checked)
+    attempt(sources, file, options, wizards, out, Cutting::PlainOnly)
         .unwrap_or_else(|Whole| unreachable_whole())
 }
 
@@ -191,16 +192,48 @@ pub fn compile_to_vec(
     sources: &Sources,
     file: FileId,
     options: &CompileOptions,
-    mut wizards: Option<&mut dyn WizardHost>,
+    wizards: Option<&mut dyn WizardHost>,
     out: &mut Vec<u8>,
 ) -> Report {
-    let mut compile = |out: &mut Vec<u8>, cutting| {
-        out.clear();
+    restarting(sources, file, options, wizards, out, Vec::clear)
+}
+
+/// [`compile_to_vec`] with the output thrown away as it is made: the
+/// diagnostics of `ger check`.
+pub fn check(
+    sources: &Sources,
+    file: FileId,
+    options: &CompileOptions,
+    wizards: Option<&mut dyn WizardHost>,
+) -> Report {
+    restarting(
+        sources,
+        file,
+        options,
+        wizards,
+        &mut std::io::sink(),
+        |_| {},
+    )
+}
+
+/// A compile into `out` that reads a program in parts as it goes and, if a
+/// part needs the whole program, empties `out` with `reset` and compiles
+/// it again, whole.
+fn restarting<W: Write + Send>(
+    sources: &Sources,
+    file: FileId,
+    options: &CompileOptions,
+    mut wizards: Option<&mut dyn WizardHost>,
+    out: &mut W,
+    reset: impl Fn(&mut W),
+) -> Report {
+    let mut compile = |out: &mut W, cutting| {
+        reset(out);
         let wizards = wizards.as_mut().map(|w| &mut **w as &mut dyn WizardHost);
         attempt(sources, file, options, wizards, out, cutting)
     };
     compile(out, Cutting::AsItGoes)
-        .or_else(|Whole| compile(out, Cutting::Never))
+        .or_else(|Whole| compile(out, Cutting::PlainOnly))
         .unwrap_or_else(|Whole| unreachable_whole())
 }
 
@@ -234,7 +267,7 @@ fn attempt(
 }
 
 /// The report of a compile that stopped for the whole program where it
-/// cannot ([`Cutting::Checked`], [`Cutting::Never`]): none is ever made.
+/// cannot ([`Cutting::PlainOnly`]): none is ever made.
 fn unreachable_whole() -> Report {
     Report {
         diagnostics: Vec::new(),
@@ -260,7 +293,7 @@ pub fn tool_path(
         ..options.clone()
     };
     let mut wizards = wizards;
-    for cutting in [Cutting::AsItGoes, Cutting::Never] {
+    for cutting in [Cutting::AsItGoes, Cutting::PlainOnly] {
         (path, diagnostics) = (None, Vec::new());
         let input = Input::of(sources, file, &options);
         let wizards = wizards.as_mut().map(|w| &mut **w as &mut dyn WizardHost);
@@ -399,18 +432,16 @@ impl<'a> Input<'a> {
     }
 }
 
-/// How [`run`] reads a program that is not plain in parts.
+/// How [`run`] reads a program in parts.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 enum Cutting {
-    /// Every part is checked first ([`chunk::cuts`]), since what is
-    /// written cannot be taken back.
-    Checked,
-    /// Cut as it is read; a part that needs the whole program stops the
-    /// compile (`Err(Whole)`: the caller throws the output away and
-    /// starts again, whole).
+    /// Any program, cut as it is read; a part that needs the whole program
+    /// stops the compile (`Err(Whole)`: the caller throws the output away
+    /// and starts again with `PlainOnly`).
     AsItGoes,
-    /// Read whole.
-    Never,
+    /// Only a plain program (which never needs the whole); any other is
+    /// read whole.
+    PlainOnly,
 }
 
 /// The stages in order, writing to `out`; they stop at the first stage
@@ -436,41 +467,22 @@ fn run<'a>(
     let eval_options = options.eval_options(from, language);
     let fanuc_functions = from == eval::Flavour::Fanuc && language == Language::Gcode;
     // A program is read in parts, unless it needs to be read whole.
-    type Ranges<'r> = Box<dyn Iterator<Item = std::ops::Range<usize>> + 'r>;
     let at = &locator;
     let source =
         match library.is_empty() && options.stage != Some(Stage::Parse) && chunk::by_parts() {
             false => None,
             true if language == Language::Gcode && chunk::chunkable(text) => {
                 let ranges = Box::new(chunk::chunks(text));
-                Some(PartSource::Text {
-                    text,
-                    at,
-                    ranges,
-                    plain: true,
-                })
+                Some(PartSource::Text { text, at, ranges })
             }
             true => match cutting {
-                Cutting::Never => None,
+                Cutting::PlainOnly => None,
                 Cutting::AsItGoes => Some(PartSource::TextCut {
                     text,
                     at,
                     from: 0,
                     defined: Vec::new(),
                 }),
-                Cutting::Checked => {
-                    let cuts = chunk::cuts(text, at, language);
-                    clock.lap("cut");
-                    cuts.map(|c| {
-                        let ranges = Box::new(c.into_iter()) as Ranges;
-                        PartSource::Text {
-                            text,
-                            at,
-                            ranges,
-                            plain: false,
-                        }
-                    })
-                }
             },
         };
     if let Some(source) = source {
@@ -583,9 +595,6 @@ enum PartSource<'a> {
         text: &'a str,
         at: &'a Locator,
         ranges: Box<dyn Iterator<Item = std::ops::Range<usize>> + 'a>,
-        /// Every line is plain ([`chunk::chunkable`]): a line of plain
-        /// words can be parsed alone.
-        plain: bool,
     },
     /// A program that is not plain, held whole, cut as it is read
     /// ([`chunk::next_cut`]: each part parsed once, where it is cut).
@@ -648,17 +657,11 @@ impl<'a> Parts<'a> {
         // A plain program has no subprogram.
         let no_subprograms = |(stmts, diagnostics)| (stmts, Vec::new(), diagnostics);
         match &mut self.source {
-            PartSource::Text {
-                text,
-                at,
-                ranges,
-                plain,
-            } => {
+            PartSource::Text { text, at, ranges } => {
                 let range = ranges.next()?;
-                Some(match plain {
-                    true => no_subprograms(chunk::parse_chunk(text, range, at, language, names)),
-                    false => chunk::parse_part(text, range, at, language, names),
-                })
+                Some(no_subprograms(chunk::parse_chunk(
+                    text, range, at, language, names,
+                )))
             }
             PartSource::Reader(reader) => match reader.next_part() {
                 Ok(Some((text, at))) => Some(no_subprograms(chunk::parse_chunk(
@@ -748,7 +751,7 @@ impl<'a> RawLines<'a> {
     }
 }
 
-/// Whole lines of a plain program, read from a file about
+/// Whole lines of a program, read from a file about
 /// [`chunk::CHUNK_BYTES`] at a time and decoded as [`source::decode`]
 /// decodes the whole file (a file [`scan_file`] accepted: no NUL, control
 /// character or lone CR, so the two agree).
@@ -1038,7 +1041,7 @@ fn run_by_parts(
     diagnostics: &mut Vec<Diagnostic>,
     clock: &mut Clock,
 ) -> std::io::Result<()> {
-    let (evaluated, backend) = on_two_threads(backend, |sink| {
+    let (chunked, backend) = on_two_threads(backend, |sink| {
         eval::eval_chunks(eval_options, wizards, sink, &mut |names| {
             let (mut stmts, mut subprograms) = parts.next(language, names)?;
             if fanuc_functions {
@@ -1050,8 +1053,14 @@ fn run_by_parts(
             Some((stmts, subprograms))
         })
     });
-    // The parts after the program's end, for their syntax errors.
-    let mut names = Names::default();
+    let eval::Chunked {
+        diagnostics: evaluated,
+        mut names,
+        needs_whole,
+    } = chunked;
+    parts.whole |= needs_whole;
+    // The parts after the program's end, for their syntax errors (and
+    // their subprograms, numbered by the program's names).
     while parts.next(language, &mut names).is_some() {
         names.forget_notes();
     }

@@ -186,6 +186,18 @@ pub fn eval_program<'a>(
 /// A part of a program read in parts: its statements and subprograms.
 pub type Part = (Vec<ast::Stmt>, Vec<ast::Subprogram>);
 
+/// What [`eval_chunks`] found.
+pub struct Chunked {
+    pub diagnostics: Vec<Diagnostic>,
+    /// The program's names, as the parts left them (the parts after the
+    /// program's end are read into them, for their syntax errors).
+    pub names: Names,
+    /// A call found no subprogram among those read so far (a wizard's
+    /// `M98` line, which the parts' check cannot see): the program must be
+    /// read whole, and nothing of this run kept.
+    pub needs_whole: bool,
+}
+
 /// Stage 0 for a program read a part at a time
 /// ([`crate::syntax::egc::chunk`]): `next` gives each part's statements and
 /// subprograms in order, interning into the names it is handed (the
@@ -200,7 +212,7 @@ pub fn eval_chunks(
     wizards: Option<&mut dyn WizardHost>,
     sink: &mut dyn ir::Sink,
     next: &mut dyn FnMut(&mut Names) -> Option<Part>,
-) -> Vec<Diagnostic> {
+) -> Chunked {
     let empty = ast::Program {
         main: Vec::new(),
         main_number: None,
@@ -209,6 +221,7 @@ pub fn eval_chunks(
     };
     let wizards = wizards.map(|w| w as &mut dyn WizardHost);
     let mut ev = Evaluator::new(&empty, options, wizards, sink);
+    ev.in_parts = true;
     loop {
         // No statement of an earlier part is run again: its notes can go.
         let names = Rc::make_mut(&mut ev.names);
@@ -231,7 +244,11 @@ pub fn eval_chunks(
         }
     }
     ev.finish();
-    ev.diagnostics
+    Chunked {
+        diagnostics: ev.diagnostics,
+        names: Rc::try_unwrap(ev.names).unwrap_or_else(|shared| (*shared).clone()),
+        needs_whole: ev.needs_whole,
+    }
 }
 
 /// `value`, given at `span`, is beyond ±[`ir::MAX_LENGTH`]; `what` names
@@ -262,6 +279,10 @@ struct Evaluator<'a> {
     names: Rc<Names>,
     /// The subprograms of the parts read so far (a program read in parts).
     kept: Vec<Rc<ast::Subprogram>>,
+    /// The program is read in parts ([`eval_chunks`]); a call found no
+    /// subprogram among those read, so it must be read whole.
+    in_parts: bool,
+    needs_whole: bool,
     options: &'a EvalOptions,
     wizards: Option<&'a mut dyn WizardHost>,
     vars: Vars,
@@ -344,15 +365,26 @@ impl<'a> Evaluator<'a> {
         wizards: Option<&'a mut dyn WizardHost>,
         sink: &'a mut dyn ir::Sink,
     ) -> Self {
+        let mut names = program.names.clone();
+        if options.plain {
+            // A call sets `#1`–`#33` (LinuxCNC's `o… call`, Fanuc's `G65`)
+            // whether or not the program names them where it can read them
+            // (a `(DEBUG, #1)` reads them by text, and a program read in
+            // parts may name them only further on).
+            for k in 1..=33 {
+                names.intern(&format!("#{k}"));
+            }
+        }
         Evaluator {
             program,
-            names: Rc::new(program.names.clone()),
             kept: Vec::new(),
+            in_parts: false,
+            needs_whole: false,
             options,
             wizards,
             vars: Vars::new(
-                numbered_parameters(&program.names, options.from),
-                &program.names,
+                numbered_parameters(&names, options.from),
+                &names,
                 options.from == Flavour::Fanuc,
             ),
             messages: 0,
@@ -360,7 +392,8 @@ impl<'a> Evaluator<'a> {
             gotos: 0,
             goto_changes: Default::default(),
             labels: Default::default(),
-            linuxcnc: LinuxCncNames::of(&program.names),
+            linuxcnc: LinuxCncNames::of(&names),
+            names: Rc::new(names),
             sink,
             out: Vec::with_capacity(options.batch.clamp(1, 1 << 16)),
             made: 0,

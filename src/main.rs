@@ -620,8 +620,9 @@ fn run(
     }
     let started = std::time::Instant::now();
     // A program written to a file is compiled from its file, a part at a
-    // time, without holding its text; one that needs the whole program
-    // (subprograms, `GOTO`) is then read whole.
+    // time, without holding its text; one found to need the whole program
+    // (a call of a subprogram written further on, a `GOTO`) is then
+    // compiled again, whole.
     let streamed = match (write, output) {
         (true, Some(_)) => streamable(input, options, stage),
         _ => None,
@@ -671,7 +672,7 @@ fn compile_job(
         timings: Vec::new(),
         write_error: Some(std::io::Error::other(why.to_string())),
     };
-    let mut compile = |out: &mut (dyn Write + Send)| match &streamed {
+    let compile = |out: &mut (dyn Write + Send)| match &streamed {
         Some(scan) => {
             let engine = Some(&mut *engine as &mut dyn ger::eval::WizardHost);
             match compile_from_file(input, scan, file, compile_options, engine, out) {
@@ -700,7 +701,12 @@ fn compile_job(
             let engine = Some(&mut *engine as &mut dyn ger::eval::WizardHost);
             ger::compile::compile_to_vec(sources, file, compile_options, engine, &mut text)
         }
-        (false, _) => compile(&mut std::io::sink()),
+        (false, _) => {
+            // Nothing is kept: a program found to need a whole read part
+            // way is compiled again.
+            let engine = Some(&mut *engine as &mut dyn ger::eval::WizardHost);
+            ger::compile::check(sources, file, compile_options, engine)
+        }
     };
     if whole {
         return None;

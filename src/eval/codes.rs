@@ -606,6 +606,11 @@ impl Evaluator<'_> {
             Some(sub) => Sub::Program(sub),
             None => match kept() {
                 Some(sub) => Sub::Kept(sub),
+                // It may be written further on, in a part not read yet.
+                None if self.in_parts => {
+                    self.needs_whole = true;
+                    return Ok(Flow::Abort);
+                }
                 None => {
                     let name = name_of(number);
                     let file = name

@@ -2,8 +2,8 @@
 //! about [`CHUNK_BYTES`], each dropped before the next is read, so memory
 //! grows with the longest part, not with the program. A part of any
 //! program ends outside every block, where the statement before the cut
-//! is complete ([`cut_part`]); a program with subprograms, calls or
-//! `GOTO` is read whole. A plain program of G-code words, comments and
+//! is complete ([`cut_part`]); a program that calls a subprogram written
+//! further on, or has a `GOTO`, is read whole. A plain program of G-code words, comments and
 //! controller commands only — no parameters, no expressions, no
 //! subprograms, no control flow — means the same cut at any line end
 //! ([`chunkable`], [`chunks`]), and its lines of plain words are built
@@ -24,7 +24,7 @@ thread_local! {
         const { std::cell::Cell::new(Some(CHUNK_BYTES)) };
 }
 
-/// Run `f` (a compile on this thread) reading plain programs in parts of
+/// Run `f` (a compile on this thread) reading programs in parts of
 /// about `bytes`, or whole with `None` (tests compare the two).
 pub fn with_part_size<T>(bytes: Option<usize>, f: impl FnOnce() -> T) -> T {
     let before = PART_BYTES.with(|p| p.replace(bytes));
@@ -33,7 +33,7 @@ pub fn with_part_size<T>(bytes: Option<usize>, f: impl FnOnce() -> T) -> T {
     result
 }
 
-/// Whether plain programs are read in parts on this thread.
+/// Whether programs are read in parts on this thread.
 pub fn by_parts() -> bool {
     PART_BYTES.with(|p| p.get()).is_some()
 }
@@ -135,10 +135,11 @@ pub fn chunks(text: &str) -> impl Iterator<Item = std::ops::Range<usize>> + '_ {
     })
 }
 
-/// The parts of a program that is not plain, to read one after another
-/// as [`chunks`] does, or `None` when it must be read whole ([`cut_part`]
-/// says where each ends and when). Every part is parsed here once, to
-/// check it; its statements are thrown away.
+/// The parts a compile that cuts as it reads ([`next_cut`]) would read a
+/// program that is not plain in, in order, or `None` when it would find
+/// it must be read whole (but for a wizard's call, which only running it
+/// shows). Every part is parsed and thrown away: tests use it to know
+/// what a compile did.
 pub fn cuts(text: &str, at: &Locator, language: Language) -> Option<Vec<std::ops::Range<usize>>> {
     let (mut names, mut defined) = (Names::default(), Vec::new());
     let mut found = Vec::new();
@@ -353,21 +354,6 @@ fn called(p: &crate::ast::Number, m98: bool) -> Option<u32> {
     whole.then(|| if m98 { p.m98_split(number).0 } else { number })
 }
 
-/// Parse the part `range` of `text` (a range [`cuts`] gave) with spans in
-/// the whole text, interning into `names` (the program's): its statements,
-/// subprograms and diagnostics.
-pub fn parse_part(
-    text: &str,
-    range: std::ops::Range<usize>,
-    at: &Locator,
-    language: Language,
-    names: &mut Names,
-) -> (Vec<Stmt>, Vec<Subprogram>, Vec<Diagnostic>) {
-    let (program, diagnostics) =
-        parse_program_from(&text[..range.end], range.start, at, language, names);
-    (program.main, program.subprograms, diagnostics)
-}
-
 /// Parse the part `range` of the plain program `text` (a range [`chunks`]
 /// gave) with spans in the whole text, interning into `names` (the
 /// program's): its statements and its diagnostics.
@@ -504,7 +490,10 @@ mod tests {
         let (close, other) = (text.find("}\n").unwrap(), text.find("else").unwrap());
         assert!(cuts.len() >= 3, "{cuts:?}");
         for range in &cuts {
-            assert!(!(close..other).contains(&range.end), "{range:?} in {cuts:?}");
+            assert!(
+                !(close..other).contains(&range.end),
+                "{range:?} in {cuts:?}"
+            );
         }
     }
 
