@@ -183,8 +183,8 @@ fn any_program_read_in_parts_is_read_as_a_whole() {
             None => whole_only += 1,
         }
         for from in [None, Some(Flavour::Fanuc)] {
-            // `checked`: through `compile_to`, which checks every part
-            // before it runs one (what it writes cannot be taken back);
+            // `checked`: through `compile_to`, which reads in parts only a
+            // plain program (what it writes cannot be taken back);
             // `compile` cuts as it goes and starts again when it must.
             let compile_with = |part: Option<usize>, stage: Option<Stage>, checked: bool| {
                 with_part_size(part, || {
@@ -342,6 +342,63 @@ fn a_plain_program_read_in_parts_is_read_as_a_whole() {
         from_readers > 40,
         "only {from_readers} compiles from a reader"
     );
+}
+
+/// A wizard's `gcode("M98 P1000")` line calls a subprogram that only
+/// running the program shows; one written after the call (Fanuc's, after
+/// `M30`) is not among the parts read: the program is read whole, as if
+/// it were short, not reported missing.
+#[test]
+fn a_wizard_calling_a_subprogram_written_later_reads_the_program_whole() {
+    use ger::eval::Flavour;
+    use ger::syntax::egc::chunk::with_part_size;
+    let text = "O0001\nG21 G90\nG0 X0 Y0 Z5\nCallSub()\nG1 X1 Y0 F100\nM30\nO1000\nG0 X5 Y5\nM99\n";
+    let compile_in = |part: Option<usize>| {
+        with_part_size(part, || {
+            let mut sources = Sources::new();
+            let file = sources.add("wz.nc", text.to_string());
+            let wizard = WizardSource {
+                name: "CallSub".into(),
+                text: "gcode(\"M98 P1000\");".into(),
+                origin: "test".into(),
+            };
+            let mut engine = WizardEngine::new(Library::new(vec![wizard], &mut sources));
+            let options = options(Some(Flavour::Fanuc), None, EvalOptions::default().batch);
+            let compiled = compile(&sources, file, &options, Some(&mut engine));
+            let diagnostics = render(&sources, &compiled.diagnostics);
+            (compiled.output, diagnostics)
+        })
+    };
+    let whole = compile_in(None);
+    assert!(
+        whole.0.as_deref().is_some_and(|o| o.contains("X5.")),
+        "{whole:?}"
+    );
+    for part in [1, 40] {
+        assert_eq!(compile_in(Some(part)), whole, "in parts of {part}");
+    }
+}
+
+/// A named subroutine written again after the program's end: the parts
+/// after the end are read with the program's names, so the second `o<a>`
+/// is the first's number, and the error is the whole read's.
+#[test]
+fn a_subroutine_written_twice_after_the_end_is_an_error_in_parts() {
+    use ger::syntax::egc::chunk::with_part_size;
+    let text = "#<x> = 1\no<a> sub\nG0 X1\no<a> endsub\nG0 X0 Y0 Z1\no<a> call\nM2\nG0 X2\no<a> sub\nG0 X3\no<a> endsub\n";
+    let compile_in = |part: Option<usize>| {
+        with_part_size(part, || {
+            let mut sources = Sources::new();
+            let file = sources.add("twice.ngc", text.to_string());
+            let compiled = compile(&sources, file, &CompileOptions::default(), None);
+            (compiled.output, render(&sources, &compiled.diagnostics))
+        })
+    };
+    let whole = compile_in(None);
+    assert!(whole.1.contains("defined twice"), "{whole:?}");
+    for part in [1, 40] {
+        assert_eq!(compile_in(Some(part)), whole, "in parts of {part}");
+    }
 }
 
 /// `path` (its decoded `text`) compiled from a reader in parts of about
