@@ -385,19 +385,26 @@ fn a_wizard_calling_a_subprogram_written_later_reads_the_program_whole() {
 #[test]
 fn a_subroutine_written_twice_after_the_end_is_an_error_in_parts() {
     use ger::syntax::egc::chunk::with_part_size;
-    let text = "#<x> = 1\no<a> sub\nG0 X1\no<a> endsub\nG0 X0 Y0 Z1\no<a> call\nM2\nG0 X2\no<a> sub\nG0 X3\no<a> endsub\n";
-    let compile_in = |part: Option<usize>| {
-        with_part_size(part, || {
-            let mut sources = Sources::new();
-            let file = sources.add("twice.ngc", text.to_string());
-            let compiled = compile(&sources, file, &CompileOptions::default(), None);
-            (compiled.output, render(&sources, &compiled.diagnostics))
-        })
-    };
-    let whole = compile_in(None);
-    assert!(whole.1.contains("defined twice"), "{whole:?}");
-    for part in [1, 40] {
-        assert_eq!(compile_in(Some(part)), whole, "in parts of {part}");
+    // The second: a subroutine's number, in its error, is the whole
+    // read's (`o<name>`s are numbered after the names a program starts
+    // with, in both).
+    for (text, error) in [
+        ("#<x> = 1\no<a> sub\nG0 X1\no<a> endsub\nG0 X0 Y0 Z1\no<a> call\nM2\nG0 X2\no<a> sub\nG0 X3\no<a> endsub\n", "defined twice"),
+        ("G21\nG0 X0\no<foo> sub\nG1 X1 F100\nM30\n", "has no M99"),
+    ] {
+        let compile_in = |part: Option<usize>| {
+            with_part_size(part, || {
+                let mut sources = Sources::new();
+                let file = sources.add("twice.ngc", text.to_string());
+                let compiled = compile(&sources, file, &CompileOptions::default(), None);
+                (compiled.output, render(&sources, &compiled.diagnostics))
+            })
+        };
+        let whole = compile_in(None);
+        assert!(whole.1.contains(error), "{whole:?}");
+        for part in [1, 40] {
+            assert_eq!(compile_in(Some(part)), whole, "in parts of {part}");
+        }
     }
 }
 

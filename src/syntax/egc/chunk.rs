@@ -192,9 +192,10 @@ pub enum Cut {
 /// start after the last cut) in `text`, about `want` bytes long, parsed
 /// into `names`; `complete`: nothing follows `text` (else it ends with a
 /// line end). A part ends at a line end outside every block (`while`,
-/// `if`, `oN …`, `WHILE … DO`), before a line that does not continue the
-/// statement before it (a line end ends a statement unless `{` or `else`
-/// follows it, [`continues`]), and reads without a syntax error (so no
+/// `if`, `oN …`, `WHILE … DO`), before a line that surely starts a
+/// statement of its own ([`starts_a_statement`]: a line end ends a
+/// statement unless `{` or `else` follows it, across blank lines and
+/// comments), and reads without a syntax error (so no
 /// block, group or comment is open at the cut), or at the end of the text,
 /// which then has the errors. A part may hold subprograms (`O` … `M99`,
 /// LinuxCNC's `sub` … `endsub`) and call those of its own and of the parts
@@ -251,49 +252,43 @@ pub fn cut_part(
 }
 
 /// The first line end at or after `want` that is followed by a whole line
-/// that does not [`continue`](continues) the statement before it, if `text`
-/// has one.
+/// that [starts a statement](starts_a_statement) after any blank lines, if
+/// `text` has one.
 fn cut_after(text: &str, want: usize) -> Option<usize> {
     let bytes = text.as_bytes();
     let mut at = want.min(bytes.len());
     loop {
         // A line end is one byte, never inside a character.
         let end = at + bytes[at..].iter().position(|&b| b == b'\n')? + 1;
-        // The statement before the cut goes on past blank and comment
-        // lines: the line that decides is the first with something else.
+        // The statement before the cut goes on past blank lines: the line
+        // that decides is the first with something on it.
         let mut line = end;
         let decides = loop {
             let next = line + bytes[line..].iter().position(|&b| b == b'\n')?;
-            if !blank_or_comment(&text[line..next]) {
+            if !text[line..next].trim().is_empty() {
                 break &text[line..next];
             }
             line = next + 1;
         };
-        if !continues(decides) {
+        if starts_a_statement(decides) {
             return Some(end);
         }
         at = end;
     }
 }
 
-/// Whether `line` may go on with the statement of the lines before: it
-/// starts with `{` or `else` (in any case), which the lexer puts after a
-/// line end without ending the statement.
-fn continues(line: &str) -> bool {
+/// Whether `line` surely starts a statement of its own: it starts with a
+/// letter, a digit, `#` or `$`, and not with `else` (in any case), which
+/// the lexer joins to the statement before across line ends. A line that
+/// starts otherwise (`{`, a comment, which may hide an `else` after it or
+/// span lines, `%`, which the lexer skips) is no place to cut before.
+fn starts_a_statement(line: &str) -> bool {
     let line = line.trim_start();
-    line.starts_with('{')
-        || line
-            .get(..4)
-            .is_some_and(|word| word.eq_ignore_ascii_case("else"))
-}
-
-/// Whether `line` is blank or may be a comment only (`//`, `;`, `(`):
-/// no token the lexer would put between a statement and its `else`. (A
-/// line taken for one that is not only looks further for the line that
-/// decides a cut.)
-fn blank_or_comment(line: &str) -> bool {
-    let line = line.trim();
-    line.is_empty() || line.starts_with("//") || line.starts_with([';', '('])
+    let first = line.bytes().next().unwrap_or(b' ');
+    let is_else = line
+        .get(..4)
+        .is_some_and(|word| word.eq_ignore_ascii_case("else"));
+    (first.is_ascii_alphanumeric() || matches!(first, b'#' | b'$')) && !is_else
 }
 
 /// Whether `stmt` needs the whole program to run: a `GOTO`, an `O` word,
@@ -483,17 +478,26 @@ mod tests {
 
     #[test]
     fn no_part_ends_before_the_else_of_its_if() {
-        // The `else` after blank and comment lines still belongs to the if.
-        let text = "G0 X0\nif (1 > 0) {\n  G0 X1\n}\n\n// the other side\n(also)\nelse {\n  G0 X2\n}\nG0 X3\n";
-        let at = Locator::new(0, text);
-        let cuts = with_part_size(Some(1), || cuts(text, &at, Language::Egc)).unwrap();
-        let (close, other) = (text.find("}\n").unwrap(), text.find("else").unwrap());
-        assert!(cuts.len() >= 3, "{cuts:?}");
-        for range in &cuts {
-            assert!(
-                !(close..other).contains(&range.end),
-                "{range:?} in {cuts:?}"
+        // The `else` after blank lines, comments (a line may go on after
+        // one) and `%` lines still belongs to the if.
+        for between in [
+            "\n// the other side\n(also)\n",
+            "; note ",
+            "(c) ",
+            "%\n",
+            "\n \n",
+        ] {
+            let text = format!(
+                "G0 X0\nif (1 > 0) {{\n  G0 X1\n}}\n{between}else {{\n  G0 X2\n}}\nG0 X3\n"
             );
+            let at = Locator::new(0, &text);
+            let cuts = with_part_size(Some(1), || cuts(&text, &at, Language::Egc)).unwrap();
+            let (close, other) = (text.find("}\n").unwrap(), text.find("else").unwrap());
+            assert!(cuts.len() >= 2, "{cuts:?}");
+            for range in &cuts {
+                let inside = (close..other).contains(&range.end);
+                assert!(!inside, "{between:?}: {range:?} in {cuts:?}");
+            }
         }
     }
 

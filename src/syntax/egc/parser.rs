@@ -67,7 +67,7 @@ pub fn parse_program_files(
     library: &[(&str, Locator)],
     language: Language,
 ) -> (Program, Vec<Diagnostic>) {
-    let mut names = Names::default();
+    let mut names = program_names(language);
     let (mut program, mut diagnostics) =
         parse_program_from(main.0, 0, main.1, language, &mut names);
     for (text, at) in library {
@@ -81,6 +81,19 @@ pub fn parse_program_files(
     }
     program.names = names;
     (program, diagnostics)
+}
+
+/// The names a program in `language` starts with: G-code's `#1`–`#33`,
+/// which a call sets (the evaluator needs them, and a program read whole
+/// or in parts numbers its `o<name>` subroutines after them alike).
+pub fn program_names(language: Language) -> Names {
+    let mut names = Names::default();
+    if language == Language::Gcode {
+        for k in 1..=33 {
+            names.intern(&format!("#{k}"));
+        }
+    }
+    names
 }
 
 /// Parse `text` from the offset `from` (a line start; the lines before it
