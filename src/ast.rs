@@ -42,6 +42,18 @@ impl Names {
         s
     }
 
+    /// Name G-code's `#1`–`#33`, which a call sets (LinuxCNC's `o… call`,
+    /// Fanuc's `G65`) whether or not the program names them where it can
+    /// read them (a `(DEBUG, #1)` reads them by text; a program read in
+    /// parts may name them only further on). The parser names them first
+    /// (so `o<name>` subroutines are numbered alike whole and in parts),
+    /// the evaluator again for a program parsed without them.
+    pub fn name_call_parameters(&mut self) {
+        for k in 1..=33 {
+            self.intern(&format!("#{k}"));
+        }
+    }
+
     /// Drop the notes' texts (their symbols must not be used again), but
     /// those kept.
     pub fn forget_notes(&mut self) {
@@ -279,6 +291,11 @@ pub struct Number {
     /// Digits before the decimal point, leading zeros included.
     pub int_digits: u8,
     pub has_point: bool,
+}
+
+/// `value` as a whole number of 0 up to `u32::MAX`, if it is one.
+pub fn whole_number(value: f64) -> Option<u32> {
+    (value >= 0.0 && value.fract() == 0.0 && value <= f64::from(u32::MAX)).then_some(value as u32)
 }
 
 impl Number {

@@ -227,14 +227,21 @@ fn restarting<W: Write + Send>(
     out: &mut W,
     reset: impl Fn(&mut W),
 ) -> Report {
-    let mut compile = |out: &mut W, cutting| {
+    in_parts_else_whole(|cutting| {
         reset(out);
         let wizards = wizards.as_mut().map(|w| &mut **w as &mut dyn WizardHost);
         attempt(sources, file, options, wizards, out, cutting)
-    };
-    compile(out, Cutting::AsItGoes)
-        .or_else(|Whole| compile(out, Cutting::PlainOnly))
-        .unwrap_or_else(|Whole| unreachable_whole())
+    })
+    .unwrap_or_else(|Whole| unreachable_whole())
+}
+
+/// `compile` reading a program in parts as it goes and, if a part needs the
+/// whole program, again reading in parts only a plain program (which never
+/// needs it): `Err` is never the second's.
+fn in_parts_else_whole<T>(
+    mut compile: impl FnMut(Cutting) -> Result<T, Whole>,
+) -> Result<T, Whole> {
+    compile(Cutting::AsItGoes).or_else(|Whole| compile(Cutting::PlainOnly))
 }
 
 /// One compile of the file `file` into `out`, a program that is not plain
@@ -286,33 +293,33 @@ pub fn tool_path(
     options: &CompileOptions,
     wizards: Option<&mut dyn WizardHost>,
 ) -> (Option<ToolPath>, Vec<Diagnostic>) {
-    let mut diagnostics = Vec::new();
-    let mut path = None;
     let options = CompileOptions {
         stage: None,
         ..options.clone()
     };
     let mut wizards = wizards;
-    for cutting in [Cutting::AsItGoes, Cutting::PlainOnly] {
-        (path, diagnostics) = (None, Vec::new());
+    let found = in_parts_else_whole(|cutting| {
+        let (mut path, mut diagnostics) = (None, Vec::new());
         let input = Input::of(sources, file, &options);
         let wizards = wizards.as_mut().map(|w| &mut **w as &mut dyn WizardHost);
         let out = Output::Path(&mut path);
+        let clock = &mut Clock::new();
         // Nothing is written: no write can fail.
-        if run(
+        let _ = run(
             input,
             &options,
             wizards,
             out,
             &mut diagnostics,
-            &mut Clock::new(),
+            clock,
             cutting,
-        )
-        .is_ok()
-        {
-            break;
-        }
-    }
+        )?;
+        Ok((path, diagnostics))
+    });
+    let (mut path, diagnostics) = found.unwrap_or_else(|Whole| {
+        let internal = "internal: a whole read asked for a whole read";
+        (None, vec![Diagnostic::error().with_message(internal)])
+    });
     if diagnostics.iter().any(is_error) {
         path = None;
     }

@@ -367,14 +367,7 @@ impl<'a> Evaluator<'a> {
     ) -> Self {
         let mut names = program.names.clone();
         if options.plain {
-            // A call sets `#1`–`#33` (LinuxCNC's `o… call`, Fanuc's `G65`)
-            // whether or not the program names them where it can read them
-            // (a `(DEBUG, #1)` reads them by text, and a program read in
-            // parts may name them only further on). The parser's names
-            // start with them (`parser::program_names`): the same symbols.
-            for k in 1..=33 {
-                names.intern(&format!("#{k}"));
-            }
+            names.name_call_parameters();
         }
         Evaluator {
             program,

@@ -714,10 +714,7 @@ fn axis_words(w: &mut WordValues) -> Axes {
 
 /// A word that must hold a whole, non-negative number.
 fn whole(value: f64, span: Span, what: &'static str) -> Result<u32, Diagnostic> {
-    if value < 0.0 || value.fract() != 0.0 || value > u32::MAX as f64 {
-        return Err(CodeError::new(K::NotWhole(what), span).into());
-    }
-    Ok(value as u32)
+    ast::whole_number(value).ok_or_else(|| CodeError::new(K::NotWhole(what), span).into())
 }
 
 /// Run one line of extended G-code that a wizard produced (parsed, without

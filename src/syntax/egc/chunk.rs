@@ -344,9 +344,8 @@ fn needs_whole(stmt: &Stmt, known: &dyn Fn(u32) -> bool, in_sub: bool) -> bool {
 /// The program `M98 P<p>` (`m98`) or `G65 P<p>` calls, as the evaluator
 /// reads `p`; `None` if it is not a whole number (an error there).
 fn called(p: &crate::ast::Number, m98: bool) -> Option<u32> {
-    let whole = p.value >= 0.0 && p.value.fract() == 0.0 && p.value <= f64::from(u32::MAX);
-    let number = p.value as u32;
-    whole.then(|| if m98 { p.m98_split(number).0 } else { number })
+    let number = crate::ast::whole_number(p.value)?;
+    Some(if m98 { p.m98_split(number).0 } else { number })
 }
 
 /// Parse the part `range` of the plain program `text` (a range [`chunks`]

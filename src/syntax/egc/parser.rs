@@ -83,15 +83,12 @@ pub fn parse_program_files(
     (program, diagnostics)
 }
 
-/// The names a program in `language` starts with: G-code's `#1`–`#33`,
-/// which a call sets (the evaluator needs them, and a program read whole
-/// or in parts numbers its `o<name>` subroutines after them alike).
+/// The names a program in `language` starts with: G-code's `#1`–`#33`
+/// ([`Names::name_call_parameters`]).
 pub fn program_names(language: Language) -> Names {
     let mut names = Names::default();
     if language == Language::Gcode {
-        for k in 1..=33 {
-            names.intern(&format!("#{k}"));
-        }
+        names.name_call_parameters();
     }
     names
 }
