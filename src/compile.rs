@@ -720,41 +720,54 @@ impl<'a> Parts<'a> {
     }
 }
 
-/// The lines of a file, as bytes (the first without a byte-order mark),
-/// for [`scan_file`].
-struct RawLines<'a> {
+/// A file's whole lines as bytes, about [`chunk::CHUNK_BYTES`] of them at a
+/// time (the first without a byte-order mark), for [`scan_file`].
+struct RawBlocks<'a> {
     reader: &'a mut dyn std::io::BufRead,
     first: bool,
-    line: Vec<u8>,
+    block: Vec<u8>,
 }
 
-impl<'a> RawLines<'a> {
-    fn new(reader: &'a mut dyn std::io::BufRead) -> RawLines<'a> {
-        RawLines {
+impl<'a> RawBlocks<'a> {
+    fn new(reader: &'a mut dyn std::io::BufRead) -> RawBlocks<'a> {
+        RawBlocks {
             reader,
             first: true,
-            line: Vec::new(),
+            block: Vec::new(),
         }
     }
 
     /// The lines of a file from a line after its first (no byte-order mark).
-    fn after_start(reader: &'a mut dyn std::io::BufRead) -> RawLines<'a> {
-        RawLines {
+    fn after_start(reader: &'a mut dyn std::io::BufRead) -> RawBlocks<'a> {
+        RawBlocks {
             first: false,
-            ..RawLines::new(reader)
+            ..RawBlocks::new(reader)
         }
     }
 
-    /// The next line with its line end; `None` at the end of the file.
+    /// The next lines with their line ends; `None` at the end of the file.
     fn next(&mut self) -> std::io::Result<Option<&[u8]>> {
-        self.line.clear();
-        if self.reader.read_until(b'\n', &mut self.line)? == 0 {
+        let want = chunk::CHUNK_BYTES;
+        self.block.clear();
+        while self.block.len() < want {
+            let buf = self.reader.fill_buf()?;
+            if buf.is_empty() {
+                break;
+            }
+            let take = buf.len().min(want - self.block.len());
+            self.block.extend_from_slice(&buf[..take]);
+            self.reader.consume(take);
+        }
+        if !self.block.is_empty() && !self.block.ends_with(b"\n") {
+            self.reader.read_until(b'\n', &mut self.block)?;
+        }
+        if self.block.is_empty() {
             return Ok(None);
         }
         if std::mem::take(&mut self.first) {
-            source::drop_bom(&mut self.line);
+            source::drop_bom(&mut self.block);
         }
-        Ok(Some(&self.line))
+        Ok(Some(&self.block))
     }
 }
 
@@ -919,7 +932,7 @@ pub struct FileScan {
 /// or lone CR (which [`crate::source::decode`] reports or rewrites).
 /// `None`: read it whole.
 pub fn scan_file(reader: &mut dyn std::io::BufRead) -> std::io::Result<Option<FileScan>> {
-    scan_lines(RawLines::new(reader))
+    scan_lines(RawBlocks::new(reader))
 }
 
 /// [`scan_file`] of the file at `path`, its two halves (cut at a line end)
@@ -932,10 +945,10 @@ pub fn scan_path(path: &std::path::Path) -> std::io::Result<Option<FileScan>> {
     second.seek(std::io::SeekFrom::Start(middle))?;
     // The first half ends with the line the middle is on.
     let cut = middle + second.read_until(b'\n', &mut Vec::new())? as u64;
-    let scan_first = move || scan_lines(RawLines::new(&mut open()?.take(cut)));
+    let scan_first = move || scan_lines(RawBlocks::new(&mut open()?.take(cut)));
     let (first, second) = std::thread::scope(|scope| {
         let first = std::thread::Builder::new().spawn_scoped(scope, scan_first);
-        let second = scan_lines(RawLines::after_start(&mut second));
+        let second = scan_lines(RawBlocks::after_start(&mut second));
         let first = match first {
             Ok(thread) => thread
                 .join()
@@ -956,25 +969,39 @@ pub fn scan_path(path: &std::path::Path) -> std::io::Result<Option<FileScan>> {
 }
 
 /// [`scan_file`] of the lines `lines` reads.
-fn scan_lines(mut lines: RawLines<'_>) -> std::io::Result<Option<FileScan>> {
+fn scan_lines(mut blocks: RawBlocks<'_>) -> std::io::Result<Option<FileScan>> {
     let (mut len, mut decimals, mut plain) = (0, 0, true);
-    while let Some(bytes) = lines.next()? {
+    while let Some(bytes) = blocks.next()? {
         // A control character, or a CR not before a LF (even at the end),
-        // which is a line end to `decode`. (Two loops: the first is the
-        // one that runs, and it vectorises.)
+        // which is a line end to `decode`.
         let control = bytes
             .iter()
             .any(|&b| b < 0x20 && !matches!(b, b'\n' | b'\r' | b'\t'));
         let lone_cr = || {
-            let cr = bytes.iter().position(|&b| b == b'\r');
-            cr.is_some_and(|i| bytes[i..] != *b"\r\n")
+            let mut at = bytes.iter().enumerate();
+            at.any(|(i, &b)| b == b'\r' && bytes.get(i + 1) != Some(&b'\n'))
         };
-        if control || lone_cr() {
+        if control || (bytes.contains(&b'\r') && lone_cr()) {
             return Ok(None);
         }
-        let text = source::decode_line(bytes);
-        plain = plain && chunk::plain_line(text.trim_end_matches(['\n', '\r']));
-        decimals = decimals.max(input_decimals(&text));
+        // Whole lines: UTF-8 as a whole, else line by line.
+        let latin1;
+        let text = match std::str::from_utf8(bytes) {
+            Ok(text) => text,
+            Err(_) => {
+                latin1 = source::decode_lines(bytes.to_vec());
+                &latin1
+            }
+        };
+        for line in text.lines() {
+            match plain_words_decimals(line.as_bytes()) {
+                Some(most) => decimals = decimals.max(most),
+                None => {
+                    plain = plain && chunk::plain_line(line);
+                    decimals = decimals.max(input_decimals(line));
+                }
+            }
+        }
         len += text.len();
     }
     Ok(Some(FileScan {
@@ -1258,6 +1285,37 @@ fn input_decimals(text: &str) -> usize {
     most
 }
 
+/// [`input_decimals`] of a line (without its line end) of plain words and
+/// blanks only, which [`chunk::plain_line`] takes; `None` for any other
+/// line (a comment, a command, a word that is not plain). One pass over
+/// the line where those two make two.
+fn plain_words_decimals(line: &[u8]) -> Option<usize> {
+    let (mut i, mut most) = (0, 0);
+    while i < line.len() {
+        let letter = line[i];
+        if matches!(letter, b' ' | b'\t') {
+            i += 1;
+            continue;
+        }
+        if !letter.is_ascii_alphabetic() {
+            return None;
+        }
+        // Blanks, a sign, then digits and points.
+        let end = chunk::plain_word(line, i)?;
+        if COORDINATE[usize::from(letter)] {
+            let number = &line[i + 1..end];
+            if let Some(point) = number.iter().position(|&b| b == b'.') {
+                let digits = number[point + 1..]
+                    .iter()
+                    .take_while(|b| b.is_ascii_digit());
+                most = most.max(digits.count());
+            }
+        }
+        i = end;
+    }
+    Some(most)
+}
+
 /// The printed text is written out once there is this much of it.
 const WRITE_AT: usize = 64 * 1024;
 
@@ -1412,5 +1470,57 @@ fn print_and_write(
             }
         }
         text.clear();
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use proptest::prelude::*;
+
+    /// The scan's one-pass reading of a line says what the two do.
+    fn agrees(line: &str) {
+        if let Some(most) = plain_words_decimals(line.as_bytes()) {
+            assert!(chunk::plain_line(line), "{line:?} is not plain");
+            assert_eq!(most, input_decimals(line), "{line:?}");
+        }
+    }
+
+    #[test]
+    fn plain_words_decimals_is_plain_line_and_input_decimals() {
+        for line in [
+            "G1 X1.234 Y-0.5 Z+.25",
+            "g1x1.5y2.25",
+            "X 1.  Y\t-2.125",
+            "X1.2.345 Y1",
+            "X.",
+            "x-.5 r0.125 i2 j.0625",
+            "N10 G01 F100.5 S1200.25",
+            "M98 P100",
+            "M098 X1.5",
+            "G65.1 X1.25",
+            "G065 X1.25",
+            "O100 X1.5",
+            "X+-1.5",
+            "/ G1 X1.5",
+            "% X1.25",
+            "G1 X1.5 (X1.12345)",
+            "G1 X1.5 ; X1.1234",
+            "",
+            "   ",
+        ] {
+            agrees(line);
+        }
+        assert_eq!(plain_words_decimals(b"G1 X1.234 Y-0.5 Z+.25"), Some(3));
+        assert_eq!(plain_words_decimals(b"X1.2.345"), Some(1));
+        assert_eq!(plain_words_decimals(b"M98 P100"), None);
+        assert_eq!(plain_words_decimals(b"G1 X1 (c)"), None);
+    }
+
+    proptest! {
+        #[test]
+        fn plain_words_decimals_agrees_on_any_line(line in "[GMOXxyRFN0-9 \\t.+\\-(;%/]{0,24}") {
+            agrees(&line);
+        }
     }
 }
