@@ -1287,31 +1287,57 @@ fn input_decimals(text: &str) -> usize {
 
 /// [`input_decimals`] of a line (without its line end) of plain words and
 /// blanks only, which [`chunk::plain_line`] takes; `None` for any other
-/// line (a comment, a command, a word that is not plain). One pass over
-/// the line where those two make two.
+/// line (a comment, a command, a word that is not plain or not simple:
+/// `X1.2.3`, `X+-1`), which those two read. One pass over the line where
+/// they make two.
 fn plain_words_decimals(line: &[u8]) -> Option<usize> {
+    let n = line.len();
+    let blank = |i: usize| i < n && matches!(line[i], b' ' | b'\t');
+    let digit = |i: usize| i < n && line[i].is_ascii_digit();
     let (mut i, mut most) = (0, 0);
-    while i < line.len() {
-        let letter = line[i];
-        if matches!(letter, b' ' | b'\t') {
+    while i < n {
+        if blank(i) {
             i += 1;
             continue;
         }
-        if !letter.is_ascii_alphabetic() {
+        let letter = line[i].to_ascii_uppercase();
+        if !letter.is_ascii_uppercase() || letter == b'O' {
             return None;
         }
-        // Blanks, a sign, then digits and points.
-        let end = chunk::plain_word(line, i)?;
-        if COORDINATE[usize::from(letter)] {
-            let number = &line[i + 1..end];
-            if let Some(point) = number.iter().position(|&b| b == b'.') {
-                let digits = number[point + 1..]
-                    .iter()
-                    .take_while(|b| b.is_ascii_digit());
-                most = most.max(digits.count());
-            }
+        // Blanks, a sign, digits, and a point with digits after it.
+        i += 1;
+        while blank(i) {
+            i += 1;
         }
-        i = end;
+        if i < n && matches!(line[i], b'+' | b'-') {
+            i += 1;
+        }
+        let whole = i;
+        while digit(i) {
+            i += 1;
+        }
+        let whole_end = i;
+        let mut decimals = 0;
+        if i < n && line[i] == b'.' {
+            i += 1;
+            let fraction = i;
+            while digit(i) {
+                i += 1;
+            }
+            decimals = i - fraction;
+        }
+        if i == whole || (i < n && line[i] == b'.') {
+            return None;
+        }
+        // M98, M99 and G65 call (with any zeros before them).
+        let code = &line[whole..whole_end];
+        let code = &code[code.iter().take_while(|&&b| b == b'0').count()..];
+        if matches!((letter, code), (b'M', b"98" | b"99") | (b'G', b"65")) {
+            return None;
+        }
+        if COORDINATE[usize::from(letter)] {
+            most = most.max(decimals);
+        }
     }
     Some(most)
 }
@@ -1512,7 +1538,11 @@ mod tests {
             agrees(line);
         }
         assert_eq!(plain_words_decimals(b"G1 X1.234 Y-0.5 Z+.25"), Some(3));
-        assert_eq!(plain_words_decimals(b"X1.2.345"), Some(1));
+        // Two points: left to the two it stands for.
+        assert_eq!(plain_words_decimals(b"X1.2.345"), None);
+        assert_eq!(plain_words_decimals(b"g0065 X1"), None);
+        assert_eq!(plain_words_decimals(b"M0098.5"), None);
+        assert_eq!(plain_words_decimals(b"M980 X1.25"), Some(2));
         assert_eq!(plain_words_decimals(b"M98 P100"), None);
         assert_eq!(plain_words_decimals(b"G1 X1 (c)"), None);
     }

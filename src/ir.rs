@@ -158,11 +158,15 @@ impl Axes {
         }
     }
 
-    /// The axes present, in printing order.
+    /// The axes present, in printing order (the order of their bits).
     pub fn iter(&self) -> impl Iterator<Item = (Axis, f64)> + '_ {
-        Axis::ALL
-            .into_iter()
-            .filter_map(move |a| self.get(a).map(|v| (a, v)))
+        let mut left = self.present;
+        std::iter::from_fn(move || {
+            let i = left.trailing_zeros() as usize;
+            let axis = *Axis::ALL.get(i)?;
+            left &= left - 1;
+            Some((axis, self.values[i]))
+        })
     }
 
     /// Apply `f` to every present length (not to A B C).

@@ -4,35 +4,41 @@
 //! (the printer's hot loop).
 
 pub fn push_int(out: &mut Vec<u8>, n: i64) {
+    let mut buf = [0u8; 24];
+    let mut start = digits_before(&mut buf, 24, n.unsigned_abs());
     if n < 0 {
-        out.push(b'-');
+        start -= 1;
+        buf[start] = b'-';
     }
-    let mut buf = [0u8; 20];
-    let start = digits_before(&mut buf, 20, n.unsigned_abs());
-    push_short(out, &buf[start..]);
-}
-
-/// `out.extend_from_slice(bytes)` for a few bytes, without a call to
-/// `memcpy` (most of the cost of so short a copy).
-fn push_short(out: &mut Vec<u8>, bytes: &[u8]) {
-    out.reserve(bytes.len());
-    for &b in bytes {
-        out.push(b);
-    }
+    out.extend_from_slice(&buf[start..]);
 }
 
 /// Write the decimal digits of `n` (at least one) into `buf`, ending just
-/// before `end`; returns where they start.
+/// before `end`, two at a time; returns where they start.
 fn digits_before(buf: &mut [u8], mut end: usize, mut n: u64) -> usize {
-    loop {
-        end -= 1;
-        buf[end] = b'0' + (n % 10) as u8;
-        n /= 10;
-        if n == 0 {
-            return end;
-        }
+    while n >= 100 {
+        let pair = usize::from((n % 100) as u8) * 2;
+        n /= 100;
+        end -= 2;
+        buf[end..end + 2].copy_from_slice(&PAIRS[pair..pair + 2]);
     }
+    if n >= 10 {
+        let pair = n as usize * 2;
+        end -= 2;
+        buf[end..end + 2].copy_from_slice(&PAIRS[pair..pair + 2]);
+    } else {
+        end -= 1;
+        buf[end] = b'0' + n as u8;
+    }
+    end
 }
+
+/// "00" to "99".
+const PAIRS: &[u8; 200] = b"0001020304050607080910111213141516171819\
+2021222324252627282930313233343536373839\
+4041424344454647484950515253545556575859\
+6061626364656667686970717273747576777879\
+8081828384858687888990919293949596979899";
 
 /// `x` rounded half away from zero, as `f64::round` (without its libm
 /// call); saturates like `as i64` outside the range of `i64`.
@@ -67,20 +73,27 @@ pub fn push_fixed_bytes(out: &mut Vec<u8>, v: f64, decimals: usize) {
 
 /// `q` × 10^-`decimals` (at most 18) as [`push_fixed_bytes`] writes it.
 /// Written right to left into one buffer: the fraction's digits (its
-/// trailing zeros, which come first, skipped), the point, the integer's
-/// digits (at least one) and the sign.
+/// trailing zeros dropped first), the point, the integer's digits (at least
+/// one) and the sign; then copied once.
 pub fn push_scaled(out: &mut Vec<u8>, q: i64, decimals: usize) {
-    let mut buf = [0u8; 32];
+    let mut buf = [0u8; 48];
     let mut i = buf.len();
     let mut n = q.unsigned_abs();
-    let mut significant = false;
-    for _ in 0..decimals {
-        let digit = (n % 10) as u8;
-        n /= 10;
-        significant |= digit != 0;
-        if significant {
-            i -= 1;
-            buf[i] = b'0' + digit;
+    let decimals = decimals.min(18);
+    if decimals > 0 {
+        let scale = 10u64.pow(decimals as u32);
+        let (mut fraction, mut width) = (n % scale, decimals);
+        n /= scale;
+        if fraction != 0 {
+            while fraction % 10 == 0 {
+                fraction /= 10;
+                width -= 1;
+            }
+            // `width` digits, the leading ones zeros.
+            let start = i - width;
+            i = digits_before(&mut buf, i, fraction);
+            buf[start..i].fill(b'0');
+            i = start;
         }
     }
     i -= 1;
@@ -90,7 +103,7 @@ pub fn push_scaled(out: &mut Vec<u8>, q: i64, decimals: usize) {
         i -= 1;
         buf[i] = b'-';
     }
-    push_short(out, &buf[i..]);
+    out.extend_from_slice(&buf[i..]);
 }
 
 /// [`push_fixed_bytes`] onto a `String`.

@@ -12,7 +12,9 @@ pub(super) struct Printer {
     /// passed-through lines, which come from `&str`, and every line is
     /// whole: the text is UTF-8.
     pub out: Vec<u8>,
-    line: Vec<u8>,
+    /// Where the line being written starts in `out` (lines are written in
+    /// place: each is whole before `out` is taken).
+    line_start: usize,
     numbering: Numbering,
     pub target: Target,
     pub decimals: usize,
@@ -48,7 +50,7 @@ impl Printer {
             .min(9);
         Printer {
             out: Vec::with_capacity(capacity.min(1 << 20)),
-            line: Vec::with_capacity(80),
+            line_start: 0,
             numbering: if target.takes_line_numbers() {
                 numbering
             } else {
@@ -68,11 +70,11 @@ impl Printer {
 
     /// A line ger makes up (the header): numbered only by `seq`.
     pub fn raw_line(&mut self, text: &str) {
-        self.line.clear();
+        self.line_start = self.out.len();
         if self.numbering == Numbering::Seq {
             self.seq_number();
         }
-        self.line.extend_from_slice(text.as_bytes());
+        self.out.extend_from_slice(text.as_bytes());
         self.end();
     }
 
@@ -83,16 +85,16 @@ impl Printer {
 
     fn seq_number(&mut self) {
         self.seq += 10;
-        self.line.push(b'N');
-        push_int(&mut self.line, self.seq as i64);
-        self.line.push(b' ');
+        self.out.push(b'N');
+        push_int(&mut self.out, self.seq as i64);
+        self.out.push(b' ');
     }
 
     /// Start the line of a statement from `span`.
     pub fn begin(&mut self, span: Span, block_delete: bool) {
-        self.line.clear();
+        self.line_start = self.out.len();
         if block_delete {
-            self.line.push(b'/');
+            self.out.push(b'/');
         }
         match self.numbering {
             Numbering::Source if span.file == self.main_file && span.line > 0 => {
@@ -104,7 +106,7 @@ impl Printer {
                     self.number.push(b' ');
                     self.numbered_at = Some(span.line);
                 }
-                self.line.extend_from_slice(&self.number);
+                self.out.extend_from_slice(&self.number);
             }
             Numbering::Seq => self.seq_number(),
             Numbering::Source | Numbering::None => {}
@@ -112,17 +114,16 @@ impl Printer {
     }
 
     pub fn end(&mut self) {
-        if self.line.last() == Some(&b' ') {
-            self.line.pop();
+        if self.out.len() > self.line_start && self.out.last() == Some(&b' ') {
+            self.out.pop();
         }
-        self.out.extend_from_slice(&self.line);
         self.out.push(b'\n');
     }
 
     /// A space before the next word, unless the line is empty or has one.
     fn separate(&mut self) {
-        if !self.line.is_empty() && self.line.last() != Some(&b' ') {
-            self.line.push(b' ');
+        if self.out.len() > self.line_start && self.out.last() != Some(&b' ') {
+            self.out.push(b' ');
         }
     }
 
@@ -130,26 +131,26 @@ impl Printer {
     /// 10^-decimals (what [`Printer::word`] would print for `q / scale`).
     pub fn word_q(&mut self, letter: u8, q: i64) {
         self.separate();
-        self.line.push(letter);
-        push_scaled(&mut self.line, q, self.decimals);
+        self.out.push(letter);
+        push_scaled(&mut self.out, q, self.decimals);
     }
 
     pub fn word(&mut self, letter: u8, v: f64) {
         self.separate();
-        self.line.push(letter);
-        push_fixed_bytes(&mut self.line, v, self.decimals);
+        self.out.push(letter);
+        push_fixed_bytes(&mut self.out, v, self.decimals);
     }
 
     /// A word with an integer value (`T3`, `P2`, `H1`).
     fn int_word(&mut self, letter: u8, n: u32) {
         self.separate();
-        self.line.push(letter);
-        push_int(&mut self.line, n as i64);
+        self.out.push(letter);
+        push_int(&mut self.out, n as i64);
     }
 
     pub fn code(&mut self, text: &str) {
         self.separate();
-        self.line.extend_from_slice(text.as_bytes());
+        self.out.extend_from_slice(text.as_bytes());
     }
 
     fn axes(&mut self, a: &ir::Axes) {
@@ -173,11 +174,11 @@ impl Printer {
     pub fn stmt(&mut self, stmt: &ir::Stmt) {
         if let Op::Passthrough(Passthrough::Line(text)) = &stmt.op {
             // A controller command (`$H`) takes no N word.
-            self.line.clear();
+            self.line_start = self.out.len();
             if stmt.block_delete {
-                self.line.push(b'/');
+                self.out.push(b'/');
             }
-            self.line.extend_from_slice(text.as_bytes());
+            self.out.extend_from_slice(text.as_bytes());
             return self.end();
         }
         self.begin(stmt.span, stmt.block_delete);
@@ -308,7 +309,7 @@ impl Printer {
     /// (it must not close early or run on as code).
     pub fn comment(&mut self, text: &str) {
         self.separate();
-        self.line.push(b'(');
+        self.out.push(b'(');
         for c in text.chars() {
             let c = if matches!(c, '(' | ')' | '\n' | '\r') {
                 ' '
@@ -316,10 +317,10 @@ impl Printer {
                 c
             };
             let mut buf = [0u8; 4];
-            self.line
+            self.out
                 .extend_from_slice(c.encode_utf8(&mut buf).as_bytes());
         }
-        self.line.push(b')');
+        self.out.push(b')');
     }
 
     fn move_words(&mut self, m: &ir::Move) {
@@ -349,8 +350,8 @@ impl Printer {
             });
         }
         self.separate();
-        self.line.push(b'G');
-        push_int(&mut self.line, c.kind.code() as i64);
+        self.out.push(b'G');
+        push_int(&mut self.out, c.kind.code() as i64);
         self.axes(&c.at);
         for (letter, v) in [(b'R', Some(c.r)), (b'Q', c.q)] {
             if let Some(v) = v {

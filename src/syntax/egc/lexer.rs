@@ -1689,15 +1689,16 @@ pub(crate) fn plain_words(
         let letter = bytes[i];
         // What follows a number is a blank, the next word's letter, or
         // refused here.
-        let number = WordNumber::after(bytes, i + 1, end);
-        if !letter.is_ascii_alphabetic()
-            || letter.eq_ignore_ascii_case(&b'O')
-            || !number.is_decimal()
-        {
-            words.truncate(before);
-            return false;
-        }
-        let (value, int_digits, has_point) = scan_decimal(&text[number.range()]);
+        let number = match decimal_after(text, i + 1, end) {
+            Some(number) if letter.is_ascii_alphabetic() && !letter.eq_ignore_ascii_case(&b'O') => {
+                number
+            }
+            _ => {
+                words.truncate(before);
+                return false;
+            }
+        };
+        let (value, int_digits, has_point, number_end) = number;
         words.push(LexedWord {
             word: WordTok {
                 letter: letter.to_ascii_uppercase(),
@@ -1706,12 +1707,67 @@ pub(crate) fn plain_words(
                 has_point,
             },
             start: i as u32,
-            end: number.end as u32,
+            end: number_end as u32,
         });
-        i = number.end;
+        i = number_end;
     }
     true
 }
+
+/// The decimal number after a word's letter in `text[from..end]`, read as
+/// [`WordNumber::after`] finds it and [`scan_decimal`] reads it, in one
+/// pass: its value, integer digits, whether it has a point, and its end.
+/// `None` where [`WordNumber::is_decimal`] is false.
+fn decimal_after(text: &str, from: usize, end: usize) -> Option<(f64, u8, bool, usize)> {
+    let bytes = text.as_bytes();
+    let mut i = from;
+    while i < end && matches!(bytes[i], b' ' | b'\t') {
+        i += 1;
+    }
+    let sign = i;
+    let negative = i < end && bytes[i] == b'-';
+    if i < end && matches!(bytes[i], b'+' | b'-') {
+        i += 1;
+    }
+    let mut mantissa: u64 = 0;
+    let mut count = 0usize;
+    let mut point: Option<usize> = None;
+    while i < end {
+        let b = bytes[i];
+        if b.is_ascii_digit() {
+            mantissa = mantissa.wrapping_mul(10).wrapping_add(u64::from(b - b'0'));
+            count += 1;
+        } else if b == b'.' {
+            if point.is_some() {
+                return None;
+            }
+            point = Some(count);
+        } else {
+            break;
+        }
+        i += 1;
+    }
+    if count == 0 {
+        return None;
+    }
+    let int_digits = point.unwrap_or(count).min(255) as u8;
+    let value = if count > 15 {
+        text[sign..i].parse().unwrap_or(f64::NAN)
+    } else {
+        let v = mantissa as f64 / POW10[count - point.unwrap_or(count)];
+        if negative {
+            -v
+        } else {
+            v
+        }
+    };
+    Some((value, int_digits, point.is_some(), i))
+}
+
+/// Powers of ten exact in an `f64`.
+const POW10: [f64; 16] = [
+    1e0, 1e1, 1e2, 1e3, 1e4, 1e5, 1e6, 1e7, 1e8, 1e9, 1e10, 1e11, 1e12, 1e13, 1e14, 1e15,
+];
 
 /// The number after a word's letter, as plain G-code writes it: spaces
 /// or tabs, a sign, then digits and points (`G0Z  0.1`, `X -1.5`).
@@ -1791,9 +1847,6 @@ fn parse_decimal(text: &str) -> f64 {
 /// correctly rounded operation, the value `str::parse` gives, at a fraction
 /// of the cost. Longer numbers take `str::parse`.
 fn scan_decimal(text: &str) -> (f64, u8, bool) {
-    const POW10: [f64; 16] = [
-        1e0, 1e1, 1e2, 1e3, 1e4, 1e5, 1e6, 1e7, 1e8, 1e9, 1e10, 1e11, 1e12, 1e13, 1e14, 1e15,
-    ];
     let bytes = text.as_bytes();
     let (negative, digits) = match bytes.first() {
         Some(b'-') => (true, &bytes[1..]),
@@ -1830,6 +1883,47 @@ fn scan_decimal(text: &str) -> (f64, u8, bool) {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// `decimal_after` reads what `WordNumber::after` finds and
+    /// `scan_decimal` reads, bit for bit.
+    fn reads_alike(text: &str) {
+        let found = WordNumber::after(text.as_bytes(), 0, text.len());
+        let expected = found.is_decimal().then(|| {
+            let (v, digits, point) = scan_decimal(&text[found.range()]);
+            (v.to_bits(), digits, point, found.end)
+        });
+        let got = decimal_after(text, 0, text.len()).map(|(v, d, p, e)| (v.to_bits(), d, p, e));
+        assert_eq!(got, expected, "{text:?}");
+    }
+
+    #[test]
+    fn decimal_after_reads_as_the_lexer_reads() {
+        for text in [
+            "1",
+            "-1.5",
+            "+.25",
+            " \t-0",
+            "1.2.3",
+            ".",
+            "-.",
+            "",
+            "12345678901234567.5",
+            "0.1234567890123456",
+            "7X",
+            "-",
+            "1.",
+            "007.50",
+        ] {
+            reads_alike(text);
+        }
+    }
+
+    proptest::proptest! {
+        #[test]
+        fn decimal_after_reads_any_number_as_the_lexer_reads(text in r"[ \t+\-.0-9]{0,22}[XG ]?") {
+            reads_alike(&text);
+        }
+    }
 
     #[test]
     fn a_line_goes_on_inside_parentheses_after_an_operator() {
