@@ -1268,6 +1268,12 @@ impl<'w> WordValues<'w> {
         self.present & Self::bit(letter) != 0
     }
 
+    /// Any of `letters` given (a constant list: its mask folds away).
+    fn has_any(&self, letters: &[u8]) -> bool {
+        let mask = letters.iter().fold(0, |mask, &l| mask | Self::bit(l));
+        self.present & mask != 0
+    }
+
     fn remaining(&self) -> impl Iterator<Item = (u8, Span)> + '_ {
         let mut left = self.present;
         std::iter::from_fn(move || {

@@ -178,7 +178,9 @@ pub struct LineIndex {
 
 impl LineIndex {
     pub fn new(text: &str) -> LineIndex {
-        let mut starts = vec![0];
+        // Room for lines of 16 bytes: most programs' lines are longer.
+        let mut starts = Vec::with_capacity(text.len() / 16 + 1);
+        starts.push(0);
         starts.extend(
             text.bytes()
                 .enumerate()

@@ -126,7 +126,11 @@ impl Evaluator<'_> {
             }
         };
         // A length, feed or speed no machine has is a typo.
-        if b"XYZIJKRFS".contains(&w.letter) && !ir::is_length(value) {
+        let length = matches!(
+            w.letter,
+            b'X' | b'Y' | b'Z' | b'I' | b'J' | b'K' | b'R' | b'F' | b'S'
+        );
+        if length && !ir::is_length(value) {
             self.report(super::out_of_range(
                 format!("`{}` is out of range", w.letter as char),
                 "lengths, feeds and speeds",
@@ -176,12 +180,12 @@ impl Evaluator<'_> {
         span: Span,
         code: Code,
     ) -> Result<(), Diagnostic> {
-        let has_axes = Axis::ALL.iter().any(|a| w.has(a.letter()));
+        let has_axes = w.has_any(b"XYZABCUVW");
         if let Some(kind) = self.cycle.filter(|_| has_axes && !self.machine_coordinates) {
             self.cycle_block(kind, None, w, span)?;
             return self.unused_words(w, code);
         }
-        let arc_words = [b'I', b'J', b'K', b'R'].iter().any(|&l| w.has(l));
+        let arc_words = w.has_any(b"IJKR");
         if has_axes || (arc_words && self.motion.is_some_and(Motion::is_arc)) {
             let Some(motion) = self.motion else {
                 let (_, at) = w.remaining().next().unwrap_or((b'X', span));

@@ -50,11 +50,14 @@ impl AbsolutePass {
             arc.geometry = ArcGeometry::Center(center);
         }
         // Only the axes the statement wrote: a Z retract stays a Z move.
-        let mut written = Axes::default();
-        for (axis, _) in m.to.iter() {
-            written.put(axis, end[axis.index()]);
+        // (Absolute axes are their ends already.)
+        if self.at.distance == Distance::Incremental {
+            let mut written = Axes::default();
+            for (axis, _) in m.to.iter() {
+                written.put(axis, end[axis.index()]);
+            }
+            m.to = written;
         }
-        m.to = written;
         self.at.position = end;
         Ok(())
     }

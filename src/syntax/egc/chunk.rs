@@ -362,7 +362,8 @@ pub fn parse_chunk(
     language: Language,
     names: &mut Names,
 ) -> (Vec<Stmt>, Vec<Diagnostic>) {
-    let (mut stmts, mut diagnostics) = (Vec::new(), Vec::new());
+    // About a statement for every 16 bytes (a CAM line is 20 to 30).
+    let (mut stmts, mut diagnostics) = (Vec::with_capacity(range.len() / 16), Vec::new());
     let mut parse = |from: usize, to: usize, stmts: &mut Vec<Stmt>| {
         if from < to {
             let (program, found) = parse_program_from(&text[..to], from, at, language, names);
