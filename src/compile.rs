@@ -993,12 +993,21 @@ fn scan_lines(mut blocks: RawBlocks<'_>) -> std::io::Result<Option<FileScan>> {
                 &latin1
             }
         };
-        for line in text.lines() {
-            match plain_words_decimals(line.as_bytes()) {
-                Some(most) => decimals = decimals.max(most),
-                None => {
+        // Line by line, as `str::lines` cuts them.
+        let mut start = 0;
+        while start < text.len() {
+            match plain_words_decimals(text.as_bytes(), start) {
+                Ok((most, next)) => {
+                    decimals = decimals.max(most);
+                    start = next;
+                }
+                Err(()) => {
+                    let end = text[start..].find('\n').map_or(text.len(), |i| start + i);
+                    let line = &text[start..end];
+                    let line = line.strip_suffix('\r').unwrap_or(line);
                     plain = plain && chunk::plain_line(line);
                     decimals = decimals.max(input_decimals(line));
+                    start = end + 1;
                 }
             }
         }
@@ -1285,31 +1294,36 @@ fn input_decimals(text: &str) -> usize {
     most
 }
 
-/// [`input_decimals`] of a line (without its line end) of plain words and
-/// blanks only, which [`chunk::plain_line`] takes; `None` for any other
-/// line (a comment, a command, a word that is not plain or not simple:
-/// `X1.2.3`, `X+-1`), which those two read. One pass over the line where
-/// they make two.
-fn plain_words_decimals(line: &[u8]) -> Option<usize> {
-    let n = line.len();
-    let blank = |i: usize| i < n && matches!(line[i], b' ' | b'\t');
-    let digit = |i: usize| i < n && line[i].is_ascii_digit();
-    let (mut i, mut most) = (0, 0);
-    while i < n {
-        if blank(i) {
-            i += 1;
-            continue;
+/// [`input_decimals`] of the line of `text` at `start` when it has plain
+/// words and blanks only, which [`chunk::plain_line`] takes, and where the
+/// next line starts; `Err` for any other line (a comment, a command, a
+/// word that is not plain or not simple: `X1.2.3`, `X+-1`), which those
+/// two read. One pass over the line where they make two.
+fn plain_words_decimals(text: &[u8], start: usize) -> Result<(usize, usize), ()> {
+    let at = |i: usize| text.get(i).copied().unwrap_or(b'\n');
+    let blank = |i: usize| matches!(at(i), b' ' | b'\t');
+    let digit = |i: usize| at(i).is_ascii_digit();
+    let (mut i, mut most) = (start, 0);
+    loop {
+        match at(i) {
+            b' ' | b'\t' => {
+                i += 1;
+                continue;
+            }
+            b'\n' => return Ok((most, (i + 1).min(text.len()))),
+            b'\r' if at(i + 1) == b'\n' => return Ok((most, i + 2)),
+            _ => {}
         }
-        let letter = line[i].to_ascii_uppercase();
+        let letter = at(i).to_ascii_uppercase();
         if !letter.is_ascii_uppercase() || letter == b'O' {
-            return None;
+            return Err(());
         }
         // Blanks, a sign, digits, and a point with digits after it.
         i += 1;
         while blank(i) {
             i += 1;
         }
-        if i < n && matches!(line[i], b'+' | b'-') {
+        if matches!(at(i), b'+' | b'-') {
             i += 1;
         }
         let whole = i;
@@ -1318,7 +1332,7 @@ fn plain_words_decimals(line: &[u8]) -> Option<usize> {
         }
         let whole_end = i;
         let mut decimals = 0;
-        if i < n && line[i] == b'.' {
+        if at(i) == b'.' {
             i += 1;
             let fraction = i;
             while digit(i) {
@@ -1326,20 +1340,19 @@ fn plain_words_decimals(line: &[u8]) -> Option<usize> {
             }
             decimals = i - fraction;
         }
-        if i == whole || (i < n && line[i] == b'.') {
-            return None;
+        if i == whole || at(i) == b'.' {
+            return Err(());
         }
         // M98, M99 and G65 call (with any zeros before them).
-        let code = &line[whole..whole_end];
+        let code = &text[whole..whole_end];
         let code = &code[code.iter().take_while(|&&b| b == b'0').count()..];
         if matches!((letter, code), (b'M', b"98" | b"99") | (b'G', b"65")) {
-            return None;
+            return Err(());
         }
         if COORDINATE[usize::from(letter)] {
             most = most.max(decimals);
         }
     }
-    Some(most)
 }
 
 /// The printed text is written out once there is this much of it.
@@ -1506,10 +1519,27 @@ mod tests {
 
     /// The scan's one-pass reading of a line says what the two do.
     fn agrees(line: &str) {
-        if let Some(most) = plain_words_decimals(line.as_bytes()) {
-            assert!(chunk::plain_line(line), "{line:?} is not plain");
-            assert_eq!(most, input_decimals(line), "{line:?}");
+        for end in ["", "\n", "\r\n"] {
+            // The next line must not count.
+            let next_line = if end.is_empty() {
+                ""
+            } else {
+                "G1 X1.1234567\n"
+            };
+            let text = format!("{line}{end}{next_line}");
+            if let Ok((most, next)) = plain_words_decimals(text.as_bytes(), 0) {
+                assert!(chunk::plain_line(line), "{line:?} is not plain");
+                assert_eq!(most, input_decimals(line), "{line:?}");
+                assert_eq!(next, line.len() + end.len(), "{line:?}");
+            }
         }
+    }
+
+    /// The decimals of a line, alone, or `None`.
+    fn line_decimals(line: &[u8]) -> Option<usize> {
+        super::plain_words_decimals(line, 0)
+            .ok()
+            .map(|(most, _)| most)
     }
 
     #[test]
@@ -1537,14 +1567,14 @@ mod tests {
         ] {
             agrees(line);
         }
-        assert_eq!(plain_words_decimals(b"G1 X1.234 Y-0.5 Z+.25"), Some(3));
+        assert_eq!(line_decimals(b"G1 X1.234 Y-0.5 Z+.25"), Some(3));
         // Two points: left to the two it stands for.
-        assert_eq!(plain_words_decimals(b"X1.2.345"), None);
-        assert_eq!(plain_words_decimals(b"g0065 X1"), None);
-        assert_eq!(plain_words_decimals(b"M0098.5"), None);
-        assert_eq!(plain_words_decimals(b"M980 X1.25"), Some(2));
-        assert_eq!(plain_words_decimals(b"M98 P100"), None);
-        assert_eq!(plain_words_decimals(b"G1 X1 (c)"), None);
+        assert_eq!(line_decimals(b"X1.2.345"), None);
+        assert_eq!(line_decimals(b"g0065 X1"), None);
+        assert_eq!(line_decimals(b"M0098.5"), None);
+        assert_eq!(line_decimals(b"M980 X1.25"), Some(2));
+        assert_eq!(line_decimals(b"M98 P100"), None);
+        assert_eq!(line_decimals(b"G1 X1 (c)"), None);
     }
 
     proptest! {
