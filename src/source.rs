@@ -160,6 +160,11 @@ impl Locator {
         self.file
     }
 
+    /// How many line ends the text has.
+    pub fn line_ends(&self) -> usize {
+        self.lines.line_ends()
+    }
+
     pub fn span(&self, start: usize, end: usize) -> Span {
         let line = self.lines_before + self.lines.line(start as u32);
         self.span_on_line(line as u32, start, end)
@@ -188,6 +193,11 @@ impl LineIndex {
                 .map(|(i, _)| i as u32 + 1),
         );
         LineIndex { starts }
+    }
+
+    /// How many line ends the text has.
+    pub fn line_ends(&self) -> usize {
+        self.starts.len() - 1
     }
 
     /// 1-based line of a byte offset.

@@ -38,6 +38,10 @@ impl AbsolutePass {
     }
 
     fn lower_move(&mut self, m: &mut ir::Move, span: Span) -> Result<(), LowerError> {
+        if m.arc.is_none() && self.at.distance == Distance::Absolute {
+            // The common case, without copies of the position.
+            return self.at.move_absolute(&m.to, span);
+        }
         let end = self.at.end_of(&m.to, "an incremental move", span)?;
         if let Some(arc) = &mut m.arc {
             let center = resolve_arc(

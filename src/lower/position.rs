@@ -78,6 +78,20 @@ impl Tracker {
         Ok(end)
     }
 
+    /// [`Tracker::end_of`] under G90, made the position: the same error,
+    /// or the axes' values are where the tool is.
+    pub fn move_absolute(&mut self, to: &Axes, span: Span) -> Result<(), LowerError> {
+        debug_assert!(self.distance == Distance::Absolute);
+        if let Some((axis, value)) = to.iter().find(|&(_, v)| !ir::is_position(v)) {
+            let kind = LowerErrorKind::PositionOutOfRange { axis, value };
+            return Err(LowerError::new(kind, span));
+        }
+        for (axis, v) in to.iter() {
+            self.position[axis.index()] = Some(v);
+        }
+        Ok(())
+    }
+
     /// Follow a statement that is not a cycle, without checking it (the
     /// absolute pass checks): an axis whose end is in doubt is unknown.
     pub fn follow(&mut self, op: &Op, span: Span) {
@@ -87,20 +101,16 @@ impl Tracker {
             Op::Move(m) => {
                 // [`Tracker::end_of`] without its error, in place.
                 let incremental = self.distance == Distance::Incremental;
-                let mut end: Position = [None; Axis::ALL.len()];
+                let end = |position: Option<f64>, v: f64| match incremental {
+                    true => position.map(|p| p + v),
+                    false => Some(v),
+                };
+                let known = m.to.iter().all(|(axis, v)| {
+                    end(self.position[axis.index()], v).is_some_and(ir::is_position)
+                });
                 for (axis, v) in m.to.iter() {
                     let i = axis.index();
-                    end[i] = match self.position[i] {
-                        Some(p) if incremental => Some(p + v),
-                        None if incremental => None,
-                        _ => Some(v),
-                    }
-                    .filter(|&e| ir::is_position(e));
-                }
-                let known = m.to.iter().all(|(axis, _)| end[axis.index()].is_some());
-                for (axis, _) in m.to.iter() {
-                    let i = axis.index();
-                    self.position[i] = if known { end[i] } else { None };
+                    self.position[i] = end(self.position[i], v).filter(|_| known);
                 }
             }
             _ => self.forget_after(op, span),
