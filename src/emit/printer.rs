@@ -22,9 +22,6 @@ pub(super) struct Printer {
     scale: f64,
     main_file: u32,
     seq: u64,
-    /// The `N… ` of source line `numbered_at`.
-    number: Vec<u8>,
-    numbered_at: Option<u32>,
     /// The arc plane as printed so far.
     pub plane: ir::Plane,
     /// The tool of the last T word, for targets that name it at M6.
@@ -61,8 +58,6 @@ impl Printer {
             scale: 10f64.powi(decimals as i32),
             main_file: main_file as u32,
             seq: 0,
-            number: Vec::with_capacity(16),
-            numbered_at: None,
             plane: ir::Plane::XY,
             selected_tool: None,
         }
@@ -98,15 +93,9 @@ impl Printer {
         }
         match self.numbering {
             Numbering::Source if span.file == self.main_file && span.line > 0 => {
-                // A loop prints many lines from one source line.
-                if self.numbered_at != Some(span.line) {
-                    self.number.clear();
-                    self.number.push(b'N');
-                    push_int(&mut self.number, span.line as i64);
-                    self.number.push(b' ');
-                    self.numbered_at = Some(span.line);
-                }
-                self.out.extend_from_slice(&self.number);
+                self.out.push(b'N');
+                push_int(&mut self.out, i64::from(span.line));
+                self.out.push(b' ');
             }
             Numbering::Seq => self.seq_number(),
             Numbering::Source | Numbering::None => {}
