@@ -33,6 +33,17 @@ fn digits_before(buf: &mut [u8], mut end: usize, mut n: u64) -> usize {
     end
 }
 
+/// 10^0 to 10^18.
+const TENS: [u64; 19] = {
+    let mut tens = [1u64; 19];
+    let mut i = 1;
+    while i < 19 {
+        tens[i] = tens[i - 1] * 10;
+        i += 1;
+    }
+    tens
+};
+
 /// "00" to "99".
 const PAIRS: &[u8; 200] = b"0001020304050607080910111213141516171819\
 2021222324252627282930313233343536373839\
@@ -81,7 +92,7 @@ pub fn push_scaled(out: &mut Vec<u8>, q: i64, decimals: usize) {
     let mut n = q.unsigned_abs();
     let decimals = decimals.min(18);
     if decimals > 0 {
-        let scale = 10u64.pow(decimals as u32);
+        let scale = TENS[decimals];
         let (mut fraction, mut width) = (n % scale, decimals);
         n /= scale;
         if fraction != 0 {
@@ -90,10 +101,11 @@ pub fn push_scaled(out: &mut Vec<u8>, q: i64, decimals: usize) {
                 width -= 1;
             }
             // `width` digits, the leading ones zeros.
-            let start = i - width;
-            i = digits_before(&mut buf, i, fraction);
-            buf[start..i].fill(b'0');
-            i = start;
+            for _ in 0..width {
+                i -= 1;
+                buf[i] = b'0' + (fraction % 10) as u8;
+                fraction /= 10;
+            }
         }
     }
     i -= 1;

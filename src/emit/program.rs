@@ -155,7 +155,7 @@ impl ProgramPrinter {
             std::array::from_fn(|i| m.to.get(Axis::ALL[i]).map(|v| self.p.scaled(v)));
         let arc = m.arc.filter(|_| m.motion.is_arc());
         let Some(ArcGeometry::Center(c)) = arc.map(|a| a.geometry) else {
-            return self.linear(stmt, m.motion, end_q);
+            return self.linear(stmt, m.motion, &end_q);
         };
         let turns = arc.map_or(1, |a| a.turns);
         let start: Point = std::array::from_fn(|i| self.position[i].unwrap_or(0.0));
@@ -241,7 +241,7 @@ impl ProgramPrinter {
                 let from = self.position[i].unwrap_or(to);
                 Some(self.p.scaled(from + (to - from) * fraction))
             });
-            self.linear(stmt, Motion::Linear, q);
+            self.linear(stmt, Motion::Linear, &q);
         }
     }
 
@@ -320,18 +320,24 @@ impl ProgramPrinter {
     }
 
     /// A straight move to the known axes of `end_q`; nothing if none changed.
-    fn linear(&mut self, stmt: &ir::Stmt, motion: Motion, end_q: [Option<i64>; 9]) {
-        let changed: [bool; 9] =
-            std::array::from_fn(|i| end_q[i].is_some() && end_q[i] != self.printed[i]);
-        if !changed.iter().any(|&c| c) {
+    fn linear(&mut self, stmt: &ir::Stmt, motion: Motion, end_q: &[Option<i64>; 9]) {
+        // The axes to write, a bit each, in printing order.
+        let mut changed = 0u16;
+        for (i, q) in end_q.iter().enumerate() {
+            if q.is_some() && *q != self.printed[i] {
+                changed |= 1 << i;
+            }
+        }
+        if changed == 0 {
             return;
         }
         self.p.begin(stmt.span, stmt.block_delete);
         self.p.code(motion_code(motion));
-        for axis in Axis::ALL {
-            let i = axis.index();
-            if let (true, Some(q)) = (changed[i], end_q[i]) {
-                self.p.word_q(axis.letter(), q);
+        while changed != 0 {
+            let i = changed.trailing_zeros() as usize;
+            changed &= changed - 1;
+            if let Some(q) = end_q[i] {
+                self.p.word_q(Axis::ALL[i].letter(), q);
                 self.printed[i] = Some(q);
             }
         }
