@@ -151,8 +151,10 @@ impl ProgramPrinter {
     /// A move: the absolute pass guarantees that an arc's plane axes are
     /// known and that its centre is given.
     fn final_move(&mut self, stmt: &ir::Stmt, m: &ir::Move) {
-        let end_q: [Option<i64>; 9] =
-            std::array::from_fn(|i| m.to.get(Axis::ALL[i]).map(|v| self.p.scaled(v)));
+        let mut end_q: [Option<i64>; 9] = [None; 9];
+        for (axis, v) in m.to.iter() {
+            end_q[axis.index()] = Some(self.p.scaled(v));
+        }
         let arc = m.arc.filter(|_| m.motion.is_arc());
         let Some(ArcGeometry::Center(c)) = arc.map(|a| a.geometry) else {
             return self.linear(stmt, m.motion, &end_q);

@@ -1677,16 +1677,14 @@ pub(crate) fn plain_words(
 ) -> bool {
     let bytes = &text.as_bytes()[..end];
     let before = words.len();
-    let blank = |b: u8| matches!(b, b' ' | b'\t' | b'\r' | b'\x0c');
     let mut i = start;
     loop {
-        while i < end && blank(bytes[i]) {
+        while let Some(b' ' | b'\t' | b'\r' | b'\x0c') = bytes.get(i) {
             i += 1;
         }
-        if i == end {
+        let Some(&letter) = bytes.get(i) else {
             break;
-        }
-        let letter = bytes[i];
+        };
         // What follows a number is a blank, the next word's letter, or
         // refused here.
         let number = match decimal_after(text, i + 1, end) {
@@ -1719,21 +1717,21 @@ pub(crate) fn plain_words(
 /// pass: its value, integer digits, whether it has a point, and its end.
 /// `None` where [`WordNumber::is_decimal`] is false.
 fn decimal_after(text: &str, from: usize, end: usize) -> Option<(f64, u8, bool, usize)> {
-    let bytes = text.as_bytes();
+    // One bounds check a byte: the slice ends where the number must.
+    let bytes = &text.as_bytes()[..end];
     let mut i = from;
-    while i < end && matches!(bytes[i], b' ' | b'\t') {
+    while let Some(b' ' | b'\t') = bytes.get(i) {
         i += 1;
     }
     let sign = i;
-    let negative = i < end && bytes[i] == b'-';
-    if i < end && matches!(bytes[i], b'+' | b'-') {
+    let negative = bytes.get(i) == Some(&b'-');
+    if let Some(b'+' | b'-') = bytes.get(i) {
         i += 1;
     }
     let mut mantissa: u64 = 0;
     let mut count = 0usize;
     let mut point: Option<usize> = None;
-    while i < end {
-        let b = bytes[i];
+    while let Some(&b) = bytes.get(i) {
         if b.is_ascii_digit() {
             mantissa = mantissa.wrapping_mul(10).wrapping_add(u64::from(b - b'0'));
             count += 1;
