@@ -1301,7 +1301,6 @@ fn input_decimals(text: &str) -> usize {
 fn plain_words_decimals(text: &[u8], start: usize) -> Result<(usize, usize), ()> {
     let at = |i: usize| text.get(i).copied().unwrap_or(b'\n');
     let blank = |i: usize| matches!(at(i), b' ' | b'\t');
-    let digit = |i: usize| at(i).is_ascii_digit();
     let (mut i, mut most) = (start, 0);
     loop {
         match at(i) {
@@ -1325,16 +1324,17 @@ fn plain_words_decimals(text: &[u8], start: usize) -> Result<(usize, usize), ()>
         if matches!(at(i), b'+' | b'-') {
             i += 1;
         }
-        let whole = i;
-        while digit(i) {
+        // The whole part's value (up to 1000) says whether it calls.
+        let (whole, mut code) = (i, 0u32);
+        while let Some(&b @ b'0'..=b'9') = text.get(i) {
+            code = (code * 10 + u32::from(b - b'0')).min(1000);
             i += 1;
         }
-        let whole_end = i;
         let mut decimals = 0;
         if at(i) == b'.' {
             i += 1;
             let fraction = i;
-            while digit(i) {
+            while let Some(b'0'..=b'9') = text.get(i) {
                 i += 1;
             }
             decimals = i - fraction;
@@ -1342,10 +1342,8 @@ fn plain_words_decimals(text: &[u8], start: usize) -> Result<(usize, usize), ()>
         if i == whole || at(i) == b'.' {
             return Err(());
         }
-        // M98, M99 and G65 call (with any zeros before them).
-        let code = &text[whole..whole_end];
-        let code = &code[code.iter().take_while(|&&b| b == b'0').count()..];
-        if matches!((letter, code), (b'M', b"98" | b"99") | (b'G', b"65")) {
+        // M98, M99 and G65 call (however many zeros before them).
+        if matches!((letter, code), (b'M', 98 | 99) | (b'G', 65)) {
             return Err(());
         }
         if COORDINATE[usize::from(letter)] {

@@ -165,6 +165,11 @@ impl Locator {
         self.lines.line_ends()
     }
 
+    /// Where each line of the text starts: 0, then after each line end.
+    pub fn line_starts(&self) -> &[u32] {
+        &self.lines.starts
+    }
+
     pub fn span(&self, start: usize, end: usize) -> Span {
         let line = self.lines_before + self.lines.line(start as u32);
         self.span_on_line(line as u32, start, end)

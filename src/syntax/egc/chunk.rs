@@ -381,11 +381,13 @@ pub fn parse_chunk(
     // Lines from `waiting` on are for the parser, not yet parsed.
     let (mut waiting, mut line) = (range.start, range.start);
     let mut number = at.span(line, line).line;
+    // The line ends, from the part's line index (a start is after one).
+    let starts = at.line_starts();
+    let mut after = starts[starts.partition_point(|&s| s as usize <= line)..].iter();
     while line < range.end {
-        let line_end = text.as_bytes()[line..range.end]
-            .iter()
-            .position(|&b| b == b'\n')
-            .map_or(range.end, |i| line + i);
+        let line_end = after
+            .next()
+            .map_or(range.end, |&s| (s as usize - 1).min(range.end));
         words.clear();
         if lexer::plain_words(text, line, line_end, &mut words) {
             parse(waiting, line, &mut stmts);
