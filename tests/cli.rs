@@ -319,6 +319,27 @@ fn a_plain_program_compiled_to_a_file_is_read_in_parts() {
 /// a subroutine written after the call) is compiled whole instead, from the
 /// start: the file and the diagnostics are those of a compile to standard
 /// output, said once.
+/// An output of megabytes, synced to the disk while it is written (each
+/// megabyte, on a thread): the file holds what standard output gets.
+#[test]
+fn a_long_output_written_to_a_file_is_whole() {
+    let dir = scratch("long-output");
+    let egc = "G21 G90 G17\nG0 X0 Y0 Z2\nG1 Z-1 F300\nIi = 0\n\
+               while (Ii < 120000) {\n  G1 X<Ii % 997 * 0.013> Y<Ii % 89 * 0.7>\n  Ii = Ii + 1\n}\n\
+               G0 Z5\nM30\n";
+    std::fs::write(dir.join("long.egc"), egc).unwrap();
+    let to_stdout = ger(&["compile", "long.egc"], &dir);
+    assert_eq!(to_stdout.status.code(), Some(0));
+    assert!(
+        to_stdout.stdout.len() > 2 << 20,
+        "{}",
+        to_stdout.stdout.len()
+    );
+    let to_file = ger(&["compile", "long.egc", "-o", "long.nc"], &dir);
+    assert_eq!(to_file.status.code(), Some(0));
+    assert!(std::fs::read(dir.join("long.nc")).unwrap() == to_stdout.stdout);
+}
+
 #[test]
 fn any_program_compiled_to_a_file_is_read_in_parts_or_whole() {
     let dir = scratch("any-parts");
