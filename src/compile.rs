@@ -973,9 +973,10 @@ fn scan_lines(mut blocks: RawBlocks<'_>) -> std::io::Result<Option<FileScan>> {
     while let Some(bytes) = blocks.next()? {
         // A control character, or a CR not before a LF (even at the end),
         // which is a line end to `decode`.
-        let control = bytes
-            .iter()
-            .any(|&b| b < 0x20 && !matches!(b, b'\n' | b'\r' | b'\t'));
+        // (Folded without a stop at the first: it vectorises.)
+        let control = bytes.iter().fold(false, |control, &b| {
+            control | (b < 0x20 && b != b'\n' && b != b'\r' && b != b'\t')
+        });
         let lone_cr = || {
             let mut at = bytes.iter().enumerate();
             at.any(|(i, &b)| b == b'\r' && bytes.get(i + 1) != Some(&b'\n'))
