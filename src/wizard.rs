@@ -195,41 +195,50 @@ impl Session {
     }
 }
 
-/// The wizard engine: one per compile.
+/// The wizard engine: one per compile. Its Rhai engine is built at the
+/// first wizard call (a third of a millisecond: most programs call none).
 pub struct WizardEngine {
-    engine: Engine,
+    engine: std::cell::OnceCell<Engine>,
     library: Rc<Library>,
     session: Rc<RefCell<Session>>,
 }
 
 impl WizardEngine {
     pub fn new(library: Library) -> WizardEngine {
-        let library = Rc::new(library);
-        let session = Rc::new(RefCell::new(Session::default()));
-        let mut engine = Engine::new();
-        engine
-            .set_max_operations(MAX_OPERATIONS)
-            .set_max_call_levels(MAX_CALL_LEVELS)
-            .set_max_string_size(MAX_STRING)
-            .set_max_array_size(MAX_ARRAY)
-            .set_max_map_size(MAX_ARRAY)
-            .set_max_expr_depths(64, 32)
-            .set_module_resolver(rhai::module_resolvers::DummyModuleResolver::new());
-        engine.disable_symbol("eval");
-        engine.on_print(|_| {});
-        engine.on_debug(|_, _, _| {});
-        register_api(&mut engine, &session, &library);
-        register_prelude(&mut engine);
         WizardEngine {
-            engine,
-            library,
-            session,
+            engine: std::cell::OnceCell::new(),
+            library: Rc::new(library),
+            session: Rc::new(RefCell::new(Session::default())),
         }
+    }
+
+    fn engine(&self) -> &Engine {
+        self.engine
+            .get_or_init(|| rhai_engine(&self.session, &self.library))
     }
 
     pub fn library(&self) -> &Library {
         &self.library
     }
+}
+
+/// A Rhai engine with the wizard API and its limits.
+fn rhai_engine(session: &Rc<RefCell<Session>>, library: &Rc<Library>) -> Engine {
+    let mut engine = Engine::new();
+    engine
+        .set_max_operations(MAX_OPERATIONS)
+        .set_max_call_levels(MAX_CALL_LEVELS)
+        .set_max_string_size(MAX_STRING)
+        .set_max_array_size(MAX_ARRAY)
+        .set_max_map_size(MAX_ARRAY)
+        .set_max_expr_depths(64, 32)
+        .set_module_resolver(rhai::module_resolvers::DummyModuleResolver::new());
+    engine.disable_symbol("eval");
+    engine.on_print(|_| {});
+    engine.on_debug(|_, _, _| {});
+    register_api(&mut engine, session, library);
+    register_prelude(&mut engine);
+    engine
 }
 
 /// The API of `stdlib/README.md`, in four groups.
@@ -613,7 +622,7 @@ impl WizardEngine {
             }
         };
         let ast = wizard
-            .compiled(&self.engine)
+            .compiled(self.engine())
             .map_err(|e| vec![e.to_diagnostic().with_secondary(call.span, "called here")])?;
         let values: Array = args
             .iter()
@@ -647,7 +656,7 @@ impl WizardEngine {
                 actions: Vec::new(),
             };
         }
-        let result = self.engine.run_ast_with_scope(&mut scope, &ast);
+        let result = self.engine().run_ast_with_scope(&mut scope, &ast);
         let actions = std::mem::take(&mut self.session.borrow_mut().actions);
         if let Err(e) = result {
             let (line, message) = innermost(&e);
