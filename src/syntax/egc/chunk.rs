@@ -93,7 +93,7 @@ pub fn plain_line(line: &str) -> bool {
 /// The end of the word whose letter is `bytes[at]`, when it is a plain
 /// word (a letter, spaces, a signed decimal number) that is none of `O`,
 /// `M98`, `M99`, `G65`.
-pub(crate) fn plain_word(bytes: &[u8], at: usize) -> Option<usize> {
+fn plain_word(bytes: &[u8], at: usize) -> Option<usize> {
     let letter = bytes[at].to_ascii_uppercase();
     if letter == b'O' {
         return None;
