@@ -747,28 +747,46 @@ impl<'a> RawBlocks<'a> {
 
     /// The next lines with their line ends; `None` at the end of the file.
     fn next(&mut self) -> std::io::Result<Option<&[u8]>> {
-        let want = chunk::CHUNK_BYTES;
         self.block.clear();
-        while self.block.len() < want {
-            let buf = self.reader.fill_buf()?;
-            if buf.is_empty() {
-                break;
-            }
-            let take = buf.len().min(want - self.block.len());
-            self.block.extend_from_slice(&buf[..take]);
-            self.reader.consume(take);
-        }
-        if !self.block.is_empty() && !self.block.ends_with(b"\n") {
-            self.reader.read_until(b'\n', &mut self.block)?;
-        }
-        if self.block.is_empty() {
-            return Ok(None);
-        }
-        if std::mem::take(&mut self.first) {
-            source::drop_bom(&mut self.block);
-        }
-        Ok(Some(&self.block))
+        let read = read_lines(
+            self.reader,
+            chunk::CHUNK_BYTES,
+            &mut self.first,
+            &mut self.block,
+        )?;
+        Ok(read.then_some(&self.block[..]))
     }
+}
+
+/// Append to `bytes` the next lines of `reader`, up to the one with the
+/// `want`th byte; the first lines of a file (`first`) without a byte-order
+/// mark. `false` at the end of the file.
+fn read_lines(
+    reader: &mut dyn std::io::BufRead,
+    want: usize,
+    first: &mut bool,
+    bytes: &mut Vec<u8>,
+) -> std::io::Result<bool> {
+    let start = bytes.len();
+    while bytes.len() - start < want {
+        let block = reader.fill_buf()?;
+        if block.is_empty() {
+            break;
+        }
+        let take = block.len().min(want - (bytes.len() - start));
+        bytes.extend_from_slice(&block[..take]);
+        reader.consume(take);
+    }
+    if bytes.len() == start {
+        return Ok(false);
+    }
+    if !bytes.ends_with(b"\n") {
+        reader.read_until(b'\n', bytes)?;
+    }
+    if std::mem::take(first) {
+        source::drop_bom(bytes);
+    }
+    Ok(true)
 }
 
 /// Whole lines of a program, read from a file about
@@ -813,25 +831,8 @@ impl<'a> LineReader<'a> {
     /// `None` at the end of the file. Read in blocks.
     fn next_lines(&mut self, part: usize) -> std::io::Result<Option<String>> {
         let mut bytes = Vec::with_capacity(part + 256);
-        while bytes.len() < part {
-            let block = self.reader.fill_buf()?;
-            if block.is_empty() {
-                break;
-            }
-            let take = block.len().min(part - bytes.len());
-            bytes.extend_from_slice(&block[..take]);
-            self.reader.consume(take);
-        }
-        if !bytes.is_empty() && !bytes.ends_with(b"\n") {
-            self.reader.read_until(b'\n', &mut bytes)?;
-        }
-        if bytes.is_empty() {
-            return Ok(None);
-        }
-        if std::mem::take(&mut self.first) {
-            source::drop_bom(&mut bytes);
-        }
-        Ok(Some(source::decode_lines(bytes)))
+        let read = read_lines(self.reader, part, &mut self.first, &mut bytes)?;
+        Ok(read.then(|| source::decode_lines(bytes)))
     }
 }
 

@@ -86,10 +86,25 @@ impl Tracker {
             let kind = LowerErrorKind::PositionOutOfRange { axis, value };
             return Err(LowerError::new(kind, span));
         }
-        for (axis, v) in to.iter() {
-            self.position[axis.index()] = Some(v);
-        }
+        self.follow_move(to);
         Ok(())
+    }
+
+    /// [`Tracker::end_of`] without its error, in place: an axis whose end
+    /// is in doubt makes every axis of the move unknown.
+    fn follow_move(&mut self, to: &Axes) {
+        let incremental = self.distance == Distance::Incremental;
+        let end = |position: Option<f64>, v: f64| match incremental {
+            true => position.map(|p| p + v),
+            false => Some(v),
+        };
+        let known = to
+            .iter()
+            .all(|(axis, v)| end(self.position[axis.index()], v).is_some_and(ir::is_position));
+        for (axis, v) in to.iter() {
+            let i = axis.index();
+            self.position[i] = end(self.position[i], v).filter(|_| known);
+        }
     }
 
     /// Follow a statement that is not a cycle, without checking it (the
@@ -98,21 +113,7 @@ impl Tracker {
         match op {
             Op::Distance(d) => self.distance = *d,
             Op::Plane(p) => self.plane = *p,
-            Op::Move(m) => {
-                // [`Tracker::end_of`] without its error, in place.
-                let incremental = self.distance == Distance::Incremental;
-                let end = |position: Option<f64>, v: f64| match incremental {
-                    true => position.map(|p| p + v),
-                    false => Some(v),
-                };
-                let known = m.to.iter().all(|(axis, v)| {
-                    end(self.position[axis.index()], v).is_some_and(ir::is_position)
-                });
-                for (axis, v) in m.to.iter() {
-                    let i = axis.index();
-                    self.position[i] = end(self.position[i], v).filter(|_| known);
-                }
-            }
+            Op::Move(m) => self.follow_move(&m.to),
             _ => self.forget_after(op, span),
         }
     }
