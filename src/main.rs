@@ -10,7 +10,7 @@ use ger::emit::{ArcFormat, Numbering, Target};
 use ger::ir::Units;
 use ger::source::Sources;
 use ger::wizard::{standard_library, Library, WizardEngine, WizardSource};
-use std::io::{Read, Write};
+use std::io::{Read, Seek, Write};
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
@@ -623,10 +623,9 @@ fn run(
     // time, without holding its text; one found to need the whole program
     // (a call of a subprogram written further on, a `GOTO`) is then
     // compiled again, whole.
-    let streamed = match (write, output) {
-        (true, Some(_)) => streamable(input, options, stage),
-        _ => None,
-    };
+    // Standard output, and `ger check`, too: their output is held in an
+    // unnamed temporary file, or thrown away, not in memory.
+    let streamed = streamable(input, options, stage);
     if let Some(streamed) = streamed {
         if let Some(code) = compile_job(
             input,
@@ -672,7 +671,7 @@ fn compile_job(
         timings: Vec::new(),
         write_error: Some(std::io::Error::other(why.to_string())),
     };
-    let compile = |out: &mut (dyn Write + Send)| match &streamed {
+    let mut compile = |out: &mut (dyn Write + Send)| match &streamed {
         Some(scan) => {
             let engine = Some(&mut *engine as &mut dyn ger::eval::WizardHost);
             match compile_from_file(input, scan, file, compile_options, engine, out) {
@@ -693,8 +692,19 @@ fn compile_job(
     // the program only once it is known to be whole (a pipe to a machine
     // must never see half of one).
     let mut text = Vec::new();
+    let mut held = None;
     let report = match (write, output) {
         (true, Some(path)) => write_atomically(path, compile),
+        (true, None) if streamed.is_some() => {
+            // Held in an unnamed file (memory bounded as with `-o`); with
+            // no temporary file to be had, compiled whole into memory.
+            let Ok(file) = tempfile::tempfile() else {
+                return None;
+            };
+            let file = held.insert(file);
+            compile(file)
+        }
+        (false, _) if streamed.is_some() => compile(&mut std::io::sink()),
         (true, None) => {
             // Held in memory: a program found to need a whole read part
             // way is compiled again into an emptied buffer.
@@ -727,7 +737,14 @@ fn compile_job(
         return Some(code);
     }
     if write && output.is_none() {
-        if let Err(e) = std::io::stdout().lock().write_all(&text) {
+        let written = match held {
+            Some(mut file) => file
+                .seek(std::io::SeekFrom::Start(0))
+                .and_then(|_| std::io::copy(&mut file, &mut std::io::stdout().lock()))
+                .map(|_| ()),
+            None => std::io::stdout().lock().write_all(&text),
+        };
+        if let Err(e) = written {
             eprintln!("error: cannot write output: {e}");
             return Some(ExitCode::from(2));
         }

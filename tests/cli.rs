@@ -18,6 +18,16 @@ fn ger(args: &[&str], cwd: &Path) -> Output {
         .expect("run ger")
 }
 
+/// `ger args` with the program read whole: a folder of subroutines (an
+/// empty one) is read before the program, which is then not compiled from
+/// its file a part at a time.
+fn ger_whole(args: &[&str], cwd: &Path) -> Output {
+    std::fs::create_dir_all(cwd.join("no-subroutines")).unwrap();
+    let mut whole = args.to_vec();
+    whole.extend(["--subroutines", "no-subroutines"]);
+    ger(&whole, cwd)
+}
+
 fn scratch(name: &str) -> PathBuf {
     let dir = std::env::temp_dir().join(format!("ger-cli-{}-{name}", std::process::id()));
     let _ = std::fs::remove_dir_all(&dir);
@@ -267,12 +277,13 @@ fn subroutine_folders() {
     assert_eq!(out.status.code(), Some(2));
 }
 
-/// A plain program written to a file is compiled from the file a part at a
-/// time (its text is not held): the same bytes as through standard output,
-/// its warnings shown with their lines (read again for them), and a syntax
-/// error far into it leaves the existing output alone. That this path is
-/// the one taken shows only in memory; `tests/streaming.rs` compiles from a
-/// reader directly.
+/// A plain program written to a file or to standard output, or checked,
+/// is compiled from the file a part at a time (its text is not held): the
+/// same bytes and warnings as from a whole read, its warnings shown with
+/// their lines (read again for them), and a syntax error far into it
+/// leaves the existing output alone and standard output empty. That this
+/// path is the one taken shows only in memory; `tests/streaming.rs`
+/// compiles from a reader directly.
 #[test]
 fn a_plain_program_compiled_to_a_file_is_read_in_parts() {
     let dir = scratch("plain-parts");
@@ -286,19 +297,21 @@ fn a_plain_program_compiled_to_a_file_is_read_in_parts() {
     }
     text.push_str("G0 Z5\nM30\n");
     std::fs::write(dir.join("long.ngc"), &text).unwrap();
+    let whole = ger_whole(&["compile", "long.ngc"], &dir);
+    assert!(whole.stdout.len() > 500_000, "{}", whole.stdout.len());
     let to_stdout = ger(&["compile", "long.ngc"], &dir);
+    assert_eq!(to_stdout.stdout, whole.stdout);
     let to_file = ger(&["compile", "long.ngc", "-o", "long.out"], &dir);
     assert_eq!(to_file.status.code(), Some(0));
-    assert_eq!(
-        std::fs::read(dir.join("long.out")).unwrap(),
-        to_stdout.stdout
-    );
+    assert_eq!(std::fs::read(dir.join("long.out")).unwrap(), whole.stdout);
     let warned = String::from_utf8_lossy(&to_file.stderr);
     assert!(
         warned.contains("G64 dropped") && warned.contains("2 │ G64 P0.01"),
         "{warned}"
     );
-    assert_eq!(warned, String::from_utf8_lossy(&to_stdout.stderr));
+    for other in [&whole, &to_stdout, &ger(&["check", "long.ngc"], &dir)] {
+        assert_eq!(warned, String::from_utf8_lossy(&other.stderr));
+    }
     // A number with two points near the end: an error at its line, and
     // the output of the earlier run stays.
     let broken = text.replace("X299.900", "X299.9.0");
@@ -307,20 +320,20 @@ fn a_plain_program_compiled_to_a_file_is_read_in_parts() {
     assert_eq!(failed.status.code(), Some(1));
     let said = String::from_utf8_lossy(&failed.stderr);
     assert!(said.contains("long.ngc:29995:4"), "{said}");
-    assert_eq!(
-        std::fs::read(dir.join("long.out")).unwrap(),
-        to_stdout.stdout
-    );
+    assert_eq!(std::fs::read(dir.join("long.out")).unwrap(), whole.stdout);
+    for failed in [
+        ger(&["compile", "long.ngc"], &dir),
+        ger(&["check", "long.ngc"], &dir),
+    ] {
+        assert_eq!(failed.status.code(), Some(1));
+        assert!(failed.stdout.is_empty(), "{} bytes", failed.stdout.len());
+        assert_eq!(String::from_utf8_lossy(&failed.stderr), said);
+    }
 }
 
-/// Any program written to a file is compiled from its file a part at a
-/// time, a loop body or an `if` in one part, a subroutine kept for the
-/// parts after it; one whose last part needs the whole program (it calls
-/// a subroutine written after the call) is compiled whole instead, from the
-/// start: the file and the diagnostics are those of a compile to standard
-/// output, said once.
 /// An output of megabytes, synced to the disk while it is written (each
-/// megabyte, on a thread): the file holds what standard output gets.
+/// megabyte, on a thread), or held aside for standard output: what a whole
+/// read gives.
 #[test]
 fn a_long_output_written_to_a_file_is_whole() {
     let dir = scratch("long-output");
@@ -328,18 +341,22 @@ fn a_long_output_written_to_a_file_is_whole() {
                while (Ii < 120000) {\n  G1 X<Ii % 997 * 0.013> Y<Ii % 89 * 0.7>\n  Ii = Ii + 1\n}\n\
                G0 Z5\nM30\n";
     std::fs::write(dir.join("long.egc"), egc).unwrap();
-    let to_stdout = ger(&["compile", "long.egc"], &dir);
-    assert_eq!(to_stdout.status.code(), Some(0));
-    assert!(
-        to_stdout.stdout.len() > 2 << 20,
-        "{}",
-        to_stdout.stdout.len()
-    );
+    let whole = ger_whole(&["compile", "long.egc"], &dir);
+    assert_eq!(whole.status.code(), Some(0));
+    assert!(whole.stdout.len() > 2 << 20, "{}", whole.stdout.len());
     let to_file = ger(&["compile", "long.egc", "-o", "long.nc"], &dir);
     assert_eq!(to_file.status.code(), Some(0));
-    assert!(std::fs::read(dir.join("long.nc")).unwrap() == to_stdout.stdout);
+    assert!(std::fs::read(dir.join("long.nc")).unwrap() == whole.stdout);
+    let to_stdout = ger(&["compile", "long.egc"], &dir);
+    assert!(to_stdout.stdout == whole.stdout);
 }
 
+/// Any program written to a file or to standard output is compiled from
+/// its file a part at a time, a loop body or an `if` in one part, a
+/// subroutine kept for the parts after it; one whose last part needs the
+/// whole program (it calls a subroutine written after the call) is compiled
+/// whole instead, from the start: the output and the diagnostics are those
+/// of a whole read, said once.
 #[test]
 fn any_program_compiled_to_a_file_is_read_in_parts_or_whole() {
     let dir = scratch("any-parts");
@@ -374,18 +391,22 @@ fn any_program_compiled_to_a_file_is_read_in_parts_or_whole() {
     let notes = "(the subroutine, written after the end of the program)\n".repeat(2_000);
     std::fs::write(dir.join("later.ngc"), later + &notes + sub).unwrap();
     for name in ["long.egc", "kept.ngc", "later.ngc"] {
-        let to_stdout = ger(&["compile", name], &dir);
-        assert_eq!(to_stdout.status.code(), Some(0), "{name}");
+        let whole = ger_whole(&["compile", name], &dir);
+        assert_eq!(whole.status.code(), Some(0), "{name}");
         let to_file = ger(&["compile", name, "-o", "long.out"], &dir);
         assert_eq!(to_file.status.code(), Some(0), "{name}");
         assert_eq!(
             std::fs::read(dir.join("long.out")).unwrap(),
-            to_stdout.stdout,
+            whole.stdout,
             "{name}"
         );
+        let to_stdout = ger(&["compile", name], &dir);
+        assert_eq!(to_stdout.stdout, whole.stdout, "{name}");
         let warned = String::from_utf8_lossy(&to_file.stderr);
         assert_eq!(warned.matches("G64 dropped").count(), 1, "{name}: {warned}");
-        assert_eq!(warned, String::from_utf8_lossy(&to_stdout.stderr), "{name}");
+        for other in [&whole, &to_stdout, &ger(&["check", name], &dir)] {
+            assert_eq!(warned, String::from_utf8_lossy(&other.stderr), "{name}");
+        }
     }
 }
 
