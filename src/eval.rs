@@ -785,7 +785,9 @@ impl<'a> Evaluator<'a> {
     }
 
     fn exec_line_in_order(&mut self, line: &ast::Line) -> Flow {
-        if let Some(stmts) = block::in_order(line) {
+        // Most lines have one code or none: their own order stands.
+        let two_codes = || line.words.iter().filter(|w| w.is_code()).nth(1).is_some();
+        if let Some(stmts) = two_codes().then(|| block::in_order(line)).flatten() {
             for s in &stmts {
                 let flow = self.exec_line_stmt(s.as_stmt());
                 if flow != Flow::Next {
@@ -1262,6 +1264,15 @@ impl<'w> WordValues<'w> {
             },
         };
         Some((self.values[i], word.span, written))
+    }
+
+    /// The value alone, taken (no span or spelling to look up).
+    fn take_value(&mut self, letter: u8) -> Option<f64> {
+        if !self.has(letter) {
+            return None;
+        }
+        self.present &= !Self::bit(letter);
+        Some(self.values[(letter - b'A') as usize])
     }
 
     fn has(&self, letter: u8) -> bool {

@@ -111,7 +111,18 @@ impl Evaluator<'_> {
     }
 
     /// The number a word stands for; symbolic words are evaluated.
+    #[inline]
     fn word_value(&mut self, w: &ast::Word) -> Option<f64> {
+        match &w.value {
+            // Most words: a number in range for any letter.
+            WordValue::Number(n) if ir::is_length(n.value) => Some(n.value),
+            _ => self.word_value_checked(w),
+        }
+    }
+
+    /// [`Self::word_value`] of any word.
+    #[cold]
+    fn word_value_checked(&mut self, w: &ast::Word) -> Option<f64> {
         let value = match &w.value {
             WordValue::Number(n) => n.value,
             WordValue::Expr(e) => {
@@ -224,7 +235,7 @@ impl Evaluator<'_> {
     ) -> Result<ir::Move, Diagnostic> {
         let to = axis_words(w);
         let arc = if motion.is_arc() {
-            let center: ir::Center = [b'I', b'J', b'K'].map(|l| w.take(l).map(|v| v.0));
+            let center: ir::Center = [b'I', b'J', b'K'].map(|l| w.take_value(l));
             let radius = w.take(b'R');
             let turns = match w.take(b'P') {
                 Some((p, pspan)) => {
@@ -709,7 +720,7 @@ const MACRO_ARGUMENTS: [(u8, u32); 21] = [
 fn axis_words(w: &mut WordValues) -> Axes {
     let mut axes = Axes::default();
     for axis in Axis::ALL {
-        if let Some((v, _)) = w.take(axis.letter()) {
+        if let Some(v) = w.take_value(axis.letter()) {
             axes.set(axis, v);
         }
     }
