@@ -87,7 +87,8 @@ pub fn push_fixed_bytes(out: &mut Vec<u8>, v: f64, decimals: usize) {
 /// trailing zeros dropped first), the point, the integer's digits (at least
 /// one) and the sign; then copied once.
 pub fn push_scaled(out: &mut Vec<u8>, q: i64, decimals: usize) {
-    let mut buf = [0u8; 48];
+    // Zeros: the fraction's leading ones are left in place.
+    let mut buf = [b'0'; 48];
     let mut i = buf.len();
     let mut n = q.unsigned_abs();
     let decimals = decimals.min(18);
@@ -96,16 +97,17 @@ pub fn push_scaled(out: &mut Vec<u8>, q: i64, decimals: usize) {
         let (mut fraction, mut width) = (n % scale, decimals);
         n /= scale;
         if fraction != 0 {
-            while fraction % 10 == 0 {
+            while fraction % 100 == 0 {
+                fraction /= 100;
+                width -= 2;
+            }
+            if fraction % 10 == 0 {
                 fraction /= 10;
                 width -= 1;
             }
             // `width` digits, the leading ones zeros.
-            for _ in 0..width {
-                i -= 1;
-                buf[i] = b'0' + (fraction % 10) as u8;
-                fraction /= 10;
-            }
+            digits_before(&mut buf, i, fraction);
+            i -= width;
         }
     }
     i -= 1;

@@ -155,6 +155,9 @@ impl Evaluator<'_> {
 
     /// F, S and T come first in any statement: `G1 X10 F100` feeds at 100.
     fn feed_speed_tool(&mut self, w: &mut WordValues, span: Span) -> Result<(), Diagnostic> {
+        if !w.has_any(b"FST") {
+            return Ok(());
+        }
         if let Some((f, fspan)) = w.take(b'F') {
             if f < 0.0 {
                 return Err(CodeError::new(K::NegativeFeed, fspan).into());

@@ -93,17 +93,24 @@ impl Tracker {
     /// [`Tracker::end_of`] without its error, in place: an axis whose end
     /// is in doubt makes every axis of the move unknown.
     fn follow_move(&mut self, to: &Axes) {
-        let incremental = self.distance == Distance::Incremental;
-        let end = |position: Option<f64>, v: f64| match incremental {
-            true => position.map(|p| p + v),
-            false => Some(v),
-        };
-        let known = to
-            .iter()
-            .all(|(axis, v)| end(self.position[axis.index()], v).is_some_and(ir::is_position));
-        for (axis, v) in to.iter() {
-            let i = axis.index();
-            self.position[i] = end(self.position[i], v).filter(|_| known);
+        let position = &mut self.position;
+        match self.distance {
+            Distance::Absolute => {
+                let known = to.iter().all(|(_, v)| ir::is_position(v));
+                for (axis, v) in to.iter() {
+                    position[axis.index()] = known.then_some(v);
+                }
+            }
+            Distance::Incremental => {
+                let end = |p: Option<f64>, v: f64| p.map(|p| p + v);
+                let known = to
+                    .iter()
+                    .all(|(a, v)| end(position[a.index()], v).is_some_and(ir::is_position));
+                for (axis, v) in to.iter() {
+                    let i = axis.index();
+                    position[i] = end(position[i], v).filter(|_| known);
+                }
+            }
         }
     }
 
