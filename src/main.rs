@@ -718,7 +718,10 @@ fn compile_job(
             ger::compile::check(sources, file, compile_options, engine)
         }
     };
-    if whole {
+    // A temporary file that could not be written (a full `/tmp`): the
+    // program is compiled again, into memory.
+    let held_failed = held.is_some() && report.write_error.is_some();
+    if whole || (held_failed && read_error.is_none()) {
         return None;
     }
     if let Some(e) = read_error {

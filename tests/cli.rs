@@ -301,6 +301,15 @@ fn a_plain_program_compiled_to_a_file_is_read_in_parts() {
     assert!(whole.stdout.len() > 500_000, "{}", whole.stdout.len());
     let to_stdout = ger(&["compile", "long.ngc"], &dir);
     assert_eq!(to_stdout.stdout, whole.stdout);
+    // No temporary file to be had: held in memory instead.
+    let no_tmp = Command::new(env!("CARGO_BIN_EXE_ger"))
+        .args(["compile", "long.ngc"])
+        .current_dir(&dir)
+        .env("TMPDIR", dir.join("missing"))
+        .output()
+        .unwrap();
+    assert_eq!(no_tmp.status.code(), Some(0));
+    assert_eq!(no_tmp.stdout, whole.stdout);
     let to_file = ger(&["compile", "long.ngc", "-o", "long.out"], &dir);
     assert_eq!(to_file.status.code(), Some(0));
     assert_eq!(std::fs::read(dir.join("long.out")).unwrap(), whole.stdout);
