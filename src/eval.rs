@@ -785,9 +785,7 @@ impl<'a> Evaluator<'a> {
     }
 
     fn exec_line_in_order(&mut self, line: &ast::Line) -> Flow {
-        // Most lines have one code or none: their own order stands.
-        let two_codes = || line.words.iter().filter(|w| w.is_code()).nth(1).is_some();
-        if let Some(stmts) = two_codes().then(|| block::in_order(line)).flatten() {
+        if let Some(stmts) = block::in_order(line) {
             for s in &stmts {
                 let flow = self.exec_line_stmt(s.as_stmt());
                 if flow != Flow::Next {

@@ -31,9 +31,15 @@ impl Owned {
 /// The statements of `line` in rs274's order, or `None` when the line's
 /// own order stands (one code or none, two codes of one modal group, or a
 /// code ger does not place).
+#[inline]
 pub fn in_order(line: &Line) -> Option<Vec<Owned>> {
-    // Most lines have one code: no allocation for them.
+    // Most lines have one code: no call, no allocation for them.
     line.words.iter().filter(|w| w.is_code()).nth(1)?;
+    reordered(line)
+}
+
+/// [`in_order`] of a line with two codes or more.
+fn reordered(line: &Line) -> Option<Vec<Owned>> {
     let codes: Vec<&Word> = line.words.iter().filter(|w| w.is_code()).collect();
     let kinds: Vec<Kind> = codes.iter().map(|c| kind_of(c)).collect::<Option<_>>()?;
     for (i, kind) in kinds.iter().enumerate() {
