@@ -118,12 +118,16 @@ def main():
         print("plain 200k moves: ger %.3f s, rs274 %.3f s: %.1fx (goal >= 25x); "
               "awk %.4f s: ger / awk %.1f (goal <= 4)" % (tg, tr, tr / tg, ta, tg / ta))
         print("  ger peak memory: %.1f MB" % peak_mb([ger, "compile", plain, "-o", out]))
+        # As awk writes it: to standard output (held until whole, not synced).
+        ts = median([ger, "compile", plain], a.runs)
+        print("  to standard output: ger %.3f s: ger / awk %.1f" % (ts, ts / ta))
 
         big = write("big.ngc", plain_program(2_000_000))
         tb = median([ger, "compile", big, "-o", out], max(1, a.runs // 2))
         print("plain 2M moves: ger %.3f s (%.1fx the 200k time for 10x the moves); "
               "peak memory %.1f MB (goal <= 30 MB)"
               % (tb, tb / tg, peak_mb([ger, "compile", big, "-o", out])))
+        print("  to standard output: peak memory %.1f MB" % peak_mb([ger, "compile", big]))
 
         # Not plain: a variable (ger's own language), so read in parts cut
         # outside every block rather than line by line.

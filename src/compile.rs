@@ -612,10 +612,14 @@ enum PartSource<'a> {
         /// The subprograms of the parts read ([`chunk::cut_part`]).
         defined: Vec<u32>,
     },
-    /// Lines read from a file as they are needed (its text is never held).
+    /// Lines read from a file as they are needed (its text is never
+    /// held), as plain G-code, until a part is not
+    /// ([`chunk::parse_plain_chunk`]): then a [`PartSource::Program`].
     Reader(LineReader<'a>),
     /// A program that is not plain, read from a file a part at a time.
     Program(ProgramReader<'a>),
+    /// Only while one source gives way to another.
+    Done,
 }
 
 /// A program read a part at a time ([`chunk`]): each part is parsed
@@ -671,19 +675,32 @@ impl<'a> Parts<'a> {
                 )))
             }
             PartSource::Reader(reader) => match reader.next_part() {
-                Ok(Some((text, at))) => Some(no_subprograms(chunk::parse_chunk(
-                    &text,
-                    0..text.len(),
-                    &at,
-                    language,
-                    names,
-                ))),
+                Ok(Some((text, at))) => {
+                    let range = 0..text.len();
+                    match chunk::parse_plain_chunk(&text, range, &at, language, names) {
+                        Some(parsed) => Some(no_subprograms(parsed)),
+                        None => {
+                            // Not plain: this part and the rest are cut
+                            // where the program allows (what was parsed of
+                            // it is thrown away; nothing of it has run).
+                            let PartSource::Reader(reader) =
+                                std::mem::replace(&mut self.source, PartSource::Done)
+                            else {
+                                return None;
+                            };
+                            let program = ProgramReader::resume(reader, language, text, &at);
+                            self.source = PartSource::Program(program);
+                            self.parse_next(language, names)
+                        }
+                    }
+                }
                 Ok(None) => None,
                 Err(e) => {
                     self.read_error = Some(e);
                     None
                 }
             },
+            PartSource::Done => None,
             PartSource::TextCut { .. } | PartSource::Program(_) if self.whole => None,
             PartSource::TextCut { text, from, .. } if *from >= text.len() => None,
             PartSource::TextCut {
@@ -875,6 +892,22 @@ impl<'a> ProgramReader<'a> {
         }
     }
 
+    /// Go on from a part `lines` gave as plain (`text`, placed by `at`),
+    /// which is not: it is the text read from the last cut on.
+    fn resume(
+        lines: LineReader<'a>,
+        language: Language,
+        text: String,
+        at: &Locator,
+    ) -> ProgramReader<'a> {
+        ProgramReader {
+            base: lines.base - text.len(),
+            lines_before: lines.lines_before - at.line_ends(),
+            text,
+            ..ProgramReader::new(lines, language)
+        }
+    }
+
     /// The next part, parsed into `names`: its statements and diagnostics,
     /// or `Err` if the program must be read whole; `None` at the end of the
     /// file.
@@ -917,14 +950,12 @@ impl<'a> ProgramReader<'a> {
 }
 
 /// A program that can be compiled from a reader, a part at a time, without
-/// holding its text: its decoded length, the most decimals its numbers are
-/// written with, and whether it is plain (its every line one
-/// [`chunk::chunkable`] accepts).
+/// holding its text: its decoded length and the most decimals its numbers
+/// are written with ([`input_decimals`]).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct FileScan {
     pub len: usize,
     pub decimals: usize,
-    pub plain: bool,
 }
 
 /// Read a program through once: whether it can be compiled a part at a
@@ -962,7 +993,6 @@ pub fn scan_path(path: &std::path::Path) -> std::io::Result<Option<FileScan>> {
         (Some(a), Some(b)) => Some(FileScan {
             len: a.len + b.len,
             decimals: a.decimals.max(b.decimals),
-            plain: a.plain && b.plain,
         }),
         _ => None,
     })
@@ -970,7 +1000,7 @@ pub fn scan_path(path: &std::path::Path) -> std::io::Result<Option<FileScan>> {
 
 /// [`scan_file`] of the lines `lines` reads.
 fn scan_lines(mut blocks: RawBlocks<'_>) -> std::io::Result<Option<FileScan>> {
-    let (mut len, mut decimals, mut plain) = (0, 0, true);
+    let (mut len, mut decimals) = (0, 0);
     while let Some(bytes) = blocks.next()? {
         // A control character, or a CR not before a LF (even at the end),
         // which is a line end to `decode`.
@@ -994,31 +1024,10 @@ fn scan_lines(mut blocks: RawBlocks<'_>) -> std::io::Result<Option<FileScan>> {
                 &latin1
             }
         };
-        // Line by line, as `str::lines` cuts them.
-        let mut start = 0;
-        while start < text.len() {
-            match plain_words_decimals(text.as_bytes(), start) {
-                Ok((most, next)) => {
-                    decimals = decimals.max(most);
-                    start = next;
-                }
-                Err(()) => {
-                    let end = text[start..].find('\n').map_or(text.len(), |i| start + i);
-                    let line = &text[start..end];
-                    let line = line.strip_suffix('\r').unwrap_or(line);
-                    plain = plain && chunk::plain_line(line);
-                    decimals = decimals.max(input_decimals(line));
-                    start = end + 1;
-                }
-            }
-        }
+        decimals = decimals.max(input_decimals(text));
         len += text.len();
     }
-    Ok(Some(FileScan {
-        len,
-        decimals,
-        plain,
-    }))
+    Ok(Some(FileScan { len, decimals }))
 }
 
 /// Compile a program from `reader`, a part at a time, as file `file`
@@ -1045,7 +1054,8 @@ pub fn compile_file(
     let eval_options = options.eval_options(from, language);
     let backend = Backend::new(SourceFacts::Known(scan), file, options, Output::Text(out));
     let lines = LineReader::new(reader, file);
-    let mut parts = Parts::new(match scan.plain && language == Language::Gcode {
+    // G-code is read as plain until a part is found not to be.
+    let mut parts = Parts::new(match language == Language::Gcode {
         true => PartSource::Reader(lines),
         false => PartSource::Program(ProgramReader::new(lines, language)),
     });
@@ -1265,8 +1275,10 @@ const COORDINATE: [bool; 256] = {
 };
 
 /// The most decimals any coordinate word (X Y Z I J K R, and the other
-/// axes) of the source has: one pass over its bytes. A word inside a
-/// comment counts too, which can only add precision.
+/// axes) of the source has: one pass over its bytes, reading forward from
+/// each coordinate letter (blanks and signs, digits, a point, the
+/// decimals). A word inside a comment counts too, which can only add
+/// precision.
 fn input_decimals(text: &str) -> usize {
     let bytes = text.as_bytes();
     let mut most = 0;
@@ -1293,65 +1305,6 @@ fn input_decimals(text: &str) -> usize {
         }
     }
     most
-}
-
-/// [`input_decimals`] of the line of `text` at `start` when it has plain
-/// words and blanks only, which [`chunk::plain_line`] takes, and where the
-/// next line starts; `Err` for any other line (a comment, a command, a
-/// word that is not plain or not simple: `X1.2.3`, `X+-1`), which those
-/// two read. One pass over the line where they make two.
-fn plain_words_decimals(text: &[u8], start: usize) -> Result<(usize, usize), ()> {
-    let at = |i: usize| text.get(i).copied().unwrap_or(b'\n');
-    let blank = |i: usize| matches!(at(i), b' ' | b'\t');
-    let (mut i, mut most) = (start, 0);
-    loop {
-        match at(i) {
-            b' ' | b'\t' => {
-                i += 1;
-                continue;
-            }
-            b'\n' => return Ok((most, (i + 1).min(text.len()))),
-            b'\r' if at(i + 1) == b'\n' => return Ok((most, i + 2)),
-            _ => {}
-        }
-        let letter = at(i).to_ascii_uppercase();
-        if !letter.is_ascii_uppercase() || letter == b'O' {
-            return Err(());
-        }
-        // Blanks, a sign, digits, and a point with digits after it.
-        i += 1;
-        while blank(i) {
-            i += 1;
-        }
-        if matches!(at(i), b'+' | b'-') {
-            i += 1;
-        }
-        // The whole part's value (up to 1000) says whether it calls.
-        let (whole, mut code) = (i, 0u32);
-        while let Some(&b @ b'0'..=b'9') = text.get(i) {
-            code = (code * 10 + u32::from(b - b'0')).min(1000);
-            i += 1;
-        }
-        let mut decimals = 0;
-        if at(i) == b'.' {
-            i += 1;
-            let fraction = i;
-            while let Some(b'0'..=b'9') = text.get(i) {
-                i += 1;
-            }
-            decimals = i - fraction;
-        }
-        if i == whole || at(i) == b'.' {
-            return Err(());
-        }
-        // M98, M99 and G65 call (however many zeros before them).
-        if matches!((letter, code), (b'M', 98 | 99) | (b'G', 65)) {
-            return Err(());
-        }
-        if COORDINATE[usize::from(letter)] {
-            most = most.max(decimals);
-        }
-    }
 }
 
 /// The printed text is written out once there is this much of it.
@@ -1514,72 +1467,24 @@ fn print_and_write(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use proptest::prelude::*;
-
-    /// The scan's one-pass reading of a line says what the two do.
-    fn agrees(line: &str) {
-        for end in ["", "\n", "\r\n"] {
-            // The next line must not count.
-            let next_line = if end.is_empty() {
-                ""
-            } else {
-                "G1 X1.1234567\n"
-            };
-            let text = format!("{line}{end}{next_line}");
-            if let Ok((most, next)) = plain_words_decimals(text.as_bytes(), 0) {
-                assert!(chunk::plain_line(line), "{line:?} is not plain");
-                assert_eq!(most, input_decimals(line), "{line:?}");
-                assert_eq!(next, line.len() + end.len(), "{line:?}");
-            }
-        }
-    }
-
-    /// The decimals of a line, alone, or `None`.
-    fn line_decimals(line: &[u8]) -> Option<usize> {
-        super::plain_words_decimals(line, 0)
-            .ok()
-            .map(|(most, _)| most)
-    }
 
     #[test]
-    fn plain_words_decimals_is_plain_line_and_input_decimals() {
-        for line in [
-            "G1 X1.234 Y-0.5 Z+.25",
-            "g1x1.5y2.25",
-            "X 1.  Y\t-2.125",
-            "X1.2.345 Y1",
-            "X.",
-            "x-.5 r0.125 i2 j.0625",
-            "N10 G01 F100.5 S1200.25",
-            "M98 P100",
-            "M098 X1.5",
-            "G65.1 X1.25",
-            "G065 X1.25",
-            "O100 X1.5",
-            "X+-1.5",
-            "/ G1 X1.5",
-            "% X1.25",
-            "G1 X1.5 (X1.12345)",
-            "G1 X1.5 ; X1.1234",
-            "",
-            "   ",
+    fn decimals_are_those_of_coordinate_words() {
+        for (text, most) in [
+            ("G1 X1.234 Y-0.5 Z+.25", 3),
+            ("G1 F100.12345 X1.5", 1),
+            ("N10.5 G1.25 P0.75", 0),
+            ("X - + 1.1234", 4),
+            ("X-5-3.21", 0),
+            ("XX.5", 1),
+            ("X1.2.345", 1),
+            ("x.25 i-1.125", 3),
+            ("(Y1.123456) G1 X1", 6),
+            (".5 1.25", 0),
+            ("X.", 0),
+            ("", 0),
         ] {
-            agrees(line);
-        }
-        assert_eq!(line_decimals(b"G1 X1.234 Y-0.5 Z+.25"), Some(3));
-        // Two points: left to the two it stands for.
-        assert_eq!(line_decimals(b"X1.2.345"), None);
-        assert_eq!(line_decimals(b"g0065 X1"), None);
-        assert_eq!(line_decimals(b"M0098.5"), None);
-        assert_eq!(line_decimals(b"M980 X1.25"), Some(2));
-        assert_eq!(line_decimals(b"M98 P100"), None);
-        assert_eq!(line_decimals(b"G1 X1 (c)"), None);
-    }
-
-    proptest! {
-        #[test]
-        fn plain_words_decimals_agrees_on_any_line(line in "[GMOgmoXxyRFNP0-9 \\t.+\\-(;%/]{0,24}") {
-            agrees(&line);
+            assert_eq!(input_decimals(text), most, "{text:?}");
         }
     }
 }

@@ -362,6 +362,43 @@ pub fn parse_chunk(
     language: Language,
     names: &mut Names,
 ) -> (Vec<Stmt>, Vec<Diagnostic>) {
+    parse_lines(text, range, at, language, names, false).unwrap_or_default()
+}
+
+/// [`parse_chunk`] of a part not known to be plain: `None` (and nothing
+/// parsed past it) at its first line that [`plain_line`] does not take.
+/// A line of plain words is plain unless it calls (`M98`, `M99`, `G65`,
+/// which [`plain_word`] refuses); only the other lines are looked at again.
+pub fn parse_plain_chunk(
+    text: &str,
+    range: std::ops::Range<usize>,
+    at: &Locator,
+    language: Language,
+    names: &mut Names,
+) -> Option<(Vec<Stmt>, Vec<Diagnostic>)> {
+    parse_lines(text, range, at, language, names, true)
+}
+
+/// Whether a word, a letter and its value, may call a subprogram
+/// (`M98`, `M99`, `G65`, however written): the words [`plain_word`]
+/// refuses, and some more (`M-98`).
+fn may_call(letter: u8, value: f64) -> bool {
+    // The whole part of the value, without its sign: 98 or 99, or 65.
+    match letter {
+        b'M' => (98.0..100.0).contains(&value.abs()),
+        b'G' => (65.0..66.0).contains(&value.abs()),
+        _ => false,
+    }
+}
+
+fn parse_lines(
+    text: &str,
+    range: std::ops::Range<usize>,
+    at: &Locator,
+    language: Language,
+    names: &mut Names,
+    check: bool,
+) -> Option<(Vec<Stmt>, Vec<Diagnostic>)> {
     // About a statement for every 16 bytes (a CAM line is 20 to 30).
     let (mut stmts, mut diagnostics) = (Vec::with_capacity(range.len() / 16), Vec::new());
     let mut parse = |from: usize, to: usize, stmts: &mut Vec<Stmt>| {
@@ -374,8 +411,11 @@ pub fn parse_chunk(
         }
     };
     if !fast_path() {
+        if check && !text[range.clone()].lines().all(plain_line) {
+            return None;
+        }
         parse(range.start, range.end, &mut stmts);
-        return (stmts, diagnostics);
+        return Some((stmts, diagnostics));
     }
     let mut words = Vec::new();
     // Lines from `waiting` on are for the parser, not yet parsed.
@@ -390,6 +430,10 @@ pub fn parse_chunk(
             .map_or(range.end, |&s| (s as usize - 1).min(range.end));
         words.clear();
         if lexer::plain_words(text, line, line_end, &mut words) {
+            let calls = || words.iter().any(|w| may_call(w.word.letter, w.word.value));
+            if check && calls() {
+                return None;
+            }
             parse(waiting, line, &mut stmts);
             if let (Some(first), Some(last)) = (words.first(), words.last()) {
                 let (start, end) = (first.start as usize, last.end as usize);
@@ -397,17 +441,73 @@ pub fn parse_chunk(
                 stmts.push(words_stmt(&words, run, (start, end), number, at));
             }
             waiting = (line_end + 1).min(range.end);
+        } else if check && !plain_line(&text[line..line_end]) {
+            return None;
         }
         line = line_end + 1;
         number += 1;
     }
     parse(waiting, range.end, &mut stmts);
-    (stmts, diagnostics)
+    Some((stmts, diagnostics))
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// A part read as plain (`compile_file`) is parsed as plain exactly
+    /// when its every line is plain (what a scan of the file said before
+    /// it was read), and then as `parse_chunk` parses it; with the fast
+    /// path and without.
+    fn reads_as_plain(text: &str) {
+        let at = Locator::new(0, text);
+        let plain = text.lines().all(plain_line);
+        for fast in [true, false] {
+            crate::syntax::egc::parser::with_fast_path(fast, || {
+                let range = 0..text.len();
+                let mut names = Names::default();
+                let got = parse_plain_chunk(text, range.clone(), &at, Language::Gcode, &mut names);
+                assert_eq!(got.is_some(), plain, "{text:?} (fast path: {fast})");
+                if let Some((stmts, found)) = got {
+                    let mut names = Names::default();
+                    let (all, all_found) =
+                        parse_chunk(text, range, &at, Language::Gcode, &mut names);
+                    assert_eq!(format!("{stmts:?}"), format!("{all:?}"), "{text:?}");
+                    assert_eq!(found.len(), all_found.len(), "{text:?}");
+                }
+            });
+        }
+    }
+
+    #[test]
+    fn a_part_is_plain_when_its_every_line_is() {
+        for text in [
+            "G1 X1.5 Y2\nG0 Z5\nM30\n",
+            "G1 X1 (a comment)\n%\n$H\n/G1 X2\r\nG1 Y1",
+            "G1 X1\nM98 P100\nG1 X2\n",
+            "G1 X1\nM-98 P100\n",
+            "m0099.5\n",
+            "M97\nM100\nG64 P0.01\nG66\nG64.5\n",
+            "G1 X1\nG65 P9010 A1\n",
+            "G65.9 P1\n",
+            "G1 X1\n#1 = 2\nG1 X#1\n",
+            "G1 X1\no100 sub\nG1 X2\no100 endsub\n",
+            "G1 X1\nG1 X\n",
+            "G1 X1.2.3\n",
+            "",
+        ] {
+            reads_as_plain(text);
+        }
+    }
+
+    proptest::proptest! {
+        #[test]
+        fn a_part_is_plain_when_its_every_line_is_any_part(
+            lines in proptest::collection::vec(r"[GMOgmoXxPp0-9 \t.+\-(;%/#=]{0,16}", 0..5)
+        ) {
+            reads_as_plain(&lines.join("\n"));
+        }
+    }
 
     #[test]
     fn plain_lines_are_words_comments_and_commands() {
