@@ -59,16 +59,23 @@ def plain_program(moves):
 
 def median(cmd, runs, cwd=None):
     """Median wall time of `runs` runs."""
-    times = []
+    return medians([cmd], runs, cwd)[0]
+
+
+def medians(cmds, runs, cwd=None):
+    """Median wall times of `runs` runs of each command, taken in turn (so
+    that a machine that slows down or speeds up meanwhile weighs on each
+    alike)."""
+    times = [[] for _ in cmds]
     for _ in range(runs):
-        t = time.perf_counter()
-        r = subprocess.run(cmd, cwd=cwd, stdin=subprocess.DEVNULL,
-                           stdout=subprocess.DEVNULL, stderr=subprocess.PIPE)
-        times.append(time.perf_counter() - t)
-        if r.returncode != 0:
-            sys.exit("failed: %s\n%s" % (" ".join(cmd), r.stderr.decode()[-2000:]))
-    times.sort()
-    return times[len(times) // 2]
+        for cmd, ts in zip(cmds, times):
+            t = time.perf_counter()
+            r = subprocess.run(cmd, cwd=cwd, stdin=subprocess.DEVNULL,
+                               stdout=subprocess.DEVNULL, stderr=subprocess.PIPE)
+            ts.append(time.perf_counter() - t)
+            if r.returncode != 0:
+                sys.exit("failed: %s\n%s" % (" ".join(cmd), r.stderr.decode()[-2000:]))
+    return [sorted(ts)[len(ts) // 2] for ts in times]
 
 
 def peak_mb(cmd):
@@ -103,7 +110,8 @@ def main():
             return p
 
         out = os.path.join(work, "out.nc")
-        print("%s, medians of %d runs" % (time.strftime("%Y-%m-%d"), a.runs))
+        print("%s, medians of %d runs (of %d, in turn, for the plain 200k moves)"
+              % (time.strftime("%Y-%m-%d"), a.runs, 3 * a.runs))
 
         egc, ngc = write("loop.egc", LOOP_EGC), write("loop.ngc", LOOP_NGC)
         tg = median([ger, "compile", egc, "-o", out], a.runs)
@@ -112,15 +120,18 @@ def main():
               % (tg, tr, tr / tg))
 
         plain = write("plain.ngc", plain_program(200_000))
-        tg = median([ger, "compile", plain, "-o", out], a.runs)
         tr = median(rs274_cmd(work, plain), a.runs, cwd=work)
-        ta = median(["awk", "{print}", plain], a.runs)
+        # ger with `-o` (the file synced before the rename), and to
+        # standard output as awk and rs274 write (held until whole, not
+        # synced), in turn with awk.
+        tg, ts, ta = medians([[ger, "compile", plain, "-o", out],
+                              [ger, "compile", plain],
+                              ["awk", "{print}", plain]], 3 * a.runs)
         print("plain 200k moves: ger %.3f s, rs274 %.3f s: %.1fx (goal >= 25x); "
               "awk %.4f s: ger / awk %.1f (goal <= 4)" % (tg, tr, tr / tg, ta, tg / ta))
+        print("  to standard output: ger %.3f s: %.1fx rs274, ger / awk %.1f"
+              % (ts, tr / ts, ts / ta))
         print("  ger peak memory: %.1f MB" % peak_mb([ger, "compile", plain, "-o", out]))
-        # As awk writes it: to standard output (held until whole, not synced).
-        ts = median([ger, "compile", plain], a.runs)
-        print("  to standard output: ger %.3f s: ger / awk %.1f" % (ts, ts / ta))
 
         big = write("big.ngc", plain_program(2_000_000))
         tb = median([ger, "compile", big, "-o", out], max(1, a.runs // 2))
