@@ -1275,36 +1275,65 @@ const COORDINATE: [bool; 256] = {
 };
 
 /// The most decimals any coordinate word (X Y Z I J K R, and the other
-/// axes) of the source has: one pass over its bytes, reading forward from
-/// each coordinate letter (blanks and signs, digits, a point, the
-/// decimals). A word inside a comment counts too, which can only add
-/// precision.
+/// axes) of the source has: the digits after a point that follows a
+/// coordinate letter, blanks and signs, and digits (`X-1.25`, `y .5`,
+/// `X - + 1.1234`). A word inside a comment counts too, which can only add
+/// precision. The points are found eight bytes at a time; only a point
+/// with more decimals than the most so far is looked back from.
 fn input_decimals(text: &str) -> usize {
     let bytes = text.as_bytes();
     let mut most = 0;
-    let mut i = 0;
-    while i < bytes.len() {
-        let b = bytes[i];
-        i += 1;
-        if !COORDINATE[usize::from(b)] {
-            continue;
+    let mut point = |p: usize| {
+        // More than `most` decimals: the digit `most + 1` after the point.
+        if !bytes.get(p + most + 1).is_some_and(u8::is_ascii_digit) {
+            return;
         }
-        while i < bytes.len() && matches!(bytes[i], b' ' | b'\t' | b'+' | b'-') {
-            i += 1;
+        let decimals = bytes[p + 1..]
+            .iter()
+            .position(|b| !b.is_ascii_digit())
+            .unwrap_or(bytes.len() - p - 1);
+        if decimals > most && in_coordinate_word(bytes, p) {
+            most = decimals;
         }
-        while i < bytes.len() && bytes[i].is_ascii_digit() {
-            i += 1;
+    };
+    let mut words = bytes.chunks_exact(8);
+    let mut at = 0;
+    for word in &mut words {
+        let mut eight = [0u8; 8];
+        eight.copy_from_slice(word);
+        let mut points = source::bytes_in(u64::from_le_bytes(eight), b'.');
+        while points != 0 {
+            point(at + points.trailing_zeros() as usize / 8);
+            points &= points - 1;
         }
-        if i < bytes.len() && bytes[i] == b'.' {
-            i += 1;
-            let start = i;
-            while i < bytes.len() && bytes[i].is_ascii_digit() {
-                i += 1;
-            }
-            most = most.max(i - start);
+        at += 8;
+    }
+    for (i, &b) in words.remainder().iter().enumerate() {
+        if b == b'.' {
+            point(at + i);
         }
     }
     most
+}
+
+/// Whether the point at `bytes[p]` is a coordinate word's: before it,
+/// digits, then blanks and signs, then a coordinate letter (what reading
+/// forward from the letter over them would reach).
+fn in_coordinate_word(bytes: &[u8], p: usize) -> bool {
+    let before = &bytes[..p];
+    let digits = before
+        .iter()
+        .rev()
+        .take_while(|b| b.is_ascii_digit())
+        .count();
+    let before = &before[..p - digits];
+    let blanks = before
+        .iter()
+        .rev()
+        .take_while(|b| matches!(b, b' ' | b'\t' | b'+' | b'-'))
+        .count();
+    let before = &before[..before.len() - blanks];
+    before.last().is_some_and(|&b| COORDINATE[usize::from(b)])
 }
 
 /// The printed text is written out once there is this much of it.
@@ -1468,6 +1497,43 @@ fn print_and_write(
 mod tests {
     use super::*;
 
+    /// [`input_decimals`] as one pass forward from each coordinate letter
+    /// reads it: blanks and signs, digits, a point, the decimals.
+    fn decimals_read_forward(text: &str) -> usize {
+        let bytes = text.as_bytes();
+        let (mut most, mut i) = (0, 0);
+        while i < bytes.len() {
+            i += 1;
+            if !COORDINATE[usize::from(bytes[i - 1])] {
+                continue;
+            }
+            while i < bytes.len() && matches!(bytes[i], b' ' | b'\t' | b'+' | b'-') {
+                i += 1;
+            }
+            while i < bytes.len() && bytes[i].is_ascii_digit() {
+                i += 1;
+            }
+            if i < bytes.len() && bytes[i] == b'.' {
+                i += 1;
+                let start = i;
+                while i < bytes.len() && bytes[i].is_ascii_digit() {
+                    i += 1;
+                }
+                most = most.max(i - start);
+            }
+        }
+        most
+    }
+
+    proptest::proptest! {
+        #[test]
+        fn decimals_found_from_the_points_are_those_read_forward(
+            text in r"[XxYyGgRrNn0-9 \t.+\-(\n]{0,40}"
+        ) {
+            proptest::prop_assert_eq!(input_decimals(&text), decimals_read_forward(&text));
+        }
+    }
+
     #[test]
     fn decimals_are_those_of_coordinate_words() {
         for (text, most) in [
@@ -1483,8 +1549,13 @@ mod tests {
             (".5 1.25", 0),
             ("X.", 0),
             ("", 0),
+            ("X12345678.123456789", 9),
+            ("G1 X1.5 Y2.25 (a longer line, past eight bytes) Z3.125", 3),
+            ("Y1.5\nG4 P0.123456\nX.12", 2),
+            ("1.23456 X-- 7.1234", 4),
         ] {
             assert_eq!(input_decimals(text), most, "{text:?}");
+            assert_eq!(decimals_read_forward(text), most, "{text:?}");
         }
     }
 }

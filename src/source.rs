@@ -181,11 +181,11 @@ impl Locator {
     }
 }
 
-/// The high bit of each byte of `word` (little-endian) that is a `\n`,
+/// The high bit of each byte of `word` (little-endian) that is `byte`,
 /// exactly (no carry crosses a byte).
-fn line_ends_in(word: u64) -> u64 {
+pub(crate) fn bytes_in(word: u64, byte: u8) -> u64 {
     const LOW7: u64 = 0x7f7f_7f7f_7f7f_7f7f;
-    let x = word ^ 0x0a0a_0a0a_0a0a_0a0a;
+    let x = word ^ (u64::from(byte) * 0x0101_0101_0101_0101);
     // A byte of `x` is zero exactly when neither its low seven bits (which
     // carry into its high bit when added to 0x7f) nor its high bit is set.
     !(((x & LOW7) + LOW7) | x | LOW7)
@@ -207,7 +207,7 @@ impl LineIndex {
         for word in &mut words {
             let mut bytes = [0u8; 8];
             bytes.copy_from_slice(word);
-            let mut ends = line_ends_in(u64::from_le_bytes(bytes));
+            let mut ends = bytes_in(u64::from_le_bytes(bytes), b'\n');
             while ends != 0 {
                 starts.push(at + ends.trailing_zeros() / 8 + 1);
                 ends &= ends - 1;
@@ -332,6 +332,34 @@ pub fn decode_line(line: &[u8]) -> std::borrow::Cow<'_, str> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// Exact for every byte next to every other (no carry from one byte
+    /// to the next marks it).
+    #[test]
+    fn bytes_in_marks_exactly_the_bytes_equal() {
+        for byte in 0..=255u8 {
+            for other in 0..=255u8 {
+                let eight = [
+                    other,
+                    byte,
+                    other ^ 0x80,
+                    byte,
+                    0,
+                    255,
+                    byte.wrapping_add(1),
+                    other,
+                ];
+                let marks = bytes_in(u64::from_le_bytes(eight), byte);
+                for (k, &b) in eight.iter().enumerate() {
+                    assert_eq!(
+                        marks >> (8 * k) & 0xff,
+                        u64::from(b == byte) << 7,
+                        "{byte} {other}"
+                    );
+                }
+            }
+        }
+    }
 
     #[test]
     fn line_starts_are_after_every_line_end() {
