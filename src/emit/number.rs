@@ -87,6 +87,19 @@ pub fn push_fixed_bytes(out: &mut Vec<u8>, v: f64, decimals: usize) {
 /// trailing zeros dropped first), the point, the integer's digits (at least
 /// one) and the sign; then copied once.
 pub fn push_scaled(out: &mut Vec<u8>, q: i64, decimals: usize) {
+    // The usual decimals as constants: their divisions become multiplications.
+    match decimals {
+        3 => push_scaled_by(out, q, 3),
+        4 => push_scaled_by(out, q, 4),
+        2 => push_scaled_by(out, q, 2),
+        5 => push_scaled_by(out, q, 5),
+        6 => push_scaled_by(out, q, 6),
+        _ => push_scaled_by(out, q, decimals),
+    }
+}
+
+#[inline(always)]
+fn push_scaled_by(out: &mut Vec<u8>, q: i64, decimals: usize) {
     // Zeros: the fraction's leading ones are left in place.
     let mut buf = [b'0'; 48];
     let mut i = buf.len();
