@@ -34,7 +34,8 @@ fn unsupported_g(t: u32) -> &'static str {
 
 /// A G code in tenths: G1 is 10, G54.1 is 541.
 fn tenths(value: f64) -> Option<u32> {
-    let t = (value * 10.0).round();
+    // Rounded without a libm call (`round_to_int` is `round` here).
+    let t = crate::emit::number::round_to_int(value * 10.0) as f64;
     ((value * 10.0 - t).abs() < 1e-6 && (0.0..100_000.0).contains(&t)).then_some(t as u32)
 }
 
