@@ -634,6 +634,9 @@ struct Parts<'a> {
     read_error: Option<std::io::Error>,
     /// A part needs the whole program; nothing more is read.
     whole: bool,
+    /// Emptied word vectors of lines run, for the lines to come
+    /// ([`chunk::recycle`]).
+    spare: Vec<Vec<crate::ast::Word>>,
 }
 
 impl<'a> Parts<'a> {
@@ -645,6 +648,7 @@ impl<'a> Parts<'a> {
             time: Duration::ZERO,
             read_error: None,
             whole: false,
+            spare: Vec::new(),
         }
     }
 
@@ -677,7 +681,8 @@ impl<'a> Parts<'a> {
             PartSource::Reader(reader) => match reader.next_part() {
                 Ok(Some((text, at))) => {
                     let range = 0..text.len();
-                    match chunk::parse_plain_chunk(&text, range, &at, language, names) {
+                    let spare = &mut self.spare;
+                    match chunk::parse_plain_chunk(&text, range, &at, language, names, spare) {
                         Some(parsed) => Some(no_subprograms(parsed)),
                         None => {
                             // Not plain: this part and the rest are cut
@@ -1096,7 +1101,8 @@ fn run_by_parts(
     clock: &mut Clock,
 ) -> std::io::Result<()> {
     let (chunked, backend) = on_two_threads(backend, |sink| {
-        eval::eval_chunks(eval_options, wizards, sink, &mut |names| {
+        eval::eval_chunks(eval_options, wizards, sink, &mut |names, ran| {
+            chunk::recycle(ran, &mut parts.spare);
             let (mut stmts, mut subprograms) = parts.next(language, names)?;
             if fanuc_functions {
                 map_fanuc_functions(&mut stmts);

@@ -200,7 +200,8 @@ pub struct Chunked {
 
 /// Stage 0 for a program read a part at a time
 /// ([`crate::syntax::egc::chunk`]): `next` gives each part's statements and
-/// subprograms in order, interning into the names it is handed (the
+/// subprograms in order (and is given back the statements of the part
+/// before, run), interning into the names it is handed (the
 /// program's, which the parts share; the last part's comments are dropped
 /// first), and `None` at the end. A part ends outside every block, has no
 /// `GOTO`, and calls only subprograms of its own or of the parts before
@@ -211,7 +212,7 @@ pub fn eval_chunks(
     options: &EvalOptions,
     wizards: Option<&mut dyn WizardHost>,
     sink: &mut dyn ir::Sink,
-    next: &mut dyn FnMut(&mut Names) -> Option<Part>,
+    next: &mut dyn FnMut(&mut Names, Vec<ast::Stmt>) -> Option<Part>,
 ) -> Chunked {
     let empty = ast::Program {
         main: Vec::new(),
@@ -222,11 +223,14 @@ pub fn eval_chunks(
     let wizards = wizards.map(|w| w as &mut dyn WizardHost);
     let mut ev = Evaluator::new(&empty, options, wizards, sink);
     ev.in_parts = true;
+    // The statements of the part that ran last, handed back with the call
+    // for the next (their vectors can be used again).
+    let mut ran = Vec::new();
     loop {
         // No statement of an earlier part is run again: its notes can go.
         let names = Rc::make_mut(&mut ev.names);
         names.forget_notes();
-        let Some((stmts, subprograms)) = next(names) else {
+        let Some((stmts, subprograms)) = next(names, std::mem::take(&mut ran)) else {
             break;
         };
         ev.names_added();
@@ -239,6 +243,7 @@ pub fn eval_chunks(
             ev.kept.push(Rc::new(sub));
         }
         let flow = ev.exec_block(&stmts);
+        ran = stmts;
         if ev.no_label(flow) != Flow::Next {
             break;
         }

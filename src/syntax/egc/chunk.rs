@@ -10,8 +10,8 @@
 //! straight from their bytes ([`parse_chunk`]).
 
 use super::lexer::{self, comment_end, Language, WordNumber};
-use super::parser::{fast_path, parse_program_from, words_stmt};
-use crate::ast::{Names, Stmt, StmtKind, Subprogram, WordValue};
+use super::parser::{fast_path, parse_program_from};
+use crate::ast::{Line, Names, Number, Stmt, StmtKind, Subprogram, Word, WordValue};
 use crate::diagnostic::Diagnostic;
 use crate::source::Locator;
 
@@ -362,29 +362,54 @@ pub fn parse_chunk(
     language: Language,
     names: &mut Names,
 ) -> (Vec<Stmt>, Vec<Diagnostic>) {
-    parse_lines(text, range, at, language, names, false).unwrap_or_default()
+    parse_lines(text, range, at, language, names, false, &mut Vec::new()).unwrap_or_default()
 }
 
 /// [`parse_chunk`] of a part not known to be plain: `None` (and nothing
 /// parsed past it) at its first line that [`plain_line`] does not take.
 /// A line of plain words is plain unless it calls (`M98`, `M99`, `G65`,
 /// which [`plain_word`] refuses); only the other lines are looked at again.
+/// A line of plain words takes its vector from `spare` (emptied vectors of
+/// parts run before, [`recycle`]) while it has any.
 pub fn parse_plain_chunk(
     text: &str,
     range: std::ops::Range<usize>,
     at: &Locator,
     language: Language,
     names: &mut Names,
+    spare: &mut Vec<Vec<Word>>,
 ) -> Option<(Vec<Stmt>, Vec<Diagnostic>)> {
-    parse_lines(text, range, at, language, names, true)
+    parse_lines(text, range, at, language, names, true, spare)
+}
+
+/// The most spare word vectors kept (a part of 64 KB has fewer lines of
+/// plain words).
+const SPARE_MOST: usize = 1 << 16;
+
+/// The word vectors of the lines of `stmts` (a part that has run),
+/// emptied, into `spare` for [`parse_plain_chunk`]: a line's vector is
+/// then not allocated and freed again for every line of a program.
+pub fn recycle(stmts: Vec<Stmt>, spare: &mut Vec<Vec<Word>>) {
+    for stmt in stmts {
+        if let StmtKind::Line(line) = stmt.kind {
+            if spare.len() < SPARE_MOST {
+                let mut words = line.words;
+                words.clear();
+                spare.push(words);
+            }
+        }
+    }
 }
 
 /// Whether a word, a letter and its value, may call a subprogram
 /// (`M98`, `M99`, `G65`, however written): the words [`plain_word`]
 /// refuses, and some more (`M-98`).
-fn may_call(letter: u8, value: f64) -> bool {
+fn may_call(word: &Word) -> bool {
+    let WordValue::Number(Number { value, .. }) = word.value else {
+        return true;
+    };
     // The whole part of the value, without its sign: 98 or 99, or 65.
-    match letter {
+    match word.letter {
         b'M' => (98.0..100.0).contains(&value.abs()),
         b'G' => (65.0..66.0).contains(&value.abs()),
         _ => false,
@@ -398,6 +423,7 @@ fn parse_lines(
     language: Language,
     names: &mut Names,
     check: bool,
+    spare: &mut Vec<Vec<Word>>,
 ) -> Option<(Vec<Stmt>, Vec<Diagnostic>)> {
     // About a statement for every 16 bytes (a CAM line is 20 to 30).
     let (mut stmts, mut diagnostics) = (Vec::with_capacity(range.len() / 16), Vec::new());
@@ -417,7 +443,8 @@ fn parse_lines(
         parse(range.start, range.end, &mut stmts);
         return Some((stmts, diagnostics));
     }
-    let mut words = Vec::new();
+    // The next plain line's words.
+    let mut words = spare.pop().unwrap_or_default();
     // Lines from `waiting` on are for the parser, not yet parsed.
     let (mut waiting, mut line) = (range.start, range.start);
     let mut number = at.span(line, line).line;
@@ -428,17 +455,22 @@ fn parse_lines(
         let line_end = after
             .next()
             .map_or(range.end, |&s| (s as usize - 1).min(range.end));
-        words.clear();
-        if lexer::plain_words(text, line, line_end, &mut words) {
-            let calls = || words.iter().any(|w| may_call(w.word.letter, w.word.value));
-            if check && calls() {
+        if let Some((start, end)) =
+            lexer::plain_words(text, (line, line_end), at, number, &mut words)
+        {
+            if check && words.iter().any(may_call) {
                 return None;
             }
             parse(waiting, line, &mut stmts);
-            if let (Some(first), Some(last)) = (words.first(), words.last()) {
-                let (start, end) = (first.start as usize, last.end as usize);
-                let run = (0, words.len() as u32);
-                stmts.push(words_stmt(&words, run, (start, end), number, at));
+            if !words.is_empty() {
+                let words = std::mem::replace(&mut words, spare.pop().unwrap_or_default());
+                stmts.push(Stmt {
+                    kind: StmtKind::Line(Line {
+                        words,
+                        block_delete: false,
+                    }),
+                    span: at.span_on_line(number, start, end),
+                });
             }
             waiting = (line_end + 1).min(range.end);
         } else if check && !plain_line(&text[line..line_end]) {
@@ -447,6 +479,7 @@ fn parse_lines(
         line = line_end + 1;
         number += 1;
     }
+    spare.push(words);
     parse(waiting, range.end, &mut stmts);
     Some((stmts, diagnostics))
 }
@@ -466,7 +499,14 @@ mod tests {
             crate::syntax::egc::parser::with_fast_path(fast, || {
                 let range = 0..text.len();
                 let mut names = Names::default();
-                let got = parse_plain_chunk(text, range.clone(), &at, Language::Gcode, &mut names);
+                let got = parse_plain_chunk(
+                    text,
+                    range.clone(),
+                    &at,
+                    Language::Gcode,
+                    &mut names,
+                    &mut Vec::new(),
+                );
                 assert_eq!(got.is_some(), plain, "{text:?} (fast path: {fast})");
                 if let Some((stmts, found)) = got {
                     let mut names = Names::default();

@@ -1663,21 +1663,25 @@ fn find_word<T: Copy>(table: &[(&str, T)], text: &str) -> Option<T> {
         .map(|&(_, t)| t)
 }
 
-/// The words of the line `text[start..end]` (without its line end) when
-/// it holds plain words only — a letter other than `O`, then a decimal
-/// number, perhaps after spaces — with spaces and tabs around them: what
-/// the lexer would read there (`Raw::Word`, or a letter and its number
-/// apart), without it; a blank line has none. `false` (and `words` as it
-/// was): anything else is on the line, for the lexer.
+/// The words of the line `text[start..end]` (without its line end), line
+/// `number` of the file, appended to `words` when it holds plain words
+/// only — a letter other than `O`, then a decimal number, perhaps after
+/// spaces — with spaces and tabs around them: what the lexer and the
+/// parser would make of it (`Raw::Word`, or a letter and its number
+/// apart), without them. Their extent in `text` (empty on a blank line,
+/// which has none); `None` (and `words` as it was): anything else is on
+/// the line, for the lexer.
 pub(crate) fn plain_words(
     text: &str,
-    start: usize,
-    end: usize,
-    words: &mut Vec<LexedWord>,
-) -> bool {
+    (start, end): (usize, usize),
+    at: &Locator,
+    number: u32,
+    words: &mut Vec<crate::ast::Word>,
+) -> Option<(usize, usize)> {
+    use crate::ast::{Number, Word, WordValue};
     let bytes = &text.as_bytes()[..end];
     let before = words.len();
-    let mut i = start;
+    let (mut i, mut extent) = (start, None);
     loop {
         while let Some(b' ' | b'\t' | b'\r' | b'\x0c') = bytes.get(i) {
             i += 1;
@@ -1687,29 +1691,30 @@ pub(crate) fn plain_words(
         };
         // What follows a number is a blank, the next word's letter, or
         // refused here.
-        let number = match decimal_after(text, i + 1, end) {
-            Some(number) if letter.is_ascii_alphabetic() && !letter.eq_ignore_ascii_case(&b'O') => {
-                number
+        let number_read = match decimal_after(text, i + 1, end) {
+            Some(read) if letter.is_ascii_alphabetic() && !letter.eq_ignore_ascii_case(&b'O') => {
+                read
             }
             _ => {
                 words.truncate(before);
-                return false;
+                return None;
             }
         };
-        let (value, int_digits, has_point, number_end) = number;
-        words.push(LexedWord {
-            word: WordTok {
-                letter: letter.to_ascii_uppercase(),
+        let (value, int_digits, has_point, number_end) = number_read;
+        words.push(Word {
+            letter: letter.to_ascii_uppercase(),
+            value: WordValue::Number(Number {
                 value,
                 int_digits,
                 has_point,
-            },
-            start: i as u32,
-            end: number_end as u32,
+            }),
+            span: at.span_on_line(number, i, number_end),
         });
+        let first = extent.map_or(i, |(first, _)| first);
+        extent = Some((first, number_end));
         i = number_end;
     }
-    true
+    Some(extent.unwrap_or((start, start)))
 }
 
 /// The decimal number after a word's letter in `text[from..end]`, read as
