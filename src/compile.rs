@@ -1102,7 +1102,10 @@ fn run_by_parts(
 ) -> std::io::Result<()> {
     let (chunked, backend) = on_two_threads(backend, |sink| {
         eval::eval_chunks(eval_options, wizards, sink, &mut |names, ran| {
-            chunk::recycle(ran, &mut parts.spare);
+            // Only a part read as plain takes spare vectors.
+            if matches!(parts.source, PartSource::Reader(_)) {
+                chunk::recycle(ran, &mut parts.spare);
+            }
             let (mut stmts, mut subprograms) = parts.next(language, names)?;
             if fanuc_functions {
                 map_fanuc_functions(&mut stmts);

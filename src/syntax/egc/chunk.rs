@@ -382,9 +382,10 @@ pub fn parse_plain_chunk(
     parse_lines(text, range, at, language, names, true, spare)
 }
 
-/// The most spare word vectors kept (a part of 64 KB has fewer lines of
-/// plain words).
-const SPARE_MOST: usize = 1 << 16;
+/// The most spare word vectors kept: more than a part of 64 KB has lines
+/// of plain words when they are CAM's (16 bytes or more), and memory
+/// bounded (a vector keeps the room of the longest line it held).
+const SPARE_MOST: usize = 4096;
 
 /// The word vectors of the lines of `stmts` (a part that has run),
 /// emptied, into `spare` for [`parse_plain_chunk`]: a line's vector is
