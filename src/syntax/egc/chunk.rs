@@ -382,10 +382,14 @@ pub fn parse_plain_chunk(
     parse_lines(text, range, at, language, names, true, spare)
 }
 
-/// The most spare word vectors kept: more than a part of 64 KB has lines
-/// of plain words when they are CAM's (16 bytes or more), and memory
-/// bounded (a vector keeps the room of the longest line it held).
+/// The most spare word vectors kept: as many as a part of 64 KB has lines
+/// of plain words when they are CAM's (16 bytes or more).
 const SPARE_MOST: usize = 4096;
+
+/// A vector with room for more words than this is not kept (it keeps the
+/// room of the longest line it held): the spare vectors hold at most
+/// 4,096 × 16 words, 3 MB.
+const SPARE_ROOM: usize = 16;
 
 /// The word vectors of the lines of `stmts` (a part that has run),
 /// emptied, into `spare` for [`parse_plain_chunk`]: a line's vector is
@@ -393,7 +397,7 @@ const SPARE_MOST: usize = 4096;
 pub fn recycle(stmts: Vec<Stmt>, spare: &mut Vec<Vec<Word>>) {
     for stmt in stmts {
         if let StmtKind::Line(line) = stmt.kind {
-            if spare.len() < SPARE_MOST {
+            if spare.len() < SPARE_MOST && line.words.capacity() <= SPARE_ROOM {
                 let mut words = line.words;
                 words.clear();
                 spare.push(words);
@@ -518,6 +522,29 @@ mod tests {
                 }
             });
         }
+    }
+
+    /// Vectors kept for the parts to come: emptied, at most
+    /// [`SPARE_MOST`], none with room for more than [`SPARE_ROOM`] words.
+    #[test]
+    fn spare_vectors_are_empty_and_bounded() {
+        let parse = |text: &str| {
+            let at = Locator::new(0, text);
+            let range = 0..text.len();
+            parse_chunk(text, range, &at, Language::Gcode, &mut Names::default()).0
+        };
+        let long = format!("{}\n", "X1 ".repeat(40));
+        let text: String = (0..3000)
+            .map(|i| if i % 2 == 0 { "G1 X1 Y2\n" } else { &long })
+            .collect();
+        let mut spare = Vec::new();
+        recycle(parse(&text), &mut spare);
+        assert_eq!(spare.len(), 1500);
+        assert!(spare
+            .iter()
+            .all(|v| v.is_empty() && (3..=SPARE_ROOM).contains(&v.capacity())));
+        recycle(parse(&"G0 Z5\n".repeat(5000)), &mut spare);
+        assert_eq!(spare.len(), SPARE_MOST);
     }
 
     #[test]
