@@ -169,6 +169,12 @@ impl Axes {
         })
     }
 
+    /// Which axes are present (bit `Axis::index`) and every slot's value
+    /// (an absent axis's is meaningless).
+    pub fn raw(&self) -> (u16, &[f64; 9]) {
+        (self.present, &self.values)
+    }
+
     /// Apply `f` to every present length (not to A B C).
     pub fn map_lengths(mut self, f: impl Fn(f64) -> f64) -> Axes {
         for axis in Axis::ALL {

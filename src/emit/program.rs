@@ -66,8 +66,12 @@ impl ProgramPrinter {
             match &stmt.op {
                 Op::Move(m) => {
                     self.final_move(stmt, m);
-                    for (axis, v) in m.to.iter() {
-                        self.position[axis.index()] = Some(v);
+                    // Over the nine slots: no iterator, no bounds checks.
+                    let (present, values) = m.to.raw();
+                    for (i, p) in self.position.iter_mut().enumerate() {
+                        if present & (1 << i) != 0 {
+                            *p = Some(values[i]);
+                        }
                     }
                     continue;
                 }

@@ -82,11 +82,17 @@ impl Tracker {
     /// or the axes' values are where the tool is.
     pub fn move_absolute(&mut self, to: &Axes, span: Span) -> Result<(), LowerError> {
         debug_assert!(self.distance == Distance::Absolute);
-        if let Some((axis, value)) = to.iter().find(|&(_, v)| !ir::is_position(v)) {
-            let kind = LowerErrorKind::PositionOutOfRange { axis, value };
-            return Err(LowerError::new(kind, span));
+        // As `follow_move`, over the nine slots; nothing moves on an error.
+        let (present, values) = to.raw();
+        let given = |i: usize| present & (1 << i) != 0;
+        if !(0..9).all(|i| !given(i) || ir::is_position(values[i])) {
+            return Err(out_of_range(to, span));
         }
-        self.follow_move(to);
+        for (i, p) in self.position.iter_mut().enumerate() {
+            if given(i) {
+                *p = Some(values[i]);
+            }
+        }
         Ok(())
     }
 
@@ -96,9 +102,16 @@ impl Tracker {
         let position = &mut self.position;
         match self.distance {
             Distance::Absolute => {
-                let known = to.iter().all(|(_, v)| ir::is_position(v));
-                for (axis, v) in to.iter() {
-                    position[axis.index()] = known.then_some(v);
+                // Over all nine slots (unrolled, no bounds checks), not the
+                // present axes' iterator: this runs for every move in three
+                // passes.
+                let (present, values) = to.raw();
+                let given = |i: usize| present & (1 << i) != 0;
+                let known = (0..9).all(|i| !given(i) || ir::is_position(values[i]));
+                for (i, p) in position.iter_mut().enumerate() {
+                    if given(i) {
+                        *p = known.then_some(values[i]);
+                    }
                 }
             }
             Distance::Incremental => {
@@ -124,4 +137,14 @@ impl Tracker {
             _ => self.forget_after(op, span),
         }
     }
+}
+
+/// The error of a move with an axis out of range: the first such axis.
+#[cold]
+fn out_of_range(to: &Axes, span: Span) -> LowerError {
+    let (axis, value) = to
+        .iter()
+        .find(|&(_, v)| !ir::is_position(v))
+        .unwrap_or((Axis::X, f64::NAN));
+    LowerError::new(LowerErrorKind::PositionOutOfRange { axis, value }, span)
 }
