@@ -652,6 +652,16 @@ impl<'a> Parts<'a> {
         }
     }
 
+    /// The statements of a part that has run: their word vectors are
+    /// kept for the parts to come while those are read as plain (no other
+    /// source takes them).
+    fn recycle(&mut self, ran: Vec<crate::ast::Stmt>) {
+        match self.source {
+            PartSource::Reader(_) => chunk::recycle(ran, &mut self.spare),
+            _ => self.spare.clear(),
+        }
+    }
+
     /// The next part to run; `None` at the end, or after a syntax error
     /// (the rest is read for its errors).
     fn next(&mut self, language: Language, names: &mut Names) -> Option<eval::Part> {
@@ -1102,10 +1112,7 @@ fn run_by_parts(
 ) -> std::io::Result<()> {
     let (chunked, backend) = on_two_threads(backend, |sink| {
         eval::eval_chunks(eval_options, wizards, sink, &mut |names, ran| {
-            // Only a part read as plain takes spare vectors.
-            if matches!(parts.source, PartSource::Reader(_)) {
-                chunk::recycle(ran, &mut parts.spare);
-            }
+            parts.recycle(ran);
             let (mut stmts, mut subprograms) = parts.next(language, names)?;
             if fanuc_functions {
                 map_fanuc_functions(&mut stmts);
@@ -1287,12 +1294,13 @@ const COORDINATE: [bool; 256] = {
 /// axes) of the source has: the digits after a point that follows a
 /// coordinate letter, blanks and signs, and digits (`X-1.25`, `y .5`,
 /// `X - + 1.1234`). A word inside a comment counts too, which can only add
-/// precision. The points are found eight bytes at a time; only a point
+/// precision. The points are found eight bytes at a time
+/// ([`source::each_byte`]); only a point
 /// with more decimals than the most so far is looked back from.
 fn input_decimals(text: &str) -> usize {
     let bytes = text.as_bytes();
     let mut most = 0;
-    let mut point = |p: usize| {
+    source::each_byte(bytes, b'.', |p| {
         // More than `most` decimals: the digit `most + 1` after the point.
         if !bytes.get(p + most + 1).is_some_and(u8::is_ascii_digit) {
             return;
@@ -1304,24 +1312,7 @@ fn input_decimals(text: &str) -> usize {
         if decimals > most && in_coordinate_word(bytes, p) {
             most = decimals;
         }
-    };
-    let mut words = bytes.chunks_exact(8);
-    let mut at = 0;
-    for word in &mut words {
-        let mut eight = [0u8; 8];
-        eight.copy_from_slice(word);
-        let mut points = source::bytes_in(u64::from_le_bytes(eight), b'.');
-        while points != 0 {
-            point(at + points.trailing_zeros() as usize / 8);
-            points &= points - 1;
-        }
-        at += 8;
-    }
-    for (i, &b) in words.remainder().iter().enumerate() {
-        if b == b'.' {
-            point(at + i);
-        }
-    }
+    });
     most
 }
 

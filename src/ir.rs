@@ -169,10 +169,24 @@ impl Axes {
         })
     }
 
-    /// Which axes are present (bit `Axis::index`) and every slot's value
-    /// (an absent axis's is meaningless).
-    pub fn raw(&self) -> (u16, &[f64; 9]) {
-        (self.present, &self.values)
+    /// Whether every present value satisfies `f`. Over the nine slots
+    /// (unrolled, no bounds checks) rather than [`Axes::iter`]: the passes
+    /// and the printer follow every move with it.
+    #[inline]
+    pub fn all_values(&self, f: impl Fn(f64) -> bool) -> bool {
+        (0..9).all(|i| self.present & (1 << i) == 0 || f(self.values[i]))
+    }
+
+    /// Put each present value, made into `T` by `f`, in its slot of
+    /// `slots` (by `Axis::index`); the others are left as they are. Over
+    /// the nine slots, as [`Axes::all_values`].
+    #[inline]
+    pub fn place<T>(&self, slots: &mut [T; 9], f: impl Fn(f64) -> T) {
+        for (i, slot) in slots.iter_mut().enumerate() {
+            if self.present & (1 << i) != 0 {
+                *slot = f(self.values[i]);
+            }
+        }
     }
 
     /// Apply `f` to every present length (not to A B C).

@@ -183,12 +183,35 @@ impl Locator {
 
 /// The high bit of each byte of `word` (little-endian) that is `byte`,
 /// exactly (no carry crosses a byte).
-pub(crate) fn bytes_in(word: u64, byte: u8) -> u64 {
+fn bytes_in(word: u64, byte: u8) -> u64 {
     const LOW7: u64 = 0x7f7f_7f7f_7f7f_7f7f;
     let x = word ^ (u64::from(byte) * 0x0101_0101_0101_0101);
     // A byte of `x` is zero exactly when neither its low seven bits (which
     // carry into its high bit when added to 0x7f) nor its high bit is set.
     !(((x & LOW7) + LOW7) | x | LOW7)
+}
+
+/// Call `found` with the offset of every `byte` in `bytes`, in order,
+/// testing eight bytes at a time ([`bytes_in`]).
+#[inline]
+pub(crate) fn each_byte(bytes: &[u8], byte: u8, mut found: impl FnMut(usize)) {
+    let mut words = bytes.chunks_exact(8);
+    let mut at = 0;
+    for word in &mut words {
+        let mut eight = [0u8; 8];
+        eight.copy_from_slice(word);
+        let mut marks = bytes_in(u64::from_le_bytes(eight), byte);
+        while marks != 0 {
+            found(at + marks.trailing_zeros() as usize / 8);
+            marks &= marks - 1;
+        }
+        at += 8;
+    }
+    for (i, &b) in words.remainder().iter().enumerate() {
+        if b == byte {
+            found(at + i);
+        }
+    }
 }
 
 /// Line starts of one text.
@@ -202,23 +225,7 @@ impl LineIndex {
         let mut starts = Vec::with_capacity(text.len() / 16 + 1);
         starts.push(0);
         // Eight bytes at a time: a line is about three of them.
-        let mut words = text.as_bytes().chunks_exact(8);
-        let mut at = 0u32;
-        for word in &mut words {
-            let mut bytes = [0u8; 8];
-            bytes.copy_from_slice(word);
-            let mut ends = bytes_in(u64::from_le_bytes(bytes), b'\n');
-            while ends != 0 {
-                starts.push(at + ends.trailing_zeros() / 8 + 1);
-                ends &= ends - 1;
-            }
-            at += 8;
-        }
-        for (i, &b) in words.remainder().iter().enumerate() {
-            if b == b'\n' {
-                starts.push(at + i as u32 + 1);
-            }
-        }
+        each_byte(text.as_bytes(), b'\n', |at| starts.push(at as u32 + 1));
         LineIndex { starts }
     }
 

@@ -66,13 +66,7 @@ impl ProgramPrinter {
             match &stmt.op {
                 Op::Move(m) => {
                     self.final_move(stmt, m);
-                    // Over the nine slots: no iterator, no bounds checks.
-                    let (present, values) = m.to.raw();
-                    for (i, p) in self.position.iter_mut().enumerate() {
-                        if present & (1 << i) != 0 {
-                            *p = Some(values[i]);
-                        }
-                    }
+                    m.to.place(&mut self.position, Some);
                     continue;
                 }
                 Op::Cycle(c) => {

@@ -82,17 +82,11 @@ impl Tracker {
     /// or the axes' values are where the tool is.
     pub fn move_absolute(&mut self, to: &Axes, span: Span) -> Result<(), LowerError> {
         debug_assert!(self.distance == Distance::Absolute);
-        // As `follow_move`, over the nine slots; nothing moves on an error.
-        let (present, values) = to.raw();
-        let given = |i: usize| present & (1 << i) != 0;
-        if !(0..9).all(|i| !given(i) || ir::is_position(values[i])) {
+        // Nothing moves on an error.
+        if !to.all_values(ir::is_position) {
             return Err(out_of_range(to, span));
         }
-        for (i, p) in self.position.iter_mut().enumerate() {
-            if given(i) {
-                *p = Some(values[i]);
-            }
-        }
+        to.place(&mut self.position, Some);
         Ok(())
     }
 
@@ -102,16 +96,10 @@ impl Tracker {
         let position = &mut self.position;
         match self.distance {
             Distance::Absolute => {
-                // Over all nine slots (unrolled, no bounds checks), not the
-                // present axes' iterator: this runs for every move in three
-                // passes.
-                let (present, values) = to.raw();
-                let given = |i: usize| present & (1 << i) != 0;
-                let known = (0..9).all(|i| !given(i) || ir::is_position(values[i]));
-                for (i, p) in position.iter_mut().enumerate() {
-                    if given(i) {
-                        *p = known.then_some(values[i]);
-                    }
+                if to.all_values(ir::is_position) {
+                    to.place(position, Some);
+                } else {
+                    to.place(position, |_| None);
                 }
             }
             Distance::Incremental => {

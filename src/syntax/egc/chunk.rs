@@ -460,21 +460,20 @@ fn parse_lines(
         let line_end = after
             .next()
             .map_or(range.end, |&s| (s as usize - 1).min(range.end));
-        if let Some((start, end)) =
-            lexer::plain_words(text, (line, line_end), at, number, &mut words)
-        {
+        if lexer::plain_words(text, (line, line_end), at, number, &mut words) {
             if check && words.iter().any(may_call) {
                 return None;
             }
             parse(waiting, line, &mut stmts);
-            if !words.is_empty() {
+            if let (Some(first), Some(last)) = (words.first(), words.last()) {
+                let span = first.span.to(last.span);
                 let words = std::mem::replace(&mut words, spare.pop().unwrap_or_default());
                 stmts.push(Stmt {
                     kind: StmtKind::Line(Line {
                         words,
                         block_delete: false,
                     }),
-                    span: at.span_on_line(number, start, end),
+                    span,
                 });
             }
             waiting = (line_end + 1).min(range.end);

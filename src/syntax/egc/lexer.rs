@@ -1668,20 +1668,19 @@ fn find_word<T: Copy>(table: &[(&str, T)], text: &str) -> Option<T> {
 /// only — a letter other than `O`, then a decimal number, perhaps after
 /// spaces — with spaces and tabs around them: what the lexer and the
 /// parser would make of it (`Raw::Word`, or a letter and its number
-/// apart), without them. Their extent in `text` (empty on a blank line,
-/// which has none); `None` (and `words` as it was): anything else is on
-/// the line, for the lexer.
+/// apart), without them; a blank line has none. `false` (and `words` as
+/// it was): anything else is on the line, for the lexer.
 pub(crate) fn plain_words(
     text: &str,
     (start, end): (usize, usize),
     at: &Locator,
     number: u32,
     words: &mut Vec<crate::ast::Word>,
-) -> Option<(usize, usize)> {
+) -> bool {
     use crate::ast::{Number, Word, WordValue};
     let bytes = &text.as_bytes()[..end];
     let before = words.len();
-    let (mut i, mut extent) = (start, None);
+    let mut i = start;
     loop {
         while let Some(b' ' | b'\t' | b'\r' | b'\x0c') = bytes.get(i) {
             i += 1;
@@ -1697,7 +1696,7 @@ pub(crate) fn plain_words(
             }
             _ => {
                 words.truncate(before);
-                return None;
+                return false;
             }
         };
         let (value, int_digits, has_point, number_end) = number_read;
@@ -1710,11 +1709,9 @@ pub(crate) fn plain_words(
             }),
             span: at.span_on_line(number, i, number_end),
         });
-        let first = extent.map_or(i, |(first, _)| first);
-        extent = Some((first, number_end));
         i = number_end;
     }
-    Some(extent.unwrap_or((start, start)))
+    true
 }
 
 /// The decimal number after a word's letter in `text[from..end]`, read as
