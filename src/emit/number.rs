@@ -142,7 +142,7 @@ pub fn push_fixed(out: &mut String, v: f64, decimals: usize) {
 
 #[cfg(test)]
 mod tests {
-    use super::{push_fixed, round_to_int};
+    use super::{push_fixed, push_int, push_scaled, round_to_int};
 
     fn fixed(v: f64, d: usize) -> String {
         let mut s = String::new();
@@ -191,6 +191,30 @@ mod tests {
             let v = (unit - 0.5) * 10f64.powi((i % 13) as i32 - 4);
             let d = i % 10;
             assert_eq!(fixed(v, d), reference(v, d), "{v} with {d} decimals");
+        }
+    }
+
+    /// Integers and grid values at the ends of `i64`, with every number of
+    /// decimals, as the standard formatting writes them; after text already
+    /// in the buffer, which stays.
+    #[test]
+    fn extremes_are_written_whole() {
+        let values = [0, 1, -1, 9, 10, 99, 100, -100, 1_000_000_007];
+        let ends = [i64::MAX, i64::MIN, i64::MAX - 1, i64::MIN + 1];
+        for q in values.into_iter().chain(ends) {
+            let mut out = b"X".to_vec();
+            push_int(&mut out, q);
+            assert_eq!(out, format!("X{q}").into_bytes());
+            for decimals in 0..=18u32 {
+                let scale = 10i128.pow(decimals);
+                let (int, fraction) = (i128::from(q) / scale, i128::from(q) % scale);
+                let digits = format!("{:0width$}", fraction.abs(), width = decimals as usize);
+                let sign = if q < 0 { "-" } else { "" };
+                let expected = format!("Y{sign}{}.{}", int.abs(), digits.trim_end_matches('0'));
+                let mut out = b"Y".to_vec();
+                push_scaled(&mut out, q, decimals as usize);
+                assert_eq!(String::from_utf8(out).unwrap(), expected, "{q} {decimals}");
+            }
         }
     }
 }
