@@ -134,11 +134,43 @@ pub struct Stmt {
     pub span: Span,
 }
 
+impl Stmt {
+    /// `stmts` with each run of [`Lines`] as the statements the parser
+    /// builds for them: a [`Line`] each, its span from its first word to
+    /// its last.
+    pub fn line_by_line(stmts: Vec<Stmt>) -> Vec<Stmt> {
+        let mut out = Vec::with_capacity(stmts.len());
+        for stmt in stmts {
+            let StmtKind::Lines(lines) = &stmt.kind else {
+                out.push(stmt);
+                continue;
+            };
+            for words in lines.each() {
+                let (Some(first), Some(last)) = (words.first(), words.last()) else {
+                    continue;
+                };
+                out.push(Stmt {
+                    span: first.span.to(last.span),
+                    kind: StmtKind::Line(Line {
+                        words: words.to_vec(),
+                        block_delete: false,
+                    }),
+                });
+            }
+        }
+        out
+    }
+}
+
 #[derive(Debug, Clone)]
 pub enum StmtKind {
     /// A line of G-code words. One line may hold several statements; see
     /// [`Line::statements`] for how it is cut.
     Line(Line),
+    /// Lines of plain words in a row, as a part of a plain program (one
+    /// without `GOTO`) is parsed ([`crate::syntax::egc::chunk`]): each runs
+    /// as a [`Line`].
+    Lines(Box<Lines>),
     Assign(Box<Assignment>),
     /// Several assignments on one line (LinuxCNC's `#1=2 #2=[#1+1]`): every
     /// value is worked out first, with the variables as they were before
@@ -211,6 +243,33 @@ pub struct Line {
     pub block_delete: bool,
 }
 
+/// Lines of words (none written after a `/`), their words kept in one
+/// vector rather than one each: most of a plain program, a part at a time.
+#[derive(Debug, Clone, Default)]
+pub struct Lines {
+    /// The words of every line, one line after another.
+    pub words: Vec<Word>,
+    /// Where each line's words end in `words`.
+    pub ends: Vec<usize>,
+}
+
+impl Lines {
+    /// The words of each line.
+    pub fn each(&self) -> impl Iterator<Item = &[Word]> {
+        let mut start = 0;
+        self.ends.iter().map(move |&end| {
+            let words = &self.words[start..end];
+            start = end;
+            words
+        })
+    }
+
+    pub fn clear(&mut self) {
+        self.words.clear();
+        self.ends.clear();
+    }
+}
+
 /// One statement of a [`Line`]: a G or M code with the argument words that
 /// follow it, or (for the words before any G/M code) no code at all.
 #[derive(Debug, Clone, Copy)]
@@ -224,35 +283,39 @@ impl Line {
     /// new statement and takes the argument words after it; words before the
     /// first G/M code form a statement of their own. `N` words are dropped.
     pub fn statements(&self) -> impl Iterator<Item = LineStmt<'_>> {
-        let words: &[Word] = &self.words;
-        let mut rest = words;
-        std::iter::from_fn(move || loop {
-            if rest.is_empty() {
-                return None;
-            }
-            let starts_code = rest[0].is_code();
-            let (code, from) = if starts_code {
-                (Some(&rest[0]), 1)
-            } else {
-                (None, 0)
-            };
-            // Fanuc's `G65 P… A… M…`: every word after it is an argument.
-            let len = match code {
-                Some(c) if c.is_macro_call() => rest.len() - from,
-                _ => rest[from..]
-                    .iter()
-                    .position(Word::is_code)
-                    .unwrap_or(rest.len() - from),
-            };
-            let args = &rest[from..from + len];
-            rest = &rest[from + len..];
-            // A line of only N words is no statement at all.
-            if code.is_none() && args.iter().all(|w| w.letter == b'N') {
-                continue;
-            }
-            return Some(LineStmt { code, args });
-        })
+        statements(&self.words)
     }
+}
+
+/// [`Line::statements`] of a line's words.
+pub fn statements(words: &[Word]) -> impl Iterator<Item = LineStmt<'_>> {
+    let mut rest = words;
+    std::iter::from_fn(move || loop {
+        if rest.is_empty() {
+            return None;
+        }
+        let starts_code = rest[0].is_code();
+        let (code, from) = if starts_code {
+            (Some(&rest[0]), 1)
+        } else {
+            (None, 0)
+        };
+        // Fanuc's `G65 P… A… M…`: every word after it is an argument.
+        let len = match code {
+            Some(c) if c.is_macro_call() => rest.len() - from,
+            _ => rest[from..]
+                .iter()
+                .position(Word::is_code)
+                .unwrap_or(rest.len() - from),
+        };
+        let args = &rest[from..from + len];
+        rest = &rest[from + len..];
+        // A line of only N words is no statement at all.
+        if code.is_none() && args.iter().all(|w| w.letter == b'N') {
+            continue;
+        }
+        return Some(LineStmt { code, args });
+    })
 }
 
 #[derive(Debug, Clone)]
@@ -385,6 +448,7 @@ impl Stmt {
             }
             StmtKind::While(w) => block(&mut w.body),
             StmtKind::Line(_)
+            | StmtKind::Lines(_)
             | StmtKind::Assign(_)
             | StmtKind::Assigns(_)
             | StmtKind::Call { .. }
@@ -399,13 +463,8 @@ impl Stmt {
     pub fn map_functions(&mut self, f: &impl Fn(Function) -> Function) {
         let block = |stmts: &mut Vec<Stmt>| stmts.iter_mut().for_each(|s| s.map_functions(f));
         match &mut self.kind {
-            StmtKind::Line(line) => {
-                for w in &mut line.words {
-                    if let WordValue::Expr(e) = &mut w.value {
-                        e.map_functions(f);
-                    }
-                }
-            }
+            StmtKind::Line(Line { words, .. }) => map_word_functions(words, f),
+            StmtKind::Lines(lines) => map_word_functions(&mut lines.words, f),
             StmtKind::Assign(a) => a.map_functions(f),
             StmtKind::Assigns(all) => all.iter_mut().for_each(|a| a.map_functions(f)),
             StmtKind::Call { args, .. } => args.iter_mut().for_each(|a| a.map_functions(f)),
@@ -436,6 +495,15 @@ impl Stmt {
 pub enum UnaryOp {
     Neg,
     Not,
+}
+
+/// Change every function the words' expressions call.
+fn map_word_functions(words: &mut [Word], f: &impl Fn(Function) -> Function) {
+    for w in words {
+        if let WordValue::Expr(e) = &mut w.value {
+            e.map_functions(f);
+        }
+    }
 }
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]

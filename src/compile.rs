@@ -634,9 +634,9 @@ struct Parts<'a> {
     read_error: Option<std::io::Error>,
     /// A part needs the whole program; nothing more is read.
     whole: bool,
-    /// Emptied word vectors of lines run, for the lines to come
+    /// Emptied runs of lines of plain words, for the lines to come
     /// ([`chunk::recycle`]).
-    spare: Vec<Vec<crate::ast::Word>>,
+    spare: chunk::Spare,
 }
 
 impl<'a> Parts<'a> {
@@ -648,11 +648,11 @@ impl<'a> Parts<'a> {
             time: Duration::ZERO,
             read_error: None,
             whole: false,
-            spare: Vec::new(),
+            spare: chunk::Spare::default(),
         }
     }
 
-    /// The statements of a part that has run: their word vectors are
+    /// The statements of a part that has run: their runs of lines are
     /// kept for the parts to come while those are read as plain (no other
     /// source takes them).
     fn recycle(&mut self, ran: Vec<crate::ast::Stmt>) {

@@ -782,15 +782,32 @@ impl<'a> Evaluator<'a> {
 
     /// One line, in rs274's order of execution when it has several codes.
     fn exec_line(&mut self, line: &ast::Line) -> Flow {
+        self.exec_words(&line.words, line.block_delete)
+    }
+
+    /// Run plain lines in a row, each as [`Self::exec_line`] would; the
+    /// first flow that is not [`Flow::Next`] ends them.
+    fn exec_lines(&mut self, lines: &ast::Lines) -> Flow {
+        for words in lines.each() {
+            let flow = self.exec_words(words, false);
+            if flow != Flow::Next {
+                return flow;
+            }
+        }
+        Flow::Next
+    }
+
+    /// Run a line of `words`, written after a `/` if `block_delete`.
+    fn exec_words(&mut self, words: &[ast::Word], block_delete: bool) -> Flow {
         self.machine_coordinates = false;
-        self.block_delete = line.block_delete;
-        let flow = self.exec_line_in_order(line);
+        self.block_delete = block_delete;
+        let flow = self.exec_line_in_order(words);
         self.block_delete = false;
         flow
     }
 
-    fn exec_line_in_order(&mut self, line: &ast::Line) -> Flow {
-        if let Some(stmts) = block::in_order(line) {
+    fn exec_line_in_order(&mut self, words: &[ast::Word]) -> Flow {
+        if let Some(stmts) = block::in_order(words) {
             for s in &stmts {
                 let flow = self.exec_line_stmt(s.as_stmt());
                 if flow != Flow::Next {
@@ -799,7 +816,7 @@ impl<'a> Evaluator<'a> {
             }
             return Flow::Next;
         }
-        for s in line.statements() {
+        for s in ast::statements(words) {
             let flow = self.exec_line_stmt(s);
             if flow != Flow::Next {
                 return flow;
@@ -811,6 +828,7 @@ impl<'a> Evaluator<'a> {
     fn exec(&mut self, stmt: &ast::Stmt) -> Flow {
         match &stmt.kind {
             StmtKind::Line(line) => self.exec_line(line),
+            StmtKind::Lines(lines) => self.exec_lines(lines),
             StmtKind::Assign(a) => {
                 if let Some(name) = self.target(&a.target, a.name_span) {
                     self.assign(name, a.name_span, &a.value);
@@ -1342,7 +1360,9 @@ fn first_value(n: u32, from: Flavour) -> Slot {
     }
 }
 
-/// Where the line labelled `N<label>` is among `stmts`.
+/// Where the line labelled `N<label>` is among `stmts`. (Not in a run of
+/// [`ast::Lines`]: those are in parts of plain programs, which have no
+/// `GOTO`.)
 fn labelled(stmts: &[ast::Stmt], label: u32) -> Option<usize> {
     stmts.iter().position(|s| match &s.kind {
         StmtKind::Line(line) => line.words.first().is_some_and(|w| {

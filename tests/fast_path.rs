@@ -83,6 +83,8 @@ fn plain_word_lines_are_what_the_parser_builds() {
                     let mut names = ger::ast::Names::default();
                     let (stmts, diagnostics) =
                         parse_chunk(&text, range.clone(), &at, Language::Gcode, &mut names);
+                    // Lines in a row are kept together: compared line by line.
+                    let stmts = ger::ast::Stmt::line_by_line(stmts);
                     format!("{stmts:?}\n{diagnostics:?}")
                 })
             };

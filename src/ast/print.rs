@@ -48,20 +48,24 @@ impl AstPrinter<'_> {
         }
     }
 
+    /// A line of words, a statement of it to a line.
+    fn words(&mut self, words: &[Word], block_delete: bool) {
+        for s in crate::ast::statements(words) {
+            let words: Vec<String> = s
+                .code
+                .into_iter()
+                .chain(s.args)
+                .map(|w| self.word(w))
+                .collect();
+            let slash = if block_delete { "/" } else { "" };
+            self.line(&format!("{slash}{}", words.join(" ")));
+        }
+    }
+
     fn stmt(&mut self, stmt: &Stmt) {
         match &stmt.kind {
-            StmtKind::Line(line) => {
-                for s in line.statements() {
-                    let words: Vec<String> = s
-                        .code
-                        .into_iter()
-                        .chain(s.args)
-                        .map(|w| self.word(w))
-                        .collect();
-                    let slash = if line.block_delete { "/" } else { "" };
-                    self.line(&format!("{slash}{}", words.join(" ")));
-                }
-            }
+            StmtKind::Line(line) => self.words(&line.words, line.block_delete),
+            StmtKind::Lines(lines) => lines.each().for_each(|words| self.words(words, false)),
             StmtKind::Assign(a) => {
                 let text = self.assignment(a);
                 self.line(&text);

@@ -11,7 +11,7 @@
 //! with two codes of one modal group (`G0 X1 G1 X2`) keeps Ger's in-order
 //! reading: every code takes the words after it.
 
-use crate::ast::{Line, LineStmt, Word, WordValue};
+use crate::ast::{LineStmt, Word, WordValue};
 
 /// A statement of a reordered block: a code and the words it takes.
 pub struct Owned {
@@ -28,19 +28,19 @@ impl Owned {
     }
 }
 
-/// The statements of `line` in rs274's order, or `None` when the line's
+/// The statements of a line of `words` in rs274's order, or `None` when its
 /// own order stands (one code or none, two codes of one modal group, or a
 /// code ger does not place).
 #[inline]
-pub fn in_order(line: &Line) -> Option<Vec<Owned>> {
+pub fn in_order(words: &[Word]) -> Option<Vec<Owned>> {
     // Most lines have one code: no call, no allocation for them.
-    line.words.iter().filter(|w| w.is_code()).nth(1)?;
-    reordered(line)
+    words.iter().filter(|w| w.is_code()).nth(1)?;
+    reordered(words)
 }
 
 /// [`in_order`] of a line with two codes or more.
-fn reordered(line: &Line) -> Option<Vec<Owned>> {
-    let codes: Vec<&Word> = line.words.iter().filter(|w| w.is_code()).collect();
+fn reordered(words: &[Word]) -> Option<Vec<Owned>> {
+    let codes: Vec<&Word> = words.iter().filter(|w| w.is_code()).collect();
     let kinds: Vec<Kind> = codes.iter().map(|c| kind_of(c)).collect::<Option<_>>()?;
     for (i, kind) in kinds.iter().enumerate() {
         let group = kind.group();
@@ -71,7 +71,7 @@ fn reordered(line: &Line) -> Option<Vec<Owned>> {
         code: None,
         args: Vec::new(),
     };
-    for w in line.words.iter().filter(|w| !w.is_code()) {
+    for w in words.iter().filter(|w| !w.is_code()) {
         match taker(w.letter, &kinds) {
             Some(i) => stmts[i].1.args.push(w.clone()),
             None if matches!(w.letter, b'F' | b'S' | b'T' | b'N') => first.args.push(w.clone()),

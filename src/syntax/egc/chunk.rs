@@ -11,7 +11,7 @@
 
 use super::lexer::{self, comment_end, Language, WordNumber};
 use super::parser::{fast_path, parse_program_from};
-use crate::ast::{Line, Names, Number, Stmt, StmtKind, Subprogram, Word, WordValue};
+use crate::ast::{Lines, Names, Number, Stmt, StmtKind, Subprogram, Word, WordValue};
 use crate::diagnostic::Diagnostic;
 use crate::source::Locator;
 
@@ -298,31 +298,10 @@ fn needs_whole(stmt: &Stmt, known: &dyn Fn(u32) -> bool, in_sub: bool) -> bool {
     let needs = |s: &Stmt| needs_whole(s, known, in_sub);
     match &stmt.kind {
         StmtKind::Goto(_) => true,
-        StmtKind::Line(line) => {
-            let odd = |w: &crate::ast::Word| {
-                w.letter == b'O' || (w.is_code() && matches!(w.value, WordValue::Expr(_)))
-            };
-            line.words.iter().any(odd)
-                || line.statements().any(|s| {
-                    let Some(WordValue::Number(code)) = s.code.map(|c| &c.value) else {
-                        return false;
-                    };
-                    let letter = s.code.map_or(0, |c| c.letter);
-                    let m98 = (letter, code.value) == (b'M', 98.0);
-                    match (letter, code.value) {
-                        (b'M', 99.0) => !in_sub,
-                        (b'M', 98.0) | (b'G', 65.0) => {
-                            let p = s.args.iter().find(|w| w.letter == b'P');
-                            let target = match p.map(|w| &w.value) {
-                                Some(WordValue::Number(p)) => called(p, m98),
-                                _ => None,
-                            };
-                            !target.is_some_and(known)
-                        }
-                        _ => false,
-                    }
-                })
-        }
+        StmtKind::Line(line) => line_needs_whole(&line.words, known, in_sub),
+        StmtKind::Lines(lines) => lines
+            .each()
+            .any(|words| line_needs_whole(words, known, in_sub)),
         StmtKind::If(f) => f
             .branches
             .iter()
@@ -339,6 +318,33 @@ fn needs_whole(stmt: &Stmt, known: &dyn Fn(u32) -> bool, in_sub: bool) -> bool {
         | StmtKind::Comment(_)
         | StmtKind::Error => false,
     }
+}
+
+/// [`needs_whole`] of a line's words.
+fn line_needs_whole(words: &[Word], known: &dyn Fn(u32) -> bool, in_sub: bool) -> bool {
+    let odd = |w: &crate::ast::Word| {
+        w.letter == b'O' || (w.is_code() && matches!(w.value, WordValue::Expr(_)))
+    };
+    words.iter().any(odd)
+        || crate::ast::statements(words).any(|s| {
+            let Some(WordValue::Number(code)) = s.code.map(|c| &c.value) else {
+                return false;
+            };
+            let letter = s.code.map_or(0, |c| c.letter);
+            let m98 = (letter, code.value) == (b'M', 98.0);
+            match (letter, code.value) {
+                (b'M', 99.0) => !in_sub,
+                (b'M', 98.0) | (b'G', 65.0) => {
+                    let p = s.args.iter().find(|w| w.letter == b'P');
+                    let target = match p.map(|w| &w.value) {
+                        Some(WordValue::Number(p)) => called(p, m98),
+                        _ => None,
+                    };
+                    !target.is_some_and(known)
+                }
+                _ => false,
+            }
+        })
 }
 
 /// The program `M98 P<p>` (`m98`) or `G65 P<p>` calls, as the evaluator
@@ -362,14 +368,23 @@ pub fn parse_chunk(
     language: Language,
     names: &mut Names,
 ) -> (Vec<Stmt>, Vec<Diagnostic>) {
-    parse_lines(text, range, at, language, names, false, &mut Vec::new()).unwrap_or_default()
+    parse_lines(
+        text,
+        range,
+        at,
+        language,
+        names,
+        false,
+        &mut Spare::default(),
+    )
+    .unwrap_or_default()
 }
 
 /// [`parse_chunk`] of a part not known to be plain: `None` (and nothing
 /// parsed past it) at its first line that [`plain_line`] does not take.
 /// A line of plain words is plain unless it calls (`M98`, `M99`, `G65`,
 /// which [`plain_word`] refuses); only the other lines are looked at again.
-/// A line of plain words takes its vector from `spare` (emptied vectors of
+/// Lines of plain words in a row are kept in vectors from `spare` (those of
 /// parts run before, [`recycle`]) while it has any.
 pub fn parse_plain_chunk(
     text: &str,
@@ -377,31 +392,52 @@ pub fn parse_plain_chunk(
     at: &Locator,
     language: Language,
     names: &mut Names,
-    spare: &mut Vec<Vec<Word>>,
+    spare: &mut Spare,
 ) -> Option<(Vec<Stmt>, Vec<Diagnostic>)> {
     parse_lines(text, range, at, language, names, true, spare)
 }
 
-/// The most spare word vectors kept: as many as a part of 64 KB has lines
-/// of plain words when they are CAM's (16 bytes or more).
-const SPARE_MOST: usize = 4096;
+/// Emptied [`Lines`] of parts that have run, for the parts to come: their
+/// vectors are then not allocated and freed again for every part.
+#[derive(Debug, Default)]
+pub struct Spare {
+    runs: Vec<Lines>,
+    /// The room for words they have, in all.
+    room: usize,
+}
 
-/// A vector with room for more words than this is not kept (it keeps the
-/// room of the longest line it held): the spare vectors hold at most
-/// 4,096 × 16 words, 3 MB.
-const SPARE_ROOM: usize = 16;
+impl Spare {
+    /// The most room for words kept, in all: 65,536 words, 2.6 MB (a part
+    /// of 64 KB of CAM lines has about 10,000).
+    const MOST_ROOM: usize = 1 << 16;
 
-/// The word vectors of the lines of `stmts` (a part that has run),
-/// emptied, into `spare` for [`parse_plain_chunk`]: a line's vector is
-/// then not allocated and freed again for every line of a program.
-pub fn recycle(stmts: Vec<Stmt>, spare: &mut Vec<Vec<Word>>) {
+    fn pop(&mut self) -> Lines {
+        let run = self.runs.pop().unwrap_or_default();
+        self.room -= run.words.capacity();
+        run
+    }
+
+    /// Keep `run`, emptied, unless that would keep more than the most room.
+    fn push(&mut self, mut run: Lines) {
+        let room = run.words.capacity();
+        if self.room + room <= Self::MOST_ROOM {
+            run.clear();
+            self.room += room;
+            self.runs.push(run);
+        }
+    }
+
+    pub fn clear(&mut self) {
+        *self = Spare::default();
+    }
+}
+
+/// The lines of words of `stmts` (a part that has run), into `spare` for
+/// [`parse_plain_chunk`].
+pub fn recycle(stmts: Vec<Stmt>, spare: &mut Spare) {
     for stmt in stmts {
-        if let StmtKind::Line(line) = stmt.kind {
-            if spare.len() < SPARE_MOST && line.words.capacity() <= SPARE_ROOM {
-                let mut words = line.words;
-                words.clear();
-                spare.push(words);
-            }
+        if let StmtKind::Lines(run) = stmt.kind {
+            spare.push(*run);
         }
     }
 }
@@ -428,10 +464,9 @@ fn parse_lines(
     language: Language,
     names: &mut Names,
     check: bool,
-    spare: &mut Vec<Vec<Word>>,
+    spare: &mut Spare,
 ) -> Option<(Vec<Stmt>, Vec<Diagnostic>)> {
-    // About a statement for every 16 bytes (a CAM line is 20 to 30).
-    let (mut stmts, mut diagnostics) = (Vec::with_capacity(range.len() / 16), Vec::new());
+    let (mut stmts, mut diagnostics) = (Vec::new(), Vec::new());
     let mut parse = |from: usize, to: usize, stmts: &mut Vec<Stmt>| {
         if from < to {
             let (program, found) = parse_program_from(&text[..to], from, at, language, names);
@@ -448,8 +483,8 @@ fn parse_lines(
         parse(range.start, range.end, &mut stmts);
         return Some((stmts, diagnostics));
     }
-    // The next plain line's words.
-    let mut words = spare.pop().unwrap_or_default();
+    // The lines of plain words since the last line for the parser.
+    let mut run = spare.pop();
     // Lines from `waiting` on are for the parser, not yet parsed.
     let (mut waiting, mut line) = (range.start, range.start);
     let mut number = at.span(line, line).line;
@@ -460,32 +495,46 @@ fn parse_lines(
         let line_end = after
             .next()
             .map_or(range.end, |&s| (s as usize - 1).min(range.end));
-        if lexer::plain_words(text, (line, line_end), at, number, &mut words) {
-            if check && words.iter().any(may_call) {
+        let before = run.words.len();
+        if lexer::plain_words(text, (line, line_end), at, number, &mut run.words) {
+            if check && run.words[before..].iter().any(may_call) {
+                spare.push(run);
                 return None;
             }
-            parse(waiting, line, &mut stmts);
-            if let (Some(first), Some(last)) = (words.first(), words.last()) {
-                let span = first.span.to(last.span);
-                let words = std::mem::replace(&mut words, spare.pop().unwrap_or_default());
-                stmts.push(Stmt {
-                    kind: StmtKind::Line(Line {
-                        words,
-                        block_delete: false,
-                    }),
-                    span,
-                });
+            if waiting < line {
+                // The lines before this one go first: the run up to them,
+                // then they; this line starts the next run.
+                let mut next = spare.pop();
+                next.words.extend(run.words.drain(before..));
+                end_run(&mut stmts, std::mem::replace(&mut run, next), spare);
+                parse(waiting, line, &mut stmts);
+            }
+            if run.ends.last().map_or(0, |&end| end) < run.words.len() {
+                run.ends.push(run.words.len());
             }
             waiting = (line_end + 1).min(range.end);
         } else if check && !plain_line(&text[line..line_end]) {
+            spare.push(run);
             return None;
         }
         line = line_end + 1;
         number += 1;
     }
-    spare.push(words);
+    end_run(&mut stmts, run, spare);
     parse(waiting, range.end, &mut stmts);
     Some((stmts, diagnostics))
+}
+
+/// The statement of a run of lines of plain words, if it has any; its span
+/// from its first word to its last.
+fn end_run(stmts: &mut Vec<Stmt>, run: Lines, spare: &mut Spare) {
+    match (run.words.first(), run.words.last()) {
+        (Some(first), Some(last)) => stmts.push(Stmt {
+            span: first.span.to(last.span),
+            kind: StmtKind::Lines(Box::new(run)),
+        }),
+        _ => spare.push(run),
+    }
 }
 
 #[cfg(test)]
@@ -509,7 +558,7 @@ mod tests {
                     &at,
                     Language::Gcode,
                     &mut names,
-                    &mut Vec::new(),
+                    &mut Spare::default(),
                 );
                 assert_eq!(got.is_some(), plain, "{text:?} (fast path: {fast})");
                 if let Some((stmts, found)) = got {
@@ -523,27 +572,61 @@ mod tests {
         }
     }
 
-    /// Vectors kept for the parts to come: emptied, at most
-    /// [`SPARE_MOST`], none with room for more than [`SPARE_ROOM`] words.
+    /// Lines of plain words in a row are one statement; a line for the
+    /// parser between them ends it, and comes between it and the next.
     #[test]
-    fn spare_vectors_are_empty_and_bounded() {
+    fn lines_in_a_row_are_one_statement() {
+        let text = "G1 X1\nG1 X2\n\n(c)\nG1 X3\n\nG1 X4\n(d)\n";
+        let at = Locator::new(0, text);
+        let range = 0..text.len();
+        let (stmts, _) = parse_chunk(text, range, &at, Language::Gcode, &mut Names::default());
+        let kinds: Vec<String> = stmts
+            .iter()
+            .map(|s| match &s.kind {
+                StmtKind::Lines(lines) => format!("lines {:?}", lines.ends),
+                StmtKind::Comment(_) => "comment".to_string(),
+                other => format!("{other:?}"),
+            })
+            .collect();
+        assert_eq!(
+            kinds,
+            ["lines [2, 4]", "comment", "lines [2, 4]", "comment"]
+        );
+        // Spans from the first word of a run to its last.
+        assert_eq!((stmts[0].span.start, stmts[0].span.end), (0, 11));
+        assert_eq!((stmts[2].span.start, stmts[2].span.end), (17, 29));
+    }
+
+    /// Runs kept for the parts to come: emptied, with room for at most
+    /// [`Spare::MOST_ROOM`] words in all.
+    #[test]
+    fn spare_runs_are_empty_and_bounded() {
         let parse = |text: &str| {
             let at = Locator::new(0, text);
             let range = 0..text.len();
             parse_chunk(text, range, &at, Language::Gcode, &mut Names::default()).0
         };
-        let long = format!("{}\n", "X1 ".repeat(40));
-        let text: String = (0..3000)
-            .map(|i| if i % 2 == 0 { "G1 X1 Y2\n" } else { &long })
-            .collect();
-        let mut spare = Vec::new();
-        recycle(parse(&text), &mut spare);
-        assert_eq!(spare.len(), 1500);
+        let mut spare = Spare::default();
+        // Runs of two lines between comments.
+        recycle(parse(&"G1 X1 Y2\nG0 Z5\n(c)\n".repeat(3000)), &mut spare);
+        assert_eq!(spare.runs.len(), 3000);
+        let room: usize = spare.runs.iter().map(|r| r.words.capacity()).sum();
+        assert_eq!(spare.room, room);
+        assert!(room <= Spare::MOST_ROOM);
         assert!(spare
+            .runs
             .iter()
-            .all(|v| v.is_empty() && (3..=SPARE_ROOM).contains(&v.capacity())));
-        recycle(parse(&"G0 Z5\n".repeat(5000)), &mut spare);
-        assert_eq!(spare.len(), SPARE_MOST);
+            .all(|r| r.words.is_empty() && r.ends.is_empty()));
+        // A run with more room than that is not kept.
+        let mut spare = Spare::default();
+        recycle(parse(&"G1 X1 Y2 Z3\n".repeat(30_000)), &mut spare);
+        assert!(spare.runs.is_empty() && spare.room == 0);
+        // Taken back, a run's room is no longer counted.
+        recycle(parse("G1 X1\n"), &mut spare);
+        assert_eq!(spare.runs.len(), 1);
+        let run = spare.pop();
+        assert_eq!((spare.runs.len(), spare.room), (0, 0));
+        assert!(run.words.capacity() > 0);
     }
 
     #[test]
