@@ -1754,7 +1754,8 @@ fn decimal_after(text: &str, from: usize, end: usize) -> Option<(f64, u8, bool, 
     let value = if count > 15 {
         text[sign..i].parse().unwrap_or(f64::NAN)
     } else {
-        let v = mantissa as f64 / POW10[count - point.unwrap_or(count)];
+        // Exact below 10^15 either way; from `i64` it is one instruction.
+        let v = mantissa as i64 as f64 / POW10[count - point.unwrap_or(count)];
         if negative {
             -v
         } else {
@@ -1870,7 +1871,8 @@ fn scan_decimal(text: &str) -> (f64, u8, bool) {
     let value = if count > 15 {
         text.parse().unwrap_or(f64::NAN)
     } else {
-        let v = mantissa as f64 / POW10[count - point.unwrap_or(count)];
+        // Exact below 10^15 either way; from `i64` it is one instruction.
+        let v = mantissa as i64 as f64 / POW10[count - point.unwrap_or(count)];
         if negative {
             -v
         } else {
