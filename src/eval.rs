@@ -502,12 +502,25 @@ impl<'a> Evaluator<'a> {
     }
 
     fn emit(&mut self, op: ir::Op, span: Span) -> Result<(), Diagnostic> {
+        self.admit(&op, span)?;
+        self.out.push(ir::Stmt {
+            op,
+            span,
+            block_delete: self.block_delete,
+        });
+        self.kept();
+        Ok(())
+    }
+
+    /// The checks and the state of [`Self::emit`] for `op`, before it is
+    /// kept.
+    fn admit(&mut self, op: &ir::Op, span: Span) -> Result<(), Diagnostic> {
         if self.made >= self.options.max_statements {
             let kind = EvalErrorKind::TooManyStatements(self.options.max_statements);
             return Err(EvalError::new(kind, span).into());
         }
-        self.check_under_comp(&op, span)?;
-        match &op {
+        self.check_under_comp(op, span)?;
+        match op {
             ir::Op::Comp { side, .. } => self.comp = Some((*side, span)),
             ir::Op::CompOff | ir::Op::End => self.comp = None,
             ir::Op::Feed(_) => {
@@ -519,25 +532,24 @@ impl<'a> Evaluator<'a> {
             }
             _ => {}
         }
-        self.track(&op);
+        self.track(op);
         match op {
             ir::Op::Move(_) if self.first_move.is_none() => self.first_move = Some(span),
-            ir::Op::Units(u) if self.first_units.is_none() => self.first_units = Some(u),
+            ir::Op::Units(u) if self.first_units.is_none() => self.first_units = Some(*u),
             _ => {}
         }
         if !self.started && self.first_move.is_some() {
             self.start(span);
         }
-        self.out.push(ir::Stmt {
-            op,
-            span,
-            block_delete: self.block_delete,
-        });
+        Ok(())
+    }
+
+    /// A statement was kept: counted, and the batch sent once full.
+    fn kept(&mut self) {
         self.made += 1;
         if self.out.len() >= self.options.batch {
             self.send();
         }
-        Ok(())
     }
 
     /// A statement of its own (not from a G-code line): a limit reached

@@ -134,6 +134,12 @@ pub struct Axes {
 }
 
 impl Axes {
+    /// No axis.
+    pub const NONE: Axes = Axes {
+        present: 0,
+        values: [0.0; 9],
+    };
+
     pub fn is_empty(&self) -> bool {
         self.present == 0
     }

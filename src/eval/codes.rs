@@ -206,14 +206,15 @@ impl Evaluator<'_> {
                 let (_, at) = w.remaining().next().unwrap_or((b'X', span));
                 return Err(CodeError::new(K::MoveWithoutMotion, at).into());
             };
-            let m = self.motion_move(motion, w, span)?;
             if self.machine_coordinates {
+                let m = self.motion_move(motion, w, span)?;
                 if m.motion.is_arc() {
                     return Err(CodeError::new(K::ArcInMachineCoordinates, span).into());
                 }
                 self.emit(Op::MachineMove(m), span)?;
             } else {
-                self.emit(Op::Move(m), span)?;
+                let arc = self.move_arc(motion, w, span)?;
+                self.emit_move(motion, arc, w, span)?;
             }
         }
         self.unused_words(w, code)
@@ -238,6 +239,70 @@ impl Evaluator<'_> {
         span: Span,
     ) -> Result<ir::Move, Diagnostic> {
         let to = axis_words(w);
+        let arc = self.move_arc(motion, w, span)?;
+        Ok(ir::Move { motion, to, arc })
+    }
+
+    /// A move of `motion` to the axis words of `w` with its `arc`, as
+    /// [`Self::emit`] of it, but built where it is kept, in the batch. (Built
+    /// apart and copied, a move is read back wide right after it was
+    /// written a word at a time, and the processor waits for the writes.)
+    fn emit_move(
+        &mut self,
+        motion: Motion,
+        arc: Option<Arc>,
+        w: &mut WordValues,
+        span: Span,
+    ) -> Result<(), Diagnostic> {
+        /// A statement to fill in: a constant, so that nothing just written
+        /// is copied into the batch.
+        const BLANK: ir::Stmt = ir::Stmt {
+            op: Op::Move(ir::Move {
+                motion: Motion::Rapid,
+                to: Axes::NONE,
+                arc: None,
+            }),
+            span: Span {
+                file: 0,
+                line: 0,
+                start: 0,
+                end: 0,
+            },
+            block_delete: false,
+        };
+        let mut out = std::mem::take(&mut self.out);
+        out.push(BLANK);
+        if let Some(stmt) = out.last_mut() {
+            stmt.span = span;
+            stmt.block_delete = self.block_delete;
+            if let Op::Move(m) = &mut stmt.op {
+                m.motion = motion;
+                if arc.is_some() {
+                    m.arc = arc;
+                }
+                axis_words_into(w, &mut m.to);
+            }
+        }
+        let admitted = match out.last() {
+            Some(stmt) => self.admit(&stmt.op, span),
+            None => Ok(()),
+        };
+        if admitted.is_err() {
+            out.pop();
+        }
+        self.out = out;
+        admitted?;
+        self.kept();
+        Ok(())
+    }
+
+    /// The arc words of a move of `motion`: `None` for a straight move.
+    fn move_arc(
+        &mut self,
+        motion: Motion,
+        w: &mut WordValues,
+        span: Span,
+    ) -> Result<Option<Arc>, Diagnostic> {
         let arc = if motion.is_arc() {
             let center: ir::Center = [b'I', b'J', b'K'].map(|l| w.take_value(l));
             let radius = w.take(b'R');
@@ -266,7 +331,7 @@ impl Evaluator<'_> {
         } else {
             None
         };
-        Ok(ir::Move { motion, to, arc })
+        Ok(arc)
     }
 
     fn g_code(
@@ -721,14 +786,21 @@ const MACRO_ARGUMENTS: [(u8, u32); 21] = [
 ];
 
 /// The axis words of a statement: X Y Z, A B C (degrees), U V W.
+#[inline(always)]
 fn axis_words(w: &mut WordValues) -> Axes {
     let mut axes = Axes::default();
+    axis_words_into(w, &mut axes);
+    axes
+}
+
+/// [`axis_words`] into `axes` (empty).
+#[inline(always)]
+fn axis_words_into(w: &mut WordValues, axes: &mut Axes) {
     for axis in Axis::ALL {
         if let Some(v) = w.take_value(axis.letter()) {
             axes.set(axis, v);
         }
     }
-    axes
 }
 
 /// A word that must hold a whole, non-negative number.
