@@ -288,6 +288,9 @@ struct Evaluator<'a> {
     /// subprogram among those read, so it must be read whole.
     in_parts: bool,
     needs_whole: bool,
+    /// The word table of the statement run last, for the next
+    /// ([`WordValues`]).
+    word_table: Option<Box<WordTable>>,
     options: &'a EvalOptions,
     wizards: Option<&'a mut dyn WizardHost>,
     vars: Vars,
@@ -379,6 +382,7 @@ impl<'a> Evaluator<'a> {
             kept: Vec::new(),
             in_parts: false,
             needs_whole: false,
+            word_table: None,
             options,
             wizards,
             vars: Vars::new(
@@ -1241,20 +1245,26 @@ impl WizardContext for Context<'_, '_> {
 
 /// Values of the words of one statement, by letter: a presence mask and
 /// the values, with the index of each word for its span and spelling.
-/// Small and cheap to start empty: one is made per statement.
+/// Cheap to start empty: the table is the last statement's (only the
+/// letters present in the mask are ever read), not made and cleared anew.
 struct WordValues<'w> {
     present: u32,
-    values: [f64; 26],
-    index: [u16; 26],
+    table: Box<WordTable>,
     words: &'w [ast::Word],
 }
 
+/// A value and a word index for every letter.
+#[derive(Default)]
+struct WordTable {
+    values: [f64; 26],
+    index: [u16; 26],
+}
+
 impl<'w> WordValues<'w> {
-    fn new(words: &'w [ast::Word]) -> Self {
+    fn new(words: &'w [ast::Word], table: Box<WordTable>) -> Self {
         WordValues {
             present: 0,
-            values: [0.0; 26],
-            index: [0; 26],
+            table,
             words,
         }
     }
@@ -1266,14 +1276,14 @@ impl<'w> WordValues<'w> {
     /// The span of the word already given for `letter`, if any.
     fn given(&self, letter: u8) -> Option<Span> {
         self.has(letter)
-            .then(|| self.words[self.index[(letter - b'A') as usize] as usize].span)
+            .then(|| self.words[self.table.index[(letter - b'A') as usize] as usize].span)
     }
 
     fn set(&mut self, letter: u8, value: f64, word_index: usize) {
         let i = (letter - b'A') as usize;
         self.present |= Self::bit(letter);
-        self.values[i] = value;
-        self.index[i] = word_index.min(u16::MAX as usize) as u16;
+        self.table.values[i] = value;
+        self.table.index[i] = word_index.min(u16::MAX as usize) as u16;
     }
 
     fn take(&mut self, letter: u8) -> Option<(f64, Span)> {
@@ -1287,16 +1297,16 @@ impl<'w> WordValues<'w> {
         }
         self.present &= !Self::bit(letter);
         let i = (letter - b'A') as usize;
-        let word = &self.words[self.index[i] as usize];
+        let word = &self.words[self.table.index[i] as usize];
         let written = match &word.value {
             ast::WordValue::Number(n) => *n,
             ast::WordValue::Expr(_) => ast::Number {
-                value: self.values[i],
+                value: self.table.values[i],
                 int_digits: 0,
                 has_point: true,
             },
         };
-        Some((self.values[i], word.span, written))
+        Some((self.table.values[i], word.span, written))
     }
 
     /// The value alone, taken (no span or spelling to look up).
@@ -1305,7 +1315,7 @@ impl<'w> WordValues<'w> {
             return None;
         }
         self.present &= !Self::bit(letter);
-        Some(self.values[(letter - b'A') as usize])
+        Some(self.table.values[(letter - b'A') as usize])
     }
 
     fn has(&self, letter: u8) -> bool {

@@ -49,6 +49,15 @@ fn code_name(letter: u8, t: u32) -> String {
 
 impl Evaluator<'_> {
     pub(super) fn exec_line_stmt(&mut self, stmt: LineStmt<'_>) -> Flow {
+        let table = self.word_table.take().unwrap_or_default();
+        let mut words = WordValues::new(stmt.args, table);
+        let flow = self.exec_stmt_words(stmt, &mut words);
+        self.word_table = Some(words.table);
+        flow
+    }
+
+    /// [`Self::exec_line_stmt`] with the table for its words.
+    fn exec_stmt_words(&mut self, stmt: LineStmt<'_>, words: &mut WordValues) -> Flow {
         // G7 and G8 hold for the X words of their own line (rs274 reads X
         // by the mode, then rescales it when the line changes the mode).
         if let Some(code) = stmt.code.filter(|c| c.letter == b'G') {
@@ -58,7 +67,6 @@ impl Evaluator<'_> {
                 }
             }
         }
-        let mut words = WordValues::new(stmt.args);
         let mut span = stmt
             .code
             .map(|c| c.span)
@@ -87,14 +95,14 @@ impl Evaluator<'_> {
             words.set(w.letter, value, i);
         }
         let result = match stmt.code {
-            None => self.plain_words(&mut words, span),
+            None => self.plain_words(words, span),
             Some(code) => {
                 let Some(value) = self.word_value(code) else {
                     return Flow::Next;
                 };
                 match tenths(value) {
-                    Some(t) if code.letter == b'G' => self.g_code(t, code.span, &mut words, span),
-                    Some(t) => self.m_code(t, code.span, &mut words, span),
+                    Some(t) if code.letter == b'G' => self.g_code(t, code.span, words, span),
+                    Some(t) => self.m_code(t, code.span, words, span),
                     None => {
                         let letter = code.letter as char;
                         Err(CodeError::new(K::NotACode { letter, value }, code.span).into())
