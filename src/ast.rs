@@ -287,6 +287,28 @@ impl Line {
     }
 }
 
+/// [`statements`] of a line with one G or M code or none, found in one
+/// look at its words: the statement of the words before the code (unless
+/// they are only `N` words) and that of the code. `None` when the line has
+/// more codes.
+pub fn few_statements(words: &[Word]) -> Option<[Option<LineStmt<'_>>; 2]> {
+    let mut codes = (0..words.len()).filter(|&i| words[i].is_code());
+    let first = codes.next();
+    if codes.next().is_some() {
+        return None;
+    }
+    let before = &words[..first.unwrap_or(words.len())];
+    let uncoded = (!before.iter().all(|w| w.letter == b'N')).then_some(LineStmt {
+        code: None,
+        args: before,
+    });
+    let coded = first.map(|at| LineStmt {
+        code: Some(&words[at]),
+        args: &words[at + 1..],
+    });
+    Some([uncoded, coded])
+}
+
 /// [`Line::statements`] of a line's words.
 pub fn statements(words: &[Word]) -> impl Iterator<Item = LineStmt<'_>> {
     let mut rest = words;
@@ -666,5 +688,67 @@ impl Function {
             Function::Min | Function::Max => (2, usize::MAX),
             _ => (1, 1),
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Where a statement's words are: its code's and its arguments'.
+    fn place(s: &LineStmt<'_>) -> (Option<*const Word>, *const Word, usize) {
+        (
+            s.code.map(|c| c as *const Word),
+            s.args.as_ptr(),
+            s.args.len(),
+        )
+    }
+
+    /// Every line of up to five words from G, M, N, X and F (and G65):
+    /// with one code or none, [`few_statements`] cuts it as [`statements`].
+    #[test]
+    fn few_statements_cut_as_statements_do() {
+        let word = |letter: u8, value: f64| Word {
+            letter,
+            value: WordValue::Number(Number {
+                value,
+                int_digits: 1,
+                has_point: false,
+            }),
+            span: Span::default(),
+        };
+        let alphabet = [
+            (b'G', 1.0),
+            (b'M', 3.0),
+            (b'N', 10.0),
+            (b'X', 1.0),
+            (b'F', 9.0),
+            (b'G', 65.0),
+        ];
+        let (mut few, mut more) = (0, 0);
+        for len in 0..=5u32 {
+            for mut k in 0..alphabet.len().pow(len) {
+                let words: Vec<Word> = (0..len)
+                    .map(|_| {
+                        let (letter, value) = alphabet[k % alphabet.len()];
+                        k /= alphabet.len();
+                        word(letter, value)
+                    })
+                    .collect();
+                let all: Vec<_> = statements(&words).map(|s| place(&s)).collect();
+                match few_statements(&words) {
+                    Some(cut) => {
+                        let got: Vec<_> = cut.iter().flatten().map(place).collect();
+                        assert_eq!(got, all);
+                        few += 1;
+                    }
+                    None => {
+                        assert!(words.iter().filter(|w| w.is_code()).count() > 1);
+                        more += 1;
+                    }
+                }
+            }
+        }
+        assert!(few > 1000 && more > 1000, "{few} {more}");
     }
 }

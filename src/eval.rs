@@ -823,6 +823,16 @@ impl<'a> Evaluator<'a> {
     }
 
     fn exec_line_in_order(&mut self, words: &[ast::Word]) -> Flow {
+        // Most lines: one code or none, whose order is the line's.
+        if let Some(stmts) = ast::few_statements(words) {
+            for s in stmts.into_iter().flatten() {
+                let flow = self.exec_line_stmt(s);
+                if flow != Flow::Next {
+                    return flow;
+                }
+            }
+            return Flow::Next;
+        }
         if let Some(stmts) = block::in_order(words) {
             for s in &stmts {
                 let flow = self.exec_line_stmt(s.as_stmt());
