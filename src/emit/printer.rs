@@ -21,11 +21,86 @@ pub(super) struct Printer {
     /// 10^decimals.
     scale: f64,
     main_file: u32,
+    /// The `N` words of source lines, made ahead.
+    line_numbers: LineNumbers,
     seq: u64,
     /// The arc plane as printed so far.
     pub plane: ir::Plane,
     /// The tool of the last T word, for targets that name it at M6.
     selected_tool: Option<u32>,
+}
+
+/// The `N` word of a source line (`N12 `), and the next line's, made as
+/// soon as this one's is used: most lines come one after another, and their
+/// word is then neither worked out again nor copied right after it was
+/// written (the copy would wait for the writes to finish).
+#[derive(Default)]
+struct LineNumbers {
+    words: [NWord; 2],
+    /// The one of `words` used last.
+    current: usize,
+}
+
+impl LineNumbers {
+    fn push(&mut self, out: &mut Vec<u8>, line: u32) {
+        let next = 1 - self.current;
+        if self.words[next].line == line {
+            self.current = next;
+        } else if self.words[self.current].line != line {
+            self.words[self.current] = NWord::of(line);
+        }
+        let word = &self.words[self.current];
+        out.extend_from_slice(&word.text[..word.len]);
+        let after = word.after();
+        self.words[1 - self.current] = after;
+    }
+}
+
+/// `N<line> `, written out.
+#[derive(Clone, Copy, Default)]
+struct NWord {
+    /// 0: none (source lines start at 1).
+    line: u32,
+    text: [u8; 16],
+    len: usize,
+}
+
+impl NWord {
+    fn of(line: u32) -> NWord {
+        let mut bytes = Vec::with_capacity(16);
+        bytes.push(b'N');
+        push_int(&mut bytes, i64::from(line));
+        bytes.push(b' ');
+        let mut text = [0; 16];
+        text[..bytes.len()].copy_from_slice(&bytes);
+        NWord {
+            line,
+            text,
+            len: bytes.len(),
+        }
+    }
+
+    /// The word of the line after: its last digit counted up, with carries.
+    fn after(&self) -> NWord {
+        let Some(line) = self.line.checked_add(1) else {
+            return NWord::default();
+        };
+        let mut word = *self;
+        word.line = line;
+        // The digits are text[1..len - 1].
+        let mut at = word.len - 2;
+        while at > 0 {
+            if word.text[at] == b'9' {
+                word.text[at] = b'0';
+                at -= 1;
+            } else {
+                word.text[at] += 1;
+                return word;
+            }
+        }
+        // All nines: one digit more.
+        NWord::of(line)
+    }
 }
 
 impl Printer {
@@ -57,6 +132,7 @@ impl Printer {
             decimals,
             scale: 10f64.powi(decimals as i32),
             main_file: main_file as u32,
+            line_numbers: LineNumbers::default(),
             seq: 0,
             plane: ir::Plane::XY,
             selected_tool: None,
@@ -93,9 +169,7 @@ impl Printer {
         }
         match self.numbering {
             Numbering::Source if span.file == self.main_file && span.line > 0 => {
-                self.out.push(b'N');
-                push_int(&mut self.out, i64::from(span.line));
-                self.out.push(b' ');
+                self.line_numbers.push(&mut self.out, span.line);
             }
             Numbering::Seq => self.seq_number(),
             Numbering::Source | Numbering::None => {}
@@ -386,5 +460,27 @@ pub(super) fn motion_code(m: Motion) -> &'static str {
         Motion::Linear => "G1",
         Motion::ArcCw => "G2",
         Motion::ArcCcw => "G3",
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::LineNumbers;
+
+    /// Lines one after another (across carries and a digit more), the same
+    /// line again, jumps back and forth and the last line number: every
+    /// word as formatting the number writes it.
+    #[test]
+    fn line_numbers_are_written_as_formatted() {
+        let mut lines: Vec<u32> = (1..=1200).collect();
+        lines.extend([1200, 1200, 5, 6, 9, 10, 9, 99, 100, 101, 999_999, 1_000_000]);
+        lines.extend([u32::MAX - 2, u32::MAX - 1, u32::MAX, u32::MAX, 1, 2]);
+        let mut numbers = LineNumbers::default();
+        let (mut got, mut expected) = (Vec::new(), String::new());
+        for line in lines {
+            numbers.push(&mut got, line);
+            expected.push_str(&format!("N{line} "));
+        }
+        assert_eq!(String::from_utf8(got).unwrap(), expected);
     }
 }
