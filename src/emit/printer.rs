@@ -51,8 +51,11 @@ impl LineNumbers {
         }
         let word = &self.words[self.current];
         out.extend_from_slice(&word.text[..word.len]);
-        let after = word.after();
-        self.words[1 - self.current] = after;
+        // Counted up in place (a word made apart and copied would be read
+        // right after it was written).
+        let next = 1 - self.current;
+        self.words[next] = self.words[self.current];
+        self.words[next].count_up();
     }
 }
 
@@ -80,26 +83,27 @@ impl NWord {
         }
     }
 
-    /// The word of the line after: its last digit counted up, with carries.
-    fn after(&self) -> NWord {
+    /// Made the word of the line after: its last digit counted up, with
+    /// carries.
+    fn count_up(&mut self) {
         let Some(line) = self.line.checked_add(1) else {
-            return NWord::default();
+            *self = NWord::default();
+            return;
         };
-        let mut word = *self;
-        word.line = line;
+        self.line = line;
         // The digits are text[1..len - 1].
-        let mut at = word.len - 2;
+        let mut at = self.len - 2;
         while at > 0 {
-            if word.text[at] == b'9' {
-                word.text[at] = b'0';
+            if self.text[at] == b'9' {
+                self.text[at] = b'0';
                 at -= 1;
             } else {
-                word.text[at] += 1;
-                return word;
+                self.text[at] += 1;
+                return;
             }
         }
         // All nines: one digit more.
-        NWord::of(line)
+        *self = NWord::of(line);
     }
 }
 
