@@ -53,9 +53,9 @@ impl LineNumbers {
         out.extend_from_slice(&word.text[..word.len]);
         // Counted up in place (a word made apart and copied would be read
         // right after it was written).
-        let next = 1 - self.current;
-        self.words[next] = self.words[self.current];
-        self.words[next].count_up();
+        let after = 1 - self.current;
+        self.words[after] = self.words[self.current];
+        self.words[after].count_up();
     }
 }
 
@@ -83,7 +83,7 @@ impl NWord {
         }
     }
 
-    /// Made the word of the line after: its last digit counted up, with
+    /// Become the word of the line after: the last digit counted up, with
     /// carries.
     fn count_up(&mut self) {
         let Some(line) = self.line.checked_add(1) else {

@@ -504,9 +504,11 @@ fn parse_lines(
             if waiting < line {
                 // The lines before this one go first: the run up to them,
                 // then they; this line starts the next run.
-                let mut next = spare.pop();
-                next.words.extend(run.words.drain(before..));
-                end_run(&mut stmts, std::mem::replace(&mut run, next), spare);
+                if !run.ends.is_empty() {
+                    let mut next = spare.pop();
+                    next.words.extend(run.words.drain(before..));
+                    end_run(&mut stmts, std::mem::replace(&mut run, next), spare);
+                }
                 parse(waiting, line, &mut stmts);
             }
             if run.ends.last().map_or(0, |&end| end) < run.words.len() {
