@@ -28,18 +28,11 @@ impl Owned {
     }
 }
 
-/// The statements of a line of `words` in rs274's order, or `None` when its
-/// own order stands (one code or none, two codes of one modal group, or a
+/// The statements of a line of `words` with two codes or more (a line
+/// with fewer keeps its order: `ast::few_statements`) in rs274's order, or
+/// `None` when its own order stands (two codes of one modal group, or a
 /// code ger does not place).
-#[inline]
 pub fn in_order(words: &[Word]) -> Option<Vec<Owned>> {
-    // Most lines have one code: no call, no allocation for them.
-    words.iter().filter(|w| w.is_code()).nth(1)?;
-    reordered(words)
-}
-
-/// [`in_order`] of a line with two codes or more.
-fn reordered(words: &[Word]) -> Option<Vec<Owned>> {
     let codes: Vec<&Word> = words.iter().filter(|w| w.is_code()).collect();
     let kinds: Vec<Kind> = codes.iter().map(|c| kind_of(c)).collect::<Option<_>>()?;
     for (i, kind) in kinds.iter().enumerate() {

@@ -1751,18 +1751,22 @@ fn decimal_after(text: &str, from: usize, end: usize) -> Option<(f64, u8, bool, 
         return None;
     }
     let int_digits = point.unwrap_or(count).min(255) as u8;
-    let value = if count > 15 {
-        text[sign..i].parse().unwrap_or(f64::NAN)
-    } else {
-        // Exact below 10^15 either way; from `i64` it is one instruction.
-        let v = mantissa as i64 as f64 / POW10[count - point.unwrap_or(count)];
-        if negative {
-            -v
-        } else {
-            v
-        }
-    };
+    let value = exact_decimal(mantissa, count, point, negative)
+        .unwrap_or_else(|| text[sign..i].parse().unwrap_or(f64::NAN));
     Some((value, int_digits, point.is_some(), i))
+}
+
+/// The value of `count` digits read as `mantissa`, `point` of them before
+/// the point, negative or not: an exact integer divided by an exact power
+/// of ten, one correctly rounded operation (the value `str::parse` gives).
+/// `None` beyond 15 digits, where that does not hold.
+fn exact_decimal(mantissa: u64, count: usize, point: Option<usize>, negative: bool) -> Option<f64> {
+    if count > 15 {
+        return None;
+    }
+    // Exact below 10^15 either way; from `i64` it is one instruction.
+    let v = mantissa as i64 as f64 / POW10[count - point.unwrap_or(count)];
+    Some(if negative { -v } else { v })
 }
 
 /// Powers of ten exact in an `f64`.
@@ -1843,10 +1847,9 @@ fn parse_decimal(text: &str) -> f64 {
 }
 
 /// A plain decimal (`-12.5`, `.5`, `10.`) as f64, with its digits before
-/// the point and whether it has one, in one pass. Numbers of up to 15
-/// digits are an exact integer divided by an exact power of ten: one
-/// correctly rounded operation, the value `str::parse` gives, at a fraction
-/// of the cost. Longer numbers take `str::parse`.
+/// the point and whether it has one, in one pass: [`exact_decimal`] up to
+/// 15 digits, at a fraction of the cost of `str::parse`, which longer
+/// numbers take.
 fn scan_decimal(text: &str) -> (f64, u8, bool) {
     let bytes = text.as_bytes();
     let (negative, digits) = match bytes.first() {
@@ -1868,17 +1871,8 @@ fn scan_decimal(text: &str) -> (f64, u8, bool) {
         }
     }
     let int_digits = point.unwrap_or(count).min(255) as u8;
-    let value = if count > 15 {
-        text.parse().unwrap_or(f64::NAN)
-    } else {
-        // Exact below 10^15 either way; from `i64` it is one instruction.
-        let v = mantissa as i64 as f64 / POW10[count - point.unwrap_or(count)];
-        if negative {
-            -v
-        } else {
-            v
-        }
-    };
+    let value = exact_decimal(mantissa, count, point, negative)
+        .unwrap_or_else(|| text.parse().unwrap_or(f64::NAN));
     (value, int_digits, point.is_some())
 }
 

@@ -560,7 +560,7 @@ fn block_has_m99<'a>(mut rest: impl Iterator<Item = &'a Stmt>) -> bool {
 /// The statement of a line that is one run of plain words
 /// (`words[run]`, from `start` to `end` on line `number` of the file):
 /// what the grammar's `Words` rule builds.
-pub(crate) fn words_stmt(
+fn words_stmt(
     words: &[lexer::LexedWord],
     run: (u32, u32),
     (start, end): (usize, usize),
