@@ -287,22 +287,37 @@ impl ProgramPrinter {
         use crate::geometry::sweep;
         let plane = self.p.plane;
         let (a, b, _) = plane.axes();
-        let exact_sweep = sweep(start, end, center, plane, clockwise, turns);
         let radius = (start[a] - center[a]).hypot(start[b] - center[b]);
         let s = start_q.map(|q| self.p.unscaled(q));
         let e = end_q.map(|q| self.p.unscaled(q));
         let base = center.map(|v| self.p.scaled(v));
+        let good = 0.75 * self.p.unscaled(1);
+        let radii_differ = |c: [f64; 3]| {
+            let rs = (s[a] - c[a]).hypot(s[b] - c[b]);
+            let re = (e[a] - c[a]).hypot(e[b] - c[b]);
+            (rs - re).abs()
+        };
+        // The arc on the grid already (its numbers printed as the program
+        // gave them): the centre does not move and the sweep does not turn,
+        // so `error_of(base)` below is the difference of the radii alone.
+        let in_plane = |p: [f64; 3], q: [f64; 3]| {
+            p[a].to_bits() == q[a].to_bits() && p[b].to_bits() == q[b].to_bits()
+        };
+        let c = base.map(|q| self.p.unscaled(q));
+        if in_plane(s, start) && in_plane(e, end) && in_plane(c, center) && radii_differ(c) <= good
+        {
+            return base;
+        }
+        let exact_sweep = sweep(start, end, center, plane, clockwise, turns);
         let error_of = |q: [i64; 3]| {
             let c = q.map(|v| self.p.unscaled(v));
             let moved = (c[a] - center[a]).hypot(c[b] - center[b]);
             let turned = (sweep(s, e, c, plane, clockwise, turns) - exact_sweep).abs() * radius;
-            let rs = (s[a] - c[a]).hypot(s[b] - c[b]);
-            let re = (e[a] - c[a]).hypot(e[b] - c[b]);
-            moved.max(turned).max((rs - re).abs())
+            moved.max(turned).max(radii_differ(c))
         };
         // Plain rounding is usually as good as the grid allows.
         let mut best = (error_of(base), base);
-        if best.0 <= 0.75 * self.p.unscaled(1) {
+        if best.0 <= good {
             return base;
         }
         for da in -1..=1 {
