@@ -824,14 +824,16 @@ impl<'a> Evaluator<'a> {
 
     fn exec_line_in_order(&mut self, words: &[ast::Word]) -> Flow {
         // Most lines: one code or none, whose order is the line's.
-        if let Some(stmts) = ast::few_statements(words) {
-            for s in stmts.into_iter().flatten() {
+        // (Not an iterator over the two: moving them into one stalls on
+        // the stores that made them.)
+        if let Some([uncoded, coded]) = ast::few_statements(words) {
+            if let Some(s) = uncoded {
                 let flow = self.exec_line_stmt(s);
                 if flow != Flow::Next {
                     return flow;
                 }
             }
-            return Flow::Next;
+            return coded.map_or(Flow::Next, |s| self.exec_line_stmt(s));
         }
         if let Some(stmts) = block::in_order(words) {
             for s in &stmts {
