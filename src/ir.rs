@@ -257,6 +257,14 @@ pub struct Arc {
     pub turns: u32,
 }
 
+impl Arc {
+    /// An arc to fill in (no centre, one turn).
+    pub const BLANK: Arc = Arc {
+        geometry: ArcGeometry::Center([None; 3]),
+        turns: 1,
+    };
+}
+
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Units {
     Inch,

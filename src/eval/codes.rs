@@ -221,8 +221,7 @@ impl Evaluator<'_> {
                 }
                 self.emit(Op::MachineMove(m), span)?;
             } else {
-                let arc = self.move_arc(motion, w, span)?;
-                self.emit_move(motion, arc, w, span)?;
+                self.emit_move(motion, w, span)?;
             }
         }
         self.unused_words(w, code)
@@ -247,18 +246,24 @@ impl Evaluator<'_> {
         span: Span,
     ) -> Result<ir::Move, Diagnostic> {
         let to = axis_words(w);
-        let arc = self.move_arc(motion, w, span)?;
+        let arc = match motion.is_arc() {
+            true => {
+                let mut arc = Arc::BLANK;
+                arc_words(w, span, &mut arc)?;
+                Some(arc)
+            }
+            false => None,
+        };
         Ok(ir::Move { motion, to, arc })
     }
 
-    /// A move of `motion` to the axis words of `w` with its `arc`, as
+    /// A move of `motion` to the axis words of `w` (and its arc words), as
     /// [`Self::emit`] of it, but built where it is kept, in the batch. (Built
     /// apart and copied, a move is read back wide right after it was
     /// written a word at a time, and the processor waits for the writes.)
     fn emit_move(
         &mut self,
         motion: Motion,
-        arc: Option<Arc>,
         w: &mut WordValues,
         span: Span,
     ) -> Result<(), Diagnostic> {
@@ -280,20 +285,23 @@ impl Evaluator<'_> {
         };
         let mut out = std::mem::take(&mut self.out);
         out.push(BLANK);
+        let mut filled = Ok(());
         if let Some(stmt) = out.last_mut() {
             stmt.span = span;
             stmt.block_delete = self.block_delete;
             if let Op::Move(m) = &mut stmt.op {
                 m.motion = motion;
-                if arc.is_some() {
-                    m.arc = arc;
+                if motion.is_arc() {
+                    // Its words first: an error in them comes before any other.
+                    filled = arc_words(w, span, m.arc.insert(Arc::BLANK));
                 }
                 axis_words_into(w, &mut m.to);
             }
         }
-        let admitted = match out.last() {
-            Some(stmt) => self.admit(&stmt.op, span),
-            None => Ok(()),
+        let admitted = match (filled, out.last()) {
+            (Ok(()), Some(stmt)) => self.admit(&stmt.op, span),
+            (Ok(()), None) => Ok(()),
+            (Err(e), _) => Err(e),
         };
         if admitted.is_err() {
             out.pop();
@@ -302,44 +310,6 @@ impl Evaluator<'_> {
         admitted?;
         self.kept();
         Ok(())
-    }
-
-    /// The arc words of a move of `motion`: `None` for a straight move.
-    fn move_arc(
-        &mut self,
-        motion: Motion,
-        w: &mut WordValues,
-        span: Span,
-    ) -> Result<Option<Arc>, Diagnostic> {
-        let arc = if motion.is_arc() {
-            let center: ir::Center = [b'I', b'J', b'K'].map(|l| w.take_value(l));
-            let radius = w.take(b'R');
-            let turns = match w.take(b'P') {
-                Some((p, pspan)) => {
-                    let n = whole(p, pspan, "a number of turns")?;
-                    if n == 0 {
-                        return Err(CodeError::new(K::ZeroTurns, pspan).into());
-                    }
-                    n
-                }
-                None => 1,
-            };
-            let geometry = match (radius, center.iter().all(Option::is_none)) {
-                (Some((_, rspan)), false) => {
-                    return Err(CodeError::new(K::RadiusAndCentre, rspan).into())
-                }
-                (Some((0.0, rspan)), true) => {
-                    return Err(CodeError::new(K::ZeroRadius, rspan).into())
-                }
-                (Some((r, _)), true) => ArcGeometry::Radius(r),
-                (None, false) => ArcGeometry::Center(center),
-                (None, true) => return Err(CodeError::new(K::ArcWithoutCentre, span).into()),
-            };
-            Some(Arc { geometry, turns })
-        } else {
-            None
-        };
-        Ok(arc)
     }
 
     fn g_code(
@@ -799,6 +769,32 @@ fn axis_words(w: &mut WordValues) -> Axes {
     let mut axes = Axes::default();
     axis_words_into(w, &mut axes);
     axes
+}
+
+/// The arc words (I J K, R, P) of an arc move, taken from `w` into `arc`,
+/// in place (a result moved out of a call is read back wide right after
+/// it was written: the processor waits for the writes).
+fn arc_words(w: &mut WordValues, span: Span, arc: &mut Arc) -> Result<(), Diagnostic> {
+    let center: ir::Center = [b'I', b'J', b'K'].map(|l| w.take_value(l));
+    let radius = w.take(b'R');
+    arc.turns = match w.take(b'P') {
+        Some((p, pspan)) => {
+            let n = whole(p, pspan, "a number of turns")?;
+            if n == 0 {
+                return Err(CodeError::new(K::ZeroTurns, pspan).into());
+            }
+            n
+        }
+        None => 1,
+    };
+    arc.geometry = match (radius, center.iter().all(Option::is_none)) {
+        (Some((_, rspan)), false) => return Err(CodeError::new(K::RadiusAndCentre, rspan).into()),
+        (Some((0.0, rspan)), true) => return Err(CodeError::new(K::ZeroRadius, rspan).into()),
+        (Some((r, _)), true) => ArcGeometry::Radius(r),
+        (None, false) => ArcGeometry::Center(center),
+        (None, true) => return Err(CodeError::new(K::ArcWithoutCentre, span).into()),
+    };
+    Ok(())
 }
 
 /// [`axis_words`] into `axes` (empty).
