@@ -1146,6 +1146,13 @@ fn write_file<T>(
     path: &Path,
     write: impl FnOnce(&mut std::io::BufWriter<std::fs::File>) -> std::io::Result<T>,
 ) -> std::io::Result<T> {
+    if is_device(path) {
+        // Never replaced: written as it is opened.
+        let mut out = std::io::BufWriter::new(std::fs::OpenOptions::new().write(true).open(path)?);
+        let value = write(&mut out)?;
+        out.flush()?;
+        return Ok(value);
+    }
     let tmp = temporary_beside(path);
     let result = std::fs::File::create(&tmp).and_then(|file| {
         let mut out = std::io::BufWriter::new(file);
@@ -1159,6 +1166,46 @@ fn write_file<T>(
         let _ = std::fs::remove_file(&tmp);
     }
     result
+}
+
+/// Whether `path` names something other than a file or a folder: a
+/// device (`/dev/null`), a FIFO, a socket. Writing it means opening it,
+/// never replacing it.
+fn is_device(path: &Path) -> bool {
+    std::fs::metadata(path).is_ok_and(|m| !m.is_file() && !m.is_dir())
+}
+
+/// Compile into a held copy (an unnamed temporary file, else memory) and
+/// write it to the device `path` only when it is whole, as standard output
+/// is written: a machine on a FIFO never gets half a program, and on an
+/// error it gets nothing.
+fn write_when_whole(
+    path: &Path,
+    compile: impl FnOnce(&mut (dyn Write + Send)) -> Report,
+) -> Report {
+    let open = || std::fs::OpenOptions::new().write(true).open(path);
+    let (report, written) = match tempfile::tempfile() {
+        Ok(mut held) => {
+            let report = compile(&mut held);
+            let copy = |held: &mut std::fs::File| {
+                held.seek(std::io::SeekFrom::Start(0))?;
+                std::io::copy(held, &mut open()?).map(|_| ())
+            };
+            let written = report.succeeded().then(|| copy(&mut held));
+            (report, written)
+        }
+        Err(_) => {
+            let mut text = Vec::new();
+            let report = compile(&mut text);
+            let written = report.succeeded().then(|| open()?.write_all(&text));
+            (report, written)
+        }
+    };
+    let mut report = report;
+    if let Some(Err(e)) = written {
+        report.write_error = Some(e);
+    }
+    report
 }
 
 /// A temporary file's name beside `path` (same folder, so that the rename
@@ -1259,11 +1306,16 @@ impl Write for EarlySync<'_> {
 
 /// Compile into a temporary file beside the target, then rename it on
 /// success: a reader never sees half a program, and on failure (errors in
-/// the program, or in writing) the old file stays.
+/// the program, or in writing) the old file stays. A target that is not a
+/// file (`/dev/null`, a FIFO to a machine) is never replaced: it is sent
+/// the program once it is whole ([`write_when_whole`]).
 fn write_atomically(
     path: &Path,
     compile: impl FnOnce(&mut (dyn Write + Send)) -> Report,
 ) -> Report {
+    if is_device(path) {
+        return write_when_whole(path, compile);
+    }
     let tmp = temporary_beside(path);
     let mut file = match std::fs::File::create(&tmp) {
         Ok(file) => file,

@@ -104,6 +104,38 @@ fn output_is_atomic_and_untouched_on_error() {
     assert!(leftovers.is_empty());
 }
 
+/// `-o` naming a FIFO (a machine's pipe) or a device (`/dev/null`): it is
+/// opened and sent the program once whole, never replaced by a file (as
+/// root, a rename over `/dev/null` would replace the device).
+#[cfg(unix)]
+#[test]
+fn an_output_that_is_not_a_file_is_written_not_replaced() {
+    use std::os::unix::fs::FileTypeExt;
+    let dir = scratch_with_programs("fifo");
+    std::fs::write(dir.join("plain.ngc"), GOOD).unwrap();
+    let made = Command::new("mkfifo").arg(dir.join("machine")).status();
+    assert!(made.is_ok_and(|s| s.success()), "mkfifo");
+    for program in ["good.egc", "plain.ngc"] {
+        let fifo = dir.join("machine");
+        // The machine's end: opening it waits for ger's.
+        let machine = std::thread::spawn(move || std::fs::read_to_string(fifo));
+        let r = ger(&["compile", program, "-o", "machine"], &dir);
+        assert_eq!(
+            r.status.code(),
+            Some(0),
+            "{}",
+            String::from_utf8_lossy(&r.stderr)
+        );
+        let kind = std::fs::metadata(dir.join("machine")).unwrap().file_type();
+        // (Checked before the machine's end is waited for: a FIFO replaced
+        // by a file would leave it waiting.)
+        assert!(kind.is_fifo(), "{program}: the FIFO was replaced: {kind:?}");
+        let got = machine.join().unwrap().unwrap();
+        assert_eq!(got.as_bytes(), &ger(&["compile", program], &dir).stdout[..]);
+        assert!(got.contains("G1 X10."), "{got}");
+    }
+}
+
 #[test]
 fn output_equal_to_input_is_refused() {
     let dir = scratch("same");
