@@ -1156,9 +1156,23 @@ struct Backend<'s> {
     write_error: Option<std::io::Error>,
     /// Made by the first batch, when the setup and units are known.
     started: Option<Started>,
+    /// How many of the passes the evaluator's thread runs before it hands
+    /// a batch on ([`Backend::ahead`]); the back end runs the others.
+    lowered_ahead: usize,
+    /// Those passes, given back when the program has been lowered.
+    lowering_ahead: Option<Pipeline>,
     lower_time: Duration,
     emit_time: Duration,
 }
+
+/// The passes the evaluator's thread runs (when the back end has a thread
+/// of its own): units and polar. A program runs as fast as the slower of
+/// the two threads; on a plain program the back end was the slower (4 ms
+/// longer of 25 on the 200k moves of `benches/vs_rs274.py`, the evaluator
+/// waiting on it). Measured, 31 rounds in turn, against none ahead: two
+/// passes 33.1 -> 31.5 ms with `-o` (three 31.6, four 32.7), and a loop
+/// whose evaluator is the slower thread 36.8 -> 37.8 ms (three: 39.3).
+const PASSES_AHEAD: usize = 2;
 
 struct Started {
     /// `None` for `--stage expand`.
@@ -1187,30 +1201,54 @@ impl<'s> Backend<'s> {
             out,
             write_error: None,
             started: None,
+            lowered_ahead: 0,
+            lowering_ahead: None,
             lower_time: Duration::ZERO,
             emit_time: Duration::ZERO,
         }
     }
 
-    fn started(&self, start: &ir::Start) -> Started {
-        let (len, file) = (self.source.len(), self.file);
-        let last = match self.options.stage {
+    /// The index of the last pass to run; `None` for none (`--stage
+    /// parse` or `expand`).
+    fn last_pass(&self) -> Option<usize> {
+        match self.options.stage {
             Some(Stage::Lower(pass)) => Some(pass),
             Some(Stage::Parse | Stage::Expand) => None,
             None => Some(lower::PASSES.len() - 1),
+        }
+    }
+
+    /// How the passes lower.
+    fn lower_options(&self) -> lower::LowerOptions {
+        match self.out {
+            // A tool path is built from moves: cycles are always expanded
+            // and compensation resolved.
+            Output::Path(_) => lower::LowerOptions {
+                keep_cycles: false,
+                keep_comp: false,
+                ..self.options.lower.clone()
+            },
+            _ => self.options.lower.clone(),
+        }
+    }
+
+    /// The passes the evaluator's thread is to run ([`PASSES_AHEAD`], and
+    /// none past the last), and their options.
+    fn ahead(&self) -> (usize, lower::LowerOptions) {
+        let passes = self
+            .last_pass()
+            .map_or(0, |last| PASSES_AHEAD.min(last + 1));
+        (passes, self.lower_options())
+    }
+
+    fn started(&self, start: &ir::Start) -> Started {
+        let (len, file) = (self.source.len(), self.file);
+        let last = self.last_pass();
+        let options = self.lower_options();
+        let context = lower::Context {
+            start,
+            options: &options,
         };
-        // A tool path is built from moves: cycles are always expanded and
-        // compensation resolved.
-        let path_options = lower::LowerOptions {
-            keep_cycles: false,
-            keep_comp: false,
-            ..self.options.lower.clone()
-        };
-        let options = match self.out {
-            Output::Path(_) => &path_options,
-            _ => &self.options.lower,
-        };
-        let context = lower::Context { start, options };
         // What the first pass starts from is what is printed, unless the
         // units pass has run.
         let units = match last {
@@ -1218,7 +1256,7 @@ impl<'s> Backend<'s> {
             _ => start.program_units,
         };
         Started {
-            lowering: last.map(|last| Pipeline::new(&context, last)),
+            lowering: last.map(|last| Pipeline::new(&context, self.lowered_ahead..last + 1)),
             printer: match self.options.stage {
                 _ if matches!(self.out, Output::Path(_)) => {
                     Printer::Path(Box::new(ToolPathBuilder::new(units, &start.setup)))
@@ -1253,13 +1291,22 @@ impl<'s> Backend<'s> {
             return (Vec::new(), written);
         };
         let mut diagnostics = Vec::new();
+        // The evaluator's passes come first: after one failed, nothing of
+        // the later ones is reported (as with [`Pipeline::diagnostics`]).
+        if let Some(ahead) = self.lowering_ahead {
+            let failed = ahead.failed();
+            diagnostics = ahead.diagnostics();
+            if failed {
+                return (diagnostics, written);
+            }
+        }
         if let Some(mut lowering) = lowering {
             lowering.finish(&mut |rest| {
                 printer.print(rest);
                 rest.clear();
             });
             let failed = lowering.failed();
-            diagnostics = lowering.diagnostics();
+            diagnostics.extend(lowering.diagnostics());
             if failed {
                 return (diagnostics, written);
             }
@@ -1371,9 +1418,12 @@ impl Printer {
 /// the two. The order of everything is the one thread's order. Where no
 /// thread can be started, both run on this one.
 fn on_two_threads<'s, R>(
-    backend: Backend<'s>,
+    mut backend: Backend<'s>,
     front: impl FnOnce(&mut dyn ir::Sink) -> R,
 ) -> (R, Backend<'s>) {
+    // The first passes run on the evaluator's thread, if there are two.
+    let (ahead, lower_options) = backend.ahead();
+    backend.lowered_ahead = ahead;
     let backend = Mutex::new(backend);
     let slot = &backend;
     let result = std::thread::scope(|scope| {
@@ -1395,14 +1445,28 @@ fn on_two_threads<'s, R>(
                 }
             });
         let Ok(back) = back else {
+            // One thread: it runs every pass.
             let mut backend = slot.lock().unwrap_or_else(PoisonError::into_inner);
+            backend.lowered_ahead = 0;
             return front(&mut *backend);
         };
-        let result = front(&mut Handoff { to_back, spare });
+        let mut handoff = Handoff {
+            to_back,
+            spare,
+            ahead,
+            lower_options,
+            lowering: None,
+            lower_time: Duration::ZERO,
+        };
+        let result = front(&mut handoff);
+        let (lowering, lower_time) = handoff.finish();
         // The hand-off is gone: the back end has seen the last batch.
         if let Err(panic) = back.join() {
             std::panic::resume_unwind(panic);
         }
+        let mut backend = slot.lock().unwrap_or_else(PoisonError::into_inner);
+        backend.lowering_ahead = lowering;
+        backend.lower_time += lower_time;
         result
     });
     (
@@ -1420,25 +1484,75 @@ enum Handed {
     Batch(Vec<ir::Stmt>),
 }
 
-/// The evaluator's end of [`on_two_threads`].
+/// The evaluator's end of [`on_two_threads`]: it runs the first `ahead`
+/// passes on each batch and hands what comes out on.
 struct Handoff {
     to_back: mpsc::SyncSender<Handed>,
     /// Emptied batches coming back, to be filled again.
     spare: mpsc::Receiver<Vec<ir::Stmt>>,
+    ahead: usize,
+    lower_options: lower::LowerOptions,
+    /// Those passes, made when the program starts.
+    lowering: Option<Pipeline>,
+    lower_time: Duration,
+}
+
+impl Handoff {
+    /// The end of the program: the passes flush what they hold back.
+    /// Returns them (for their diagnostics) and the time they took.
+    fn finish(mut self) -> (Option<Pipeline>, Duration) {
+        if let Some(lowering) = &mut self.lowering {
+            let (t0, mut handing) = (Instant::now(), Duration::ZERO);
+            let (to_back, spare) = (&self.to_back, &self.spare);
+            lowering.finish(&mut |lowered| handing += hand_on(to_back, spare, lowered));
+            self.lower_time += t0.elapsed().saturating_sub(handing);
+        }
+        (self.lowering, self.lower_time)
+    }
+}
+
+/// Send `stmts` to the back end, and leave an empty batch in their place;
+/// the time it took (waiting while the back end is behind).
+fn hand_on(
+    to_back: &mpsc::SyncSender<Handed>,
+    spare: &mpsc::Receiver<Vec<ir::Stmt>>,
+    stmts: &mut Vec<ir::Stmt>,
+) -> Duration {
+    let t0 = Instant::now();
+    let empty = spare
+        .try_recv()
+        .unwrap_or_else(|_| Vec::with_capacity(stmts.capacity()));
+    let full = std::mem::replace(stmts, empty);
+    let _ = to_back.send(Handed::Batch(full));
+    t0.elapsed()
 }
 
 impl ir::Sink for Handoff {
     fn start(&mut self, start: &ir::Start) {
+        if self.ahead > 0 {
+            let context = lower::Context {
+                start,
+                options: &self.lower_options,
+            };
+            self.lowering = Some(Pipeline::new(&context, 0..self.ahead));
+        }
         let _ = self.to_back.send(Handed::Start(Box::new(start.clone())));
     }
 
     fn batch(&mut self, batch: &mut Vec<ir::Stmt>) {
-        let empty = self
-            .spare
-            .try_recv()
-            .unwrap_or_else(|_| Vec::with_capacity(batch.capacity()));
-        let full = std::mem::replace(batch, empty);
-        let _ = self.to_back.send(Handed::Batch(full));
+        let (to_back, spare) = (&self.to_back, &self.spare);
+        match &mut self.lowering {
+            Some(lowering) => {
+                let (t0, mut handing) = (Instant::now(), Duration::ZERO);
+                lowering.run(batch, &mut |lowered| {
+                    handing += hand_on(to_back, spare, lowered)
+                });
+                self.lower_time += t0.elapsed().saturating_sub(handing);
+            }
+            None => {
+                hand_on(to_back, spare, batch);
+            }
+        }
     }
 }
 

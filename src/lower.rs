@@ -193,7 +193,7 @@ impl Problems {
     }
 }
 
-/// The passes up to a stage, chained.
+/// Passes of [`PASSES`] in a row, chained.
 pub struct Pipeline {
     passes: Vec<(Box<dyn Pass>, Problems)>,
     /// Each pass's output, reused between batches.
@@ -201,9 +201,10 @@ pub struct Pipeline {
 }
 
 impl Pipeline {
-    /// The passes of [`PASSES`] up to and including index `last`.
-    pub fn new(context: &Context<'_>, last: usize) -> Pipeline {
-        let passes: Vec<(Box<dyn Pass>, Problems)> = PASSES[..=last.min(PASSES.len() - 1)]
+    /// The passes of [`PASSES`] of the indices `range` (none past the last).
+    pub fn new(context: &Context<'_>, range: std::ops::Range<usize>) -> Pipeline {
+        let end = range.end.min(PASSES.len());
+        let passes: Vec<(Box<dyn Pass>, Problems)> = PASSES[range.start.min(end)..end]
             .iter()
             .map(|p| ((p.make)(context), Problems::default()))
             .collect();
