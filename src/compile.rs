@@ -1018,17 +1018,17 @@ fn scan_lines(mut blocks: RawBlocks<'_>) -> std::io::Result<Option<FileScan>> {
     let (mut len, mut decimals) = (0, 0);
     while let Some(bytes) = blocks.next()? {
         // A control character, or a CR not before a LF (even at the end),
-        // which is a line end to `decode`.
+        // which is a line end to `decode`. First one look for both (a
+        // CR before a LF is looked at again).
         // (Folded without a stop at the first: it vectorises.)
-        let control = bytes.iter().fold(false, |control, &b| {
-            control | (b < 0x20 && b != b'\n' && b != b'\r' && b != b'\t')
-        });
-        let lone_cr = || {
+        let odd = |b: u8| b < 0x20 && b != b'\n' && b != b'\t';
+        if bytes.iter().fold(false, |found, &b| found | odd(b)) {
+            let control = bytes.iter().any(|&b| odd(b) && b != b'\r');
             let mut at = bytes.iter().enumerate();
-            at.any(|(i, &b)| b == b'\r' && bytes.get(i + 1) != Some(&b'\n'))
-        };
-        if control || (bytes.contains(&b'\r') && lone_cr()) {
-            return Ok(None);
+            let lone_cr = at.any(|(i, &b)| b == b'\r' && bytes.get(i + 1) != Some(&b'\n'));
+            if control || lone_cr {
+                return Ok(None);
+            }
         }
         // Whole lines: UTF-8 as a whole, else line by line.
         let latin1;
@@ -1341,26 +1341,50 @@ const COORDINATE: [bool; 256] = {
 /// axes) of the source has: the digits after a point that follows a
 /// coordinate letter, blanks and signs, and digits (`X-1.25`, `y .5`,
 /// `X - + 1.1234`). A word inside a comment counts too, which can only add
-/// precision. The points are found eight bytes at a time
-/// ([`source::each_byte`]); only a point
-/// with more decimals than the most so far is looked back from.
+/// precision. Eight bytes at a time, a point is looked at only when the
+/// byte `most + 1` after it is a digit ([`source::digits_in`]): else it
+/// has `most` decimals at most.
 fn input_decimals(text: &str) -> usize {
     let bytes = text.as_bytes();
     let mut most = 0;
-    source::each_byte(bytes, b'.', |p| {
-        // More than `most` decimals: the digit `most + 1` after the point.
-        if !bytes.get(p + most + 1).is_some_and(u8::is_ascii_digit) {
-            return;
+    let mut at = 0;
+    let eight = |from: usize| {
+        bytes
+            .get(from..)?
+            .first_chunk::<8>()
+            .map(|w| u64::from_le_bytes(*w))
+    };
+    while let (Some(word), Some(ahead)) = (eight(at), eight(at + most + 1)) {
+        let mut points = source::bytes_in(word, b'.');
+        if points & source::digits_in(ahead) != 0 {
+            while points != 0 {
+                more_decimals(bytes, at + points.trailing_zeros() as usize / 8, &mut most);
+                points &= points - 1;
+            }
         }
-        let decimals = bytes[p + 1..]
-            .iter()
-            .position(|b| !b.is_ascii_digit())
-            .unwrap_or(bytes.len() - p - 1);
-        if decimals > most && in_coordinate_word(bytes, p) {
-            most = decimals;
+        at += 8;
+    }
+    for p in at..bytes.len() {
+        if bytes[p] == b'.' {
+            more_decimals(bytes, p, &mut most);
         }
-    });
+    }
     most
+}
+
+/// Make `most` the decimals of the point at `bytes[p]` if it has more and
+/// is a coordinate word's.
+fn more_decimals(bytes: &[u8], p: usize, most: &mut usize) {
+    if !bytes.get(p + *most + 1).is_some_and(u8::is_ascii_digit) {
+        return;
+    }
+    let decimals = bytes[p + 1..]
+        .iter()
+        .position(|b| !b.is_ascii_digit())
+        .unwrap_or(bytes.len() - p - 1);
+    if decimals > *most && in_coordinate_word(bytes, p) {
+        *most = decimals;
+    }
 }
 
 /// Whether the point at `bytes[p]` is a coordinate word's: before it,
@@ -1642,7 +1666,7 @@ mod tests {
     proptest::proptest! {
         #[test]
         fn decimals_found_from_the_points_are_those_read_forward(
-            text in r"[XxYyGgRrNn0-9 \t.+\-(\n]{0,40}"
+            text in r"[XxYyGgRrNn0-9 \t.+\-(\n]{0,120}"
         ) {
             proptest::prop_assert_eq!(input_decimals(&text), decimals_read_forward(&text));
         }
