@@ -1672,6 +1672,26 @@ mod tests {
         }
     }
 
+    /// A file with a control character or a CR not before a LF is read
+    /// whole (`decode` reports or rewrites them); tabs and CRLF are not.
+    #[test]
+    fn the_scan_refuses_control_characters_and_lone_crs() {
+        for (bytes, streamed) in [
+            (&b"G1 X1\tY2\r\nM30\r\n"[..], true),
+            (b"G1 X1\nM30", true),
+            (b"G1 X1\x01\nM30\n", false),
+            (b"G1 X1\x00\nM30\n", false),
+            (b"G1 X1\x0c\nM30\n", false),
+            (b"G1 X1\x1f\r\nM30\r\n", false),
+            (b"G1 X1\rM30\n", false),
+            (b"G1 X1\r\nM30\r", false),
+            (b"G1 X1\r\r\nM30\n", false),
+        ] {
+            let scan = scan_file(&mut &bytes[..]).ok().flatten();
+            assert_eq!(scan.is_some(), streamed, "{bytes:?}");
+        }
+    }
+
     #[test]
     fn decimals_are_those_of_coordinate_words() {
         for (text, most) in [
