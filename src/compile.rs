@@ -1348,21 +1348,27 @@ fn input_decimals(text: &str) -> usize {
     let bytes = text.as_bytes();
     let mut most = 0;
     let mut at = 0;
-    let eight = |from: usize| {
-        bytes
-            .get(from..)?
-            .first_chunk::<8>()
-            .map(|w| u64::from_le_bytes(*w))
-    };
-    while let (Some(word), Some(ahead)) = (eight(at), eight(at + most + 1)) {
-        let mut points = source::bytes_in(word, b'.');
-        if points & source::digits_in(ahead) != 0 {
-            while points != 0 {
-                more_decimals(bytes, at + points.trailing_zeros() as usize / 8, &mut most);
-                points &= points - 1;
+    // The words of eight bytes from `at`, each beside the eight bytes
+    // `most + 1` after it; again from where `most` grew.
+    'words: while let (Some(from), Some(ahead)) = (bytes.get(at..), bytes.get(at + most + 1..)) {
+        let (words, _) = from.as_chunks::<8>();
+        let (aheads, _) = ahead.as_chunks::<8>();
+        for (word, ahead) in words.iter().zip(aheads) {
+            let mut points = source::bytes_in(u64::from_le_bytes(*word), b'.');
+            if points & source::digits_in(u64::from_le_bytes(*ahead)) != 0 {
+                let before = most;
+                while points != 0 {
+                    more_decimals(bytes, at + points.trailing_zeros() as usize / 8, &mut most);
+                    points &= points - 1;
+                }
+                if most != before {
+                    at += 8;
+                    continue 'words;
+                }
             }
+            at += 8;
         }
-        at += 8;
+        break;
     }
     for p in at..bytes.len() {
         if bytes[p] == b'.' {
@@ -1373,7 +1379,9 @@ fn input_decimals(text: &str) -> usize {
 }
 
 /// Make `most` the decimals of the point at `bytes[p]` if it has more and
-/// is a coordinate word's.
+/// is a coordinate word's. (Apart: it is seldom called, and inlined it
+/// takes the registers of the loop that calls it.)
+#[inline(never)]
 fn more_decimals(bytes: &[u8], p: usize, most: &mut usize) {
     if !bytes.get(p + *most + 1).is_some_and(u8::is_ascii_digit) {
         return;
