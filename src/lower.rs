@@ -50,6 +50,37 @@ pub trait Pass: Send {
     fn finish(&mut self, out: &mut Out<'_>) {
         let _ = out;
     }
+
+    /// Feed the statements of `input` in order, as [`flow`] does; the
+    /// index from which they went on where they lie (the others are in
+    /// the output). Not for a pass to write: made for each pass, so that
+    /// its `feed` is called directly, not through the `dyn Pass` of the
+    /// pipeline once a statement.
+    fn feed_each(&mut self, input: &mut [Stmt], to: &mut Batch<'_, '_>) -> usize {
+        // input[waiting..] went on where they lie, and are not in the
+        // output yet.
+        let mut waiting = 0;
+        for i in 0..input.len() {
+            let (before, rest) = input.split_at_mut(i);
+            let mut out = Out::new(to.output, to.problems, to.next, &mut before[waiting..]);
+            let goes_on = self.feed(&mut rest[0], &mut out);
+            if !goes_on {
+                out.send_waiting();
+                waiting = i + 1;
+            } else if out.sent_waiting {
+                waiting = i;
+            }
+        }
+        waiting
+    }
+}
+
+/// Where [`Pass::feed_each`] sends statements: a pass's output, its
+/// problems and the rest of the pipeline.
+pub struct Batch<'a, 'n> {
+    output: &'a mut Vec<Stmt>,
+    problems: &'a mut Problems,
+    next: &'a mut (dyn FnMut(&mut Vec<Stmt>) + 'n),
 }
 
 /// What a pass is made from.
@@ -287,18 +318,14 @@ fn flow(
     let mut output = std::mem::take(buffer);
     let mut next = |o: &mut Vec<Stmt>| flow(later, later_buffers, o, false, sink);
     // input[waiting..] went on where they lie, and are not in `output` yet.
-    let mut waiting = 0;
-    for i in 0..input.len() {
-        let (before, rest) = input.split_at_mut(i);
-        let mut out = Out::new(&mut output, problems, &mut next, &mut before[waiting..]);
-        let goes_on = pass.feed(&mut rest[0], &mut out);
-        if !goes_on {
-            out.send_waiting();
-            waiting = i + 1;
-        } else if out.sent_waiting {
-            waiting = i;
-        }
-    }
+    let mut waiting = pass.feed_each(
+        input,
+        &mut Batch {
+            output: &mut output,
+            problems,
+            next: &mut next,
+        },
+    );
     if last {
         let mut out = Out::new(&mut output, problems, &mut next, &mut input[waiting..]);
         pass.finish(&mut out);
