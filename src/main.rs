@@ -1146,6 +1146,8 @@ fn write_file<T>(
     path: &Path,
     write: impl FnOnce(&mut std::io::BufWriter<std::fs::File>) -> std::io::Result<T>,
 ) -> std::io::Result<T> {
+    let path = through_links(path)?;
+    let path = path.as_path();
     if is_device(path) {
         // Never replaced: written as it is opened.
         let mut out = std::io::BufWriter::new(std::fs::OpenOptions::new().write(true).open(path)?);
@@ -1166,6 +1168,29 @@ fn write_file<T>(
         let _ = std::fs::remove_file(&tmp);
     }
     result
+}
+
+/// The file `path` names, through symbolic links: the new file replaces
+/// the link's target, and the link stays (a link to the folder a machine
+/// reads its programs from keeps pointing there, and the machine gets the
+/// new program, not the old one). A chain of more than 40 links is an
+/// error.
+fn through_links(path: &Path) -> std::io::Result<PathBuf> {
+    let mut path = path.to_path_buf();
+    for _ in 0..40 {
+        let Ok(target) = std::fs::read_link(&path) else {
+            // Not a link (or nothing there yet).
+            return Ok(path);
+        };
+        path = match path.parent() {
+            Some(folder) if target.is_relative() => folder.join(target),
+            _ => target,
+        };
+    }
+    Err(std::io::Error::other(format!(
+        "`{}`: too many symbolic links",
+        path.display()
+    )))
 }
 
 /// Whether `path` names something other than a file or a folder: a
@@ -1313,6 +1338,16 @@ fn write_atomically(
     path: &Path,
     compile: impl FnOnce(&mut (dyn Write + Send)) -> Report,
 ) -> Report {
+    let path = match through_links(path) {
+        Ok(path) => path,
+        Err(e) => {
+            // Still compile, for the diagnostics.
+            let mut report = compile(&mut std::io::sink());
+            report.write_error = Some(e);
+            return report;
+        }
+    };
+    let path = path.as_path();
     if is_device(path) {
         return write_when_whole(path, compile);
     }

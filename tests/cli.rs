@@ -136,6 +136,50 @@ fn an_output_that_is_not_a_file_is_written_not_replaced() {
     }
 }
 
+/// `-o` naming a symbolic link (to the folder a machine reads): the
+/// program replaces the link's target, and the link stays; on an error
+/// neither changes.
+#[cfg(unix)]
+#[test]
+fn an_output_through_a_link_replaces_the_target_not_the_link() {
+    let dir = scratch_with_programs("link");
+    std::fs::create_dir_all(dir.join("machine")).unwrap();
+    std::fs::write(dir.join("machine/part.nc"), "previous\n").unwrap();
+    // A relative link, and a link to it.
+    std::os::unix::fs::symlink("machine/part.nc", dir.join("part.nc")).unwrap();
+    std::os::unix::fs::symlink("part.nc", dir.join("again.nc")).unwrap();
+    let is_link = |name: &str| {
+        let meta = std::fs::symlink_metadata(dir.join(name)).unwrap();
+        meta.file_type().is_symlink()
+    };
+    let r = ger(&["compile", "bad.egc", "-o", "again.nc"], &dir);
+    assert_eq!(r.status.code(), Some(1));
+    let target = std::fs::read_to_string(dir.join("machine/part.nc")).unwrap();
+    assert_eq!(target, "previous\n");
+    let r = ger(&["compile", "good.egc", "-o", "again.nc"], &dir);
+    assert_eq!(
+        r.status.code(),
+        Some(0),
+        "{}",
+        String::from_utf8_lossy(&r.stderr)
+    );
+    assert!(
+        is_link("part.nc") && is_link("again.nc"),
+        "a link was replaced"
+    );
+    let target = std::fs::read_to_string(dir.join("machine/part.nc")).unwrap();
+    assert_eq!(
+        target.as_bytes(),
+        &ger(&["compile", "good.egc"], &dir).stdout[..]
+    );
+    // Links in a loop: an error, and nothing is written.
+    std::os::unix::fs::symlink("loop2", dir.join("loop1")).unwrap();
+    std::os::unix::fs::symlink("loop1", dir.join("loop2")).unwrap();
+    let r = ger(&["compile", "good.egc", "-o", "loop1"], &dir);
+    assert_eq!(r.status.code(), Some(2));
+    assert!(is_link("loop1") && is_link("loop2"));
+}
+
 #[test]
 fn output_equal_to_input_is_refused() {
     let dir = scratch("same");
