@@ -1156,7 +1156,7 @@ fn write_file<T>(
         return Ok(value);
     }
     let tmp = temporary_beside(path);
-    let result = std::fs::File::create(&tmp).and_then(|file| {
+    let result = create_replacing(&tmp, path).and_then(|file| {
         let mut out = std::io::BufWriter::new(file);
         let value = write(&mut out)?;
         let file = out.into_inner().map_err(|e| e.into_error())?;
@@ -1231,6 +1231,23 @@ fn write_when_whole(
         report.write_error = Some(e);
     }
     report
+}
+
+/// Create the file `tmp` that is to replace `path`, with `path`'s
+/// permissions if it exists (a program a machine's account may read stays
+/// readable to it).
+fn create_replacing(tmp: &Path, path: &Path) -> std::io::Result<std::fs::File> {
+    let file = std::fs::File::create(tmp)?;
+    if let Ok(old) = std::fs::metadata(path) {
+        if old.is_file() {
+            let done = file.set_permissions(old.permissions());
+            if let Err(e) = done {
+                let _ = std::fs::remove_file(tmp);
+                return Err(e);
+            }
+        }
+    }
+    Ok(file)
 }
 
 /// A temporary file's name beside `path` (same folder, so that the rename
@@ -1352,7 +1369,7 @@ fn write_atomically(
         return write_when_whole(path, compile);
     }
     let tmp = temporary_beside(path);
-    let mut file = match std::fs::File::create(&tmp) {
+    let mut file = match create_replacing(&tmp, path) {
         Ok(file) => file,
         Err(e) => {
             // Still compile, for the diagnostics.

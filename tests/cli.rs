@@ -180,6 +180,28 @@ fn an_output_through_a_link_replaces_the_target_not_the_link() {
     assert!(is_link("loop1") && is_link("loop2"));
 }
 
+/// The file `-o` replaces keeps its permissions (a machine's account that
+/// may read it still can); a new one gets the usual ones.
+#[cfg(unix)]
+#[test]
+fn a_replaced_output_keeps_its_permissions() {
+    use std::os::unix::fs::PermissionsExt;
+    let dir = scratch_with_programs("mode");
+    let out = dir.join("out.nc");
+    std::fs::write(&out, "previous\n").unwrap();
+    std::fs::set_permissions(&out, std::fs::Permissions::from_mode(0o640)).unwrap();
+    let r = ger(&["compile", "good.egc", "-o", "out.nc"], &dir);
+    assert_eq!(
+        r.status.code(),
+        Some(0),
+        "{}",
+        String::from_utf8_lossy(&r.stderr)
+    );
+    let mode = std::fs::metadata(&out).unwrap().permissions().mode() & 0o777;
+    assert_eq!(mode, 0o640);
+    assert!(std::fs::read_to_string(&out).unwrap().contains("G1 X10."));
+}
+
 #[test]
 fn output_equal_to_input_is_refused() {
     let dir = scratch("same");
