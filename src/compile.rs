@@ -114,6 +114,8 @@ impl Report {
 struct Clock {
     last: Instant,
     timings: Vec<(&'static str, Duration)>,
+    /// Time the next lap spent on a stage reported apart.
+    inside: Duration,
 }
 
 impl Clock {
@@ -121,6 +123,7 @@ impl Clock {
         Clock {
             last: Instant::now(),
             timings: Vec::new(),
+            inside: Duration::ZERO,
         }
     }
 
@@ -132,11 +135,18 @@ impl Clock {
     /// its own time without them.
     fn split(&mut self, stage: &'static str, parts: &[(&'static str, Duration)]) {
         let now = Instant::now();
-        let inner: Duration = parts.iter().map(|(_, d)| *d).sum();
+        let inner =
+            parts.iter().map(|(_, d)| *d).sum::<Duration>() + std::mem::take(&mut self.inside);
         self.timings
             .push((stage, (now - self.last).saturating_sub(inner)));
         self.timings.extend_from_slice(parts);
         self.last = now;
+    }
+
+    /// Time the next lap spends on a stage reported apart (the passes the
+    /// evaluator's thread runs, reported with the lowering).
+    fn ran_inside(&mut self, took: Duration) {
+        self.inside += took;
     }
 
     /// Stages timed on another thread, at the same time as the last lap:
@@ -541,6 +551,7 @@ fn run<'a>(
     });
     diagnostics.extend(eval_diagnostics);
     drop(program);
+    clock.ran_inside(backend.lower_time_ahead);
     clock.lap("expand");
     Ok(finish_back_end(backend, diagnostics, clock))
 }
@@ -1135,6 +1146,7 @@ fn run_by_parts(
         names.forget_notes();
     }
     diagnostics.append(&mut parts.diagnostics);
+    clock.ran_inside(backend.lower_time_ahead);
     clock.split("expand", &[("parse", parts.time)]);
     // A syntax error (among `diagnostics` now) stops the compile: what the
     // evaluator said of the parts before it is not reported.
@@ -1159,8 +1171,10 @@ struct Backend<'s> {
     /// How many of the passes the evaluator's thread runs before it hands
     /// a batch on ([`Backend::ahead`]); the back end runs the others.
     lowered_ahead: usize,
-    /// Those passes, given back when the program has been lowered.
+    /// Those passes, given back when the program has been lowered, and
+    /// the time they took (in `lower_time` too).
     lowering_ahead: Option<Pipeline>,
+    lower_time_ahead: Duration,
     lower_time: Duration,
     emit_time: Duration,
 }
@@ -1203,6 +1217,7 @@ impl<'s> Backend<'s> {
             started: None,
             lowered_ahead: 0,
             lowering_ahead: None,
+            lower_time_ahead: Duration::ZERO,
             lower_time: Duration::ZERO,
             emit_time: Duration::ZERO,
         }
@@ -1499,6 +1514,7 @@ fn on_two_threads<'s, R>(
         let mut backend = slot.lock().unwrap_or_else(PoisonError::into_inner);
         backend.lowering_ahead = lowering;
         backend.lower_time += lower_time;
+        backend.lower_time_ahead = lower_time;
         result
     });
     (
