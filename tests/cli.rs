@@ -28,6 +28,16 @@ fn ger_whole(args: &[&str], cwd: &Path) -> Output {
     ger(&whole, cwd)
 }
 
+/// A run that exited with 0 (else its diagnostics are the failure's message).
+fn assert_success(r: &Output) {
+    assert_eq!(
+        r.status.code(),
+        Some(0),
+        "{}",
+        String::from_utf8_lossy(&r.stderr)
+    );
+}
+
 fn scratch(name: &str) -> PathBuf {
     let dir = std::env::temp_dir().join(format!("ger-cli-{}-{name}", std::process::id()));
     let _ = std::fs::remove_dir_all(&dir);
@@ -87,12 +97,7 @@ fn output_is_atomic_and_untouched_on_error() {
         assert!(r.stdout.is_empty(), "{} bytes on stdout", r.stdout.len());
     }
     let r = ger(&["compile", "good.egc", "-o", "out.nc"], &dir);
-    assert_eq!(
-        r.status.code(),
-        Some(0),
-        "{}",
-        String::from_utf8_lossy(&r.stderr)
-    );
+    assert_success(&r);
     let written = std::fs::read_to_string(dir.join("out.nc")).unwrap();
     assert!(written.contains("G1 X10."), "{written}");
     // No temporary file is left behind.
@@ -120,12 +125,7 @@ fn an_output_that_is_not_a_file_is_written_not_replaced() {
         // The machine's end: opening it waits for ger's.
         let machine = std::thread::spawn(move || std::fs::read_to_string(fifo));
         let r = ger(&["compile", program, "-o", "machine"], &dir);
-        assert_eq!(
-            r.status.code(),
-            Some(0),
-            "{}",
-            String::from_utf8_lossy(&r.stderr)
-        );
+        assert_success(&r);
         let kind = std::fs::metadata(dir.join("machine")).unwrap().file_type();
         // (Checked before the machine's end is waited for: a FIFO replaced
         // by a file would leave it waiting.)
@@ -157,12 +157,7 @@ fn an_output_through_a_link_replaces_the_target_not_the_link() {
     let target = std::fs::read_to_string(dir.join("machine/part.nc")).unwrap();
     assert_eq!(target, "previous\n");
     let r = ger(&["compile", "good.egc", "-o", "again.nc"], &dir);
-    assert_eq!(
-        r.status.code(),
-        Some(0),
-        "{}",
-        String::from_utf8_lossy(&r.stderr)
-    );
+    assert_success(&r);
     assert!(
         is_link("part.nc") && is_link("again.nc"),
         "a link was replaced"
@@ -191,12 +186,7 @@ fn a_replaced_output_keeps_its_permissions() {
     std::fs::write(&out, "previous\n").unwrap();
     std::fs::set_permissions(&out, std::fs::Permissions::from_mode(0o640)).unwrap();
     let r = ger(&["compile", "good.egc", "-o", "out.nc"], &dir);
-    assert_eq!(
-        r.status.code(),
-        Some(0),
-        "{}",
-        String::from_utf8_lossy(&r.stderr)
-    );
+    assert_success(&r);
     let mode = std::fs::metadata(&out).unwrap().permissions().mode() & 0o777;
     assert_eq!(mode, 0o640);
     assert!(std::fs::read_to_string(&out).unwrap().contains("G1 X10."));
