@@ -139,6 +139,10 @@ def main():
               "peak memory %.1f MB (goal <= 30 MB)"
               % (tb, tb / tg, peak_mb([ger, "compile", big, "-o", out])))
         print("  to standard output: peak memory %.1f MB" % peak_mb([ger, "compile", big]))
+        # A warning (an M code ger passes through): its line is shown, read
+        # again from the file.
+        warned = write("warned.ngc", plain_program(2_000_000).replace("G1 Z-1 F800", "M100\nG1 Z-1 F800", 1))
+        print("  with a warning: peak memory %.1f MB" % peak_mb([ger, "compile", warned, "-o", out]))
 
         # Not plain: a variable (ger's own language), so read in parts cut
         # outside every block rather than line by line.

@@ -984,6 +984,90 @@ pub struct FileScan {
     pub decimals: usize,
 }
 
+/// Every line of the file `reader` reads, decoded as [`compile_file`]
+/// decodes it (its spans are offsets into these lines): `each` is given
+/// its 1-based number, its bytes (its line end included) and its text
+/// without its line end. Read a part at a time: nothing but the part is
+/// held.
+pub fn each_line(
+    reader: &mut dyn std::io::BufRead,
+    each: &mut dyn FnMut(usize, std::ops::Range<usize>, &str),
+) -> std::io::Result<()> {
+    let mut blocks = RawBlocks::new(reader);
+    let (mut number, mut start) = (1, 0);
+    // After a line end (or in an empty file) an empty line follows, as in
+    // a text's line index.
+    let mut ended = true;
+    while let Some(bytes) = blocks.next()? {
+        let text = source::decode_lines(bytes.to_vec());
+        for line in text.split_inclusive('\n') {
+            let shown = line.strip_suffix('\n').unwrap_or(line);
+            ended = shown.len() < line.len();
+            let bytes = start..start + line.len();
+            each(number, bytes, shown.strip_suffix('\r').unwrap_or(shown));
+            number += 1;
+            start += line.len();
+        }
+    }
+    if ended {
+        each(number, start..start, "");
+    }
+    Ok(())
+}
+
+/// The lines of file `file` that `diagnostics` show, read a part at a time
+/// from the readers `open` gives (twice: memory grows with the lines, not
+/// with the file), as [`Sources::set_lines`] takes them: the lines each
+/// label covers, at most 21 from its first, as the diagnostics' excerpts
+/// take them ([`crate::diagnostic::render`]), and the line on each side.
+pub fn lines_shown(
+    open: &mut dyn FnMut() -> std::io::Result<Box<dyn std::io::BufRead>>,
+    file: FileId,
+    diagnostics: &[Diagnostic],
+) -> std::io::Result<Vec<(usize, usize, String)>> {
+    // Each label's first and last byte.
+    let labels: Vec<(usize, usize)> = diagnostics
+        .iter()
+        .flat_map(|d| &d.labels)
+        .filter(|label| label.file_id == file)
+        .map(|label| {
+            (
+                label.range.start,
+                label.range.end.max(label.range.start + 1) - 1,
+            )
+        })
+        .collect();
+    let mut first_lines: Vec<Option<usize>> = vec![None; labels.len()];
+    let mut wanted = std::collections::BTreeSet::new();
+    let mut last = (1, 0);
+    each_line(&mut open()?, &mut |number, bytes, _| {
+        last = (number, bytes.start);
+        for ((from, to), first) in labels.iter().zip(&mut first_lines) {
+            if *from < bytes.end
+                && bytes.start <= *to
+                && *first.get_or_insert(number) + 20 >= number
+            {
+                wanted.extend([number.saturating_sub(1), number, number + 1]);
+            }
+        }
+    })?;
+    // The last line holds every offset from its start on (the end of the
+    // file, after a last line with no line end).
+    let (number, start) = last;
+    let past_the_end =
+        |((from, _), first): (&(usize, usize), &Option<usize>)| first.is_none() && *from >= start;
+    if labels.iter().zip(&first_lines).any(past_the_end) {
+        wanted.extend([number.saturating_sub(1), number]);
+    }
+    let mut lines = Vec::new();
+    each_line(&mut open()?, &mut |number, bytes, text| {
+        if wanted.contains(&number) {
+            lines.push((number, bytes.start, text.to_string()));
+        }
+    })?;
+    Ok(lines)
+}
+
 /// Read a program through once: whether it can be compiled a part at a
 /// time from a reader ([`compile_file`]): it has no NUL, control character
 /// or lone CR (which [`crate::source::decode`] reports or rewrites).
@@ -1060,8 +1144,8 @@ fn scan_lines(mut blocks: RawBlocks<'_>) -> std::io::Result<Option<FileScan>> {
 /// (named `name`, for its language and flavour) of a [`Sources`] whose text
 /// stays empty: memory grows with the longest part, not with the program.
 /// `scan` is [`scan_file`]'s answer for the same bytes. The report is
-/// [`compile_to`]'s; its spans are in the decoded file (read it again to
-/// show them). `Ok(None)`: a part needs the whole program
+/// [`compile_to`]'s; its spans are in the decoded file ([`lines_shown`]
+/// reads the lines they show). `Ok(None)`: a part needs the whole program
 /// ([`chunk::cut_part`]), which must be compiled whole instead, by
 /// [`compile_to`] (what was written is incomplete: throw it away). `Err`:
 /// the file could not be read.

@@ -205,12 +205,11 @@ impl Excerpt {
                 text: String::new(),
                 lines: Vec::new(),
             });
-            let range = file.line_range(line);
-            let full = &file.text[range.clone()];
+            let (line_start, full) = file.line_text(line);
             let focus = if focus == usize::MAX {
                 0
             } else {
-                focus.saturating_sub(range.start)
+                focus.saturating_sub(line_start)
             };
             let (shown, cut_before, cut_after) = window(full, focus);
             let start = ef.text.len();
@@ -229,8 +228,8 @@ impl Excerpt {
                 number: line,
                 range: start..end,
                 shown: shown_start..shown_end,
-                line_start: range.start,
-                window_start: range.start + cut_before,
+                line_start,
+                window_start: line_start + cut_before,
                 cut_chars: full[..cut_before].chars().count(),
             });
         }

@@ -51,7 +51,7 @@ pub trait Pass: Send {
         let _ = out;
     }
 
-    /// Feed the statements of `input` in order, as [`flow`] does; the
+    /// Feed the statements of `input` in order, as `flow` does; the
     /// index from which they went on where they lie (the others are in
     /// the output). Not for a pass to write: made for each pass, so that
     /// its `feed` is called directly, not through the `dyn Pass` of the

@@ -729,10 +729,11 @@ fn compile_job(
         return Some(ExitCode::from(2));
     }
     if streamed.is_some() && !report.diagnostics.is_empty() {
-        // The diagnostics show the lines they are about.
-        match std::fs::read(input).map(ger::source::decode) {
-            Ok(Ok(text)) => job.sources.set_text(job.file, text),
-            _ => eprintln!("note: `{input}` could not be read again to show its lines"),
+        // The diagnostics show the lines they are about, read again.
+        let mut open = || open_input(input).map(|r| Box::new(r) as Box<dyn std::io::BufRead>);
+        match ger::compile::lines_shown(&mut open, job.file, &report.diagnostics) {
+            Ok(lines) => job.sources.set_lines(job.file, lines),
+            Err(_) => eprintln!("note: `{input}` could not be read again to show its lines"),
         }
     }
     let sources = &job.sources;

@@ -65,6 +65,17 @@ pub struct SourceFile {
     pub text: String,
     /// Shared with the parser's [`Locator`]: built once per file.
     lines: Arc<LineIndex>,
+    /// Only some lines of the file are held (`text` is them one after
+    /// another): those its diagnostics show ([`Sources::set_lines`]).
+    some_lines: Option<Vec<HeldLine>>,
+}
+
+/// A line of a file held alone: its 1-based number, where it starts in
+/// the file, and where its text is in the [`SourceFile`]'s.
+struct HeldLine {
+    number: usize,
+    start: usize,
+    text: std::ops::Range<usize>,
 }
 
 impl Sources {
@@ -78,6 +89,7 @@ impl Sources {
             name: name.into(),
             lines: Arc::new(LineIndex::new(&text)),
             text,
+            some_lines: None,
         });
         self.files.len() - 1
     }
@@ -101,7 +113,32 @@ impl Sources {
         if let Some(f) = self.files.get_mut(file) {
             f.lines = Arc::new(LineIndex::new(&text));
             f.text = text;
+            f.some_lines = None;
         }
+    }
+
+    /// Give `file` some of its lines only (a file compiled from a reader,
+    /// read again for the lines its diagnostics show: memory grows with
+    /// them, not with the file): each its 1-based number, the byte offset
+    /// it starts at, and its text without its line end, in order.
+    pub fn set_lines(&mut self, file: FileId, lines: Vec<(usize, usize, String)>) {
+        let Some(f) = self.files.get_mut(file) else {
+            return;
+        };
+        let (mut text, mut held) = (String::new(), Vec::with_capacity(lines.len()));
+        for (number, start, line) in lines {
+            let at = text.len();
+            text.push_str(&line);
+            held.push(HeldLine {
+                number,
+                start,
+                text: at..text.len(),
+            });
+            text.push('\n');
+        }
+        f.lines = Arc::new(LineIndex::new(""));
+        f.text = text;
+        f.some_lines = Some(held);
     }
 
     pub fn text(&self, file: FileId) -> &str {
@@ -123,9 +160,31 @@ impl SourceFile {
         self.lines.range(line, &self.text)
     }
 
-    /// 1-based line of a byte offset.
+    /// 1-based line of a byte offset. Of a file with some lines held, the
+    /// last held line that starts at or before it.
     pub fn line_of(&self, offset: usize) -> usize {
-        self.lines.line(offset as u32)
+        match &self.some_lines {
+            Some(held) => {
+                let after = held.partition_point(|l| l.start <= offset);
+                held.get(after.wrapping_sub(1)).map_or(1, |l| l.number)
+            }
+            None => self.lines.line(offset as u32),
+        }
+    }
+
+    /// A 1-based line: the byte offset it starts at in the file, and its
+    /// text without its line end (empty for a line not held).
+    pub fn line_text(&self, line: usize) -> (usize, &str) {
+        match &self.some_lines {
+            Some(held) => held
+                .iter()
+                .find(|l| l.number == line)
+                .map_or((0, ""), |l| (l.start, &self.text[l.text.clone()])),
+            None => {
+                let range = self.line_range(line);
+                (range.start, &self.text[range])
+            }
+        }
     }
 }
 

@@ -553,3 +553,67 @@ fn a_file_with_a_bom_and_latin1_lines_reads_in_parts_as_whole() {
         );
     }
 }
+
+/// The diagnostics of a program compiled from its file show the lines
+/// they are about, read again a part at a time (`compile::lines_shown`,
+/// `Sources::set_lines`: memory grows with the lines shown, not with the
+/// file), exactly as with the file's whole text: every program of the
+/// repository with diagnostics, and files made for the edges (a last line
+/// with no line end, CRLF, a byte-order mark and Latin-1, errors a line or
+/// two apart, a long line cut around its label).
+#[test]
+fn diagnostics_shown_from_some_lines_are_those_of_the_whole_text() {
+    use ger::compile::{lines_shown, scan_file};
+    let long = format!(
+        "G0 X1 ({})\nG0 X<Undefined> ({})\nM30\n",
+        "a".repeat(300),
+        "b".repeat(300)
+    );
+    let made: Vec<(String, Vec<u8>)> = [
+        &b"G21 G90\nG0 Z5\nDepth ="[..],
+        b"G21 G90\r\nG0 X<Undefined>\r\nG0 Y1\r\nG0 Y<Nor>\r\nM30\r\n",
+        b"\xef\xbb\xbfG21 G90 (\xe9t\xe9)\nG0 X<A> (\xb0)\nG0 X<B>\nM30\n",
+        b"G21 G90\nG0 X<A>\nG0 X1\nG0 X<B>\nG0 X<C>\nM30\n",
+        long.as_bytes(),
+        b"",
+        b"G0 X<A>",
+    ]
+    .iter()
+    .enumerate()
+    .map(|(k, bytes)| (format!("made{k}.egc"), bytes.to_vec()))
+    .collect();
+    let found = programs()
+        .into_iter()
+        .map(|path| (path.display().to_string(), std::fs::read(&path).unwrap()));
+    let mut compared = 0;
+    for (name, bytes) in made.into_iter().chain(found) {
+        // Only a file the scan accepts is compiled from its file.
+        if scan_file(&mut &bytes[..]).unwrap().is_none() {
+            continue;
+        }
+        let Ok(text) = ger::source::decode(bytes.clone()) else {
+            continue;
+        };
+        let mut sources = Sources::new();
+        let file = sources.add(name.clone(), text);
+        let compiled = compile(&sources, file, &CompileOptions::default(), None);
+        if compiled.diagnostics.is_empty() {
+            continue;
+        }
+        let whole = render(&sources, &compiled.diagnostics);
+        let mut open = || {
+            let reader = std::io::Cursor::new(bytes.clone());
+            Ok(Box::new(reader) as Box<dyn std::io::BufRead>)
+        };
+        let lines = lines_shown(&mut open, file, &compiled.diagnostics).unwrap();
+        let mut some = Sources::new();
+        some.add(name.clone(), String::new());
+        some.set_lines(file, lines);
+        assert_eq!(render(&some, &compiled.diagnostics), whole, "{name}");
+        compared += 1;
+    }
+    assert!(
+        compared > 100,
+        "{compared} programs with diagnostics compared"
+    );
+}
