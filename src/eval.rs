@@ -26,7 +26,10 @@ use value::{ExprError, Slot, Value, Vars};
 pub struct EvalOptions {
     /// A `while` that runs more often is an error naming the loop.
     pub max_iterations: u64,
-    /// More IR statements than this is an error (memory bound).
+    /// More IR statements than this made by loops, subprogram calls and
+    /// jumps back is an error (the program would run on and on). The
+    /// program's own lines, run once each, are not counted: their number
+    /// is the file's.
     pub max_statements: usize,
     /// Subprogram nesting depth.
     pub max_call_depth: usize,
@@ -310,8 +313,16 @@ struct Evaluator<'a> {
     sink: &'a mut dyn ir::Sink,
     /// Statements not yet sent to the sink.
     out: Vec<ir::Stmt>,
-    /// Statements made so far (the memory bound counts them all).
+    /// Statements made by loops, subprogram calls and jumps back so far
+    /// ([`EvalOptions::max_statements`]).
     made: usize,
+    /// Loop passes and subprogram calls under way: their statements are
+    /// counted.
+    repeating: u32,
+    /// A `GOTO` went back: every statement from then on is counted.
+    jumped_back: bool,
+    /// The statement limit was reached: the program stops.
+    over_limit: bool,
     /// The first move: setup directives must come before it, and the sink
     /// gets nothing until it (so the setup is complete).
     first_move: Option<Span>,
@@ -400,6 +411,9 @@ impl<'a> Evaluator<'a> {
             sink,
             out: Vec::with_capacity(options.batch.clamp(1, 1 << 16)),
             made: 0,
+            repeating: 0,
+            jumped_back: false,
+            over_limit: false,
             first_move: None,
             first_units: None,
             feed_before_units: false,
@@ -520,6 +534,7 @@ impl<'a> Evaluator<'a> {
     /// kept.
     fn admit(&mut self, op: &ir::Op, span: Span) -> Result<(), Diagnostic> {
         if self.made >= self.options.max_statements {
+            self.over_limit = true;
             let kind = EvalErrorKind::TooManyStatements(self.options.max_statements);
             return Err(EvalError::new(kind, span).into());
         }
@@ -550,7 +565,7 @@ impl<'a> Evaluator<'a> {
 
     /// A statement was kept: counted, and the batch sent once full.
     fn kept(&mut self) {
-        self.made += 1;
+        self.made += usize::from(self.repeating > 0 || self.jumped_back);
         if self.out.len() >= self.options.batch {
             self.send();
         }
@@ -778,6 +793,7 @@ impl<'a> Evaluator<'a> {
         if !backward {
             return true;
         }
+        self.jumped_back = true;
         self.gotos += 1;
         if self.gotos > self.options.max_iterations {
             let kind = EvalErrorKind::LoopLimit(self.options.max_iterations);
@@ -1061,7 +1077,10 @@ impl<'a> Evaluator<'a> {
                 return Flow::Abort;
             }
             let changes = self.changes;
-            match self.exec_block(&w.body) {
+            self.repeating += 1;
+            let flow = self.exec_block(&w.body);
+            self.repeating -= 1;
+            match flow {
                 Flow::Next => {}
                 Flow::Break(label, _) if w.label == Some(label) => return Flow::Next,
                 Flow::Continue(label, _) if w.label == Some(label) => {}

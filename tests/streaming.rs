@@ -617,3 +617,62 @@ fn diagnostics_shown_from_some_lines_are_those_of_the_whole_text() {
         "{compared} programs with diagnostics compared"
     );
 }
+
+/// The statement limit counts what loops, subprogram calls and jumps back
+/// make, not a program's own lines, each run once (a big plain file is no
+/// runaway, and is read a part at a time): a plain program of three times
+/// the limit compiles; a loop, a subprogram repeated and a `GOTO` loop
+/// that make as much stop at the limit, with one error.
+#[test]
+fn the_statement_limit_counts_what_is_repeated() {
+    let limit = 100;
+    let compile_text = |name: &str, text: String| {
+        let mut sources = Sources::new();
+        let file = sources.add(name, text);
+        let mut options = CompileOptions {
+            eval: EvalOptions {
+                max_statements: limit,
+                ..EvalOptions::default()
+            },
+            ..CompileOptions::default()
+        };
+        if name.ends_with(".nc") {
+            options.from = Some(ger::eval::Flavour::Fanuc);
+        }
+        compile(&sources, file, &options, None)
+    };
+    let moves: String = (0..3 * limit).map(|i| format!("G1 X{i} F100\n")).collect();
+    let plain = compile_text("plain.ngc", format!("G21 G90\n{moves}M30\n"));
+    assert!(plain.diagnostics.is_empty(), "{:?}", plain.diagnostics);
+    let output = plain.output.expect("a plain program compiles");
+    assert!(output.matches("G1").count() >= 3 * limit);
+    let repeated = [
+        (
+            "loop.egc",
+            "G21 G90\nIi = 0\nwhile (Ii < 300) {\n  G1 X<Ii> F100\n  Ii = Ii + 1\n}\nM30\n",
+        ),
+        (
+            "sub.nc",
+            "O0001\nG21 G90\nM98 P1000 L300\nM30\nO1000\nG1 X1 F100\nG1 X2\nM99\n",
+        ),
+        (
+            // Stopped at the first loop: the second says nothing.
+            "loops.egc",
+            "G21 G90\nIi = 0\nwhile (Ii < 300) {\n  G1 X<Ii> F100\n  Ii = Ii + 1\n}\n\
+             while (Ii < 600) {\n  G1 Y<Ii>\n  Ii = Ii + 1\n}\nM30\n",
+        ),
+        (
+            "goto.nc",
+            "O0001\nG21 G90\n#1 = 0\nN10 G1 X#1 F100\n#1 = #1 + 1\nIF [#1 LT 300] GOTO 10\nM30\n",
+        ),
+    ];
+    for (name, text) in repeated {
+        let compiled = compile_text(name, text.to_string());
+        let over: Vec<_> = compiled
+            .diagnostics
+            .iter()
+            .filter(|d| d.message.contains("make more than 100 statements"))
+            .collect();
+        assert_eq!(over.len(), 1, "{name}: {:?}", compiled.diagnostics);
+    }
+}

@@ -114,7 +114,12 @@ impl Evaluator<'_> {
             Ok(flow) => flow,
             Err(d) => {
                 self.report(d);
-                Flow::Next
+                // The statement limit stops the program (going on, every
+                // statement after it would be the same error).
+                match self.over_limit {
+                    true => Flow::Abort,
+                    false => Flow::Next,
+                }
             }
         }
     }
@@ -711,7 +716,10 @@ impl Evaluator<'_> {
         let saved = enter(self);
         let mut flow = Flow::Next;
         for _ in 0..count {
-            flow = match self.exec_block(body) {
+            self.repeating += 1;
+            let ran = self.exec_block(body);
+            self.repeating -= 1;
+            flow = match ran {
                 Flow::Return | Flow::Next => Flow::Next,
                 other => self.no_label(other),
             };

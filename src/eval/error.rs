@@ -65,7 +65,7 @@ impl Wording for EvalErrorKind {
     fn wording(&self, at: Span) -> Diagnostic {
         match self {
             EvalErrorKind::TooManyStatements(limit) => error(
-                format!("the program makes more than {limit} statements"),
+                format!("loops and subprogram calls make more than {limit} statements"),
                 at,
                 "the limit was reached here",
             )
