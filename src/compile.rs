@@ -1016,12 +1016,13 @@ pub fn each_line(
 }
 
 /// The lines of file `file` that `diagnostics` show, read a part at a time
-/// from the readers `open` gives (twice: memory grows with the lines, not
-/// with the file), as [`Sources::set_lines`] takes them: the lines each
+/// from `reader` (memory grows with the lines, not with the
+/// file), as [`Sources::set_lines`] takes them: the lines each
 /// label covers, at most 21 from its first, as the diagnostics' excerpts
-/// take them ([`crate::diagnostic::render`]), and the line on each side.
+/// take them ([`crate::diagnostic::render`]), and the line after each
+/// (shown between two labelled lines one apart).
 pub fn lines_shown(
-    open: &mut dyn FnMut() -> std::io::Result<Box<dyn std::io::BufRead>>,
+    reader: &mut dyn std::io::BufRead,
     file: FileId,
     diagnostics: &[Diagnostic],
 ) -> std::io::Result<Vec<(usize, usize, String)>> {
@@ -1038,33 +1039,35 @@ pub fn lines_shown(
         })
         .collect();
     let mut first_lines: Vec<Option<usize>> = vec![None; labels.len()];
-    let mut wanted = std::collections::BTreeSet::new();
-    let mut last = (1, 0);
-    each_line(&mut open()?, &mut |number, bytes, _| {
-        last = (number, bytes.start);
+    let mut lines = Vec::new();
+    // The line after one shown is shown too; the last line read is kept
+    // (its text's room used again) for a label past the end.
+    let (mut after, mut last) = (false, (0, 0, String::new()));
+    each_line(reader, &mut |number, bytes, text| {
+        let mut holds = false;
         for ((from, to), first) in labels.iter().zip(&mut first_lines) {
-            if *from < bytes.end
-                && bytes.start <= *to
-                && *first.get_or_insert(number) + 20 >= number
-            {
-                wanted.extend([number.saturating_sub(1), number, number + 1]);
+            if *from < bytes.end && bytes.start <= *to {
+                holds |= *first.get_or_insert(number) + 20 >= number;
             }
         }
+        if holds || std::mem::take(&mut after) {
+            lines.push((number, bytes.start, text.to_string()));
+        }
+        after = holds;
+        (last.0, last.1) = (number, bytes.start);
+        last.2.clear();
+        last.2.push_str(text);
     })?;
     // The last line holds every offset from its start on (the end of the
     // file, after a last line with no line end).
-    let (number, start) = last;
     let past_the_end =
-        |((from, _), first): (&(usize, usize), &Option<usize>)| first.is_none() && *from >= start;
-    if labels.iter().zip(&first_lines).any(past_the_end) {
-        wanted.extend([number.saturating_sub(1), number]);
+        |((from, _), first): (&(usize, usize), &Option<usize>)| first.is_none() && *from >= last.1;
+    let shown = lines
+        .last()
+        .is_some_and(|l: &(usize, usize, String)| l.0 == last.0);
+    if labels.iter().zip(&first_lines).any(past_the_end) && !shown {
+        lines.push(last);
     }
-    let mut lines = Vec::new();
-    each_line(&mut open()?, &mut |number, bytes, text| {
-        if wanted.contains(&number) {
-            lines.push((number, bytes.start, text.to_string()));
-        }
-    })?;
     Ok(lines)
 }
 

@@ -730,8 +730,10 @@ fn compile_job(
     }
     if streamed.is_some() && !report.diagnostics.is_empty() {
         // The diagnostics show the lines they are about, read again.
-        let mut open = || open_input(input).map(|r| Box::new(r) as Box<dyn std::io::BufRead>);
-        match ger::compile::lines_shown(&mut open, job.file, &report.diagnostics) {
+        let shown = open_input(input).and_then(|mut file| {
+            ger::compile::lines_shown(&mut file, job.file, &report.diagnostics)
+        });
+        match shown {
             Ok(lines) => job.sources.set_lines(job.file, lines),
             Err(_) => eprintln!("note: `{input}` could not be read again to show its lines"),
         }
