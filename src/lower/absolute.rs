@@ -13,7 +13,7 @@
 use super::position::Tracker;
 use super::{Context, LowerError, LowerErrorKind, Out, Pass, PassInfo};
 use crate::geometry::{self, ArcError, Point};
-use crate::ir::{self, ArcGeometry, Axes, Axis, Distance, Op, Position, Stmt};
+use crate::ir::{self, ArcGeometry, Axes, Axis, Distance, Op, Stmt};
 use crate::source::Span;
 
 pub const PASS: PassInfo = PassInfo {
@@ -38,30 +38,32 @@ impl AbsolutePass {
     }
 
     fn lower_move(&mut self, m: &mut ir::Move, span: Span) -> Result<(), LowerError> {
-        if m.arc.is_none() && self.at.distance == Distance::Absolute {
-            // The common case, without copies of the position.
+        let clockwise = m.motion == ir::Motion::ArcCw;
+        if self.at.distance == Distance::Absolute {
+            // The common case, without copies of the position (made and read
+            // back at once, a copy waits for its writes): the ends are the
+            // words, the other axes stay.
+            if let Some(arc) = &mut m.arc {
+                self.at.check_absolute(&m.to, span)?;
+                let at = &self.at.position;
+                let end = std::array::from_fn(|i| m.to.get(Axis::ALL[i]).or(at[i]));
+                let center = resolve_arc(&self.at, end, arc.geometry, clockwise, span)?;
+                arc.geometry = ArcGeometry::Center(center);
+            }
             return self.at.move_absolute(&m.to, span);
         }
         let end = self.at.end_of(&m.to, "an incremental move", span)?;
         if let Some(arc) = &mut m.arc {
-            let center = resolve_arc(
-                &self.at,
-                end,
-                arc.geometry,
-                m.motion == ir::Motion::ArcCw,
-                span,
-            )?;
+            let end = [end[0], end[1], end[2]];
+            let center = resolve_arc(&self.at, end, arc.geometry, clockwise, span)?;
             arc.geometry = ArcGeometry::Center(center);
         }
         // Only the axes the statement wrote: a Z retract stays a Z move.
-        // (Absolute axes are their ends already.)
-        if self.at.distance == Distance::Incremental {
-            let mut written = Axes::default();
-            for (axis, _) in m.to.iter() {
-                written.put(axis, end[axis.index()]);
-            }
-            m.to = written;
+        let mut written = Axes::default();
+        for (axis, _) in m.to.iter() {
+            written.put(axis, end[axis.index()]);
         }
+        m.to = written;
         self.at.position = end;
         Ok(())
     }
@@ -173,9 +175,10 @@ impl Pass for AbsolutePass {
 }
 
 /// The centre of an arc, relative to its start, in the plane's two axes.
+/// `end`: where X, Y and Z end (`None`: unknown).
 fn resolve_arc(
     pass: &Tracker,
-    end: Position,
+    end: [Option<f64>; 3],
     geometry: ArcGeometry,
     clockwise: bool,
     span: Span,

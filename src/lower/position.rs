@@ -81,13 +81,21 @@ impl Tracker {
     /// [`Tracker::end_of`] under G90, made the position: the same error,
     /// or the axes' values are where the tool is.
     pub fn move_absolute(&mut self, to: &Axes, span: Span) -> Result<(), LowerError> {
-        debug_assert!(self.distance == Distance::Absolute);
         // Nothing moves on an error.
-        if !to.all_values(ir::is_position) {
-            return Err(out_of_range(to, span));
-        }
+        self.check_absolute(to, span)?;
         to.place(&mut self.position, Some);
         Ok(())
+    }
+
+    /// The error [`Tracker::end_of`] gives under G90, if any: an axis out
+    /// of range.
+    #[inline]
+    pub fn check_absolute(&self, to: &Axes, span: Span) -> Result<(), LowerError> {
+        debug_assert!(self.distance == Distance::Absolute);
+        match to.all_values(ir::is_position) {
+            true => Ok(()),
+            false => Err(out_of_range(to, span)),
+        }
     }
 
     /// [`Tracker::end_of`] without its error, in place: an axis whose end
