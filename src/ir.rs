@@ -152,6 +152,11 @@ impl Axes {
         self.present & (1 << axis as u16) != 0
     }
 
+    /// The axes present, a bit each (bit `Axis::index`).
+    pub fn bits(&self) -> u16 {
+        self.present
+    }
+
     pub fn set(&mut self, axis: Axis, value: f64) {
         self.present |= 1 << axis as u16;
         self.values[axis as usize] = value;
@@ -191,6 +196,16 @@ impl Axes {
         for (i, slot) in slots.iter_mut().enumerate() {
             if self.present & (1 << i) != 0 {
                 *slot = f(self.values[i]);
+            }
+        }
+    }
+
+    /// Add `shift` to every present value, slot by slot.
+    #[inline]
+    pub fn shift_by(&mut self, shift: &[f64; 9]) {
+        for (i, (value, by)) in self.values.iter_mut().zip(shift).enumerate() {
+            if self.present & (1 << i) != 0 {
+                *value += by;
             }
         }
     }

@@ -27,7 +27,7 @@ mod units;
 pub use error::{LowerError, LowerErrorKind};
 
 use crate::diagnostic::Diagnostic;
-use crate::ir::{self, Stmt};
+use crate::ir::{self, Op, Stmt};
 
 /// A lowering pass: a state machine over the statement stream.
 ///
@@ -53,26 +53,50 @@ pub trait Pass: Send {
 
     /// Feed the statements of `input` in order, as `flow` does; the
     /// index from which they went on where they lie (the others are in
-    /// the output). Not for a pass to write: made for each pass, so that
-    /// its `feed` is called directly, not through the `dyn Pass` of the
-    /// pipeline once a statement.
+    /// the output). Made for each pass, so that its `feed` is called
+    /// directly, not through the `dyn Pass` of the pipeline once a
+    /// statement. A pass may take a batch at once where [`feed_in_turn`]
+    /// would only follow its moves (see [`follows_only`]).
     fn feed_each(&mut self, input: &mut [Stmt], to: &mut Batch<'_, '_>) -> usize {
-        // input[waiting..] went on where they lie, and are not in the
-        // output yet.
-        let mut waiting = 0;
-        for i in 0..input.len() {
-            let (before, rest) = input.split_at_mut(i);
-            let mut out = Out::new(to.output, to.problems, to.next, &mut before[waiting..]);
-            let goes_on = self.feed(&mut rest[0], &mut out);
-            if !goes_on {
-                out.send_waiting();
-                waiting = i + 1;
-            } else if out.sent_waiting {
-                waiting = i;
-            }
-        }
-        waiting
+        feed_in_turn(self, input, to)
     }
+}
+
+/// [`Pass::feed_each`] one statement at a time, by [`Pass::feed`].
+pub fn feed_in_turn<P: Pass + ?Sized>(
+    pass: &mut P,
+    input: &mut [Stmt],
+    to: &mut Batch<'_, '_>,
+) -> usize {
+    // input[waiting..] went on where they lie, and are not in the
+    // output yet.
+    let mut waiting = 0;
+    for i in 0..input.len() {
+        let (before, rest) = input.split_at_mut(i);
+        let mut out = Out::new(to.output, to.problems, to.next, &mut before[waiting..]);
+        let goes_on = pass.feed(&mut rest[0], &mut out);
+        if !goes_on {
+            out.send_waiting();
+            waiting = i + 1;
+        } else if out.sent_waiting {
+            waiting = i;
+        }
+    }
+    waiting
+}
+
+/// Whether `stmts` are moves, feeds, speeds and comments only: the
+/// statements of nearly every batch of a program from CAM. A pass that
+/// only follows the moves of such a run (the units pass at a factor of
+/// one, polar off, cycles, compensation off, offsets under G90) takes
+/// the batch at once, in its `feed_each`, without `feed` once a statement.
+pub fn follows_only(stmts: &[Stmt]) -> bool {
+    stmts.iter().all(|s| {
+        matches!(
+            s.op,
+            Op::Move(_) | Op::Feed(_) | Op::Speed(_) | Op::Comment(_)
+        )
+    })
 }
 
 /// Where [`Pass::feed_each`] sends statements: a pass's output, its
@@ -366,6 +390,190 @@ mod tests {
             Op::SelectTool(k) => k,
             _ => panic!("not a test statement: {s:?}"),
         }
+    }
+
+    /// A pass fed one statement at a time, whatever its `feed_each` does.
+    struct InTurn(Box<dyn Pass>);
+
+    impl Pass for InTurn {
+        fn feed(&mut self, stmt: &mut Stmt, out: &mut Out<'_>) -> bool {
+            self.0.feed(stmt, out)
+        }
+
+        fn finish(&mut self, out: &mut Out<'_>) {
+            self.0.finish(out)
+        }
+    }
+
+    /// A made-up program for [`runs_of_moves_are_lowered_as_one_at_a_time`]:
+    /// runs of moves (feeds, speeds and comments among them; now and then an
+    /// axis out of range, or a -0) between statements that change what the
+    /// passes' runs depend on (units, polar, distance, offsets) or show where
+    /// they think the tool is (a G92, compensation, a drilling cycle).
+    fn made_up_program(seed: u64, length: usize) -> Vec<Stmt> {
+        use ir::{Axes, Axis, Cycle, CycleKind, Distance, Motion, Units};
+        let mut state = seed | 1;
+        let mut next = |n: u64| {
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            state % n
+        };
+        let mut ops = Vec::new();
+        while ops.len() < length {
+            if next(4) != 0 {
+                for _ in 0..1 + next(60) {
+                    let op = match next(20) {
+                        0 => Op::Feed(100.0 + next(500) as f64),
+                        1 => Op::Speed(next(9000) as f64),
+                        2 => Op::Comment(String::from("run")),
+                        _ => {
+                            let mut to = Axes::default();
+                            for axis in [Axis::X, Axis::Y, Axis::Z, Axis::A] {
+                                // A quarter of the programs leave the
+                                // machine's range now and then.
+                                let v = match next(if seed.is_multiple_of(4) { 6 } else { 4000 }) {
+                                    0 => 2e9,
+                                    1 => -0.0,
+                                    _ => (next(200_000) as f64 - 100_000.0) / 1000.0,
+                                };
+                                if next(3) != 0 {
+                                    to.set(axis, v);
+                                }
+                            }
+                            let motion = [Motion::Rapid, Motion::Linear][next(2) as usize];
+                            Op::Move(ir::Move {
+                                motion,
+                                to,
+                                arc: None,
+                            })
+                        }
+                    };
+                    ops.push(op);
+                }
+                continue;
+            }
+            let kind = next(12);
+            if (3..=5).contains(&kind) || kind == 10 {
+                // Offsets change under G90 only.
+                ops.push(Op::Distance(Distance::Absolute));
+            }
+            ops.push(match kind {
+                0 => Op::Distance([Distance::Absolute, Distance::Incremental][next(2) as usize]),
+                1 => Op::Units([Units::Inch, Units::Mm][next(2) as usize]),
+                2 => Op::Polar(next(8) == 0),
+                3 => Op::SetPosition(Axes::xyz(1.0, 2.0, 3.0)),
+                4 => Op::CancelPosition,
+                5 => Op::LocalOffset(Axes::xyz(5.0, 0.0, 0.0)),
+                6 => Op::Comp {
+                    side: ir::Side::Left,
+                    radius: ir::CompRadius::Diameter(2.0),
+                },
+                7 => Op::CompOff,
+                8 => Op::Cycle(Box::new(Cycle {
+                    kind: CycleKind::G81,
+                    at: Axes::xyz(10.0, 10.0, -1.0),
+                    r: 1.0,
+                    q: None,
+                    dwell: None,
+                    repeats: 1,
+                    ijk: [None; 3],
+                    starts_run: true,
+                    pecks: None,
+                    kept: None,
+                })),
+                9 => Op::CycleOff,
+                10 => Op::SelectWorkOffset(1),
+                _ => Op::Plane(ir::Plane::XY),
+            });
+        }
+        ops.push(Op::End);
+        let span = |line| crate::source::Span {
+            file: 0,
+            line,
+            start: 0,
+            end: 0,
+        };
+        (1..)
+            .zip(ops)
+            .map(|(line, op)| Stmt::new(op, span(line)))
+            .collect()
+    }
+
+    /// Every pass takes a run of moves at once in its `feed_each` (`lower::
+    /// follows_only`) as it would one statement at a time: the same
+    /// statements out and the same problems, through the six passes, in
+    /// batches cut anywhere.
+    #[test]
+    fn runs_of_moves_are_lowered_as_one_at_a_time() {
+        use ir::Units::{Inch, Mm};
+        let options = LowerOptions::default();
+        let (mut programs_with_output, mut runs) = (0, 0);
+        for seed in 1..=200u64 {
+            // Output units known and the program's the same, other, or
+            // neither known.
+            let (output_units, program_units) =
+                [(Mm, Some(Mm)), (Mm, Some(Inch)), (Mm, None)][seed as usize % 3];
+            let start = ir::Start {
+                setup: ir::Setup::default(),
+                output_units: Some(output_units),
+                program_units,
+                // G98 returns to where the tool was: a cycle shows it.
+                return_level: [ir::ReturnLevel::R, ir::ReturnLevel::Initial][seed as usize / 4 % 2],
+            };
+            let context = Context {
+                start: &start,
+                options: &options,
+            };
+            let program = made_up_program(seed * 0x9e37_79b9_7f4a_7c15, 600);
+            let mut lowered = Vec::new();
+            for in_turn in [true, false] {
+                let passes: Vec<(Box<dyn Pass>, Problems)> = PASSES
+                    .iter()
+                    .map(|p| {
+                        let pass = (p.make)(&context);
+                        let pass: Box<dyn Pass> = match in_turn {
+                            true => Box::new(InTurn(pass)),
+                            false => pass,
+                        };
+                        (pass, Problems::default())
+                    })
+                    .collect();
+                let mut pipeline = Pipeline {
+                    buffers: passes.iter().map(|_| Vec::new()).collect(),
+                    passes,
+                };
+                let mut out = Vec::new();
+                let mut sink =
+                    |o: &mut Vec<Stmt>| out.extend(o.drain(..).map(|s| format!("{s:?}")));
+                // Batches cut anywhere, and often just after a statement
+                // that is not a run's (so that a run starts the next).
+                let (mut batch, mut cut) = (Vec::new(), seed);
+                for stmt in &program {
+                    batch.push(stmt.clone());
+                    cut = cut.wrapping_mul(6_364_136_223_846_793_005).wrapping_add(1);
+                    let ends_run = !follows_only(std::slice::from_ref(stmt));
+                    if cut >> 59 == 0 || (ends_run && cut >> 63 == 1) {
+                        runs += usize::from(!in_turn && follows_only(&batch));
+                        pipeline.run(&mut batch, &mut sink);
+                    }
+                }
+                pipeline.run(&mut batch, &mut sink);
+                pipeline.finish(&mut sink);
+                let problems: Vec<String> = pipeline
+                    .passes
+                    .iter()
+                    .flat_map(|(_, p)| p.list.iter().map(|e| format!("{e:?}")))
+                    .collect();
+                lowered.push((out, problems));
+            }
+            assert_eq!(lowered[0], lowered[1], "program {seed}");
+            programs_with_output += usize::from(lowered[0].0.len() > 300);
+        }
+        // The comparison means something: most programs come out whole, and
+        // many batches are runs.
+        assert!(programs_with_output > 100, "{programs_with_output}");
+        assert!(runs > 1000, "{runs}");
     }
 
     /// Drops every third statement.

@@ -21,7 +21,7 @@
 
 use super::error::CompError;
 use super::position::Tracker;
-use super::{Context, LowerError, Out, Pass, PassInfo};
+use super::{feed_in_turn, Batch, Context, LowerError, Out, Pass, PassInfo};
 use crate::ir::{self, Axis, CompRadius, Motion, Op, Position, Side, Stmt};
 use crate::source::Span;
 use std::collections::BTreeMap;
@@ -873,6 +873,16 @@ impl CompPass {
 }
 
 impl Pass for CompPass {
+    /// Compensation kept for the controller, or off: a run of moves is
+    /// only followed (as `feed` below).
+    fn feed_each(&mut self, input: &mut [Stmt], to: &mut Batch<'_, '_>) -> usize {
+        if self.keep || (self.on.is_none() && self.after_off.is_none() && self.at.follow_run(input))
+        {
+            return 0;
+        }
+        feed_in_turn(self, input, to)
+    }
+
     fn feed(&mut self, stmt: &mut Stmt, out: &mut Out<'_>) -> bool {
         if self.keep {
             return true;

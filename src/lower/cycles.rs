@@ -21,7 +21,7 @@
 
 use super::error::CycleError;
 use super::position::Tracker;
-use super::{Context, LowerError, Out, Pass, PassInfo};
+use super::{feed_in_turn, Batch, Context, LowerError, Out, Pass, PassInfo};
 use crate::ir::{
     self, Axes, Axis, CycleKind, Distance, Motion, Op, Plane, ReturnLevel, Spindle, Stmt,
 };
@@ -372,6 +372,14 @@ impl Emitter<'_, '_, '_> {
 }
 
 impl Pass for CyclesPass {
+    /// A run of moves (no cycle among them) is only followed.
+    fn feed_each(&mut self, input: &mut [Stmt], to: &mut Batch<'_, '_>) -> usize {
+        match self.at.follow_run(input) {
+            true => 0,
+            false => feed_in_turn(self, input, to),
+        }
+    }
+
     fn feed(&mut self, stmt: &mut Stmt, out: &mut Out<'_>) -> bool {
         match &stmt.op {
             Op::Cycle(c) => {

@@ -12,7 +12,9 @@
 //! Changing an offset under G91 is an error. Lengths are in the output
 //! units (the units pass ran first).
 
-use super::{Context, LowerError, LowerErrorKind, Out, Pass, PassInfo};
+use super::{
+    feed_in_turn, follows_only, Batch, Context, LowerError, LowerErrorKind, Out, Pass, PassInfo,
+};
 use crate::ir::{self, Axes, Axis, Distance, Op, Position, Stmt};
 use crate::source::Span;
 use std::collections::BTreeMap;
@@ -154,6 +156,23 @@ impl OffsetsPass {
 }
 
 impl Pass for OffsetsPass {
+    /// A run of moves under G90 changes no offset: each shift is worked
+    /// out once for the run, not for every axis of every move.
+    fn feed_each(&mut self, input: &mut [Stmt], to: &mut Batch<'_, '_>) -> usize {
+        if self.distance != Distance::Absolute || !follows_only(input) {
+            return feed_in_turn(self, input, to);
+        }
+        let shift: [f64; 9] = std::array::from_fn(|i| self.shift(i));
+        for stmt in input.iter_mut() {
+            if let Op::Move(m) = &mut stmt.op {
+                // As `place` does.
+                m.to.shift_by(&shift);
+                m.to.place(&mut self.position, Some);
+            }
+        }
+        0
+    }
+
     fn feed(&mut self, stmt: &mut Stmt, out: &mut Out<'_>) -> bool {
         let span = stmt.span;
         if Self::changes_offsets(&stmt.op) && self.distance == Distance::Incremental {

@@ -7,7 +7,9 @@
 //! polar move must give both. Canned-cycle hole positions are polar too.
 //! Changing offsets or the plane, or a machine move, under G16 is an error.
 
-use super::{Context, LowerError, LowerErrorKind, Out, Pass, PassInfo};
+use super::{
+    feed_in_turn, follows_only, Batch, Context, LowerError, LowerErrorKind, Out, Pass, PassInfo,
+};
 use crate::ir::{Axes, Axis, Op, Plane, Stmt};
 use crate::source::Span;
 
@@ -54,6 +56,14 @@ impl PolarPass {
 }
 
 impl Pass for PolarPass {
+    /// Polar coordinates off: a run of moves stays as it is.
+    fn feed_each(&mut self, input: &mut [Stmt], to: &mut Batch<'_, '_>) -> usize {
+        if self.polar.is_none() && follows_only(input) {
+            return 0;
+        }
+        feed_in_turn(self, input, to)
+    }
+
     fn feed(&mut self, stmt: &mut Stmt, out: &mut Out<'_>) -> bool {
         let span = stmt.span;
         let on = self.polar.is_some();

@@ -4,7 +4,7 @@
 //! left it unknown. The absolute and cycles passes keep one each.
 
 use super::{LowerError, LowerErrorKind};
-use crate::ir::{self, Axes, Axis, Distance, Op, Plane, Position};
+use crate::ir::{self, Axes, Axis, Distance, Op, Plane, Position, Stmt};
 use crate::source::Span;
 
 #[derive(Clone, Debug)]
@@ -123,6 +123,38 @@ impl Tracker {
         }
     }
 
+    /// [`Tracker::follow`] of each statement of `stmts` in turn, when they
+    /// are moves and statements that move nothing
+    /// ([`super::follows_only`]) under G90: each axis from the last move
+    /// that writes it. `false`, and nothing followed, for any other run.
+    pub fn follow_run(&mut self, stmts: &[Stmt]) -> bool {
+        if self.distance != Distance::Absolute || !super::follows_only(stmts) {
+            return false;
+        }
+        // The axes no later move writes, a bit each.
+        let mut left: u16 = (1 << Axis::ALL.len()) - 1;
+        for stmt in stmts.iter().rev() {
+            let Op::Move(m) = &stmt.op else { continue };
+            let written = m.to.bits() & left;
+            if written == 0 {
+                continue;
+            }
+            // As `follow_move`: a move with an axis out of range leaves
+            // its axes unknown.
+            let known = m.to.all_values(ir::is_position);
+            for (i, axis) in Axis::ALL.into_iter().enumerate() {
+                if written & (1 << i) != 0 {
+                    self.position[i] = m.to.get(axis).filter(|_| known);
+                }
+            }
+            left &= !written;
+            if left == 0 {
+                break;
+            }
+        }
+        true
+    }
+
     /// Follow a statement that is not a cycle, without checking it (the
     /// absolute pass checks): an axis whose end is in doubt is unknown.
     pub fn follow(&mut self, op: &Op, span: Span) {
@@ -143,4 +175,69 @@ fn out_of_range(to: &Axes, span: Span) -> LowerError {
         .find(|&(_, v)| !ir::is_position(v))
         .unwrap_or((Axis::X, f64::NAN));
     LowerError::new(LowerErrorKind::PositionOutOfRange { axis, value }, span)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::Tracker;
+    use crate::ir::{self, Axes, Axis, Distance, Motion, Op, Stmt};
+    use crate::source::Span;
+
+    /// `follow_run` leaves a tracker as `follow` of each statement in turn
+    /// would (every axis from its last move, unknown after a move out of
+    /// range), and as it was where the statements are not a run.
+    #[test]
+    fn a_run_is_followed_as_each_statement_in_turn() {
+        let mut state = 0x2545_f491_4f6c_dd1du64;
+        let mut next = |n: u64| {
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            state % n
+        };
+        let (mut runs, mut others) = (0, 0);
+        for _ in 0..5000 {
+            let mut stmts = Vec::new();
+            for _ in 0..1 + next(12) {
+                let mut to = Axes::default();
+                for axis in [Axis::X, Axis::Y, Axis::Z, Axis::A] {
+                    if next(3) == 0 {
+                        to.set(axis, [2e9, -0.0, 1.5, -7.25, 3.0][next(5) as usize]);
+                    }
+                }
+                let m = ir::Move {
+                    motion: Motion::Linear,
+                    to,
+                    arc: None,
+                };
+                let op = match next(40) {
+                    0 => Op::Feed(100.0),
+                    1 => Op::Comment(String::new()),
+                    2 => Op::Distance(Distance::Absolute),
+                    3 => Op::MachineMove(m),
+                    _ => Op::Move(m),
+                };
+                stmts.push(Stmt::new(op, Span::default()));
+            }
+            let mut start = Tracker::new();
+            for slot in start.position.iter_mut() {
+                *slot = [None, Some(4.0), Some(-0.0)][next(3) as usize];
+            }
+            if next(6) == 0 {
+                start.distance = Distance::Incremental;
+            }
+            let mut in_turn = start.clone();
+            for stmt in &stmts {
+                in_turn.follow(&stmt.op, stmt.span);
+            }
+            let mut at_once = start.clone();
+            let followed = at_once.follow_run(&stmts);
+            let run = start.distance == Distance::Absolute && super::super::follows_only(&stmts);
+            assert_eq!(followed, run, "{stmts:?}");
+            let expected = if followed { &in_turn } else { &start };
+            assert_eq!(format!("{at_once:?}"), format!("{expected:?}"), "{stmts:?}");
+            (runs, others) = (runs + usize::from(run), others + usize::from(!run));
+        }
+        assert!(runs > 1000 && others > 1000, "{runs} runs, {others} others");
+    }
 }

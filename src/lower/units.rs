@@ -11,7 +11,9 @@
 //! G21 stays where it is (the moves before it run in the machine's units)
 //! and fixes the output units from there on.
 
-use super::{Context, LowerError, LowerErrorKind, Out, Pass, PassInfo};
+use super::{
+    feed_in_turn, follows_only, Batch, Context, LowerError, LowerErrorKind, Out, Pass, PassInfo,
+};
 use crate::ir::{self, ArcGeometry, Axis, CompRadius, Op, Stmt, Units};
 
 pub const PASS: PassInfo = PassInfo {
@@ -66,6 +68,15 @@ impl UnitsPass {
 }
 
 impl Pass for UnitsPass {
+    /// Lengths times one, and the program's units known (no feed to warn
+    /// of): a run of moves stays as it is.
+    fn feed_each(&mut self, input: &mut [Stmt], to: &mut Batch<'_, '_>) -> usize {
+        if self.factor() == 1.0 && self.current.is_some() && follows_only(input) {
+            return 0;
+        }
+        feed_in_turn(self, input, to)
+    }
+
     fn feed(&mut self, stmt: &mut Stmt, out: &mut Out<'_>) -> bool {
         let k = self.factor();
         let scale = |v: &mut f64| *v *= k;
