@@ -114,8 +114,6 @@ impl Report {
 struct Clock {
     last: Instant,
     timings: Vec<(&'static str, Duration)>,
-    /// Time the next lap spent on a stage reported apart.
-    inside: Duration,
 }
 
 impl Clock {
@@ -123,7 +121,6 @@ impl Clock {
         Clock {
             last: Instant::now(),
             timings: Vec::new(),
-            inside: Duration::ZERO,
         }
     }
 
@@ -135,18 +132,11 @@ impl Clock {
     /// its own time without them.
     fn split(&mut self, stage: &'static str, parts: &[(&'static str, Duration)]) {
         let now = Instant::now();
-        let inner =
-            parts.iter().map(|(_, d)| *d).sum::<Duration>() + std::mem::take(&mut self.inside);
+        let inner = parts.iter().map(|(_, d)| *d).sum::<Duration>();
         self.timings
             .push((stage, (now - self.last).saturating_sub(inner)));
         self.timings.extend_from_slice(parts);
         self.last = now;
-    }
-
-    /// Time the next lap spends on a stage reported apart (the passes the
-    /// evaluator's thread runs, reported with the lowering).
-    fn ran_inside(&mut self, took: Duration) {
-        self.inside += took;
     }
 
     /// Stages timed on another thread, at the same time as the last lap:
@@ -551,7 +541,6 @@ fn run<'a>(
     });
     diagnostics.extend(eval_diagnostics);
     drop(program);
-    clock.ran_inside(backend.lower_time_ahead);
     clock.lap("expand");
     Ok(finish_back_end(backend, diagnostics, clock))
 }
@@ -1233,7 +1222,6 @@ fn run_by_parts(
         names.forget_notes();
     }
     diagnostics.append(&mut parts.diagnostics);
-    clock.ran_inside(backend.lower_time_ahead);
     clock.split("expand", &[("parse", parts.time)]);
     // A syntax error (among `diagnostics` now) stops the compile: what the
     // evaluator said of the parts before it is not reported.
@@ -1255,25 +1243,9 @@ struct Backend<'s> {
     write_error: Option<std::io::Error>,
     /// Made by the first batch, when the setup and units are known.
     started: Option<Started>,
-    /// How many of the passes the evaluator's thread runs before it hands
-    /// a batch on ([`Backend::ahead`]); the back end runs the others.
-    lowered_ahead: usize,
-    /// Those passes, given back when the program has been lowered, and
-    /// the time they took (in `lower_time` too).
-    lowering_ahead: Option<Pipeline>,
-    lower_time_ahead: Duration,
     lower_time: Duration,
     emit_time: Duration,
 }
-
-/// The passes the evaluator's thread runs (when the back end has a thread
-/// of its own): units and polar. A program runs as fast as the slower of
-/// the two threads; on a plain program the back end was the slower (4 ms
-/// longer of 25 on the 200k moves of `benches/vs_rs274.py`, the evaluator
-/// waiting on it). Measured, 31 rounds in turn, against none ahead: two
-/// passes 33.1 -> 31.5 ms with `-o` (three 31.6, four 32.7), and a loop
-/// whose evaluator is the slower thread 36.8 -> 37.8 ms (three: 39.3).
-const PASSES_AHEAD: usize = 2;
 
 struct Started {
     /// `None` for `--stage expand`.
@@ -1302,9 +1274,6 @@ impl<'s> Backend<'s> {
             out,
             write_error: None,
             started: None,
-            lowered_ahead: 0,
-            lowering_ahead: None,
-            lower_time_ahead: Duration::ZERO,
             lower_time: Duration::ZERO,
             emit_time: Duration::ZERO,
         }
@@ -1334,15 +1303,6 @@ impl<'s> Backend<'s> {
         }
     }
 
-    /// The passes the evaluator's thread is to run ([`PASSES_AHEAD`], and
-    /// none past the last), and their options.
-    fn ahead(&self) -> (usize, lower::LowerOptions) {
-        let passes = self
-            .last_pass()
-            .map_or(0, |last| PASSES_AHEAD.min(last + 1));
-        (passes, self.lower_options())
-    }
-
     fn started(&self, start: &ir::Start) -> Started {
         let (len, file) = (self.source.len(), self.file);
         let last = self.last_pass();
@@ -1358,7 +1318,7 @@ impl<'s> Backend<'s> {
             _ => start.program_units,
         };
         Started {
-            lowering: last.map(|last| Pipeline::new(&context, self.lowered_ahead..last + 1)),
+            lowering: last.map(|last| Pipeline::new(&context, 0..last + 1)),
             printer: match self.options.stage {
                 _ if matches!(self.out, Output::Path(_)) => {
                     Printer::Path(Box::new(ToolPathBuilder::new(units, &start.setup)))
@@ -1393,15 +1353,6 @@ impl<'s> Backend<'s> {
             return (Vec::new(), written);
         };
         let mut diagnostics = Vec::new();
-        // The evaluator's passes come first: after one failed, nothing of
-        // the later ones is reported (as with [`Pipeline::diagnostics`]).
-        if let Some(ahead) = self.lowering_ahead {
-            let failed = ahead.failed();
-            diagnostics = ahead.diagnostics();
-            if failed {
-                return (diagnostics, written);
-            }
-        }
         if let Some(mut lowering) = lowering {
             lowering.finish(&mut |rest| {
                 printer.print(rest);
@@ -1552,12 +1503,9 @@ impl Printer {
 /// the two. The order of everything is the one thread's order. Where no
 /// thread can be started, both run on this one.
 fn on_two_threads<'s, R>(
-    mut backend: Backend<'s>,
+    backend: Backend<'s>,
     front: impl FnOnce(&mut dyn ir::Sink) -> R,
 ) -> (R, Backend<'s>) {
-    // The first passes run on the evaluator's thread, if there are two.
-    let (ahead, lower_options) = backend.ahead();
-    backend.lowered_ahead = ahead;
     let backend = Mutex::new(backend);
     let slot = &backend;
     let result = std::thread::scope(|scope| {
@@ -1579,29 +1527,15 @@ fn on_two_threads<'s, R>(
                 }
             });
         let Ok(back) = back else {
-            // One thread: it runs every pass.
+            // One thread: it runs the back end too.
             let mut backend = slot.lock().unwrap_or_else(PoisonError::into_inner);
-            backend.lowered_ahead = 0;
             return front(&mut *backend);
         };
-        let mut handoff = Handoff {
-            to_back,
-            spare,
-            ahead,
-            lower_options,
-            lowering: None,
-            lower_time: Duration::ZERO,
-        };
-        let result = front(&mut handoff);
-        let (lowering, lower_time) = handoff.finish();
+        let result = front(&mut Handoff { to_back, spare });
         // The hand-off is gone: the back end has seen the last batch.
         if let Err(panic) = back.join() {
             std::panic::resume_unwind(panic);
         }
-        let mut backend = slot.lock().unwrap_or_else(PoisonError::into_inner);
-        backend.lowering_ahead = lowering;
-        backend.lower_time += lower_time;
-        backend.lower_time_ahead = lower_time;
         result
     });
     (
@@ -1619,75 +1553,26 @@ enum Handed {
     Batch(Vec<ir::Stmt>),
 }
 
-/// The evaluator's end of [`on_two_threads`]: it runs the first `ahead`
-/// passes on each batch and hands what comes out on.
+/// The evaluator's end of [`on_two_threads`]: it hands each batch on.
 struct Handoff {
     to_back: mpsc::SyncSender<Handed>,
     /// Emptied batches coming back, to be filled again.
     spare: mpsc::Receiver<Vec<ir::Stmt>>,
-    ahead: usize,
-    lower_options: lower::LowerOptions,
-    /// Those passes, made when the program starts.
-    lowering: Option<Pipeline>,
-    lower_time: Duration,
-}
-
-impl Handoff {
-    /// The end of the program: the passes flush what they hold back.
-    /// Returns them (for their diagnostics) and the time they took.
-    fn finish(mut self) -> (Option<Pipeline>, Duration) {
-        if let Some(lowering) = &mut self.lowering {
-            let (t0, mut handing) = (Instant::now(), Duration::ZERO);
-            let (to_back, spare) = (&self.to_back, &self.spare);
-            lowering.finish(&mut |lowered| handing += hand_on(to_back, spare, lowered));
-            self.lower_time += t0.elapsed().saturating_sub(handing);
-        }
-        (self.lowering, self.lower_time)
-    }
-}
-
-/// Send `stmts` to the back end, and leave an empty batch in their place;
-/// the time it took (waiting while the back end is behind).
-fn hand_on(
-    to_back: &mpsc::SyncSender<Handed>,
-    spare: &mpsc::Receiver<Vec<ir::Stmt>>,
-    stmts: &mut Vec<ir::Stmt>,
-) -> Duration {
-    let t0 = Instant::now();
-    let empty = spare
-        .try_recv()
-        .unwrap_or_else(|_| Vec::with_capacity(stmts.capacity()));
-    let full = std::mem::replace(stmts, empty);
-    let _ = to_back.send(Handed::Batch(full));
-    t0.elapsed()
 }
 
 impl ir::Sink for Handoff {
     fn start(&mut self, start: &ir::Start) {
-        if self.ahead > 0 {
-            let context = lower::Context {
-                start,
-                options: &self.lower_options,
-            };
-            self.lowering = Some(Pipeline::new(&context, 0..self.ahead));
-        }
         let _ = self.to_back.send(Handed::Start(Box::new(start.clone())));
     }
 
+    /// Send the batch to the back end, and leave an empty one in its place.
     fn batch(&mut self, batch: &mut Vec<ir::Stmt>) {
-        let (to_back, spare) = (&self.to_back, &self.spare);
-        match &mut self.lowering {
-            Some(lowering) => {
-                let (t0, mut handing) = (Instant::now(), Duration::ZERO);
-                lowering.run(batch, &mut |lowered| {
-                    handing += hand_on(to_back, spare, lowered)
-                });
-                self.lower_time += t0.elapsed().saturating_sub(handing);
-            }
-            None => {
-                hand_on(to_back, spare, batch);
-            }
-        }
+        let empty = self
+            .spare
+            .try_recv()
+            .unwrap_or_else(|_| Vec::with_capacity(batch.capacity()));
+        let full = std::mem::replace(batch, empty);
+        let _ = self.to_back.send(Handed::Batch(full));
     }
 }
 
