@@ -49,6 +49,9 @@ fn code_name(letter: u8, t: u32) -> String {
 
 impl Evaluator<'_> {
     pub(super) fn exec_line_stmt(&mut self, stmt: LineStmt<'_>) -> Flow {
+        if let Some(flow) = self.plain_move(stmt) {
+            return flow;
+        }
         let table = self.word_table.take().unwrap_or_default();
         let mut words = WordValues::new(stmt.args, table);
         let flow = self.exec_stmt_words(stmt, &mut words);
@@ -122,6 +125,105 @@ impl Evaluator<'_> {
                 }
             }
         }
+    }
+
+    /// The commonest statements of a CAM program, a move of numbers (`G1
+    /// X10.5 Y2 F300`, `G2 X1 Y1 I1 J0`, or the same without its code in
+    /// that mode), made as [`Self::exec_stmt_words`] makes them (the same
+    /// checks and statements, in the same order), without its table of
+    /// words. `None`, having done nothing, for any other statement (an arc
+    /// by R or of turns among them), and in a state that path must see (a
+    /// cycle, G7, G53): that path runs it.
+    #[inline]
+    fn plain_move(&mut self, stmt: LineStmt<'_>) -> Option<Flow> {
+        #[cfg(test)]
+        if GENERAL_PATH_ONLY.with(std::cell::Cell::get) {
+            return None;
+        }
+        if self.cycle.is_some() || self.diameter_mode || self.machine_coordinates {
+            return None;
+        }
+        let motion = match stmt.code {
+            None => self.motion?,
+            Some(code) => match (code.letter, &code.value) {
+                (b'G', WordValue::Number(n)) if n.value == 0.0 => Motion::Rapid,
+                (b'G', WordValue::Number(n)) if n.value == 1.0 => Motion::Linear,
+                (b'G', WordValue::Number(n)) if n.value == 2.0 => Motion::ArcCw,
+                (b'G', WordValue::Number(n)) if n.value == 3.0 => Motion::ArcCcw,
+                _ => return None,
+            },
+        };
+        let mut span = stmt.code.or(stmt.args.first())?.span;
+        // X, Y, Z, F, I, J and K, a bit and a value each: numbers in range,
+        // each given once.
+        let (mut given, mut values) = (0u8, [0.0; 7]);
+        for w in stmt.args {
+            span = span.to(w.span);
+            let slot = match w.letter {
+                b'X' => 0,
+                b'Y' => 1,
+                b'Z' => 2,
+                b'F' => 3,
+                b'I' => 4,
+                b'J' => 5,
+                b'K' => 6,
+                b'N' => continue,
+                _ => return None,
+            };
+            match &w.value {
+                WordValue::Number(n) if ir::is_length(n.value) && given & (1 << slot) == 0 => {
+                    given |= 1 << slot;
+                    values[slot] = n.value;
+                }
+                _ => return None,
+            }
+        }
+        let value = |slot: usize| (given & (1 << slot) != 0).then_some(values[slot]);
+        let feed = value(3);
+        // No axis (no move, or a full circle), a negative feed (an error),
+        // an arc without its centre or a centre without an arc: that path.
+        let centre = given & 0b111_0000 != 0;
+        if given & 0b111 == 0 || feed.is_some_and(|f| f < 0.0) || centre != motion.is_arc() {
+            return None;
+        }
+        // F first, then the mode, then the move (`feed_speed_tool`, `g_code`,
+        // `leftover_move`).
+        let mut made = Ok(());
+        if let Some(f) = feed {
+            made = self.emit(Op::Feed(f), span);
+        }
+        if made.is_ok() {
+            if stmt.code.is_some() {
+                self.motion = Some(motion);
+                self.cycle_run = false;
+            }
+            #[cfg(test)]
+            PLAIN_MOVES.with(|n| n.set(n.get() + 1));
+            made = self.emit_move_with(motion, span, |m| {
+                for (slot, axis) in [Axis::X, Axis::Y, Axis::Z].into_iter().enumerate() {
+                    if let Some(v) = value(slot) {
+                        m.to.set(axis, v);
+                    }
+                }
+                if motion.is_arc() {
+                    m.arc = Some(Arc {
+                        geometry: ArcGeometry::Center([value(4), value(5), value(6)]),
+                        turns: 1,
+                    });
+                }
+                Ok(())
+            });
+        }
+        Some(match made {
+            Ok(()) => Flow::Next,
+            Err(d) => {
+                self.report(d);
+                match self.over_limit {
+                    true => Flow::Abort,
+                    false => Flow::Next,
+                }
+            }
+        })
     }
 
     /// The number a word stands for; symbolic words are evaluated.
@@ -272,6 +374,24 @@ impl Evaluator<'_> {
         w: &mut WordValues,
         span: Span,
     ) -> Result<(), Diagnostic> {
+        self.emit_move_with(motion, span, |m| {
+            // Its words first: an error in them comes before any other.
+            if motion.is_arc() {
+                arc_words(w, span, m.arc.insert(Arc::BLANK))?;
+            }
+            axis_words_into(w, &mut m.to);
+            Ok(())
+        })
+    }
+
+    /// [`Self::emit_move`] of the move `fill` writes (its motion set).
+    #[inline(always)]
+    fn emit_move_with(
+        &mut self,
+        motion: Motion,
+        span: Span,
+        fill: impl FnOnce(&mut ir::Move) -> Result<(), Diagnostic>,
+    ) -> Result<(), Diagnostic> {
         /// A statement to fill in: a constant, so that nothing just written
         /// is copied into the batch.
         const BLANK: ir::Stmt = ir::Stmt {
@@ -296,11 +416,7 @@ impl Evaluator<'_> {
             stmt.block_delete = self.block_delete;
             if let Op::Move(m) = &mut stmt.op {
                 m.motion = motion;
-                if motion.is_arc() {
-                    // Its words first: an error in them comes before any other.
-                    filled = arc_words(w, span, m.arc.insert(Arc::BLANK));
-                }
-                axis_words_into(w, &mut m.to);
+                filled = fill(m);
             }
         }
         let admitted = match (filled, out.last()) {
@@ -815,6 +931,15 @@ fn axis_words_into(w: &mut WordValues, axes: &mut Axes) {
     }
 }
 
+#[cfg(test)]
+thread_local! {
+    /// Tests: every statement by the general path (`exec_stmt_words`), to
+    /// compare [`Evaluator::plain_move`] with it.
+    static GENERAL_PATH_ONLY: std::cell::Cell<bool> = const { std::cell::Cell::new(false) };
+    /// Tests: the moves [`Evaluator::plain_move`] made.
+    static PLAIN_MOVES: std::cell::Cell<usize> = const { std::cell::Cell::new(0) };
+}
+
 /// A word that must hold a whole, non-negative number.
 fn whole(value: f64, span: Span, what: &'static str) -> Result<u32, Diagnostic> {
     ast::whole_number(value).ok_or_else(|| CodeError::new(K::NotWhole(what), span).into())
@@ -846,4 +971,165 @@ pub(super) fn run_wizard_line(
         }
     }
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    #![allow(clippy::unwrap_used)]
+
+    use super::{GENERAL_PATH_ONLY, PLAIN_MOVES};
+    use crate::compile::{compile, CompileOptions};
+    use crate::source::Sources;
+
+    /// A made-up program of moves of numbers (the statements
+    /// `Evaluator::plain_move` takes) and of what it must leave to the
+    /// general path: other words and codes, words twice, lengths out of
+    /// range, negative feeds, arcs by R or of turns, full circles, moves
+    /// without a mode, and the states a move of numbers means something
+    /// else in (G91, G20, a cycle, G7, G53, compensation).
+    fn made_up_program(seed: u64) -> String {
+        let mut state = seed | 1;
+        let mut next = |n: u64| {
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            state % n
+        };
+        // A third of the programs have only what is right; the others fail.
+        let wild = next(3) != 0;
+        let mut text = String::from(match wild {
+            false => "G21 G90 G17 F100\n",
+            true => ["G20 G17 F10\n", "G17\n"][next(2) as usize],
+        });
+        text.push_str(["G0 X0 Y0 Z5\n", ""][usize::from(wild && next(4) == 0)]);
+        // Where the tool is (in absolute lines), so that most arcs are arcs.
+        let (mut x, mut y) = (0.0f64, 0.0f64);
+        // G7: X words are diameters.
+        let mut diameters = false;
+        for _ in 0..60 {
+            let mut line = String::new();
+            if next(10) == 0 {
+                line.push_str("N10 ");
+            }
+            let code = match wild {
+                true => next(40),
+                // (Each with its code: after an arc, a move of axes alone is one.)
+                false => [10, 12, 12, 18, 18, 30, 31][next(7) as usize],
+            };
+            match code {
+                0 => line.push_str("G91 "),
+                1 => line.push_str("G90 "),
+                2 => line.push_str("G81 R1 Z-1 "),
+                3 => line.push_str("G80 "),
+                4 => line.push_str("G7 "),
+                5 => line.push_str("G8 "),
+                6 => line.push_str("G53 "),
+                7 => line.push_str("G41.1 D2 "),
+                8 => line.push_str("G40 "),
+                9 => line.push_str("M3 S1000 "),
+                10 => line.push_str("G01 "),
+                11 => line.push_str("G0.5 "),
+                30 => {
+                    diameters = next(2) == 0;
+                    line.push_str(["G8 G1 ", "G7 G1 "][usize::from(diameters)]);
+                }
+                31 => {
+                    // (Z alone: X and Y stay known.)
+                    text.push_str(&format!("G53 G0 Z{}\n", next(50)));
+                    continue;
+                }
+                32 => line.push_str("G91 G1 "),
+                33 => line.push_str("G90 G1 "),
+                12..=17 => line.push_str(["G0 ", "G1 "][next(2) as usize]),
+                18..=25 => {
+                    // An arc from (x, y) about a centre a random step away.
+                    let i = (next(9) as f64 - 4.0) / 2.0;
+                    let j = (next(8) as f64 + 1.0) / 2.0 * [1.0, -1.0][next(2) as usize];
+                    let (cx, cy, turn) = (x + i, y + j, next(628) as f64 / 100.0);
+                    let (ex, ey) = (
+                        cx + (x - cx) * turn.cos() - (y - cy) * turn.sin(),
+                        cy + (x - cx) * turn.sin() + (y - cy) * turn.cos(),
+                    );
+                    let g = ["G2", "G3"][next(2) as usize];
+                    // (Under G7 the X word is twice the coordinate.)
+                    let xw = if diameters { 2.0 * ex } else { ex };
+                    line.push_str(&format!("{g} X{xw:.3} Y{ey:.3} I{i} J{j} "));
+                    match next(if wild { 12 } else { 1000 }) {
+                        0 => line.push_str("R2 "),
+                        1 => line.push_str("P2 "),
+                        2 => line.push_str("K1 "),
+                        3 => line.push_str("J1 "),
+                        _ => {}
+                    }
+                    (x, y) = (
+                        (ex * 1000.0).round() / 1000.0,
+                        (ey * 1000.0).round() / 1000.0,
+                    );
+                    text.push_str(&line);
+                    text.push('\n');
+                    continue;
+                }
+                _ => {}
+            }
+            // The last X is a second one.
+            for (k, letter) in ["X", "Y", "Z", "F", "A", "S", "I", "X"]
+                .into_iter()
+                .enumerate()
+            {
+                let value = match next(if wild { 30 } else { 1000 }) {
+                    0 => 2e7,
+                    1 if letter == "F" => -5.0,
+                    _ => (next(2000) as f64 + 1.0) / 100.0,
+                };
+                let wanted = match letter {
+                    "X" | "Y" | "Z" if k < 7 => next(2) == 0,
+                    "F" => next(6) == 0,
+                    _ => wild && next(40) == 0,
+                };
+                if wanted {
+                    line.push_str(&format!("{letter}{value} "));
+                    match letter {
+                        "X" if diameters => x = value / 2.0,
+                        "X" => x = value,
+                        "Y" => y = value,
+                        _ => {}
+                    }
+                }
+            }
+            text.push_str(&line);
+            text.push('\n');
+        }
+        text.push_str("M30\n");
+        text
+    }
+
+    /// `plain_move` makes what the general path makes of every statement:
+    /// the same output, the same diagnostics, on made-up programs (as
+    /// LinuxCNC's and as ger's language).
+    #[test]
+    fn moves_of_numbers_are_made_as_the_general_path_makes_them() {
+        let (mut with_output, mut taken) = (0, 0);
+        for seed in 1..=300u64 {
+            let text = made_up_program(seed * 0x9e37_79b9_7f4a_7c15);
+            let name = ["made_up.ngc", "made_up.egc"][seed as usize % 2];
+            let mut sources = Sources::new();
+            let file = sources.add(name, text.clone());
+            let options = CompileOptions::default();
+            let mut compiled = Vec::new();
+            for general in [true, false] {
+                GENERAL_PATH_ONLY.with(|g| g.set(general));
+                let before = PLAIN_MOVES.with(std::cell::Cell::get);
+                let c = compile(&sources, file, &options, None);
+                taken += PLAIN_MOVES.with(std::cell::Cell::get) - before;
+                compiled.push((c.output, format!("{:?}", c.diagnostics)));
+            }
+            GENERAL_PATH_ONLY.with(|g| g.set(false));
+            assert_eq!(compiled[0], compiled[1], "{name}:\n{text}");
+            with_output += usize::from(compiled[0].0.is_some());
+        }
+        // The comparison means something: programs come out, and moves were
+        // made by `plain_move`.
+        assert!(with_output > 50, "{with_output} programs with output");
+        assert!(taken > 3000, "{taken} moves");
+    }
 }
