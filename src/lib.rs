@@ -25,3 +25,6 @@ pub mod wizard;
 
 // The picture: the tool path carved into a heightmap, drawn.
 pub mod render;
+
+#[cfg(test)]
+mod test_random;

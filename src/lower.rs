@@ -412,13 +412,8 @@ mod tests {
     /// they think the tool is (a G92, compensation, a drilling cycle).
     fn made_up_program(seed: u64, length: usize) -> Vec<Stmt> {
         use ir::{Axes, Axis, Cycle, CycleKind, Distance, Motion, Units};
-        let mut state = seed | 1;
-        let mut next = |n: u64| {
-            state ^= state << 13;
-            state ^= state >> 7;
-            state ^= state << 17;
-            state % n
-        };
+        let mut random = crate::test_random::Random::new(seed);
+        let mut next = |n: u64| random.below(n);
         let mut ops = Vec::new();
         while ops.len() < length {
             if next(4) != 0 {

@@ -459,16 +459,11 @@ mod tests {
 
     #[test]
     fn line_starts_are_after_every_line_end() {
-        let mut state = 0x9e37_79b9_7f4a_7c15u64;
+        let mut random = crate::test_random::Random::new(0x9e37_79b9_7f4a_7c15);
         for len in 0..200 {
             // Bytes next to `\n` in value too (`\x0b`, `\x09`, `\x8a`).
             let text: String = (0..len)
-                .map(|_| {
-                    state ^= state << 13;
-                    state ^= state >> 7;
-                    state ^= state << 17;
-                    ['\n', '\x0b', '\t', 'a', '\u{8a}', ' '][(state % 6) as usize]
-                })
+                .map(|_| ['\n', '\x0b', '\t', 'a', '\u{8a}', ' '][random.below(6) as usize])
                 .collect();
             let expected: Vec<u32> = std::iter::once(0)
                 .chain(

@@ -178,13 +178,10 @@ mod tests {
             let fraction = format!("{:0width$}", n % scale, width = d);
             format!("{sign}{}.{}", n / scale, fraction.trim_end_matches('0'))
         }
-        let mut state = 0x2545_f491_4f6c_dd1du64;
+        let mut random = crate::test_random::Random::new(0x2545_f491_4f6c_dd1d);
         for i in 0..20_000 {
-            // xorshift: values over many magnitudes, both signs.
-            state ^= state << 13;
-            state ^= state >> 7;
-            state ^= state << 17;
-            let unit = (state >> 11) as f64 / (1u64 << 53) as f64;
+            // Values over many magnitudes, both signs.
+            let unit = (random.bits() >> 11) as f64 / (1u64 << 53) as f64;
             let v = (unit - 0.5) * 10f64.powi((i % 13) as i32 - 4);
             let d = i % 10;
             assert_eq!(fixed(v, d), reference(v, d), "{v} with {d} decimals");

@@ -988,13 +988,8 @@ mod tests {
     /// without a mode, and the states a move of numbers means something
     /// else in (G91, G20, a cycle, G7, G53, compensation).
     fn made_up_program(seed: u64) -> String {
-        let mut state = seed | 1;
-        let mut next = |n: u64| {
-            state ^= state << 13;
-            state ^= state >> 7;
-            state ^= state << 17;
-            state % n
-        };
+        let mut random = crate::test_random::Random::new(seed);
+        let mut next = |n: u64| random.below(n);
         // A third of the programs have only what is right; the others fail.
         let wild = next(3) != 0;
         let mut text = String::from(match wild {

@@ -1,7 +1,7 @@
 //! Where the tool is, as the passes after offsets see it: absolute
 //! coordinates per axis, `None` where the program never set an axis or a
 //! machine move (G28, G30, G53) or an offset passed through to the machine
-//! left it unknown. The absolute and cycles passes keep one each.
+//! left it unknown. The cycles, absolute and comp passes keep one each.
 
 use super::{LowerError, LowerErrorKind};
 use crate::ir::{self, Axes, Axis, Distance, Op, Plane, Position, Stmt};
@@ -188,13 +188,8 @@ mod tests {
     /// range), and as it was where the statements are not a run.
     #[test]
     fn a_run_is_followed_as_each_statement_in_turn() {
-        let mut state = 0x2545_f491_4f6c_dd1du64;
-        let mut next = |n: u64| {
-            state ^= state << 13;
-            state ^= state >> 7;
-            state ^= state << 17;
-            state % n
-        };
+        let mut random = crate::test_random::Random::new(0x2545_f491_4f6c_dd1d);
+        let mut next = |n: u64| random.below(n);
         let (mut runs, mut others) = (0, 0);
         for _ in 0..5000 {
             let mut stmts = Vec::new();
