@@ -11,7 +11,7 @@
 //! unknown. An incremental move or an arc on an unknown axis is an error.
 
 use super::position::Tracker;
-use super::{Context, LowerError, LowerErrorKind, Out, Pass, PassInfo};
+use super::{feed_in_turn, Batch, Context, LowerError, LowerErrorKind, Out, Pass, PassInfo};
 use crate::geometry::{self, ArcError, Point};
 use crate::ir::{self, ArcGeometry, Axes, Axis, Distance, Op, Stmt};
 use crate::source::Span;
@@ -70,6 +70,22 @@ impl AbsolutePass {
 }
 
 impl Pass for AbsolutePass {
+    /// Under G90, a run of straight moves in range is only followed (each
+    /// in turn would be checked and placed, as `move_absolute` does); any
+    /// other batch, an arc or a move out of range among it, in turn.
+    fn feed_each(&mut self, input: &mut [Stmt], to: &mut Batch<'_, '_>) -> usize {
+        let straight = |s: &Stmt| match &s.op {
+            Op::Move(m) => m.arc.is_none() && m.to.all_values(ir::is_position),
+            _ => true,
+        };
+        // (`follow_run` takes only a run under G90.)
+        if input.iter().all(straight) && self.at.follow_run(input) {
+            self.last = input.last().map(|s| s.span).or(self.last);
+            return 0;
+        }
+        feed_in_turn(self, input, to)
+    }
+
     /// SPEC §6: the output always ends with a program end.
     fn finish(&mut self, out: &mut Out<'_>) {
         if self.ended || out.failed() {
