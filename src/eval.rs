@@ -564,6 +564,7 @@ impl<'a> Evaluator<'a> {
     }
 
     /// A statement was kept: counted, and the batch sent once full.
+    #[inline]
     fn kept(&mut self) {
         self.made += usize::from(self.repeating > 0 || self.jumped_back);
         if self.out.len() >= self.options.batch {
