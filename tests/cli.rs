@@ -480,7 +480,7 @@ fn any_program_compiled_to_a_file_is_read_in_parts_or_whole() {
     let kept = ngc.replacen("G64 P0.01\n", &format!("G64 P0.01\n{sub}"), 1);
     std::fs::write(dir.join("kept.ngc"), kept).unwrap();
     // Called once, at the end, before the subroutine is written more than
-    // a part (64 KB) further on: found out in the last part run, after
+    // a part (16 KB) further on: found out in the last part run, after
     // most of the output.
     let later = ngc
         .replace("o<peck> call\n", "")

@@ -15,8 +15,12 @@ use crate::ast::{Lines, Names, Number, Stmt, StmtKind, Subprogram, Word, WordVal
 use crate::diagnostic::Diagnostic;
 use crate::source::Locator;
 
-/// About this many bytes of text are parsed at a time.
-pub const CHUNK_BYTES: usize = 64 * 1024;
+/// About this many bytes of text are parsed at a time. A part's syntax
+/// tree (about ten times its text) stays in the processor's cache until
+/// the evaluator runs it: 16 KB parts are faster than 64 KB ones (101
+/// rounds in turn, the 200k-move program: 28.3 -> 27.5 ms with `-o`; 8 KB:
+/// the same as 16) and take less memory (2M moves: 8.9 -> 7.7 MB).
+pub const CHUNK_BYTES: usize = 16 * 1024;
 
 thread_local! {
     /// The size of a part on this thread; `None`: programs are read whole.
@@ -408,7 +412,7 @@ pub struct Spare {
 
 impl Spare {
     /// The most room for words kept, in all: 65,536 words, 2.6 MB (a part
-    /// of 64 KB of CAM lines has about 10,000).
+    /// of 16 KB of CAM lines has about 2,500).
     const MOST_ROOM: usize = 1 << 16;
 
     fn pop(&mut self) -> Lines {
