@@ -1279,38 +1279,25 @@ impl<'s> Backend<'s> {
         }
     }
 
-    /// The index of the last pass to run; `None` for none (`--stage
-    /// parse` or `expand`).
-    fn last_pass(&self) -> Option<usize> {
-        match self.options.stage {
+    fn started(&self, start: &ir::Start) -> Started {
+        let (len, file) = (self.source.len(), self.file);
+        let last = match self.options.stage {
             Some(Stage::Lower(pass)) => Some(pass),
             Some(Stage::Parse | Stage::Expand) => None,
             None => Some(lower::PASSES.len() - 1),
-        }
-    }
-
-    /// How the passes lower.
-    fn lower_options(&self) -> lower::LowerOptions {
-        match self.out {
-            // A tool path is built from moves: cycles are always expanded
-            // and compensation resolved.
-            Output::Path(_) => lower::LowerOptions {
-                keep_cycles: false,
-                keep_comp: false,
-                ..self.options.lower.clone()
-            },
-            _ => self.options.lower.clone(),
-        }
-    }
-
-    fn started(&self, start: &ir::Start) -> Started {
-        let (len, file) = (self.source.len(), self.file);
-        let last = self.last_pass();
-        let options = self.lower_options();
-        let context = lower::Context {
-            start,
-            options: &options,
         };
+        // A tool path is built from moves: cycles are always expanded and
+        // compensation resolved.
+        let path_options = lower::LowerOptions {
+            keep_cycles: false,
+            keep_comp: false,
+            ..self.options.lower.clone()
+        };
+        let options = match self.out {
+            Output::Path(_) => &path_options,
+            _ => &self.options.lower,
+        };
+        let context = lower::Context { start, options };
         // What the first pass starts from is what is printed, unless the
         // units pass has run.
         let units = match last {
@@ -1318,7 +1305,7 @@ impl<'s> Backend<'s> {
             _ => start.program_units,
         };
         Started {
-            lowering: last.map(|last| Pipeline::new(&context, 0..last + 1)),
+            lowering: last.map(|last| Pipeline::new(&context, last)),
             printer: match self.options.stage {
                 _ if matches!(self.out, Output::Path(_)) => {
                     Printer::Path(Box::new(ToolPathBuilder::new(units, &start.setup)))
@@ -1359,7 +1346,7 @@ impl<'s> Backend<'s> {
                 rest.clear();
             });
             let failed = lowering.failed();
-            diagnostics.extend(lowering.diagnostics());
+            diagnostics = lowering.diagnostics();
             if failed {
                 return (diagnostics, written);
             }

@@ -256,10 +256,9 @@ pub struct Pipeline {
 }
 
 impl Pipeline {
-    /// The passes of [`PASSES`] of the indices `range` (none past the last).
-    pub fn new(context: &Context<'_>, range: std::ops::Range<usize>) -> Pipeline {
-        let end = range.end.min(PASSES.len());
-        let passes: Vec<(Box<dyn Pass>, Problems)> = PASSES[range.start.min(end)..end]
+    /// The passes of [`PASSES`] up to and including index `last`.
+    pub fn new(context: &Context<'_>, last: usize) -> Pipeline {
+        let passes: Vec<(Box<dyn Pass>, Problems)> = PASSES[..=last.min(PASSES.len() - 1)]
             .iter()
             .map(|p| ((p.make)(context), Problems::default()))
             .collect();

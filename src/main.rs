@@ -1149,28 +1149,53 @@ fn write_file<T>(
     path: &Path,
     write: impl FnOnce(&mut std::io::BufWriter<std::fs::File>) -> std::io::Result<T>,
 ) -> std::io::Result<T> {
-    let path = through_links(path)?;
-    let path = path.as_path();
-    if is_device(path) {
-        // Never replaced: written as it is opened.
-        let mut out = std::io::BufWriter::new(std::fs::OpenOptions::new().write(true).open(path)?);
-        let value = write(&mut out)?;
-        out.flush()?;
-        return Ok(value);
-    }
-    let tmp = temporary_beside(path);
-    let result = create_replacing(&tmp, path).and_then(|file| {
-        let mut out = std::io::BufWriter::new(file);
-        let value = write(&mut out)?;
+    let (path, tmp, file) = match destination(path)? {
+        Destination::Device(path) => {
+            // Never replaced: written as it is opened.
+            let device = std::fs::OpenOptions::new().write(true).open(path)?;
+            let mut out = std::io::BufWriter::new(device);
+            let value = write(&mut out)?;
+            out.flush()?;
+            return Ok(value);
+        }
+        Destination::Replacing { path, tmp, file } => (path, tmp, file),
+    };
+    let mut out = std::io::BufWriter::new(file);
+    let result = write(&mut out).and_then(|value| {
         let file = out.into_inner().map_err(|e| e.into_error())?;
         file.sync_all()?;
-        std::fs::rename(&tmp, path)?;
+        std::fs::rename(&tmp, &path)?;
         Ok(value)
     });
     if result.is_err() {
         let _ = std::fs::remove_file(&tmp);
     }
     result
+}
+
+/// Where a new file for a path given goes.
+enum Destination {
+    /// A device or a FIFO ([`is_device`]): opened and written, never
+    /// replaced.
+    Device(PathBuf),
+    /// A file, or nothing yet: written to `tmp` beside it
+    /// ([`create_replacing`]), then renamed over it.
+    Replacing {
+        path: PathBuf,
+        tmp: PathBuf,
+        file: std::fs::File,
+    },
+}
+
+/// The [`Destination`] for `path`, through its links ([`through_links`]).
+fn destination(path: &Path) -> std::io::Result<Destination> {
+    let path = through_links(path)?;
+    if is_device(&path) {
+        return Ok(Destination::Device(path));
+    }
+    let tmp = temporary_beside(&path);
+    let file = create_replacing(&tmp, &path)?;
+    Ok(Destination::Replacing { path, tmp, file })
 }
 
 /// The file `path` names, through symbolic links: the new file replaces
@@ -1358,22 +1383,9 @@ fn write_atomically(
     path: &Path,
     compile: impl FnOnce(&mut (dyn Write + Send)) -> Report,
 ) -> Report {
-    let path = match through_links(path) {
-        Ok(path) => path,
-        Err(e) => {
-            // Still compile, for the diagnostics.
-            let mut report = compile(&mut std::io::sink());
-            report.write_error = Some(e);
-            return report;
-        }
-    };
-    let path = path.as_path();
-    if is_device(path) {
-        return write_when_whole(path, compile);
-    }
-    let tmp = temporary_beside(path);
-    let mut file = match create_replacing(&tmp, path) {
-        Ok(file) => file,
+    let (path, tmp, mut file) = match destination(path) {
+        Ok(Destination::Device(path)) => return write_when_whole(&path, compile),
+        Ok(Destination::Replacing { path, tmp, file }) => (path, tmp, file),
         Err(e) => {
             // Still compile, for the diagnostics.
             let mut report = compile(&mut std::io::sink());
@@ -1386,7 +1398,7 @@ fn write_atomically(
     let synced = early.finish();
     if report.succeeded() {
         let done = synced.and_then(|()| file.sync_all());
-        if let Err(e) = done.and_then(|()| std::fs::rename(&tmp, path)) {
+        if let Err(e) = done.and_then(|()| std::fs::rename(&tmp, &path)) {
             report.write_error = Some(e);
         }
     }
