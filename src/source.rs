@@ -250,19 +250,6 @@ pub(crate) fn bytes_in(word: u64, byte: u8) -> u64 {
     !(((x & LOW7) + LOW7) | x | LOW7)
 }
 
-/// The high bit of each byte of `word` that is an ASCII digit, exactly:
-/// its low seven bits at least `0` and below `:` (added to `0x50` and to
-/// `0x46` they set the high bit, and no carry crosses a byte), its high
-/// bit clear.
-pub(crate) fn digits_in(word: u64) -> u64 {
-    const LOW7: u64 = 0x7f7f_7f7f_7f7f_7f7f;
-    const HIGH: u64 = 0x8080_8080_8080_8080;
-    let low = word & LOW7;
-    let at_least_0 = low + 0x5050_5050_5050_5050;
-    let past_9 = low + 0x4646_4646_4646_4646;
-    at_least_0 & !past_9 & !word & HIGH
-}
-
 /// Call `found` with the offset of every `byte` in `bytes`, in order,
 /// testing eight bytes at a time ([`bytes_in`]).
 #[inline]
@@ -433,23 +420,6 @@ mod tests {
                     assert_eq!(
                         marks >> (8 * k) & 0xff,
                         u64::from(b == byte) << 7,
-                        "{byte} {other}"
-                    );
-                }
-            }
-        }
-    }
-
-    #[test]
-    fn digits_in_marks_exactly_the_digits() {
-        for byte in 0..=255u8 {
-            for other in 0..=255u8 {
-                let eight = [other, byte, other ^ 0x80, byte, 0, 255, b'9', other];
-                let marks = digits_in(u64::from_le_bytes(eight));
-                for (k, &b) in eight.iter().enumerate() {
-                    assert_eq!(
-                        marks >> (8 * k) & 0xff,
-                        u64::from(b.is_ascii_digit()) << 7,
                         "{byte} {other}"
                     );
                 }
