@@ -536,7 +536,7 @@ mod tests {
                 start: &start,
                 options: &options,
             };
-            let program = made_up_program(seed * 0x9e37_79b9_7f4a_7c15, 600);
+            let program = made_up_program(seed.wrapping_mul(0x9e37_79b9_7f4a_7c15), 600);
             let mut lowered = Vec::new();
             for in_turn in [true, false] {
                 let passes: Vec<(Box<dyn Pass>, Problems)> = PASSES

@@ -1108,7 +1108,7 @@ mod tests {
     fn moves_of_numbers_are_made_as_the_general_path_makes_them() {
         let (mut with_output, mut taken) = (0, 0);
         for seed in 1..=300u64 {
-            let text = made_up_program(seed * 0x9e37_79b9_7f4a_7c15);
+            let text = made_up_program(seed.wrapping_mul(0x9e37_79b9_7f4a_7c15));
             let name = ["made_up.ngc", "made_up.egc"][seed as usize % 2];
             let mut sources = Sources::new();
             let file = sources.add(name, text.clone());
