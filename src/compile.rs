@@ -1387,7 +1387,6 @@ const COORDINATE: [bool; 256] = {
 /// (LLVM makes the test of a block a few vector instructions; looking at
 /// the digit `most` after a point as well leaves out `I2.5 J0`.)
 fn input_decimals(text: &str) -> usize {
-    const BLOCK: usize = 64;
     let bytes = text.as_bytes();
     let mut most = 0;
     let mut at = 0;
@@ -1426,12 +1425,15 @@ fn input_decimals(text: &str) -> usize {
     most
 }
 
+/// The bytes [`input_decimals`] tests at once.
+const BLOCK: usize = 64;
+
 /// Whether a byte of `block` is a point with a digit at its place in
 /// `near` and in `far`: folded without a stop, so that it vectorises.
-fn may_have_more_decimals(block: &[u8; 64], near: &[u8; 64], far: &[u8; 64]) -> bool {
+fn may_have_more_decimals(block: &[u8; BLOCK], near: &[u8; BLOCK], far: &[u8; BLOCK]) -> bool {
     let digit = |b: u8| u8::from(b.wrapping_sub(b'0') < 10);
     let mut found = 0;
-    for i in 0..64 {
+    for i in 0..BLOCK {
         found |= u8::from(block[i] == b'.') & digit(near[i]) & digit(far[i]);
     }
     found != 0
