@@ -113,17 +113,18 @@ impl Evaluator<'_> {
                 }
             }
         };
-        match result {
-            Ok(flow) => flow,
-            Err(d) => {
-                self.report(d);
-                // The statement limit stops the program (going on, every
-                // statement after it would be the same error).
-                match self.over_limit {
-                    true => Flow::Abort,
-                    false => Flow::Next,
-                }
-            }
+        result.unwrap_or_else(|d| self.reported(d))
+    }
+
+    /// Report a statement's error; the program goes on after it, unless it
+    /// is the statement limit (going on, every statement after it would be
+    /// the same error). (Seldom called: kept out of the paths that call it.)
+    #[cold]
+    fn reported(&mut self, d: Diagnostic) -> Flow {
+        self.report(d);
+        match self.over_limit {
+            true => Flow::Abort,
+            false => Flow::Next,
         }
     }
 
@@ -216,13 +217,7 @@ impl Evaluator<'_> {
         }
         Some(match made {
             Ok(()) => Flow::Next,
-            Err(d) => {
-                self.report(d);
-                match self.over_limit {
-                    true => Flow::Abort,
-                    false => Flow::Next,
-                }
-            }
+            Err(d) => self.reported(d),
         })
     }
 
