@@ -5,9 +5,9 @@
 
 Side by side in one run, each figure the median of --runs runs:
 1. loop:  a 200,000-iteration loop, one move with two trig calls per pass
-          (ger `while` vs rs274 `o100 while`);
+          (ger `while` vs rs274 `o100 while`, in turn);
 2. plain: a generated 200,000-move plain program (lines and arcs):
-          ger compile vs rs274 -g vs `awk '{print}'`;
+          ger compile vs rs274 -g vs `awk '{print}'`, in turn (3 x --runs);
 3. big:   the same kind of program with 2,000,000 moves: ger's time (is it
           linear in the size?) and its peak memory; and the same as `.egc`
           with a variable (not plain: read in parts cut outside blocks).
@@ -110,27 +110,32 @@ def main():
             return p
 
         out = os.path.join(work, "out.nc")
-        print("%s, medians of %d runs (of %d, in turn, for the plain 200k moves)"
+        print("%s, medians of %d runs in turn (of %d, for the plain 200k moves)"
               % (time.strftime("%Y-%m-%d"), a.runs, 3 * a.runs))
 
         egc, ngc = write("loop.egc", LOOP_EGC), write("loop.ngc", LOOP_NGC)
-        tg = median([ger, "compile", egc, "-o", out], a.runs)
-        tr = median(rs274_cmd(work, ngc), a.runs, cwd=work)
+        tg, tr = medians([[ger, "compile", egc, "-o", out], rs274_cmd(work, ngc)],
+                         a.runs, cwd=work)
         print("loop  200k iterations: ger %.3f s, rs274 %.3f s: %.1fx (goal >= 25x)"
               % (tg, tr, tr / tg))
 
         plain = write("plain.ngc", plain_program(200_000))
-        tr = median(rs274_cmd(work, plain), a.runs, cwd=work)
         # ger with `-o` (the file synced before the rename), and to
         # standard output as awk and rs274 write (held until whole, not
-        # synced), in turn with awk.
-        tg, ts, ta = medians([[ger, "compile", plain, "-o", out],
-                              [ger, "compile", plain],
-                              ["awk", "{print}", plain]], 3 * a.runs)
+        # synced), in turn with awk and rs274: this machine's speed for
+        # short processes changes from one minute to the next, so each
+        # ratio is of runs made at the same time.
+        tg, ts, ta, tr = medians([[ger, "compile", plain, "-o", out],
+                                  [ger, "compile", plain],
+                                  ["awk", "{print}", plain],
+                                  rs274_cmd(work, plain)], 3 * a.runs, cwd=work)
         print("plain 200k moves: ger %.3f s, rs274 %.3f s: %.1fx (goal >= 25x); "
               "awk %.4f s: ger / awk %.1f (goal <= 4)" % (tg, tr, tr / tg, ta, tg / ta))
         print("  to standard output: ger %.3f s: %.1fx rs274, ger / awk %.1f"
               % (ts, tr / ts, ts / ta))
+        # ger / rs274 is ger / awk over rs274 / awk: the second is the
+        # machine's (how much it slows short processes against long ones).
+        print("  rs274 / awk %.0f: 25x rs274 needs ger / awk <= %.1f" % (tr / ta, tr / ta / 25))
         print("  ger peak memory: %.1f MB" % peak_mb([ger, "compile", plain, "-o", out]))
 
         big = write("big.ngc", plain_program(2_000_000))
