@@ -334,6 +334,48 @@ fn tool_table() {
     assert_eq!(out.status.code(), Some(2));
 }
 
+/// Compensation with a tool ger has no diameter for is an error, and each
+/// way out its help names compiles the program: the diameter given, or
+/// the compensation left to the controller.
+#[test]
+fn compensation_with_an_unknown_tool_names_its_ways_out() {
+    let dir = scratch("comp-unknown-tool");
+    let program = "G21 G90 G17\nF300\nG0 X0 Y0 Z5\nG41 D7 G1 X20 Y0\nG1 X40\nG40 G1 X60 Y0\nM30\n";
+    std::fs::write(dir.join("comp.nc"), program).unwrap();
+    std::fs::write(dir.join("tools.tbl"), "T7 P7 D6 Z0\n").unwrap();
+    let out = ger(&["compile", "comp.nc", "-o", "x.nc"], &dir);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(1), "{stderr}");
+    assert!(
+        stderr.contains("tool 7 is not in the tool table"),
+        "{stderr}"
+    );
+    for way in [
+        "`SetTool 7 diameter`",
+        "--tool-table",
+        "--comp keep --target fanuc or linuxcnc",
+    ] {
+        assert!(stderr.contains(way), "{way}: {stderr}");
+    }
+    assert!(!dir.join("x.nc").exists());
+    // The diameter given: the tool centre is 3 mm to the left of the path.
+    let out = ger(&["compile", "comp.nc", "--tool-table", "tools.tbl"], &dir);
+    assert_success(&out);
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(!text.contains("G41"), "{text}");
+    assert!(text.contains("Y3."), "{text}");
+    // Left to the controller: G41 D7 written as it was.
+    for target in ["linuxcnc", "fanuc"] {
+        let out = ger(
+            &["compile", "comp.nc", "--comp", "keep", "--target", target],
+            &dir,
+        );
+        assert_success(&out);
+        let text = String::from_utf8_lossy(&out.stdout);
+        assert!(text.contains("G41 D7"), "{target}: {text}");
+    }
+}
+
 #[test]
 fn subroutine_folders() {
     // `o<name> call` reads name.ngc from --subroutines, then beside the

@@ -405,7 +405,7 @@ fn comp_diagnostic(e: &CompError, span: Span) -> Diagnostic {
                 "compensation needs its diameter",
             )
             .with_help(format!(
-                "give it with `SetTool {tool} diameter` or --tool-table; D names a tool (LinuxCNC), not a radius register"
+                "give it with `SetTool {tool} diameter` or --tool-table (D names a tool, as in LinuxCNC, not a radius register), or leave compensation to the controller's own table: --comp keep --target fanuc or linuxcnc"
             )),
             EntryTooShort { radius } => error(
                 "the move that starts compensation is too short",
