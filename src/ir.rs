@@ -579,7 +579,10 @@ impl Op {
         move |axis| match self {
             Op::MachineMove(m) => m.to.has(axis),
             Op::Home { via, .. } => via.is_empty() || via.has(axis),
-            Op::SelectWorkOffset(_) | Op::SetWorkOffsetHere { .. } => true,
+            // (A `G10 L2` gets past the offsets pass only passed through.)
+            Op::SelectWorkOffset(_) | Op::SetWorkOffset { .. } | Op::SetWorkOffsetHere { .. } => {
+                true
+            }
             Op::ToolLength { .. } | Op::CancelToolLength => axis == Axis::Z,
             Op::Move(_)
             | Op::Feed(_)
@@ -594,7 +597,6 @@ impl Op {
             | Op::Units(_)
             | Op::Distance(_)
             | Op::Plane(_)
-            | Op::SetWorkOffset { .. }
             | Op::LocalOffset(_)
             | Op::SetPosition(_)
             | Op::CancelPosition

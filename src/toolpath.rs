@@ -159,9 +159,11 @@ pub struct Builder {
     plane: Plane,
     state: State,
     selected: u32,
-    /// A work offset the program set at the machine (G10 L20 passed
-    /// through), added to later coordinates.
-    offset: [f64; 9],
+    /// The machine's work offsets (index 1..=9: G54 … G59.3), zero until a
+    /// statement passed through sets one (G10 L2, G10 L20), and its active
+    /// one, whose origin is added to later coordinates.
+    tables: [[f64; 9]; 10],
+    active: usize,
     /// X Y Z the program has set (and no machine move has lost since).
     known: [bool; 3],
 }
@@ -180,7 +182,8 @@ impl Builder {
             plane: Plane::XY,
             state: State::default(),
             selected: 0,
-            offset: [0.0; 9],
+            tables: [[0.0; 9]; 10],
+            active: 1,
             known: [false; 3],
         }
     }
@@ -250,22 +253,28 @@ impl Builder {
                 self.event(EventKind::End, stmt.span);
             }
             Op::Units(u) => self.to_mm = u.factor(Units::Mm),
-            // Passed through (the position was unknown): the machine's
-            // active system now reads `at` here.
-            Op::SetWorkOffsetHere { index, at } if *index <= 1 => {
+            // What reaches the printer was passed through to the machine
+            // (the offsets pass folds the rest): its tables change, and a
+            // system is selected there. (P0: the active one.)
+            Op::SetWorkOffsetHere { index, at } => {
+                let table = self.table(*index);
                 for (axis, v) in at.iter() {
                     let i = axis.index();
                     let v = if axis.is_rotary() { v } else { v * k };
-                    self.offset[i] = self.position[i] - v;
+                    self.tables[table][i] = self.position[i] - v;
                 }
             }
-            Op::SetWorkOffsetHere { .. } => {}
+            Op::SetWorkOffset { index, origin } => {
+                let table = self.table(*index);
+                for (axis, v) in origin.iter() {
+                    self.tables[table][axis.index()] = if axis.is_rotary() { v } else { v * k };
+                }
+            }
+            Op::SelectWorkOffset(index) => self.active = self.table(*index),
             Op::Plane(p) => self.plane = *p,
             // Folded away before the absolute pass, or the machine's own
             // (taken as zero, see the module doc), or nothing that moves.
             Op::Distance(_)
-            | Op::SelectWorkOffset(_)
-            | Op::SetWorkOffset { .. }
             | Op::LocalOffset(_)
             | Op::SetPosition(_)
             | Op::CancelPosition
@@ -283,6 +292,14 @@ impl Builder {
         }
     }
 
+    /// The table of work offset `index` (0: the active one).
+    fn table(&self, index: u8) -> usize {
+        match index as usize {
+            0 => self.active,
+            i => i.min(9),
+        }
+    }
+
     /// A move to program coordinates `to` (machine coordinates when
     /// `machine`).
     fn move_to(&mut self, kind: MoveKind, to: &ir::Axes, span: Span, machine: bool) {
@@ -293,7 +310,11 @@ impl Builder {
             if let Some(known) = self.known.get_mut(i) {
                 *known = !machine;
             }
-            let offset = if machine { 0.0 } else { self.offset[i] };
+            let offset = if machine {
+                0.0
+            } else {
+                self.tables[self.active][i]
+            };
             self.position[i] = offset + if axis.is_rotary() { v } else { v * self.to_mm };
         }
         self.path.moves.push(Move {

@@ -99,6 +99,7 @@ impl ProgramPrinter {
                 Op::MachineMove(_)
                 | Op::Home { .. }
                 | Op::SelectWorkOffset(_)
+                | Op::SetWorkOffset { .. }
                 | Op::SetWorkOffsetHere { .. }
                 | Op::ToolLength { .. }
                 | Op::CancelToolLength => self.forget(stmt.op.unknown_after()),
@@ -111,7 +112,6 @@ impl ProgramPrinter {
                 | Op::Units(_)
                 | Op::Distance(_)
                 | Op::Plane(_)
-                | Op::SetWorkOffset { .. }
                 | Op::LocalOffset(_)
                 | Op::SetPosition(_)
                 | Op::CancelPosition

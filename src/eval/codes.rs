@@ -21,7 +21,7 @@ type Code = Option<(u8, u32)>;
 fn unsupported_g(t: u32) -> &'static str {
     match t {
         120 | 130 => "circle milling (G12/G13) is a Fanuc option; use G2/G3 or a CirclePocket wizard",
-        541 => "extended work offsets (G54.1 P…) are not supported; use G54–G59",
+        541 => "extended work offsets (G54.1 P…) are not supported; use G54–G59.3",
         680 | 690 => "coordinate rotation is not supported",
         500 | 510 => "scaling is not supported",
         650 => "G65 is Fanuc's macro call: pass --from fanuc",
@@ -515,6 +515,8 @@ impl Evaluator<'_> {
             490 => Op::CancelToolLength,
             520 => Op::LocalOffset(self.take_axes(w, at, "G52", false)?),
             540..=590 if t.is_multiple_of(10) => Op::SelectWorkOffset((t / 10 - 53) as u8),
+            // G59.1 … G59.3: the systems after G59 (LinuxCNC's P7 … P9).
+            591..=593 => Op::SelectWorkOffset((t - 584) as u8),
             610 | 611 | 640 => {
                 w.take(b'P');
                 w.take(b'Q');
@@ -679,7 +681,7 @@ impl Evaluator<'_> {
             return Err(CodeError::new(K::G10WithoutP, at).into());
         };
         let index = whole(p, pspan, "a work offset number")?;
-        if !(1..=6).contains(&index) {
+        if !(1..=9).contains(&index) {
             return Err(CodeError::new(K::WorkOffsetNumber, pspan).into());
         }
         if let Some((_, rspan)) = w.take(b'R') {

@@ -151,6 +151,7 @@ impl Pass for AbsolutePass {
             // A work offset or tool length passed through to the machine:
             // where the tool is in its coordinates is not known.
             Op::SelectWorkOffset(_)
+            | Op::SetWorkOffset { .. }
             | Op::SetWorkOffsetHere { .. }
             | Op::ToolLength { .. }
             | Op::CancelToolLength => self.at.forget_after(&stmt.op, span),
@@ -173,7 +174,6 @@ impl Pass for AbsolutePass {
             | Op::Dwell(_)
             | Op::Stop(_)
             | Op::Units(_)
-            | Op::SetWorkOffset { .. }
             | Op::LocalOffset(_)
             | Op::SetPosition(_)
             | Op::CancelPosition

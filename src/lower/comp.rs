@@ -275,6 +275,7 @@ impl CompPass {
             Op::MachineMove(_)
             | Op::Home { .. }
             | Op::SelectWorkOffset(_)
+            | Op::SetWorkOffset { .. }
             | Op::SetWorkOffsetHere { .. }
             | Op::ToolLength { .. }
             | Op::CancelToolLength => self.at.forget_after(&stmt.op, span),
@@ -285,7 +286,6 @@ impl CompPass {
             | Op::Dwell(_)
             | Op::Units(_)
             | Op::Distance(_)
-            | Op::SetWorkOffset { .. }
             | Op::LocalOffset(_)
             | Op::SetPosition(_)
             | Op::CancelPosition

@@ -79,6 +79,13 @@ pub enum LowerErrorKind {
     WorkOffsetSetByMachine {
         index: u8,
     },
+    /// A system ger knows selected after G54 was left to the machine (a
+    /// `G10 L20 P1` passed through, at `since`): it cannot be written in
+    /// G54's terms, and the machine does not have its values.
+    WorkOffsetOverMachineG54 {
+        index: u8,
+        since: Option<Span>,
+    },
     /// Warning: a feed given before the program states its units (LinuxCNC
     /// runs F before G20/G21 of the same line): it is in the machine's
     /// units, whatever the output's are.
@@ -314,9 +321,30 @@ impl LowerError {
                 span,
                 "coordinates after this are in the machine's own offsets",
             )
-            .with_help(format!(
-                "to fold it into the coordinates, set it with `SetOffset` or G10 L2 P{index}"
-            )),
+            .with_help(match index {
+                2..=6 => format!(
+                    "to fold it into the coordinates, give its X, Y and Z with `SetOffset 5{}` or G10 L2 P{index}",
+                    index + 3
+                ),
+                _ => format!(
+                    "to fold it into the coordinates, give its X, Y and Z with G10 L2 P{index}"
+                ),
+            }),
+            WorkOffsetOverMachineG54 { index, since } => {
+                let d = error(
+                    format!(
+                        "{} is known, but G54 is now the machine's",
+                        work_offset_name(*index)
+                    ),
+                    span,
+                    "ger cannot write this system in G54's terms",
+                )
+                .with_help("set G54 with G10 L2 P1 (its values, not where the tool is), or give this system's G10 L2 before the program selects a system, so that it goes to the machine");
+                match since {
+                    Some(at) => d.with_secondary(*at, "G54 was set here, by the machine"),
+                    None => d,
+                }
+            }
             OffsetAxisUnknown { axis, index } => error(
                 format!(
                     "the {} offset of {} is not known",

@@ -11,6 +11,17 @@
 //! program zero: selecting one writes `G54` (the output's frame) once.
 //! Changing an offset under G91 is an error. Lengths are in the output
 //! units (the units pass ran first).
+//!
+//! A `G10 L2` is folded (left out of the output) only where leaving it out
+//! changes nothing the machine does: after the program has selected a
+//! system (before that, the machine's own system is active, and may be the
+//! one it changes), and when it leaves its system's X, Y and Z known.
+//! Otherwise it goes to the machine, which then has the values the
+//! program gave; a `G10 L2 P1` that does changes the output's own frame,
+//! and systems folded after it are measured from where it put G54
+//! (`machine`). A `G10 L20 P1` passed through leaves G54 to the machine:
+//! a system ger knows can then no longer be written in its terms, and is
+//! selected as it is only where the machine was given its values.
 
 use super::{
     feed_in_turn, follows_only, Batch, Context, LowerError, LowerErrorKind, Out, Pass, PassInfo,
@@ -38,6 +49,14 @@ enum Frame {
 struct OffsetsPass {
     /// Origins of G54..G59.3 (index 1..=9) per axis, measured from G54.
     systems: [[Option<f64>; 9]; 10],
+    /// The origins the machine has, where ger knows them (measured as
+    /// `systems` are): G54's, which the output's G54 frame is, zero until a
+    /// `G10` that sets G54 goes to the machine (unknown after a `G10 L20
+    /// P1` at an unknown point); the others', those `G10 L2` passed through
+    /// gave it. A folded `G10` leaves the machine's as they were.
+    machine: [[Option<f64>; 9]; 10],
+    /// Where the machine's G54 was last set by a statement passed through.
+    machine_g54_since: Option<Span>,
     /// The work offset the program selected (1 = G54).
     active: u8,
     frame: Frame,
@@ -73,6 +92,12 @@ impl OffsetsPass {
         }
         OffsetsPass {
             systems,
+            machine: {
+                let mut machine = [[None; 9]; 10];
+                machine[1] = [Some(0.0); 9];
+                machine
+            },
+            machine_g54_since: None,
             active: 1,
             frame: Frame::Initial,
             local: [0.0; 9],
@@ -95,13 +120,34 @@ impl OffsetsPass {
             .all(Option::is_some)
     }
 
+    /// The machine's G54 is known, so a known system can be written in
+    /// its terms.
+    fn g54_usable(&self) -> bool {
+        self.machine[1][..3].iter().all(Option::is_some)
+    }
+
+    /// The machine has the X, Y and Z of system `index` that ger knows.
+    fn machine_has(&self, index: u8) -> bool {
+        let i = index as usize;
+        self.known(index) && self.machine[i][..3] == self.systems[i][..3]
+    }
+
     /// What is added to a G90 coordinate of `axis`.
     fn shift(&self, axis: usize) -> f64 {
         let work = match self.frame {
-            Frame::G54 => self.systems[self.active as usize][axis].unwrap_or(0.0),
+            Frame::G54 => {
+                self.systems[self.active as usize][axis].unwrap_or(0.0)
+                    - self.machine[1][axis].unwrap_or(0.0)
+            }
             Frame::Initial | Frame::Passed(_) => 0.0,
         };
-        work + self.local[axis] + self.g92[axis] + if axis == 2 { self.tool_length } else { 0.0 }
+        work + self.others(axis)
+    }
+
+    /// The shifts of `axis` besides the work offset's: G52, G92, the tool
+    /// length.
+    fn others(&self, axis: usize) -> f64 {
+        self.local[axis] + self.g92[axis] + if axis == 2 { self.tool_length } else { 0.0 }
     }
 
     /// Absolute axis words to the output's coordinates; the position follows.
@@ -237,8 +283,7 @@ impl Pass for OffsetsPass {
             }
             Op::SetWorkOffset { index, origin } => {
                 let (index, origin) = (*index, *origin);
-                self.set_work_offset(index, &origin, stmt, out);
-                false
+                self.set_work_offset(index, &origin, stmt, out)
             }
             Op::SetWorkOffsetHere { index, at } => {
                 let (index, at) = (*index, *at);
@@ -304,6 +349,23 @@ impl OffsetsPass {
             self.local = [0.0; 9];
         }
         if self.known(index) {
+            if !self.g54_usable() && self.machine_has(index) {
+                // The values are the program's, on the machine already.
+                self.active = index;
+                self.frame = Frame::Passed(index);
+                self.position = [None; 9];
+                return true;
+            }
+            if !self.g54_usable() {
+                out.report(LowerError::new(
+                    LowerErrorKind::WorkOffsetOverMachineG54 {
+                        index,
+                        since: self.machine_g54_since,
+                    },
+                    stmt.span,
+                ));
+                return false;
+            }
             self.active = index;
             self.enter_g54(stmt, out);
             return false;
@@ -321,15 +383,37 @@ impl OffsetsPass {
         true
     }
 
-    /// G10 L2: the origin of a system (P0: the active one).
-    fn set_work_offset(&mut self, index: u8, origin: &Axes, stmt: &Stmt, out: &mut Out<'_>) {
+    /// G10 L2: the origin of a system (P0: the active one). Folded, or
+    /// passed through to the machine (module doc); whether it goes on.
+    fn set_work_offset(
+        &mut self,
+        index: u8,
+        origin: &Axes,
+        stmt: &Stmt,
+        out: &mut Out<'_>,
+    ) -> bool {
         let index = if index == 0 { self.active } else { index };
         for (axis, v) in origin.iter() {
             self.systems[index as usize][axis.index()] = Some(v);
         }
-        if self.frame == Frame::Passed(index) && self.known(index) {
+        let folds = self.frame != Frame::Initial
+            && self.known(index)
+            && (self.frame != Frame::Passed(index) || self.g54_usable());
+        if !folds {
+            for (axis, v) in origin.iter() {
+                self.machine[index as usize][axis.index()] = Some(v);
+            }
+            if index == 1 {
+                self.machine_g54_since = Some(stmt.span);
+            }
+            // The machine's active system may be the one it changes.
+            self.position = [None; 9];
+            return true;
+        }
+        if self.frame == Frame::Passed(index) {
             self.enter_g54(stmt, out);
         }
+        false
     }
 
     /// G10 L20: a system moved so that the current point has `at`. Folded
@@ -346,15 +430,21 @@ impl OffsetsPass {
     ) -> bool {
         let index = if index == 0 { self.active } else { index };
         let known = self.frame == Frame::G54
-            && at
-                .iter()
-                .all(|(axis, _)| self.position[axis.index()].is_some());
+            && at.iter().all(|(axis, _)| {
+                self.position[axis.index()].is_some() && self.machine[1][axis.index()].is_some()
+            });
         if !known {
             out.report(LowerError::new(
                 LowerErrorKind::WorkOffsetSetByMachine { index },
                 span,
             ));
             self.systems[index as usize] = [None; 9];
+            for (axis, _) in at.iter() {
+                self.machine[index as usize][axis.index()] = None;
+            }
+            if index == 1 {
+                self.machine_g54_since = Some(span);
+            }
             if index == self.active {
                 self.frame = Frame::Passed(index);
                 self.position = [None; 9];
@@ -363,9 +453,9 @@ impl OffsetsPass {
         }
         for (axis, v) in at.iter() {
             let i = axis.index();
-            if let Some(p) = self.position[i] {
-                let others = self.shift(i) - self.systems[self.active as usize][i].unwrap_or(0.0);
-                self.systems[index as usize][i] = Some(p - v - others);
+            if let (Some(p), Some(g54)) = (self.position[i], self.machine[1][i]) {
+                // The point measured from G54's origin, as `systems` are.
+                self.systems[index as usize][i] = Some(p + g54 - v - self.others(i));
             }
         }
         false

@@ -177,12 +177,12 @@ impl Wording for CodeErrorKind {
             K::G10WithoutP => error(
                 "G10 without P",
                 at,
-                "P names the work offset: P1 = G54 … P6 = G59",
+                "P names the work offset: P1 = G54 … P6 = G59, P7 … P9 = G59.1 … G59.3",
             ),
             K::WorkOffsetNumber => error(
                 "unsupported work offset number",
                 at,
-                "P1 (G54) to P6 (G59) are supported",
+                "P1 (G54) to P9 (G59.3) are supported",
             ),
             K::RotatedWorkOffset => error(
                 "rotated work offsets are not supported",
