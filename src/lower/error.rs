@@ -86,6 +86,11 @@ pub enum LowerErrorKind {
         index: u8,
         since: Option<Span>,
     },
+    /// G10 L20 at an unknown point on the active system, which is written
+    /// in G54's terms, and whose other values the machine does not have.
+    WorkOffsetHereFolded {
+        index: u8,
+    },
     /// Warning: a feed given before the program states its units (LinuxCNC
     /// runs F before G20/G21 of the same line): it is in the machine's
     /// units, whatever the output's are.
@@ -330,6 +335,15 @@ impl LowerError {
                     "to fold it into the coordinates, give its X, Y and Z with G10 L2 P{index}"
                 ),
             }),
+            WorkOffsetHereFolded { index } => {
+                let name = work_offset_name(*index);
+                error(
+                    format!("G10 L20 sets {name} where the tool is, which ger does not know"),
+                    span,
+                    format!("{name} is written in G54's terms here, and the machine does not have its other values"),
+                )
+                .with_help(format!("move to a known point first (an absolute move on each axis it sets), or give {name}'s values with G10 L2 before the program selects a system, so that they go to the machine"))
+            }
             WorkOffsetOverMachineG54 { index, since } => {
                 let d = error(
                     format!(

@@ -21,7 +21,8 @@
 //! and systems folded after it are measured from where it put G54
 //! (`machine`). A `G10 L20 P1` passed through leaves G54 to the machine:
 //! a system ger knows can then no longer be written in its terms, and is
-//! selected as it is only where the machine was given its values.
+//! selected as it is only where the machine was given its values. A
+//! `G10 L20` passed through gets the point with the shifts ger folds.
 
 use super::{
     feed_in_turn, follows_only, Batch, Context, LowerError, LowerErrorKind, Out, Pass, PassInfo,
@@ -220,7 +221,7 @@ impl Pass for OffsetsPass {
     }
 
     fn feed(&mut self, stmt: &mut Stmt, out: &mut Out<'_>) -> bool {
-        let span = stmt.span;
+        let (span, block_delete) = (stmt.span, stmt.block_delete);
         if Self::changes_offsets(&stmt.op) && self.distance == Distance::Incremental {
             out.report(LowerError::new(
                 LowerErrorKind::OffsetsUnderIncremental {
@@ -286,8 +287,8 @@ impl Pass for OffsetsPass {
                 self.set_work_offset(index, &origin, stmt, out)
             }
             Op::SetWorkOffsetHere { index, at } => {
-                let (index, at) = (*index, *at);
-                self.set_work_offset_here(index, &at, span, out)
+                let index = *index;
+                self.set_work_offset_here(index, at, (span, block_delete), out)
             }
             Op::LocalOffset(a) => {
                 for (axis, v) in a.iter() {
@@ -420,12 +421,15 @@ impl OffsetsPass {
     /// when the point is known in G54's frame; else the machine does it
     /// (after homing, `G10 L20 P1 X0 Y0 Z50` is how grbl programs set their
     /// zero): passed through, and that system's values are the machine's
-    /// from here. Whether the statement goes on.
+    /// from here. Whether the statement goes on. Passed through, `at`
+    /// takes the shifts ger folds (G52, G92, a known tool length): the
+    /// machine has none of them, and the program's point is its point
+    /// with them.
     fn set_work_offset_here(
         &mut self,
         index: u8,
-        at: &Axes,
-        span: Span,
+        at: &mut Axes,
+        (span, block_delete): (Span, bool),
         out: &mut Out<'_>,
     ) -> bool {
         let index = if index == 0 { self.active } else { index };
@@ -433,6 +437,24 @@ impl OffsetsPass {
             && at.iter().all(|(axis, _)| {
                 self.position[axis.index()].is_some() && self.machine[1][axis.index()].is_some()
             });
+        if !known && self.frame == Frame::G54 && index == self.active && index != 1 {
+            // The active system is written in G54's terms: the machine is
+            // in G54. From here it must be in that system, whose other
+            // values must then be the program's.
+            let i = index as usize;
+            let rest =
+                (0..3).all(|a| at.has(Axis::ALL[a]) || self.machine[i][a] == self.systems[i][a]);
+            if !rest {
+                out.report(LowerError::new(
+                    LowerErrorKind::WorkOffsetHereFolded { index },
+                    span,
+                ));
+                return false;
+            }
+            let mut select = Stmt::new(Op::SelectWorkOffset(index), span);
+            select.block_delete = block_delete;
+            out.push(select);
+        }
         if !known {
             out.report(LowerError::new(
                 LowerErrorKind::WorkOffsetSetByMachine { index },
@@ -448,6 +470,11 @@ impl OffsetsPass {
             if index == self.active {
                 self.frame = Frame::Passed(index);
                 self.position = [None; 9];
+            }
+            for axis in Axis::ALL {
+                if let Some(v) = at.get(axis) {
+                    at.set(axis, v + self.others(axis.index()));
+                }
             }
             return true;
         }
