@@ -73,6 +73,15 @@ fn main() {
             trials.push(trial.with_ignored_flag(!have_oracle && !required));
         }
     }
+    // Made-up programs of work offsets, modes and moves: where ger
+    // compiles one, its output must move as rs274 moves the input.
+    let trial = Trial::test("random/work_offsets", move || {
+        if !have_oracle {
+            return Err(rs274::missing().into());
+        }
+        random_work_offsets()
+    });
+    trials.push(trial.with_ignored_flag(!have_oracle && !required));
     // The shipped examples have no reference: their output must use only
     // the allowed codes and be a program rs274 runs.
     for case in support::egc_files(&support::manifest().join("examples")) {
@@ -86,6 +95,97 @@ fn main() {
         trials.push(trial.with_ignored_flag(!have_oracle && !required));
     }
     libtest_mimic::run(&args, trials).exit();
+}
+
+/// Programs [`random_work_offsets`] makes.
+const RANDOM_PROGRAMS: u64 = 400;
+
+/// A made-up program, the same for the same `seed`: moves (G0, G1, G2 R),
+/// G10 L2 and L20 on G54 … G59.3 with some of X, Y and Z, the nine
+/// selections, G90/G91, G92 and G92.1, G28 and G53. (Not G52: ger keeps it
+/// apart from G92 and cancels it at G54, SPEC §4; rs274 keeps both in one
+/// register.)
+fn random_program(seed: u64) -> String {
+    let mut state = seed.wrapping_mul(0x9E37_79B9_7F4A_7C15) | 1;
+    let mut next = move |n: u64| {
+        // xorshift64*
+        state ^= state >> 12;
+        state ^= state << 25;
+        state ^= state >> 27;
+        (state.wrapping_mul(0x2545_F491_4F6C_DD1D) >> 33) % n
+    };
+    const NUMBERS: [&str; 8] = ["0", "5", "10", "-10", "12.5", "100", "-50", "3.25"];
+    const SYSTEMS: [&str; 9] = [
+        "G54", "G55", "G56", "G57", "G58", "G59", "G59.1", "G59.2", "G59.3",
+    ];
+    let axes = |next: &mut dyn FnMut(u64) -> u64| {
+        let mut words = Vec::new();
+        for letter in ["X", "Y", "Z"] {
+            if next(2) == 0 {
+                words.push(format!("{letter}{}", NUMBERS[next(8) as usize]));
+            }
+        }
+        if words.is_empty() {
+            words.push(format!("Z{}", NUMBERS[next(8) as usize]));
+        }
+        words.join(" ")
+    };
+    let mut text = String::from("G21 G90 G17\nF500\nG0 X0 Y0 Z10\n");
+    for _ in 0..3 + next(12) {
+        let line = match next(100) {
+            0..=29 => format!("G{} {}", next(2), axes(&mut next)),
+            30..=39 => format!("G10 L2 P{} {}", 1 + next(9), axes(&mut next)),
+            40..=46 => format!("G10 L20 P{} {}", 1 + next(9), axes(&mut next)),
+            47..=59 => SYSTEMS[next(9) as usize].to_string(),
+            60..=65 => ["G90", "G91"][next(2) as usize].to_string(),
+            66..=69 => "G28".to_string(),
+            70..=74 => format!("G92 {}", axes(&mut next)),
+            75..=77 => "G92.1".to_string(),
+            78..=85 => format!("G53 G0 {}", axes(&mut next)),
+            86..=89 => format!(
+                "G2 X{} Y{} R{}",
+                NUMBERS[next(8) as usize],
+                NUMBERS[next(8) as usize],
+                [20, 30, 60][next(3) as usize]
+            ),
+            _ => format!("G1 {}", axes(&mut next)),
+        };
+        text.push_str(&line);
+        text.push('\n');
+    }
+    text.push_str("M30\n");
+    text
+}
+
+/// [`RANDOM_PROGRAMS`] programs of [`random_program`]: each one ger
+/// compiles must move as rs274 moves it, and most must compile (ger
+/// refuses offsets changed under G91 and incremental moves from an unknown
+/// point, which these programs make often).
+fn random_work_offsets() -> Result<(), Failed> {
+    let work = std::env::temp_dir().join(format!("ger-oracle-random-{}", std::process::id()));
+    std::fs::create_dir_all(&work).map_err(|e| e.to_string())?;
+    let (input, out) = (work.join("random.ngc"), work.join("random.out.nc"));
+    let mut compiled = 0;
+    for seed in 0..RANDOM_PROGRAMS {
+        let text = random_program(seed);
+        std::fs::write(&input, &text).map_err(|e| e.to_string())?;
+        if support::compile(&input, &out).is_err() {
+            continue;
+        }
+        compiled += 1;
+        let a = rs274::tool_path(&input, &[]).map_err(|e| format!("seed {seed}: {e}\n{text}"))?;
+        let b = rs274::tool_path(&out, &[])
+            .map_err(|e| format!("seed {seed}: ger's output fails: {e}\n{text}"))?;
+        rs274::same_path(&a, &b, &Default::default()).map_err(|why| {
+            let output = std::fs::read_to_string(&out).unwrap_or_default();
+            format!("seed {seed}: ger's output moves differently: {why}\n--- program ---\n{text}--- ger output ---\n{output}")
+        })?;
+    }
+    let _ = std::fs::remove_dir_all(&work);
+    if compiled < RANDOM_PROGRAMS / 3 {
+        return Err(format!("only {compiled} of {RANDOM_PROGRAMS} programs compiled").into());
+    }
+    Ok(())
 }
 
 fn run_case(case: &Path) -> Result<(), Failed> {
