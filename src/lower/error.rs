@@ -189,7 +189,7 @@ impl LowerError {
                     span,
                     match since {
                         None => format!("no move has set {letter} yet"),
-                        Some(_) => format!("no move has set {letter} since the machine move"),
+                        Some(_) => format!("no move has set {letter} since ger lost it"),
                     },
                 )
                 .with_help(format!("move to an absolute {letter} position first"));
