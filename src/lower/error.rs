@@ -328,8 +328,8 @@ impl LowerError {
             )
             .with_help(match index {
                 2..=6 => format!(
-                    "to fold it into the coordinates, give its X, Y and Z with `SetOffset 5{}` or G10 L2 P{index}",
-                    index + 3
+                    "to fold it into the coordinates, give its X, Y and Z with `SetOffset {}` or G10 L2 P{index}",
+                    53 + index
                 ),
                 _ => format!(
                     "to fold it into the coordinates, give its X, Y and Z with G10 L2 P{index}"
