@@ -353,6 +353,8 @@ struct Evaluator<'a> {
     cycle: Option<ir::CycleKind>,
     /// A run of cycles is open (its first block set the G98 level).
     cycle_run: bool,
+    /// Where G20/G21 changed the units inside the open run of cycles.
+    units_in_cycles: Option<Span>,
     /// The cycle words a repeat may leave out.
     sticky: cycle::Sticky,
     plane: ir::Plane,
@@ -428,6 +430,7 @@ impl<'a> Evaluator<'a> {
             motion: None,
             cycle: None,
             cycle_run: false,
+            units_in_cycles: None,
             sticky: cycle::Sticky::default(),
             plane: ir::Plane::XY,
             spindle: ir::Spindle::Off,
@@ -550,6 +553,11 @@ impl<'a> Evaluator<'a> {
                 return Err(EvalError::new(EvalErrorKind::FeedBeforeRate, span).into());
             }
             _ => {}
+        }
+        if let ir::Op::Units(u) = op {
+            if self.cycle_run && self.units != Some(*u) {
+                self.units_in_cycles = Some(span);
+            }
         }
         self.track(op);
         match op {

@@ -118,6 +118,16 @@ impl Evaluator<'_> {
     ) -> Result<(), Diagnostic> {
         let at_code = code.unwrap_or(span);
         self.warn_return_level(at_code);
+        // LinuxCNC keeps the run's G98 level (the Z it started from, and
+        // under G91 what R is measured from) as a number, in the units it
+        // was set in: after G20/G21 it means another height.
+        match self.units_in_cycles {
+            Some(units) if self.cycle_run => {
+                let kind = CycleBlockErrorKind::UnitsChangedInRun { units };
+                return Err(CycleBlockError::new(kind, at_code).into());
+            }
+            _ => self.units_in_cycles = None,
+        }
         // A block of the same cycle may leave out what the last one gave.
         let repeat = self.cycle == Some(kind);
         if let Some((letter, at)) = [b'A', b'B', b'C', b'U', b'V', b'W']
@@ -380,6 +390,11 @@ pub enum CycleBlockErrorKind {
     },
     NoFeed,
     TooManyPecks,
+    /// A block continuing a run of cycles after G20/G21 (at `units`)
+    /// changed the units inside it.
+    UnitsChangedInRun {
+        units: Span,
+    },
     /// The spindle is off or turns the wrong way.
     NoSpindle {
         kind: CycleKind,
@@ -448,6 +463,14 @@ impl Wording for CycleBlockErrorKind {
                 at,
                 "Q is very small for this depth",
             ),
+            CycleBlockErrorKind::UnitsChangedInRun { units } => error(
+                "a canned cycle continues after the units changed",
+                at,
+                "this block goes on from the run's first block",
+            )
+            .with_secondary(*units, "the units change here, inside the run")
+            .with_note("LinuxCNC keeps the level the run started from as a number in the old units: this block would retract to, or measure R from, another height")
+            .with_help("end the run with G80 before G20/G21, and start the cycle again"),
             CycleBlockErrorKind::NoSpindle { kind, label, help } => {
                 error(format!("G{} needs the spindle", kind.code()), at, *label).with_help(*help)
             }
