@@ -9,7 +9,7 @@ use crate::emit::{self, EmitOptions};
 use crate::eval::{self, EvalOptions, WizardHost};
 use crate::ir;
 use crate::lower::{self, Pipeline};
-use crate::source::{self, FileId, Locator, Sources};
+use crate::source::{self, FileId, Locator, Sources, BLOCK};
 use crate::syntax::egc::{chunk, Language};
 use crate::toolpath::{Builder as ToolPathBuilder, ToolPath};
 use std::io::Write;
@@ -1403,11 +1403,7 @@ fn input_decimals(text: &str) -> usize {
         for ((block, near), far) in blocks.iter().zip(nears).zip(fars) {
             if may_have_more_decimals(block, near, far) {
                 let before = most;
-                for p in at..at + BLOCK {
-                    if bytes[p] == b'.' {
-                        more_decimals(bytes, p, &mut most);
-                    }
-                }
+                source::each_byte(block, b'.', |i| more_decimals(bytes, at + i, &mut most));
                 if most != before {
                     at += BLOCK;
                     continue 'blocks;
@@ -1424,9 +1420,6 @@ fn input_decimals(text: &str) -> usize {
     }
     most
 }
-
-/// The bytes [`input_decimals`] tests at once.
-const BLOCK: usize = 64;
 
 /// Whether a byte of `block` is a point with a digit at its place in
 /// `near` and in `far`: folded without a stop, so that it vectorises.

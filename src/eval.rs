@@ -552,12 +552,10 @@ impl<'a> Evaluator<'a> {
             ir::Op::Move(m) if m.motion != ir::Motion::Rapid && !self.feed_set => {
                 return Err(EvalError::new(EvalErrorKind::FeedBeforeRate, span).into());
             }
-            _ => {}
-        }
-        if let ir::Op::Units(u) = op {
-            if self.cycle_run && self.units != Some(*u) {
+            ir::Op::Units(u) if self.cycle_run && self.units != Some(*u) => {
                 self.units_in_cycles = Some(span);
             }
+            _ => {}
         }
         self.track(op);
         match op {

@@ -240,11 +240,14 @@ impl Locator {
     }
 }
 
+/// The bytes the scans test at once: a bit each in a `u64` ([`marks_of`]).
+pub(crate) const BLOCK: usize = 64;
+
 /// Call `found` with the offset of every `byte` in `bytes`, in order, a
-/// block of 64 bytes at a time ([`marks_of`]).
+/// block of [`BLOCK`] bytes at a time ([`marks_of`]).
 #[inline]
 pub(crate) fn each_byte(bytes: &[u8], byte: u8, mut found: impl FnMut(usize)) {
-    let (blocks, rest) = bytes.as_chunks::<64>();
+    let (blocks, rest) = bytes.as_chunks::<BLOCK>();
     let mut at = 0;
     for block in blocks {
         let mut marks = marks_of(block, byte);
@@ -252,7 +255,7 @@ pub(crate) fn each_byte(bytes: &[u8], byte: u8, mut found: impl FnMut(usize)) {
             found(at + marks.trailing_zeros() as usize);
             marks &= marks - 1;
         }
-        at += 64;
+        at += BLOCK;
     }
     for (i, &b) in rest.iter().enumerate() {
         if b == byte {
@@ -268,8 +271,8 @@ pub(crate) fn each_byte(bytes: &[u8], byte: u8, mut found: impl FnMut(usize)) {
 /// i` (`0x80 >> (7 - i)`) lands on bit `i` of the top byte, and no sum
 /// carries.
 #[inline]
-fn marks_of(block: &[u8; 64], byte: u8) -> u64 {
-    let mut ones = [0u8; 64];
+fn marks_of(block: &[u8; BLOCK], byte: u8) -> u64 {
+    let mut ones = [0u8; BLOCK];
     for (one, &b) in ones.iter_mut().zip(block) {
         *one = u8::from(b == byte);
     }

@@ -326,14 +326,13 @@ impl LowerError {
                 span,
                 "coordinates after this are in the machine's own offsets",
             )
-            .with_help(match index {
-                2..=6 => format!(
-                    "to fold it into the coordinates, give its X, Y and Z with `SetOffset {}` or G10 L2 P{index}",
-                    53 + index
-                ),
-                _ => format!(
-                    "to fold it into the coordinates, give its X, Y and Z with G10 L2 P{index}"
-                ),
+            .with_help({
+                // `SetOffset` sets G55 … G59 only.
+                let set_offset = match index {
+                    2..=6 => format!("`SetOffset {}` or ", 53 + index),
+                    _ => String::new(),
+                };
+                format!("to fold it into the coordinates, give its X, Y and Z with {set_offset}G10 L2 P{index}")
             }),
             WorkOffsetHereFolded { index } => {
                 let name = work_offset_name(*index);

@@ -471,11 +471,7 @@ impl OffsetsPass {
                 self.frame = Frame::Passed(index);
                 self.position = [None; 9];
             }
-            for axis in Axis::ALL {
-                if let Some(v) = at.get(axis) {
-                    at.set(axis, v + self.others(axis.index()));
-                }
-            }
+            at.shift_by(&std::array::from_fn(|i| self.others(i)));
             return true;
         }
         for (axis, v) in at.iter() {
