@@ -1140,6 +1140,13 @@ impl<'a> Evaluator<'a> {
             self.report(EvalError::new(kind, name_span));
             return None;
         }
+        // rs274's value of a subroutine's return where ger does not know it
+        // (after a definition that returns one): read, it is an error.
+        if let ast::ExprKind::Var(v) = &value.kind {
+            if self.names.text(*v) == crate::syntax::egc::lexer::UNKNOWN_RETURN {
+                return Some(Slot::Unset);
+            }
+        }
         // A copy of a vacant variable is vacant (Fanuc).
         if value::vacant(value, &self.vars) {
             return Some(Slot::Vacant);
@@ -1404,8 +1411,13 @@ fn numbered_parameters(names: &Names, from: Flavour) -> Vec<Slot> {
 
 /// The value the variable named `text` starts with.
 fn first_slot(text: &str, from: Flavour) -> Slot {
+    use crate::syntax::egc::lexer::{RETURN_VALUE, VALUE_RETURNED};
     match parameter_number(text) {
         Some(n) => first_value(n, from),
+        // LinuxCNC's: 0 until a subroutine returns.
+        None if from != Flavour::Fanuc && (text == RETURN_VALUE || text == VALUE_RETURNED) => {
+            Slot::Set(Value::Number(0.0))
+        }
         None => Slot::Unset,
     }
 }

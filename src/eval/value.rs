@@ -6,7 +6,7 @@
 use crate::ast::{BinaryOp, Expr, ExprKind, Function, Names, Symbol, UnaryOp};
 use crate::diagnostic::{error, Diagnostic, DiagnosticExt};
 use crate::source::Span;
-use crate::syntax::egc::lexer::LAST_PARAMETER;
+use crate::syntax::egc::lexer::{LAST_PARAMETER, RETURN_VALUE};
 
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Value {
@@ -202,6 +202,16 @@ impl ExprError {
                             "ger cannot know its value",
                         )
                         .with_help("LinuxCNC keeps positions and offsets in #5001 and up; give the value in the program"),
+                    );
+                }
+                if text == RETURN_VALUE {
+                    return Some(
+                        error(
+                            format!("`{text}` is read before a subroutine returned a value"),
+                            *span,
+                            "ger does not know LinuxCNC's value here",
+                        )
+                        .with_help("rs274 also sets it as it reads a subroutine's definition, to the value of its `endsub [v]` worked out there; read it after a call"),
                     );
                 }
                 let mut d = error(

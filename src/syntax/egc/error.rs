@@ -60,8 +60,10 @@ pub enum SyntaxErrorKind {
     NotAParameter,
     /// `ATAN[y]` without its `/[x]`.
     AtanOneArgument,
-    /// An o-word `return` at the top of a subroutine.
-    ReturnOutsideBlock,
+    /// An o-word `return` outside a subroutine.
+    ReturnOutsideSub,
+    /// An assignment to a parameter only a subroutine's return sets.
+    ReadOnlyParameter(String),
     /// An `o… call` with more arguments than a subroutine takes.
     TooManyArguments(u32),
     /// The grammar did not expect a token: the token as the message names
@@ -249,10 +251,15 @@ impl Wording for SyntaxErrorKind {
                 at,
                 "LinuxCNC writes `ATAN[y]/[x]`",
             ),
-            ReturnOutsideBlock => error(
-                "`return` outside an `if` or a loop is not supported",
+            ReturnOutsideSub => error(
+                "`return` outside a subroutine",
                 at,
-                "the rest of the subroutine would never run: remove it, or end the subroutine here with `endsub`",
+                "it returns from an `o… sub`; the program ends with M2 or M30",
+            ),
+            ReadOnlyParameter(name) => error(
+                format!("`{name}` cannot be set"),
+                at,
+                "a subroutine's `return [value]` or `endsub [value]` sets it",
             ),
             TooManyArguments(limit) => error(
                 format!("more than {limit} arguments"),

@@ -406,6 +406,11 @@ struct Lexer<'a> {
     do_labels: Vec<f64>,
     /// An `oN repeat` line: its counter, and where `repeat` is.
     pending_repeat: Option<(Symbol, usize, usize)>,
+    /// An `oN return` or `oN endsub` line being read.
+    pending_return: Option<PendingReturn>,
+    /// Inside a LinuxCNC `oN sub` … `oN endsub` (a part holds its
+    /// subroutines whole: [`super::chunk::cut_part`]).
+    in_sub: bool,
     /// The `oN while [c]` that ends a do loop, and Fanuc's `IF [c] THEN`
     /// and `IF [c] GOTO n`: the block closes at the line's end.
     close_at_line_end: bool,
@@ -425,6 +430,29 @@ struct PendingCall {
     args: u32,
     at: (usize, usize),
 }
+
+/// An `oN return` or `oN endsub` line: where its keyword is, whether a
+/// value (`[…]`) was read, and whether the return is at the top of its
+/// subroutine (an `M99` there would end the subroutine's text).
+#[derive(Clone, Copy, Debug)]
+struct PendingReturn {
+    at: (usize, usize),
+    value: bool,
+    top: bool,
+    /// `endsub`, which also ends the definition.
+    end: bool,
+}
+
+/// LinuxCNC's value of the last subroutine's return, and whether it
+/// returned one: set by every `return` and `endsub` (0 without a value),
+/// read-only to the program.
+pub const RETURN_VALUE: &str = "#<_value>";
+pub const VALUE_RETURNED: &str = "#<_value_returned>";
+/// What [`RETURN_VALUE`] is set to where ger does not know its value: rs274
+/// also sets it while it reads a subroutine's definition, to the value of
+/// its `endsub [v]` worked out there (with the subroutine's own names read
+/// as 0), which ger does not reproduce. Reading it then is an error.
+pub const UNKNOWN_RETURN: &str = "#<_value:unknown>";
 
 impl<'a> Lexer<'a> {
     fn new(text: &'a str, from: usize, at: &'a Locator, names: &'a mut Names) -> Lexer<'a> {
@@ -456,6 +484,8 @@ impl<'a> Lexer<'a> {
             pending_call: None,
             do_labels: Vec::new(),
             pending_repeat: None,
+            pending_return: None,
+            in_sub: false,
             close_at_line_end: false,
             fanuc_loops: Vec::new(),
             every_parameter_named: false,
@@ -645,6 +675,12 @@ impl<'a> Lexer<'a> {
                     self.shape = Shape::Empty;
                 }
                 let symbol = self.names.intern(&name);
+                self.push(start, Tok::Name(symbol), start);
+                self.push(start, Tok::Assign, start);
+            } else if let Some(pending) = self.pending_return.as_mut().filter(|r| !r.value) {
+                // The value of an `oN return [v]` or `oN endsub [v]`.
+                pending.value = true;
+                let symbol = self.names.intern(RETURN_VALUE);
                 self.push(start, Tok::Name(symbol), start);
                 self.push(start, Tok::Assign, start);
             }
@@ -884,8 +920,25 @@ impl<'a> Lexer<'a> {
         // O numbers are whole and below 2^32 (named ones included).
         let label = number as u32;
         match keyword {
-            OWord::Sub => {}
-            OWord::EndSub => last.word = word("M99"),
+            OWord::Sub => self.in_sub = true,
+            // `#<_value> = [v]`, `#<_value_returned> = 1` (or both 0),
+            // then `M99`: written at the line's end.
+            OWord::EndSub | OWord::Return => {
+                self.drop_label();
+                let top = keyword == OWord::Return && self.braces.is_empty();
+                if keyword == OWord::EndSub {
+                    self.in_sub = false;
+                } else if !self.in_sub {
+                    self.report(SyntaxErrorKind::ReturnOutsideSub, start, end);
+                    return Some(end);
+                }
+                self.pending_return = Some(PendingReturn {
+                    at: (start, end),
+                    value: false,
+                    top,
+                    end: keyword == OWord::EndSub,
+                });
+            }
             OWord::Call => {
                 // `#<call:k> = [arg]` for each argument, `#<call> = count`,
                 // then `M98 P100`: written at the line's end.
@@ -922,9 +975,6 @@ impl<'a> Lexer<'a> {
                 self.push(start, Tok::Assign, end);
                 self.pending_repeat = Some((count, start, end));
             }
-            // Inside a block an `M99` returns from the subroutine; at the
-            // top of one it would end its text there.
-            OWord::Return if !self.braces.is_empty() => last.word = word("M99"),
             OWord::EndRepeat => {
                 self.drop_label();
                 if let Some(tok) = self.close_brace(start, end) {
@@ -969,10 +1019,6 @@ impl<'a> Lexer<'a> {
                     self.push(start, tok, end);
                 }
             }
-            OWord::Return => {
-                self.drop_label();
-                self.report(SyntaxErrorKind::ReturnOutsideBlock, start, end);
-            }
         }
         Some(end)
     }
@@ -1001,6 +1047,60 @@ impl<'a> Lexer<'a> {
         // With a point: `P90000000` would be Fanuc's count-and-number form.
         let number = format!("P{}.", call.number);
         self.push_word(word(&number), start, end);
+    }
+
+    /// The end of an `oN return` or `oN endsub` line: the value (0 if none
+    /// was given) and whether there was one, then `M99`; at the top of a
+    /// subroutine, in a block that always runs (`M99` there would end the
+    /// subroutine's text).
+    fn end_return(&mut self, pending: PendingReturn) {
+        let (start, end) = pending.at;
+        // Each a statement of its own, after the value's if one was read.
+        let statement = |lexer: &mut Self, toks: &[Tok]| {
+            lexer.pending_term = Some((start, start));
+            lexer.shape = Shape::Empty;
+            for &tok in toks {
+                lexer.push(start, tok, end);
+            }
+        };
+        let value = self.names.intern(RETURN_VALUE);
+        let returned = self.names.intern(VALUE_RETURNED);
+        if !pending.value {
+            statement(self, &[Tok::Name(value), Tok::Assign, Tok::Number(0.0)]);
+        }
+        let given = f64::from(u8::from(pending.value));
+        statement(
+            self,
+            &[Tok::Name(returned), Tok::Assign, Tok::Number(given)],
+        );
+        if pending.top {
+            statement(self, &[Tok::If, Tok::LParen, Tok::Number(1.0), Tok::RParen]);
+            if let Some(tok) = self.open_brace(start, end) {
+                self.push(start, tok, end);
+            }
+        }
+        statement(self, &[]);
+        self.push_word(word("M99"), start, end);
+        if pending.top {
+            self.pending_term = Some((start, start));
+            if let Some(tok) = self.close_brace(start, end) {
+                self.push(start, tok, end);
+            }
+        }
+        // After the definition, in the program around it: rs274 sets both
+        // as it reads the `endsub` line (the value as [`UNKNOWN_RETURN`]
+        // says).
+        if pending.end {
+            let after = match pending.value {
+                true => Tok::Name(self.names.intern(UNKNOWN_RETURN)),
+                false => Tok::Number(0.0),
+            };
+            statement(self, &[Tok::Name(value), Tok::Assign, after]);
+            statement(
+                self,
+                &[Tok::Name(returned), Tok::Assign, Tok::Number(given)],
+            );
+        }
     }
 
     /// Nothing but blanks before `start` on its line.
@@ -1224,6 +1324,15 @@ impl<'a> Lexer<'a> {
                 if self.shape == Shape::Code {
                     self.invalid_name(start);
                 }
+                if let (Shape::NameHead, Some(&(at, Tok::Name(name), name_end))) =
+                    (self.shape, self.out.last())
+                {
+                    let text = self.names.text(name);
+                    if text == RETURN_VALUE || text == VALUE_RETURNED {
+                        let kind = SyntaxErrorKind::ReadOnlyParameter(text.to_string());
+                        self.report(kind, at, name_end);
+                    }
+                }
                 Tok::Assign
             }
             Raw::Comma => Tok::Comma,
@@ -1341,6 +1450,9 @@ impl<'a> Lexer<'a> {
         self.assignments_after_words(start);
         if let Some(call) = self.pending_call.take() {
             self.end_call(call);
+        }
+        if let Some(pending) = self.pending_return.take() {
+            self.end_return(pending);
         }
         if let Some((count, at, at_end)) = self.pending_repeat.take() {
             self.pending_term = Some((at, at));
