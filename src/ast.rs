@@ -547,7 +547,7 @@ pub enum BinaryOp {
     And,
     Or,
     /// LinuxCNC's word operators: numbers in, 1 or 0 out, as rs274
-    /// computes them (EQ and NE equal within 1e-6; AND, OR and XOR
+    /// computes them (EQ and NE equal within 0.0001; AND, OR and XOR
     /// read any non-zero number as true, and share one rank).
     NumEq,
     NumNe,

@@ -537,8 +537,8 @@ fn arithmetic(op: BinaryOp, x: f64, y: f64) -> f64 {
 }
 
 /// Two numbers LinuxCNC's EQ calls equal differ by less than this
-/// (rs274's TOLERANCE_EQUAL).
-const LINUXCNC_EQUAL: f64 = 1e-6;
+/// (rs274's TOLERANCE_EQUAL, 0.0001 in LinuxCNC 2.9).
+const LINUXCNC_EQUAL: f64 = 1e-4;
 
 /// LinuxCNC's true and false: 1 and 0.
 fn truth(b: bool) -> f64 {
