@@ -9,6 +9,7 @@ mod block;
 mod codes;
 mod comp;
 mod cycle;
+mod degrees;
 mod error;
 pub use cycle::{count_pecks, MAX_PECKS};
 mod setup;

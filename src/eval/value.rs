@@ -3,6 +3,7 @@
 //! are returned as [`ExprError`] with the span of the failing expression;
 //! the caller reports them.
 
+use super::degrees::to_degrees;
 use crate::ast::{BinaryOp, Expr, ExprKind, Function, Names, Symbol, UnaryOp};
 use crate::diagnostic::{error, Diagnostic, DiagnosticExt};
 use crate::source::Span;
@@ -557,14 +558,17 @@ fn apply(f: Function, args: &[f64], more: &[f64]) -> f64 {
     match f {
         Function::Abs => x.abs(),
         Function::Sqrt => x.sqrt(),
+        // rs274 takes `sinl` of the long double radians: these may differ
+        // from its values in the last bits (ARCHITECTURE.md).
         Function::Sin => x.to_radians().sin(),
         Function::Cos => x.to_radians().cos(),
         Function::Tan => x.to_radians().tan(),
-        Function::Asin => x.asin().to_degrees(),
-        Function::Acos => x.acos().to_degrees(),
-        Function::Atan => x.atan().to_degrees(),
-        Function::Atan2 => x.atan2(y()).to_degrees(),
-        Function::FanucAtan => x.atan2(y()).to_degrees().rem_euclid(360.0),
+        // Converted as rs274 converts (`degrees`): the last bit can matter.
+        Function::Asin => to_degrees(x.asin()),
+        Function::Acos => to_degrees(x.acos()),
+        Function::Atan => to_degrees(x.atan()),
+        Function::Atan2 => to_degrees(x.atan2(y())),
+        Function::FanucAtan => to_degrees(x.atan2(y())).rem_euclid(360.0),
         Function::FanucFix => x.trunc(),
         Function::FanucFup => x.signum() * x.abs().ceil(),
         Function::Floor => x.floor(),
