@@ -1108,7 +1108,19 @@ impl<'a> Evaluator<'a> {
     /// indirect target's value names (`None`: an error, reported).
     fn target(&mut self, target: &ast::Target, span: Span) -> Option<Symbol> {
         let number = match target {
-            ast::Target::Name(name) => return Some(*name),
+            ast::Target::Name(name) => {
+                // rs274 makes a named parameter (0) as it reads its
+                // assignment: the rest of the line reads it as 0 if it had
+                // no value (`#<n> = [#<n> + 1]` sets 1).
+                if self.options.plain
+                    && self.options.from != Flavour::Fanuc
+                    && self.vars[name.0 as usize] == Slot::Unset
+                    && self.names.text(*name).starts_with("#<")
+                {
+                    self.store(*name, Slot::Set(Value::Number(0.0)));
+                }
+                return Some(*name);
+            }
             ast::Target::Indirect(number) => number,
         };
         match self.vars.resolve(number, span) {
