@@ -3,7 +3,7 @@
 //! are returned as [`ExprError`] with the span of the failing expression;
 //! the caller reports them.
 
-use super::degrees::to_degrees;
+use super::degrees::{self, to_degrees};
 use crate::ast::{BinaryOp, Expr, ExprKind, Function, Names, Symbol, UnaryOp};
 use crate::diagnostic::{error, Diagnostic, DiagnosticExt};
 use crate::source::Span;
@@ -558,12 +558,10 @@ fn apply(f: Function, args: &[f64], more: &[f64]) -> f64 {
     match f {
         Function::Abs => x.abs(),
         Function::Sqrt => x.sqrt(),
-        // rs274 takes `sinl` of the long double radians: these may differ
-        // from its values in the last bits (ARCHITECTURE.md).
-        Function::Sin => x.to_radians().sin(),
-        Function::Cos => x.to_radians().cos(),
-        Function::Tan => x.to_radians().tan(),
-        // Converted as rs274 converts (`degrees`): the last bit can matter.
+        // As rs274 computes them (`degrees`): the last bit can matter.
+        Function::Sin => degrees::sin(x),
+        Function::Cos => degrees::cos(x),
+        Function::Tan => degrees::tan(x),
         Function::Asin => to_degrees(x.asin()),
         Function::Acos => to_degrees(x.acos()),
         Function::Atan => to_degrees(x.atan()),

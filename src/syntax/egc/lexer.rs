@@ -201,7 +201,7 @@ impl Tok {
             Tok::SymOpen(l) => format!("`{}<`", *l as char),
             Tok::SymClose => "`>`".into(),
             Tok::Name(s) => format!("name `{}`", names.text(*s)),
-            Tok::Number(_) => "a number".into(),
+            Tok::Number(_) => "number".into(),
             Tok::Str(_) => "a string".into(),
             Tok::Command(_) => "a controller command".into(),
             Tok::Comment(_) => "a comment".into(),

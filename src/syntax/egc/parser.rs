@@ -347,7 +347,7 @@ impl ErrorContext<'_> {
                         self.at.span(start, end),
                     )
                 } else {
-                    (tok.describe(self.names), self.at.span(l, r))
+                    (self.token_as_written(tok, l, r), self.at.span(l, r))
                 };
                 let before = self.tokens.iter().rev().find(|t| t.0 < l).map(|t| t.1);
                 let wants = |t: &str| expected.iter().any(|e| e.trim_matches('"') == t);
@@ -379,7 +379,7 @@ impl ErrorContext<'_> {
             ),
             ParseError::ExtraToken { token: (l, tok, r) } => SyntaxError::new(
                 SyntaxErrorKind::ExtraToken {
-                    what: tok.describe(self.names),
+                    what: self.token_as_written(tok, l, r),
                 },
                 self.at.span(l, r),
             ),
@@ -388,6 +388,23 @@ impl ErrorContext<'_> {
                 self.at.span(location, location + 1),
             ),
             ParseError::User { error } => match error {},
+        }
+    }
+
+    /// A token as a message names it: as the program wrote it where its
+    /// text is a bracket or a number (LinuxCNC's `[` is the lexer's `(`),
+    /// else as [`Tok::describe`] names it.
+    fn token_as_written(&self, tok: Tok, l: usize, r: usize) -> String {
+        let text = self.text.get(l..r).unwrap_or("");
+        let number = |t: &str| !t.is_empty() && t.bytes().all(|b| b.is_ascii_digit() || b == b'.');
+        match tok {
+            Tok::LParen | Tok::CallOpen | Tok::RParen if matches!(text, "[" | "]" | "(" | ")") => {
+                format!("`{text}`")
+            }
+            Tok::Number(_) if number(text.trim_start_matches(['-', '+'])) => {
+                format!("number `{text}`")
+            }
+            _ => tok.describe(self.names),
         }
     }
 
