@@ -403,6 +403,7 @@ impl<'a> Evaluator<'a> {
                 numbered_parameters(&names, options.from),
                 &names,
                 options.from == Flavour::Fanuc,
+                options.plain && options.from != Flavour::Fanuc,
             ),
             messages: 0,
             changes: 0,

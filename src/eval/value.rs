@@ -3,7 +3,7 @@
 //! are returned as [`ExprError`] with the span of the failing expression;
 //! the caller reports them.
 
-use super::degrees::{self, to_degrees};
+use super::degrees;
 use crate::ast::{BinaryOp, Expr, ExprKind, Function, Names, Symbol, UnaryOp};
 use crate::diagnostic::{error, Diagnostic, DiagnosticExt};
 use crate::source::Span;
@@ -49,16 +49,20 @@ pub struct Vars {
     numbered: Vec<Option<Symbol>>,
     /// Fanuc's: `#[…]` may give #0 (vacant), and variables may be vacant.
     fanuc: bool,
+    /// LinuxCNC's: angles converted with rs274's long double π
+    /// ([`super::degrees`]); elsewhere (`.egc`, Fanuc) as doubles.
+    rs274: bool,
 }
 
 impl Vars {
     /// `fanuc`: Fanuc's variables (a `#[…]` may give #0, the vacant one;
-    /// rs274 has none).
-    pub fn new(slots: Vec<Slot>, names: &Names, fanuc: bool) -> Vars {
+    /// rs274 has none); `rs274`: LinuxCNC's trigonometry.
+    pub fn new(slots: Vec<Slot>, names: &Names, fanuc: bool, rs274: bool) -> Vars {
         let mut vars = Vars {
             slots,
             numbered: Vec::new(),
             fanuc,
+            rs274,
         };
         vars.number(names, 0);
         vars
@@ -497,7 +501,7 @@ fn call(f: Function, args: &[Expr], span: Span, vars: &Vars) -> Result<Value, Ex
             None => rest.push(v),
         }
     }
-    let v = apply(f, &values[..args.len().min(8)], &rest);
+    let v = apply(f, &values[..args.len().min(8)], &rest, vars.rs274);
     Ok(Value::Number(finite(v, span, || {
         format!("`{}(…)`", f.name())
     })?))
@@ -552,21 +556,32 @@ fn truth(b: bool) -> f64 {
 
 /// A built-in function on its arguments (`args`, then `more` past eight),
 /// angles in degrees. The arity is checked by the callers.
-fn apply(f: Function, args: &[f64], more: &[f64]) -> f64 {
+fn apply(f: Function, args: &[f64], more: &[f64], rs274: bool) -> f64 {
     let x = args[0];
     let y = || args.get(1).copied().unwrap_or(f64::NAN);
+    if rs274 {
+        // As rs274 computes them (`degrees`): the last bit can matter.
+        match f {
+            Function::Sin => return degrees::sin(x),
+            Function::Cos => return degrees::cos(x),
+            Function::Tan => return degrees::tan(x),
+            Function::Asin => return degrees::to_degrees(x.asin()),
+            Function::Acos => return degrees::to_degrees(x.acos()),
+            Function::Atan2 => return degrees::to_degrees(x.atan2(y())),
+            _ => {}
+        }
+    }
     match f {
         Function::Abs => x.abs(),
         Function::Sqrt => x.sqrt(),
-        // As rs274 computes them (`degrees`): the last bit can matter.
-        Function::Sin => degrees::sin(x),
-        Function::Cos => degrees::cos(x),
-        Function::Tan => degrees::tan(x),
-        Function::Asin => to_degrees(x.asin()),
-        Function::Acos => to_degrees(x.acos()),
-        Function::Atan => to_degrees(x.atan()),
-        Function::Atan2 => to_degrees(x.atan2(y())),
-        Function::FanucAtan => to_degrees(x.atan2(y())).rem_euclid(360.0),
+        Function::Sin => x.to_radians().sin(),
+        Function::Cos => x.to_radians().cos(),
+        Function::Tan => x.to_radians().tan(),
+        Function::Asin => x.asin().to_degrees(),
+        Function::Acos => x.acos().to_degrees(),
+        Function::Atan => x.atan().to_degrees(),
+        Function::Atan2 => x.atan2(y()).to_degrees(),
+        Function::FanucAtan => x.atan2(y()).to_degrees().rem_euclid(360.0),
         Function::FanucFix => x.trunc(),
         Function::FanucFup => x.signum() * x.abs().ceil(),
         Function::Floor => x.floor(),
@@ -660,7 +675,7 @@ fn fast_call(f: Function, args: &[Expr], vars: &Vars) -> Option<f64> {
     for (slot, a) in values.iter_mut().zip(args) {
         *slot = fast_number(a, vars)?;
     }
-    Some(apply(f, &values[..args.len()], &[]))
+    Some(apply(f, &values[..args.len()], &[], vars.rs274))
 }
 
 /// The value of a condition made of comparisons of numbers, `&&`, `||`
