@@ -82,6 +82,14 @@ fn main() {
         random_work_offsets()
     });
     trials.push(trial.with_ignored_flag(!have_oracle && !required));
+    // Made-up programs in LinuxCNC's macro language: the same rule.
+    let trial = Trial::test("random/linuxcnc_macros", move || {
+        if !have_oracle {
+            return Err(rs274::missing().into());
+        }
+        random_macros()
+    });
+    trials.push(trial.with_ignored_flag(!have_oracle && !required));
     // The shipped examples have no reference: their output must use only
     // the allowed codes and be a program rs274 runs.
     for case in support::egc_files(&support::manifest().join("examples")) {
@@ -106,14 +114,7 @@ const RANDOM_PROGRAMS: u64 = 400;
 /// apart from G92 and cancels it at G54, SPEC §4; rs274 keeps both in one
 /// register.)
 fn random_program(seed: u64) -> String {
-    let mut state = seed.wrapping_mul(0x9E37_79B9_7F4A_7C15) | 1;
-    let mut next = move |n: u64| {
-        // xorshift64*
-        state ^= state >> 12;
-        state ^= state << 25;
-        state ^= state >> 27;
-        (state.wrapping_mul(0x2545_F491_4F6C_DD1D) >> 33) % n
-    };
+    let mut next = numbers(seed);
     const NUMBERS: [&str; 8] = ["0", "5", "10", "-10", "12.5", "100", "-50", "3.25"];
     const SYSTEMS: [&str; 9] = [
         "G54", "G55", "G56", "G57", "G58", "G59", "G59.1", "G59.2", "G59.3",
@@ -184,6 +185,270 @@ fn random_work_offsets() -> Result<(), Failed> {
     let _ = std::fs::remove_dir_all(&work);
     if compiled < RANDOM_PROGRAMS / 3 {
         return Err(format!("only {compiled} of {RANDOM_PROGRAMS} programs compiled").into());
+    }
+    Ok(())
+}
+
+/// Numbers from a seed, the same on every run (xorshift64*): `next(n)` is
+/// below `n`.
+fn numbers(seed: u64) -> impl FnMut(u64) -> u64 {
+    let mut state = seed.wrapping_mul(0x9E37_79B9_7F4A_7C15) | 1;
+    move |n: u64| {
+        state ^= state >> 12;
+        state ^= state << 25;
+        state ^= state >> 27;
+        (state.wrapping_mul(0x2545_F491_4F6C_DD1D) >> 33) % n
+    }
+}
+
+/// Programs [`random_macros`] makes.
+const RANDOM_MACRO_PROGRAMS: u64 = 300;
+
+/// A made-up program in LinuxCNC's macro language, the same for the same
+/// `seed`, in forms rs274 reads whatever the values: assignments of `[…]`
+/// to numbered and named parameters (on one line too), expressions of
+/// every operator and function (their arguments kept in their domains;
+/// angles at and near multiples of 90°, values within 0.0001 of each
+/// other), `if`/`elseif`/`else`, `while`, `do`, `repeat`, `break`, and
+/// subroutines that return values (`return [v]`, `endsub [v]`,
+/// `#<_value>`). Each coordinate is a value folded into ±50 by `MOD`,
+/// which turns the last bit of a value at a step into a move 100 mm off.
+fn random_macro_program(seed: u64) -> String {
+    let mut next = numbers(seed);
+    let mut label = 100;
+    let mut text = String::from("G21 G90 G17\nF500\n#<_g> = [1]\nG0 X0 Y0 Z10\n");
+    let subs = next(3);
+    let breaks = next(2) == 0;
+    for k in 0..subs {
+        text.push_str(&format!("o<s{k}> sub\n"));
+        let vars = ["#1", "#2", "#<_g>"];
+        macro_body(&mut next, &mut text, &vars, (1, breaks), k, &mut label);
+        if next(2) == 0 {
+            label += 1;
+            let cond = macro_expr(&mut next, &vars, 1);
+            let value = macro_expr(&mut next, &vars, 1);
+            text.push_str(&format!(
+                "o{label} if [{cond}]\no<s{k}> return [{value}]\no{label} endif\n"
+            ));
+        }
+        let end = match next(2) {
+            0 => format!(" [{}]", macro_expr(&mut next, &["#1", "#2"], 1)),
+            _ => String::new(),
+        };
+        text.push_str(&format!("o<s{k}> endsub{end}\n"));
+    }
+    let vars = ["#31", "#<a>", "#<_g>", "#100"];
+    for name in ["#31", "#<a>", "#100"] {
+        text.push_str(&format!("{name} = [{}]\n", macro_expr(&mut next, &[], 1)));
+    }
+    macro_body(&mut next, &mut text, &vars, (0, breaks), subs, &mut label);
+    text.push_str("M2\n");
+    // rs274 reads lines of 256 characters at most: a longer move is cut to
+    // its first word.
+    text.lines()
+        .map(|line| match line.len() > 250 {
+            true => {
+                let first = line.find(" Y").or(line.find(" Z")).unwrap_or(line.len());
+                format!("{}\n", &line[..first.min(250)])
+            }
+            false => format!("{line}\n"),
+        })
+        .collect()
+}
+
+/// Statements of [`random_macro_program`] at `depth`, calling the first
+/// `subs` subroutines; `breaks`: a program with `break`s and no `do` loop.
+fn macro_body(
+    next: &mut dyn FnMut(u64) -> u64,
+    text: &mut String,
+    vars: &[&str],
+    (depth, breaks): (u32, bool),
+    subs: u64,
+    label: &mut u32,
+) {
+    let fold = |e: String| format!("[[{e}] MOD 100 - 50]");
+    for _ in 0..2 + next(5) {
+        match next(100) {
+            0..=34 => {
+                let mut words = Vec::new();
+                for letter in ["X", "Y", "Z"] {
+                    if next(3) > 0 {
+                        words.push(format!("{letter}{}", fold(macro_expr(next, vars, 1))));
+                    }
+                }
+                if words.is_empty() {
+                    words.push(format!("X{}", fold(macro_expr(next, vars, 0))));
+                }
+                text.push_str(&format!("G{} {}\n", next(2), words.join(" ")));
+            }
+            35..=54 => {
+                // Not a loop's counter.
+                let settable: Vec<&str> = vars
+                    .iter()
+                    .copied()
+                    .filter(|v| !v.starts_with("#<i"))
+                    .collect();
+                let target = settable[next(settable.len() as u64) as usize];
+                let value = macro_expr(next, vars, 0);
+                match next(3) {
+                    // Several on a line: every value from before it, and
+                    // #<c> read as 0 on the line of its first assignment.
+                    0 => text.push_str(&format!(
+                        "{target} = [{value}] #<b> = [{target} + 1] #<c> = [#<c> * 2 + 1]\nG1 X{}\n",
+                        fold("#<b> + #<c>".into())
+                    )),
+                    _ => text.push_str(&format!("{target} = [{value}]\n")),
+                }
+            }
+            55..=66 if depth < 2 => {
+                *label += 1;
+                let l = *label;
+                text.push_str(&format!("o{l} if [{}]\n", macro_expr(next, vars, 0)));
+                macro_body(next, text, vars, (depth + 1, breaks), subs, label);
+                if next(2) == 0 {
+                    text.push_str(&format!("o{l} elseif [{}]\n", macro_expr(next, vars, 0)));
+                    macro_body(next, text, vars, (depth + 1, breaks), subs, label);
+                }
+                if next(2) == 0 {
+                    text.push_str(&format!("o{l} else\n"));
+                    macro_body(next, text, vars, (depth + 1, breaks), subs, label);
+                }
+                text.push_str(&format!("o{l} endif\n"));
+            }
+            67..=76 if depth < 2 => {
+                *label += 1;
+                let l = *label;
+                let counter = format!("#<i{l}>");
+                let limit = 1 + next(3);
+                text.push_str(&format!("{counter} = [0]\n"));
+                let looped: Vec<&str> = vars.iter().copied().chain([counter.as_str()]).collect();
+                // rs274 ends a `do` loop after its first pass if a `break`
+                // left a `while` before it (README): no `do` where there
+                // may be a `break`.
+                match next(3) {
+                    0 if !breaks => {
+                        text.push_str(&format!("o{l} do\n"));
+                        macro_body(next, text, &looped, (depth + 1, breaks), subs, label);
+                        text.push_str(&format!(
+                            "{counter} = [{counter} + 1]\no{l} while [{counter} LT {limit}]\n"
+                        ));
+                    }
+                    1 => {
+                        text.push_str(&format!("o{l} repeat [{limit}]\n"));
+                        macro_body(next, text, &looped, (depth + 1, breaks), subs, label);
+                        text.push_str(&format!("o{l} endrepeat\n"));
+                    }
+                    _ => {
+                        text.push_str(&format!("o{l} while [{counter} LT {limit}]\n"));
+                        text.push_str(&format!("{counter} = [{counter} + 1]\n"));
+                        macro_body(next, text, &looped, (depth + 1, breaks), subs, label);
+                        if next(3) == 0 && breaks {
+                            *label += 1;
+                            let inner = *label;
+                            text.push_str(&format!(
+                                "o{inner} if [{counter} GT 1]\no{l} break\no{inner} endif\n"
+                            ));
+                        }
+                        text.push_str(&format!("o{l} endwhile\n"));
+                    }
+                }
+            }
+            77..=86 if subs > 0 => {
+                let k = next(subs);
+                let args: Vec<String> = (0..next(3))
+                    .map(|_| format!("[{}]", macro_expr(next, vars, 0)))
+                    .collect();
+                text.push_str(&format!(
+                    "o<s{k}> call {}\nG1 X{} Y[#<_value_returned> * 10]\n",
+                    args.join(" "),
+                    fold("#<_value>".into())
+                ));
+            }
+            87..=92 => text.push_str(["G91\n", "G90\n"][next(2) as usize]),
+            _ => text.push_str(&format!(
+                "G1 X{} F[{}]\n",
+                fold(macro_expr(next, vars, 0)),
+                200 + next(5) * 100
+            )),
+        }
+    }
+}
+
+/// An expression of [`random_macro_program`] over `vars`.
+fn macro_expr(next: &mut dyn FnMut(u64) -> u64, vars: &[&str], depth: u32) -> String {
+    const LITERALS: [&str; 16] = [
+        "0", "1", "2", "-1", "2.5", "-3.7", "0.5", "10", "90", "180", "270", "360", "45", "30",
+        "0.00005", "-0.0002",
+    ];
+    let leaf = |next: &mut dyn FnMut(u64) -> u64| match next(3) {
+        0 if !vars.is_empty() => vars[next(vars.len() as u64) as usize].to_string(),
+        _ => LITERALS[next(LITERALS.len() as u64) as usize].to_string(),
+    };
+    if depth > 2 || next(10) < 3 {
+        return leaf(next);
+    }
+    let sub = |next: &mut dyn FnMut(u64) -> u64| macro_expr(next, vars, depth + 1);
+    match next(20) {
+        0..=9 => {
+            const OPS: [&str; 12] = [
+                "+", "-", "*", "EQ", "NE", "GT", "GE", "LT", "LE", "AND", "OR", "XOR",
+            ];
+            let op = OPS[next(12) as usize];
+            format!("[{} {op} {}]", sub(next), sub(next))
+        }
+        10 => format!("[{} / [ABS[{}] + 1]]", sub(next), sub(next)),
+        11 => format!("[{} MOD [ABS[{}] + 1]]", sub(next), sub(next)),
+        12 => format!(
+            "[ABS[{}] ** {}]",
+            sub(next),
+            ["2", "0.5", "3", "1.5"][next(4) as usize]
+        ),
+        13..=15 => match next(3) {
+            0 => format!("SIN[{}]", sub(next)),
+            1 => format!("COS[{}]", sub(next)),
+            _ => format!("TAN[[{}] MOD 80]", sub(next)),
+        },
+        16 => format!("ATAN[{}]/[{}]", sub(next), sub(next)),
+        17 => format!("{}[SIN[{}]]", ["ACOS", "ASIN"][next(2) as usize], sub(next)),
+        18 => format!(
+            "{}[{}]",
+            ["FIX", "FUP", "ROUND", "ABS"][next(4) as usize],
+            sub(next)
+        ),
+        _ => match next(3) {
+            0 => format!("SQRT[ABS[{}]]", sub(next)),
+            1 => format!("LN[ABS[{}] + 1]", sub(next)),
+            _ => format!("EXP[SIN[{}]]", sub(next)),
+        },
+    }
+}
+
+/// [`RANDOM_MACRO_PROGRAMS`] programs of [`random_macro_program`]: rs274
+/// runs every one, and each one ger compiles must move as rs274 moves it;
+/// most must compile.
+fn random_macros() -> Result<(), Failed> {
+    let work = std::env::temp_dir().join(format!("ger-oracle-macros-{}", std::process::id()));
+    std::fs::create_dir_all(&work).map_err(|e| e.to_string())?;
+    let (input, out) = (work.join("random.ngc"), work.join("random.out.nc"));
+    let mut compiled = 0;
+    for seed in 0..RANDOM_MACRO_PROGRAMS {
+        let text = random_macro_program(seed);
+        std::fs::write(&input, &text).map_err(|e| e.to_string())?;
+        let a = rs274::tool_path(&input, &[]).map_err(|e| format!("seed {seed}: {e}\n{text}"))?;
+        if support::compile(&input, &out).is_err() {
+            continue;
+        }
+        compiled += 1;
+        let b = rs274::tool_path(&out, &[])
+            .map_err(|e| format!("seed {seed}: ger's output fails: {e}\n{text}"))?;
+        rs274::same_path(&a, &b, &Default::default()).map_err(|why| {
+            let output = std::fs::read_to_string(&out).unwrap_or_default();
+            format!("seed {seed}: ger's output moves differently: {why}\n--- program ---\n{text}--- ger output ---\n{output}")
+        })?;
+    }
+    let _ = std::fs::remove_dir_all(&work);
+    if compiled < RANDOM_MACRO_PROGRAMS * 2 / 3 {
+        return Err(format!("only {compiled} of {RANDOM_MACRO_PROGRAMS} programs compiled").into());
     }
     Ok(())
 }
