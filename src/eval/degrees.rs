@@ -65,8 +65,7 @@ fn radians(x: f64) -> (f64, f64) {
     let (d, de) = round(q, qe, false, 53);
     // The rest: q − d · 2^(de − qe), within 11 bits and a sign.
     let rest = (q as i128) - ((d as i128) << (de - qe));
-    let lo = rest as f64 * f64::from_bits(((1023 + qe) as u64) << 52);
-    let (hi, lo) = (compose(false, (d, de)), lo);
+    let (hi, lo) = (compose(false, (d, de)), rest as f64 * power_of_two(qe));
     match negative {
         true => (-hi, -lo),
         false => (hi, lo),
@@ -99,7 +98,8 @@ pub fn to_degrees(r: f64) -> f64 {
 fn parts(x: f64) -> Option<(bool, u128, i32)> {
     let bits = x.to_bits();
     let biased = ((bits >> 52) & 0x7ff) as i32;
-    if !(64..=2046 - 64).contains(&biased) {
+    // Within 2^±895: every exponent the steps reach is a normal double's.
+    if !(128..=2046 - 128).contains(&biased) {
         return None;
     }
     let m = (bits & ((1 << 52) - 1)) | (1 << 52);
@@ -128,13 +128,17 @@ fn round(v: u128, e: i32, sticky: bool, bits: u32) -> (u128, i32) {
 /// leaves only such).
 fn compose(negative: bool, (d, e): (u128, i32)) -> f64 {
     // Both factors exact, and so their product.
-    let scale = f64::from_bits(((1023 + e) as u64) << 52);
-    let v = d as f64 * scale;
+    let v = d as f64 * power_of_two(e);
     if negative {
         -v
     } else {
         v
     }
+}
+
+/// 2^`e`, a normal double.
+fn power_of_two(e: i32) -> f64 {
+    f64::from_bits(((1023 + e) as u64) << 52)
 }
 
 #[cfg(test)]
@@ -185,6 +189,19 @@ mod tests {
             );
         }
         assert!(180f64.to_radians().sin() > 0.0, "the plain sine differs");
+    }
+
+    /// Far from 1, where the steps would leave the doubles' exponents, the
+    /// values are the plain ones'.
+    #[test]
+    fn tiny_and_huge_angles_are_the_plain_ones() {
+        for x in [1e-280, -1e-290, 1e280, 5e-324, 2f64.powi(-955)] {
+            assert_eq!(sin(x), x.to_radians().sin(), "{x}");
+            assert_eq!(to_degrees(x), x.to_degrees(), "{x}");
+        }
+        // Just inside: the long double steps, still finite and close.
+        let x = 2f64.powi(-894);
+        assert!((sin(x) / x.to_radians() - 1.0).abs() < 1e-15);
     }
 
     /// Where the plain conversion is exact, the emulated one agrees.
