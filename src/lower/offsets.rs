@@ -115,6 +115,14 @@ impl OffsetsPass {
         }
     }
 
+    /// The system a G10's P names (P0: the active one).
+    fn system(&self, p: u8) -> u8 {
+        match p {
+            0 => self.active,
+            p => p,
+        }
+    }
+
     fn known(&self, index: u8) -> bool {
         self.systems[index as usize][..3]
             .iter()
@@ -393,7 +401,7 @@ impl OffsetsPass {
         stmt: &Stmt,
         out: &mut Out<'_>,
     ) -> bool {
-        let index = if index == 0 { self.active } else { index };
+        let index = self.system(index);
         for (axis, v) in origin.iter() {
             self.systems[index as usize][axis.index()] = Some(v);
         }
@@ -432,7 +440,7 @@ impl OffsetsPass {
         (span, block_delete): (Span, bool),
         out: &mut Out<'_>,
     ) -> bool {
-        let index = if index == 0 { self.active } else { index };
+        let index = self.system(index);
         let known = self.frame == Frame::G54
             && at.iter().all(|(axis, _)| {
                 self.position[axis.index()].is_some() && self.machine[1][axis.index()].is_some()
