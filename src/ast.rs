@@ -145,14 +145,14 @@ impl Stmt {
                 out.push(stmt);
                 continue;
             };
-            for words in lines.each() {
+            for words in lines.each_as_words() {
                 let (Some(first), Some(last)) = (words.first(), words.last()) else {
                     continue;
                 };
                 out.push(Stmt {
                     span: first.span.to(last.span),
                     kind: StmtKind::Line(Line {
-                        words: words.to_vec(),
+                        words,
                         block_delete: false,
                     }),
                 });
@@ -244,24 +244,87 @@ pub struct Line {
 }
 
 /// Lines of words (none written after a `/`), their words kept in one
-/// vector rather than one each: most of a plain program, a part at a time.
+/// vector rather than one each, and each in 24 bytes ([`PlainWord`]) rather
+/// than a [`Word`]'s 40: most of a plain program, a part at a time.
 #[derive(Debug, Clone, Default)]
 pub struct Lines {
     /// The words of every line, one line after another.
-    pub words: Vec<Word>,
-    /// Where each line's words end in `words`.
-    pub ends: Vec<usize>,
+    pub words: Vec<PlainWord>,
+    /// Where each line's words end in `words`, and its line in the file.
+    pub ends: Vec<LineEnd>,
+    /// The file the lines are in.
+    pub file: u32,
+}
+
+/// The end of a line's words in [`Lines::words`], and its (1-based) line.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct LineEnd {
+    pub end: u32,
+    pub line: u32,
+}
+
+/// A word of [`Lines`]: a letter and a number written as a decimal, with
+/// its span's offsets (its file and line are its line's). Nothing in it
+/// needs dropping, so that a part's lines are cleared at once.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct PlainWord {
+    pub value: f64,
+    pub start: u32,
+    pub end: u32,
+    /// Upper-case address letter.
+    pub letter: u8,
+    /// As [`Number`]'s.
+    pub int_digits: u8,
+    pub has_point: bool,
+}
+
+impl PlainWord {
+    /// As [`Word::is_code`].
+    pub fn is_code(&self) -> bool {
+        matches!(self.letter, b'G' | b'M')
+    }
+
+    /// Its span, on `line` of `file`.
+    #[inline]
+    pub fn span(&self, file: u32, line: u32) -> Span {
+        Span {
+            file,
+            line,
+            start: self.start,
+            end: self.end,
+        }
+    }
+
+    /// The [`Word`] it is, on `line` of `file`.
+    pub fn word(&self, file: u32, line: u32) -> Word {
+        Word {
+            letter: self.letter,
+            value: WordValue::Number(Number {
+                value: self.value,
+                int_digits: self.int_digits,
+                has_point: self.has_point,
+            }),
+            span: self.span(file, line),
+        }
+    }
 }
 
 impl Lines {
-    /// The words of each line.
-    pub fn each(&self) -> impl Iterator<Item = &[Word]> {
+    /// The words of each line, and its line.
+    pub fn each(&self) -> impl Iterator<Item = (&[PlainWord], u32)> {
         let mut start = 0;
-        self.ends.iter().map(move |&end| {
-            let words = &self.words[start..end];
-            start = end;
-            words
+        self.ends.iter().map(move |&LineEnd { end, line }| {
+            let words = &self.words[start..end as usize];
+            start = end as usize;
+            (words, line)
         })
+    }
+
+    /// The words of each line as [`Word`]s (for what reads lines as the
+    /// parser makes them; running them does not).
+    pub fn each_as_words(&self) -> impl Iterator<Item = Vec<Word>> + '_ {
+        self.each()
+            .map(|(words, line)| words.iter().map(|w| w.word(self.file, line)).collect())
     }
 
     pub fn clear(&mut self) {
@@ -486,7 +549,8 @@ impl Stmt {
         let block = |stmts: &mut Vec<Stmt>| stmts.iter_mut().for_each(|s| s.map_functions(f));
         match &mut self.kind {
             StmtKind::Line(Line { words, .. }) => map_word_functions(words, f),
-            StmtKind::Lines(lines) => map_word_functions(&mut lines.words, f),
+            // Numbers only: no function to change.
+            StmtKind::Lines(_) => {}
             StmtKind::Assign(a) => a.map_functions(f),
             StmtKind::Assigns(all) => all.iter_mut().for_each(|a| a.map_functions(f)),
             StmtKind::Call { args, .. } => args.iter_mut().for_each(|a| a.map_functions(f)),

@@ -295,6 +295,9 @@ struct Evaluator<'a> {
     /// The word table of the statement run last, for the next
     /// ([`WordValues`]).
     word_table: Option<Box<WordTable>>,
+    /// A line of [`ast::Lines`] made [`ast::Word`]s, for the statements
+    /// [`Evaluator::plain_line`] does not run itself.
+    line_words: Vec<ast::Word>,
     options: &'a EvalOptions,
     wizards: Option<&'a mut dyn WizardHost>,
     vars: Vars,
@@ -397,6 +400,7 @@ impl<'a> Evaluator<'a> {
             in_parts: false,
             needs_whole: false,
             word_table: None,
+            line_words: Vec::new(),
             options,
             wizards,
             vars: Vars::new(
@@ -829,13 +833,44 @@ impl<'a> Evaluator<'a> {
     /// Run plain lines in a row, each as [`Self::exec_line`] would; the
     /// first flow that is not [`Flow::Next`] ends them.
     fn exec_lines(&mut self, lines: &ast::Lines) -> Flow {
-        for words in lines.each() {
-            let flow = self.exec_words(words, false);
+        for (words, line) in lines.each() {
+            let flow = self.plain_line(words, lines.file, line);
             if flow != Flow::Next {
                 return flow;
             }
         }
         Flow::Next
+    }
+
+    /// A line of [`ast::Lines`], as [`Self::exec_words`] runs it: a move of
+    /// numbers ([`Self::plain_move`], the commonest line of a CAM program)
+    /// read from its words as they are; any other line made [`ast::Word`]s
+    /// and run so.
+    fn plain_line(&mut self, words: &[ast::PlainWord], file: u32, line: u32) -> Flow {
+        // The statements `ast::few_statements` cuts it into: the words
+        // before its one code (unless only `N` words), or the code's.
+        let mut codes = words.iter().enumerate().filter(|(_, w)| w.is_code());
+        let (first, more) = (codes.next(), codes.next().is_some());
+        let before = &words[..first.map_or(words.len(), |(at, _)| at)];
+        let uncoded = !before.iter().all(|w| w.letter == b'N');
+        self.machine_coordinates = false;
+        let stmt = match first {
+            _ if more => None,
+            Some(_) if uncoded => None,
+            None if !uncoded => return Flow::Next,
+            None => Some((None, before)),
+            Some((at, code)) => Some((Some(code), &words[at + 1..])),
+        };
+        let span = |w: &ast::PlainWord| w.span(file, line);
+        if let Some(flow) = stmt.and_then(|(code, args)| self.plain_move(code, args, span)) {
+            return flow;
+        }
+        let mut made = std::mem::take(&mut self.line_words);
+        made.clear();
+        made.extend(words.iter().map(|w| w.word(file, line)));
+        let flow = self.exec_words(&made, false);
+        self.line_words = made;
+        flow
     }
 
     /// Run a line of `words`, written after a `/` if `block_delete`.

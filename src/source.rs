@@ -234,6 +234,12 @@ impl Locator {
         self.span_on_line(line as u32, start, end)
     }
 
+    /// Where the text's byte `at` is in the file.
+    #[inline]
+    pub fn offset(&self, at: usize) -> u32 {
+        (self.base + at) as u32
+    }
+
     /// [`Locator::span`] when its (1-based) line in the file is known.
     pub fn span_on_line(&self, line: u32, start: usize, end: usize) -> Span {
         Span::new(self.file, line, self.base + start, self.base + end)

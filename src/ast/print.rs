@@ -65,7 +65,9 @@ impl AstPrinter<'_> {
     fn stmt(&mut self, stmt: &Stmt) {
         match &stmt.kind {
             StmtKind::Line(line) => self.words(&line.words, line.block_delete),
-            StmtKind::Lines(lines) => lines.each().for_each(|words| self.words(words, false)),
+            StmtKind::Lines(lines) => lines
+                .each_as_words()
+                .for_each(|words| self.words(&words, false)),
             StmtKind::Assign(a) => {
                 let text = self.assignment(a);
                 self.line(&text);

@@ -47,9 +47,44 @@ fn code_name(letter: u8, t: u32) -> String {
     }
 }
 
+/// A word [`Evaluator::plain_move`] reads: an [`ast::Word`] of a line the
+/// parser made, or a [`ast::PlainWord`] of [`ast::Lines`].
+pub(super) trait MoveWord {
+    fn letter(&self) -> u8;
+    /// Its value, when it is written as a number.
+    fn number(&self) -> Option<f64>;
+}
+
+impl MoveWord for ast::Word {
+    #[inline]
+    fn letter(&self) -> u8 {
+        self.letter
+    }
+
+    #[inline]
+    fn number(&self) -> Option<f64> {
+        match &self.value {
+            WordValue::Number(n) => Some(n.value),
+            WordValue::Expr(_) => None,
+        }
+    }
+}
+
+impl MoveWord for ast::PlainWord {
+    #[inline]
+    fn letter(&self) -> u8 {
+        self.letter
+    }
+
+    #[inline]
+    fn number(&self) -> Option<f64> {
+        Some(self.value)
+    }
+}
+
 impl Evaluator<'_> {
     pub(super) fn exec_line_stmt(&mut self, stmt: LineStmt<'_>) -> Flow {
-        if let Some(flow) = self.plain_move(stmt) {
+        if let Some(flow) = self.plain_move(stmt.code, stmt.args, |w| w.span) {
             return flow;
         }
         let table = self.word_table.take().unwrap_or_default();
@@ -135,8 +170,15 @@ impl Evaluator<'_> {
     /// words. `None`, having done nothing, for any other statement (an arc
     /// by R or of turns among them), and in a state that path must see (a
     /// cycle, G7, G53): that path runs it.
+    /// `code` and `args` are a statement's ([`LineStmt`]), of either kind of
+    /// word, `span` a word's span.
     #[inline]
-    fn plain_move(&mut self, stmt: LineStmt<'_>) -> Option<Flow> {
+    pub(super) fn plain_move<W: MoveWord>(
+        &mut self,
+        code: Option<&W>,
+        args: &[W],
+        span: impl Fn(&W) -> Span,
+    ) -> Option<Flow> {
         #[cfg(test)]
         if GENERAL_PATH_ONLY.with(std::cell::Cell::get) {
             return None;
@@ -144,23 +186,22 @@ impl Evaluator<'_> {
         if self.cycle.is_some() || self.diameter_mode || self.machine_coordinates {
             return None;
         }
-        let motion = match stmt.code {
+        let motion = match code {
             None => self.motion?,
-            Some(code) => match (code.letter, &code.value) {
-                (b'G', WordValue::Number(n)) if n.value == 0.0 => Motion::Rapid,
-                (b'G', WordValue::Number(n)) if n.value == 1.0 => Motion::Linear,
-                (b'G', WordValue::Number(n)) if n.value == 2.0 => Motion::ArcCw,
-                (b'G', WordValue::Number(n)) if n.value == 3.0 => Motion::ArcCcw,
+            Some(code) => match (code.letter(), code.number()) {
+                (b'G', Some(0.0)) => Motion::Rapid,
+                (b'G', Some(1.0)) => Motion::Linear,
+                (b'G', Some(2.0)) => Motion::ArcCw,
+                (b'G', Some(3.0)) => Motion::ArcCcw,
                 _ => return None,
             },
         };
-        let mut span = stmt.code.or(stmt.args.first())?.span;
+        let span = span(code.or(args.first())?).to(span(args.last()?));
         // X, Y, Z, F, I, J and K, a bit and a value each: numbers in range,
         // each given once.
         let (mut given, mut values) = (0u8, [0.0; 7]);
-        for w in stmt.args {
-            span = span.to(w.span);
-            let slot = match w.letter {
+        for w in args {
+            let slot = match w.letter() {
                 b'X' => 0,
                 b'Y' => 1,
                 b'Z' => 2,
@@ -171,10 +212,10 @@ impl Evaluator<'_> {
                 b'N' => continue,
                 _ => return None,
             };
-            match &w.value {
-                WordValue::Number(n) if ir::is_length(n.value) && given & (1 << slot) == 0 => {
+            match w.number() {
+                Some(n) if ir::is_length(n) && given & (1 << slot) == 0 => {
                     given |= 1 << slot;
-                    values[slot] = n.value;
+                    values[slot] = n;
                 }
                 _ => return None,
             }
@@ -194,7 +235,7 @@ impl Evaluator<'_> {
             made = self.emit(Op::Feed(f), span);
         }
         if made.is_ok() {
-            if stmt.code.is_some() {
+            if code.is_some() {
                 self.motion = Some(motion);
                 self.cycle_run = false;
             }

@@ -11,7 +11,7 @@
 
 use super::lexer::{self, comment_end, Language, WordNumber};
 use super::parser::{fast_path, parse_program_from};
-use crate::ast::{Lines, Names, Number, Stmt, StmtKind, Subprogram, Word, WordValue};
+use crate::ast::{LineEnd, Lines, Names, PlainWord, Stmt, StmtKind, Subprogram, Word, WordValue};
 use crate::diagnostic::Diagnostic;
 use crate::source::Locator;
 
@@ -303,9 +303,15 @@ fn needs_whole(stmt: &Stmt, known: &dyn Fn(u32) -> bool, in_sub: bool) -> bool {
     match &stmt.kind {
         StmtKind::Goto(_) => true,
         StmtKind::Line(line) => line_needs_whole(&line.words, known, in_sub),
-        StmtKind::Lines(lines) => lines
-            .each()
-            .any(|words| line_needs_whole(words, known, in_sub)),
+        // (Only a call can make a line of numbers need it.)
+        StmtKind::Lines(lines) => {
+            let call =
+                |w: &PlainWord| matches!((w.letter, w.value), (b'M', 98.0 | 99.0) | (b'G', 65.0));
+            lines.words.iter().any(call)
+                && lines
+                    .each_as_words()
+                    .any(|words| line_needs_whole(&words, known, in_sub))
+        }
         StmtKind::If(f) => f
             .branches
             .iter()
@@ -411,7 +417,7 @@ pub struct Spare {
 }
 
 impl Spare {
-    /// The most room for words kept, in all: 65,536 words, 2.6 MB (a part
+    /// The most room for words kept, in all: 65,536 words, 1.6 MB (a part
     /// of 16 KB of CAM lines has about 2,500).
     const MOST_ROOM: usize = 1 << 16;
 
@@ -449,10 +455,8 @@ pub fn recycle(stmts: Vec<Stmt>, spare: &mut Spare) {
 /// Whether a word, a letter and its value, may call a subprogram
 /// (`M98`, `M99`, `G65`, however written): the words [`plain_word`]
 /// refuses, and some more (`M-98`).
-fn may_call(word: &Word) -> bool {
-    let WordValue::Number(Number { value, .. }) = word.value else {
-        return true;
-    };
+fn may_call(word: &PlainWord) -> bool {
+    let value = word.value;
     // The whole part of the value, without its sign: 98 or 99, or 65.
     match word.letter {
         b'M' => (98.0..100.0).contains(&value.abs()),
@@ -500,7 +504,7 @@ fn parse_lines(
             .next()
             .map_or(range.end, |&s| (s as usize - 1).min(range.end));
         let before = run.words.len();
-        if lexer::plain_words(text, (line, line_end), at, number, &mut run.words) {
+        if lexer::plain_words(text, (line, line_end), at, &mut run.words) {
             if check && run.words[before..].iter().any(may_call) {
                 spare.push(run);
                 return None;
@@ -511,12 +515,13 @@ fn parse_lines(
                 if !run.ends.is_empty() {
                     let mut next = spare.pop();
                     next.words.extend(run.words.drain(before..));
-                    end_run(&mut stmts, std::mem::replace(&mut run, next), spare);
+                    end_run(&mut stmts, std::mem::replace(&mut run, next), at, spare);
                 }
                 parse(waiting, line, &mut stmts);
             }
-            if run.ends.last().map_or(0, |&end| end) < run.words.len() {
-                run.ends.push(run.words.len());
+            let end = run.words.len() as u32;
+            if run.ends.last().map_or(0, |e| e.end) < end {
+                run.ends.push(LineEnd { end, line: number });
             }
             waiting = (line_end + 1).min(range.end);
         } else if check && !plain_line(&text[line..line_end]) {
@@ -526,19 +531,23 @@ fn parse_lines(
         line = line_end + 1;
         number += 1;
     }
-    end_run(&mut stmts, run, spare);
+    end_run(&mut stmts, run, at, spare);
     parse(waiting, range.end, &mut stmts);
     Some((stmts, diagnostics))
 }
 
 /// The statement of a run of lines of plain words, if it has any; its span
 /// from its first word to its last.
-fn end_run(stmts: &mut Vec<Stmt>, run: Lines, spare: &mut Spare) {
-    match (run.words.first(), run.words.last()) {
-        (Some(first), Some(last)) => stmts.push(Stmt {
-            span: first.span.to(last.span),
-            kind: StmtKind::Lines(Box::new(run)),
-        }),
+fn end_run(stmts: &mut Vec<Stmt>, mut run: Lines, at: &Locator, spare: &mut Spare) {
+    match (run.words.first(), run.words.last(), run.ends.first()) {
+        (Some(first), Some(last), Some(line)) => {
+            run.file = at.file() as u32;
+            let span = first.span(run.file, line.line);
+            stmts.push(Stmt {
+                span: span.to(last.span(run.file, line.line)),
+                kind: StmtKind::Lines(Box::new(run)),
+            })
+        }
         _ => spare.push(run),
     }
 }
@@ -589,7 +598,10 @@ mod tests {
         let kinds: Vec<String> = stmts
             .iter()
             .map(|s| match &s.kind {
-                StmtKind::Lines(lines) => format!("lines {:?}", lines.ends),
+                StmtKind::Lines(lines) => {
+                    let ends: Vec<u32> = lines.ends.iter().map(|e| e.end).collect();
+                    format!("lines {ends:?}")
+                }
                 StmtKind::Comment(_) => "comment".to_string(),
                 other => format!("{other:?}"),
             })

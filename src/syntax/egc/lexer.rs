@@ -1775,8 +1775,8 @@ fn find_word<T: Copy>(table: &[(&str, T)], text: &str) -> Option<T> {
         .map(|&(_, t)| t)
 }
 
-/// The words of the line `text[start..end]` (without its line end), line
-/// `number` of the file, appended to `words` when it holds plain words
+/// The words of the line `text[start..end]` (without its line end),
+/// appended to `words` when it holds plain words
 /// only — a letter other than `O`, then a decimal number, perhaps after
 /// spaces — with spaces and tabs around them: what the lexer and the
 /// parser would make of it (`Raw::Word`, or a letter and its number
@@ -1786,10 +1786,8 @@ pub(crate) fn plain_words(
     text: &str,
     (start, end): (usize, usize),
     at: &Locator,
-    number: u32,
-    words: &mut Vec<crate::ast::Word>,
+    words: &mut Vec<crate::ast::PlainWord>,
 ) -> bool {
-    use crate::ast::{Number, Word, WordValue};
     let bytes = &text.as_bytes()[..end];
     let before = words.len();
     let mut i = start;
@@ -1812,14 +1810,13 @@ pub(crate) fn plain_words(
             }
         };
         let (value, int_digits, has_point, number_end) = number_read;
-        words.push(Word {
+        words.push(crate::ast::PlainWord {
+            value,
+            start: at.offset(i),
+            end: at.offset(number_end),
             letter: letter.to_ascii_uppercase(),
-            value: WordValue::Number(Number {
-                value,
-                int_digits,
-                has_point,
-            }),
-            span: at.span_on_line(number, i, number_end),
+            int_digits,
+            has_point,
         });
         i = number_end;
     }
