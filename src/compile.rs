@@ -677,8 +677,11 @@ impl<'a> Parts<'a> {
         }
     }
 
-    /// The next part, parsed.
+    /// The next part, parsed; none after a read error.
     fn parse_next(&mut self, language: Language, names: &mut Names) -> Option<Parsed> {
+        if self.read_error.is_some() {
+            return None;
+        }
         // A plain program has no subprogram.
         let no_subprograms = |(stmts, diagnostics)| (stmts, Vec::new(), diagnostics);
         match &mut self.source {
@@ -833,16 +836,19 @@ struct LineReader<'a> {
     /// Where the next part starts in the decoded file, and its lines before.
     base: usize,
     lines_before: usize,
+    /// A [`FileScan::partial`] scan each part is checked against.
+    check: Option<FileScan>,
 }
 
 impl<'a> LineReader<'a> {
-    fn new(reader: &'a mut dyn std::io::BufRead, file: FileId) -> LineReader<'a> {
+    fn new(reader: &'a mut dyn std::io::BufRead, file: FileId, scan: FileScan) -> LineReader<'a> {
         LineReader {
             reader,
             file,
             first: true,
             base: 0,
             lines_before: 0,
+            check: scan.partial.then_some(scan),
         }
     }
 
@@ -861,10 +867,22 @@ impl<'a> LineReader<'a> {
 
     /// The next lines, up to the one with the `part`th byte, decoded;
     /// `None` at the end of the file. Read in blocks.
+    /// With a [`FileScan::partial`] scan (`check`), each is checked first
+    /// as the whole scan would have read it: `Err(`[`Unforeseen`]`)`.
     fn next_lines(&mut self, part: usize) -> std::io::Result<Option<String>> {
         let mut bytes = Vec::with_capacity(part + 256);
-        let read = read_lines(self.reader, part, &mut self.first, &mut bytes)?;
-        Ok(read.then(|| source::decode_lines(bytes)))
+        if !read_lines(self.reader, part, &mut self.first, &mut bytes)? {
+            return Ok(None);
+        }
+        let unforeseen = || Err(std::io::Error::other(Unforeseen));
+        if self.check.is_some() && !streamable_block(&bytes) {
+            return unforeseen();
+        }
+        let text = source::decode_lines(bytes);
+        match self.check {
+            Some(scan) if !scan.prints_as(input_decimals(&text)) => unforeseen(),
+            _ => Ok(Some(text)),
+        }
     }
 }
 
@@ -971,7 +989,80 @@ impl<'a> ProgramReader<'a> {
 pub struct FileScan {
     pub len: usize,
     pub decimals: usize,
+    /// Found from the file's first lines only ([`first_look`]; `len` is
+    /// then the file's size): each part read after them is checked as it
+    /// is read, and one the scan of the whole file would have answered
+    /// otherwise stops the compile ([`Streamed::Rescan`]).
+    pub partial: bool,
 }
+
+impl FileScan {
+    /// Whether a file whose numbers have `decimals` at most is printed as
+    /// one with `self.decimals` (the printer's grid: the most decimals, at
+    /// least 3 or 4 by the units, at most 6).
+    fn prints_as(&self, decimals: usize) -> bool {
+        decimals.min(6) <= self.decimals.max(3)
+    }
+}
+
+/// The bytes [`first_look`] reads of a file larger than this: its whole
+/// lines up to about 256 KB (a 200,000-move program is 5 MB).
+const FIRST_LOOK: u64 = 1 << 18;
+
+/// [`scan_path`] of the file's first lines only (all of a file up to
+/// [`FIRST_LOOK`] bytes): the compile then reads the file once, not twice,
+/// and checks each part against the answer as it reads it. A program from
+/// CAM writes its numbers with as many decimals throughout; one with more
+/// further on is compiled again, after the whole scan.
+pub fn first_look(path: &std::path::Path) -> std::io::Result<Option<FileScan>> {
+    let size = std::fs::metadata(path)?.len();
+    if size <= FIRST_LOOK {
+        return scan_path(path);
+    }
+    let file = std::fs::File::open(path)?;
+    let mut reader = std::io::BufReader::with_capacity(1 << 16, file);
+    let scan = scan_blocks(RawBlocks::new(&mut reader), FIRST_LOOK as usize)?;
+    Ok(scan.map(|scan| FileScan {
+        len: size as usize,
+        partial: true,
+        ..scan
+    }))
+}
+
+/// How a program read from a file a part at a time ([`compile_file`])
+/// ended.
+pub enum Streamed {
+    Compiled(Report),
+    /// A part needs the whole program ([`chunk::cut_part`]), which must be
+    /// compiled whole instead, by [`compile_to`].
+    Whole,
+    /// A part read did not hold to a [`FileScan::partial`] scan: the file
+    /// must be scanned whole and compiled again.
+    Rescan,
+}
+
+impl Streamed {
+    /// The report of a program compiled.
+    pub fn compiled(self) -> Option<Report> {
+        match self {
+            Streamed::Compiled(report) => Some(report),
+            Streamed::Whole | Streamed::Rescan => None,
+        }
+    }
+}
+
+/// The error a [`LineReader`] stops with at a part that does not hold to
+/// a [`FileScan::partial`] scan.
+#[derive(Debug)]
+struct Unforeseen;
+
+impl std::fmt::Display for Unforeseen {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str("the file is not as its first lines said")
+    }
+}
+
+impl std::error::Error for Unforeseen {}
 
 /// Every line of the file `reader` reads, decoded as [`compile_file`]
 /// decodes it (its spans are offsets into these lines): `each` is given
@@ -1095,27 +1186,42 @@ pub fn scan_path(path: &std::path::Path) -> std::io::Result<Option<FileScan>> {
         (Some(a), Some(b)) => Some(FileScan {
             len: a.len + b.len,
             decimals: a.decimals.max(b.decimals),
+            partial: false,
         }),
         _ => None,
     })
 }
 
 /// [`scan_file`] of the lines `lines` reads.
-fn scan_lines(mut blocks: RawBlocks<'_>) -> std::io::Result<Option<FileScan>> {
+fn scan_lines(blocks: RawBlocks<'_>) -> std::io::Result<Option<FileScan>> {
+    scan_blocks(blocks, usize::MAX)
+}
+
+/// Whether whole lines of a file have no control character and no CR
+/// that is not before a LF (even at the end), which is a line end to
+/// `decode`: what [`scan_file`] asks of each.
+fn streamable_block(bytes: &[u8]) -> bool {
+    // First one look for both (a CR before a LF is looked at again).
+    // (Folded without a stop at the first: it vectorises.)
+    let odd = |b: u8| b < 0x20 && b != b'\n' && b != b'\t';
+    if bytes.iter().fold(false, |found, &b| found | odd(b)) {
+        let control = bytes.iter().any(|&b| odd(b) && b != b'\r');
+        let mut at = bytes.iter().enumerate();
+        let lone_cr = at.any(|(i, &b)| b == b'\r' && bytes.get(i + 1) != Some(&b'\n'));
+        if control || lone_cr {
+            return false;
+        }
+    }
+    true
+}
+
+/// [`scan_lines`] of the blocks of `blocks` until `most` bytes are read
+/// (the block that passes it included).
+fn scan_blocks(mut blocks: RawBlocks<'_>, most: usize) -> std::io::Result<Option<FileScan>> {
     let (mut len, mut decimals) = (0, 0);
     while let Some(bytes) = blocks.next()? {
-        // A control character, or a CR not before a LF (even at the end),
-        // which is a line end to `decode`. First one look for both (a
-        // CR before a LF is looked at again).
-        // (Folded without a stop at the first: it vectorises.)
-        let odd = |b: u8| b < 0x20 && b != b'\n' && b != b'\t';
-        if bytes.iter().fold(false, |found, &b| found | odd(b)) {
-            let control = bytes.iter().any(|&b| odd(b) && b != b'\r');
-            let mut at = bytes.iter().enumerate();
-            let lone_cr = at.any(|(i, &b)| b == b'\r' && bytes.get(i + 1) != Some(&b'\n'));
-            if control || lone_cr {
-                return Ok(None);
-            }
+        if !streamable_block(bytes) {
+            return Ok(None);
         }
         // Whole lines: UTF-8 as a whole, else line by line.
         let latin1;
@@ -1128,8 +1234,15 @@ fn scan_lines(mut blocks: RawBlocks<'_>) -> std::io::Result<Option<FileScan>> {
         };
         decimals = decimals.max(input_decimals(text));
         len += text.len();
+        if len >= most {
+            break;
+        }
     }
-    Ok(Some(FileScan { len, decimals }))
+    Ok(Some(FileScan {
+        len,
+        decimals,
+        partial: false,
+    }))
 }
 
 /// Compile a program from `reader`, a part at a time, as file `file`
@@ -1137,10 +1250,9 @@ fn scan_lines(mut blocks: RawBlocks<'_>) -> std::io::Result<Option<FileScan>> {
 /// stays empty: memory grows with the longest part, not with the program.
 /// `scan` is [`scan_file`]'s answer for the same bytes. The report is
 /// [`compile_to`]'s; its spans are in the decoded file ([`lines_shown`]
-/// reads the lines they show). `Ok(None)`: a part needs the whole program
-/// ([`chunk::cut_part`]), which must be compiled whole instead, by
-/// [`compile_to`] (what was written is incomplete: throw it away). `Err`:
-/// the file could not be read.
+/// reads the lines they show). [`Streamed::Whole`] and
+/// [`Streamed::Rescan`]: what was written is incomplete (throw it away).
+/// `Err`: the file could not be read.
 pub fn compile_file(
     reader: &mut dyn std::io::BufRead,
     name: &str,
@@ -1149,13 +1261,13 @@ pub fn compile_file(
     options: &CompileOptions,
     wizards: Option<&mut dyn WizardHost>,
     out: &mut (dyn Write + Send),
-) -> std::io::Result<Option<Report>> {
+) -> std::io::Result<Streamed> {
     let mut diagnostics = Vec::new();
     let mut clock = Clock::new();
     let (from, language) = (options.flavour(name), options.language(name));
     let eval_options = options.eval_options(from, language);
     let backend = Backend::new(SourceFacts::Known(scan), file, options, Output::Text(out));
-    let lines = LineReader::new(reader, file);
+    let lines = LineReader::new(reader, file, scan);
     // G-code is read as plain until a part is found not to be.
     let mut parts = Parts::new(match language == Language::Gcode {
         true => PartSource::Reader(lines),
@@ -1172,12 +1284,15 @@ pub fn compile_file(
         &mut clock,
     );
     if let Some(e) = parts.read_error {
-        return Err(e);
+        return match e.get_ref().is_some_and(|e| e.is::<Unforeseen>()) {
+            true => Ok(Streamed::Rescan),
+            false => Err(e),
+        };
     }
     if parts.whole {
-        return Ok(None);
+        return Ok(Streamed::Whole);
     }
-    Ok(Some(Report {
+    Ok(Streamed::Compiled(Report {
         diagnostics,
         timings: clock.timings,
         write_error: written.err(),

@@ -4,7 +4,7 @@
 //! lives here.
 
 use clap::{Parser, Subcommand, ValueEnum};
-use ger::compile::{compile_to, CompileOptions, Report, Stage};
+use ger::compile::{compile_to, CompileOptions, Report, Stage, Streamed};
 use ger::diagnostic::render;
 use ger::emit::{ArcFormat, Numbering, Target};
 use ger::ir::Units;
@@ -625,26 +625,37 @@ fn run(
     // compiled again, whole.
     // Standard output, and `ger check`, too: their output is held in an
     // unnamed temporary file, or thrown away, not in memory.
-    let streamed = streamable(input, options, stage);
-    if let Some(streamed) = streamed {
-        if let Some(code) = compile_job(
-            input,
-            output,
-            options,
-            stage,
-            write,
-            Some(streamed),
-            started,
-        ) {
-            return code;
+    // The file is read once: its first lines say how its numbers are
+    // printed, and each part is checked as it is read; a file found to be
+    // otherwise further on is scanned whole, and compiled again.
+    let job = |streamed| compile_job(input, output, options, stage, write, streamed, started);
+    let first = streamable(input, options, stage, ger::compile::first_look);
+    if let Some(first) = first {
+        match job(Some(first)) {
+            Ok(code) => return code,
+            Err(Again::Rescan) => {
+                let scanned = streamable(input, options, stage, ger::compile::scan_path);
+                if let Some(Ok(code)) = scanned.map(|scanned| job(Some(scanned))) {
+                    return code;
+                }
+            }
+            Err(Again::Whole) => {}
         }
     }
-    compile_job(input, output, options, stage, write, None, started).unwrap_or(ExitCode::FAILURE)
+    job(None).unwrap_or(ExitCode::FAILURE)
+}
+
+/// Why [`compile_job`] must be run again (nothing was written or reported).
+enum Again {
+    /// The program needs to be read whole.
+    Whole,
+    /// A part of the file was not as its first lines said
+    /// ([`ger::compile::first_look`]): it needs a scan of the whole file.
+    Rescan,
 }
 
 /// Compile `input` as `run` says, from its file a part at a time when
-/// `streamed` (what [`streamable`] found); `None`: it needs to be read
-/// whole (nothing was written or reported).
+/// `streamed` (what [`streamable`] found).
 fn compile_job(
     input: &str,
     output: Option<&Path>,
@@ -653,18 +664,18 @@ fn compile_job(
     write: bool,
     streamed: Option<(ger::compile::FileScan, std::fs::Metadata)>,
     started: std::time::Instant,
-) -> Option<ExitCode> {
+) -> Result<ExitCode, Again> {
     let loaded = match streamed {
         Some(_) => Job::with_text(input, String::new(), options, stage),
         None => Job::load(input, options, stage),
     };
     let mut job = match loaded {
         Ok(job) => job,
-        Err(code) => return Some(code),
+        Err(code) => return Ok(code),
     };
     let (file, compile_options) = (job.file, &job.options);
     let (sources, engine) = (&job.sources, &mut job.engine);
-    let (mut read_error, mut whole) = (None, false);
+    let (mut read_error, mut again) = (None, None);
     // Not a compiled program: the output is thrown away.
     let not_compiled = |why: &str| Report {
         diagnostics: Vec::new(),
@@ -675,10 +686,14 @@ fn compile_job(
         Some(scan) => {
             let engine = Some(&mut *engine as &mut dyn ger::eval::WizardHost);
             match compile_from_file(input, scan, file, compile_options, engine, out) {
-                Ok(Some(report)) => report,
-                Ok(None) => {
-                    whole = true;
+                Ok(Streamed::Compiled(report)) => report,
+                Ok(Streamed::Whole) => {
+                    again = Some(Again::Whole);
                     not_compiled("the program needs to be read whole")
+                }
+                Ok(Streamed::Rescan) => {
+                    again = Some(Again::Rescan);
+                    not_compiled("the file needs to be scanned whole")
                 }
                 Err(e) => {
                     read_error = Some(e);
@@ -699,7 +714,7 @@ fn compile_job(
             // Held in an unnamed file (memory bounded as with `-o`); with
             // no temporary file to be had, compiled whole into memory.
             let Ok(file) = tempfile::tempfile() else {
-                return None;
+                return Err(Again::Whole);
             };
             let file = held.insert(file);
             compile(file)
@@ -721,12 +736,15 @@ fn compile_job(
     // A temporary file that could not be written (a full `/tmp`): the
     // program is compiled again, into memory.
     let held_failed = held.is_some() && report.write_error.is_some();
-    if whole || (held_failed && read_error.is_none()) {
-        return None;
+    if let Some(again) = again {
+        return Err(again);
+    }
+    if held_failed && read_error.is_none() {
+        return Err(Again::Whole);
     }
     if let Some(e) = read_error {
         eprintln!("error: cannot read `{input}`: {e}");
-        return Some(ExitCode::from(2));
+        return Ok(ExitCode::from(2));
     }
     if streamed.is_some() && !report.diagnostics.is_empty() {
         // The diagnostics show the lines they are about, read again.
@@ -740,7 +758,7 @@ fn compile_job(
     }
     let sources = &job.sources;
     if let Some(code) = reported(sources, &report, options, started) {
-        return Some(code);
+        return Ok(code);
     }
     if write && output.is_none() {
         let written = match held {
@@ -752,10 +770,10 @@ fn compile_job(
         };
         if let Err(e) = written {
             eprintln!("error: cannot write output: {e}");
-            return Some(ExitCode::from(2));
+            return Ok(ExitCode::from(2));
         }
     }
-    Some(ExitCode::SUCCESS)
+    Ok(ExitCode::SUCCESS)
 }
 
 /// Print a compile's diagnostics (and `--timings`); the exit code when it
@@ -784,13 +802,15 @@ fn reported(
 }
 
 /// A program file that can be compiled from the file itself, a part at a
-/// time ([`ger::compile::scan_file`]), with the metadata it had when it was
-/// read through: a regular file (a pipe cannot be read twice) whose
+/// time, as `scan` found it ([`ger::compile::scan_path`], or
+/// [`ger::compile::first_look`]), with the metadata it had when it was
+/// scanned: a regular file (a pipe cannot be read twice) whose
 /// subroutine folders need no reading. `None`: compile it whole.
 fn streamable(
     input: &str,
     options: &Options,
     stage: Option<Stage>,
+    scan: fn(&Path) -> std::io::Result<Option<ger::compile::FileScan>>,
 ) -> Option<(ger::compile::FileScan, std::fs::Metadata)> {
     let before = std::fs::metadata(input).ok()?;
     if input == "-"
@@ -800,7 +820,7 @@ fn streamable(
     {
         return None;
     }
-    let scan = ger::compile::scan_path(Path::new(input)).ok()??;
+    let scan = scan(Path::new(input)).ok()??;
     Some((scan, before))
 }
 
@@ -817,16 +837,16 @@ fn compile_from_file(
     options: &CompileOptions,
     wizards: Option<&mut dyn ger::eval::WizardHost>,
     out: &mut (dyn Write + Send),
-) -> std::io::Result<Option<Report>> {
+) -> std::io::Result<Streamed> {
     let mut reader = open_input(input)?;
     let compiled =
         ger::compile::compile_file(&mut reader, input, file, *scan, options, wizards, out)?;
-    let Some(report) = compiled else {
-        return Ok(None);
+    let Streamed::Compiled(report) = compiled else {
+        return Ok(compiled);
     };
     let stamp = |m: &std::fs::Metadata| (m.len(), m.modified().ok());
     match std::fs::metadata(input)? {
-        now if stamp(&now) == stamp(before) => Ok(Some(report)),
+        now if stamp(&now) == stamp(before) => Ok(Streamed::Compiled(report)),
         _ => Err(std::io::Error::other("it changed while it was compiled")),
     }
 }

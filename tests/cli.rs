@@ -470,6 +470,64 @@ fn a_plain_program_compiled_to_a_file_is_read_in_parts() {
     }
 }
 
+/// A file is read once: its first lines (about 256 KB) say how its
+/// numbers are printed, and each part after them is checked as it is read
+/// (`compile::first_look`). One found otherwise far into it (a number
+/// with more decimals, in a word or a comment, a lone CR, a control
+/// character) is scanned whole and compiled again: the same bytes, the
+/// same diagnostics and exit code as a whole read, said once.
+#[test]
+fn a_file_not_as_its_first_lines_said_is_compiled_again() {
+    let dir = scratch("first-look");
+    let mut text = String::from("G21 G90 G17\nG64 P0.01\nG0 X0 Y0 Z2\nG1 Z-1 F300\n");
+    for i in 0..30_000 {
+        let x = i as f64 * 0.01;
+        text.push_str(&format!("G1 X{x:.3} Y{:.3}\n", (i % 7) as f64));
+    }
+    text.push_str("G0 Z5\nM30\n");
+    assert!(text.len() > 2 * (1 << 18), "{}", text.len());
+    // Line 29,005 of 30,006.
+    let late = |line: &str| {
+        assert!(text.contains("\nG1 X290.000 Y6.000\n"));
+        text.replacen("\nG1 X290.000 Y6.000\n", line, 1)
+    };
+    let cases = [
+        ("as_its_start.ngc", text.clone(), "X290. Y6."),
+        (
+            "decimals.ngc",
+            late("\nG1 X290.12345 Y6\n"),
+            "X290.12345 Y6.",
+        ),
+        (
+            "comment.ngc",
+            late("\nG1 X290 Y6 (X0.1234567)\n"),
+            "X290. Y6.",
+        ),
+        ("lone_cr.ngc", late("\nG1 X290\rY6.00001\n"), "Y6.00001"),
+        ("control.ngc", late("\nG1 X290 Y6 \u{1}\n"), ""),
+    ];
+    for (name, text, printed) in cases {
+        std::fs::write(dir.join(name), &text).unwrap();
+        let whole = ger_whole(&["compile", name], &dir);
+        let shown = String::from_utf8_lossy(&whole.stdout);
+        assert!(shown.contains(printed), "{name}: {printed}");
+        std::fs::remove_file(dir.join("out.nc")).ok();
+        let to_file = ger(&["compile", name, "-o", "out.nc"], &dir);
+        let written = std::fs::read(dir.join("out.nc")).unwrap_or_default();
+        assert!(written == whole.stdout, "{name}");
+        let to_stdout = ger(&["compile", name], &dir);
+        assert!(to_stdout.stdout == whole.stdout, "{name}");
+        for other in [&to_file, &to_stdout, &ger(&["check", name], &dir)] {
+            assert_eq!(other.status.code(), whole.status.code(), "{name}");
+            assert_eq!(
+                String::from_utf8_lossy(&other.stderr),
+                String::from_utf8_lossy(&whole.stderr),
+                "{name}"
+            );
+        }
+    }
+}
+
 /// An output of megabytes, synced to the disk while it is written (each
 /// megabyte, on a thread), or held aside for standard output: what a whole
 /// read gives.

@@ -442,7 +442,8 @@ fn from_reader(
             engine,
             &mut out,
         )
-        .unwrap()?;
+        .unwrap()
+        .compiled()?;
         sources.set_text(file, text.to_string());
         let output = String::from_utf8(out).unwrap();
         Some(format!(
@@ -515,6 +516,46 @@ fn a_file_scanned_in_halves_is_scanned_as_one() {
     );
 }
 
+/// `compile::first_look` reads a small file through (`scan_path`'s
+/// answer) and a large one's first lines only; a compile from a reader
+/// with that answer stops at a part that has more decimals
+/// (`Streamed::Rescan`), and with the whole scan's answer compiles.
+#[test]
+fn a_first_look_is_checked_part_by_part() {
+    use ger::compile::{compile_file, first_look, scan_path, Streamed};
+    let dir = std::env::temp_dir().join(format!("ger-first-look-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let path = dir.join("p.ngc");
+    let small = "G21 G1 X1.25 F100\nG1 X2.125\nM30\n";
+    std::fs::write(&path, small).unwrap();
+    assert_eq!(first_look(&path).unwrap(), scan_path(&path).unwrap());
+    let mut text = String::from("G21 G90\nG1 Z-1 F300\n");
+    for i in 0..40_000 {
+        text.push_str(&format!(
+            "G1 X{:.3} Y{:.2}\n",
+            i as f64 * 0.001,
+            (i % 9) as f64
+        ));
+    }
+    let late = format!("{text}G1 X1.12345\nM30\n");
+    std::fs::write(&path, &late).unwrap();
+    let first = first_look(&path).unwrap().expect("a plain file");
+    let whole = scan_path(&path).unwrap().expect("a plain file");
+    assert!(first.partial && !whole.partial);
+    assert_eq!((first.decimals, whole.decimals), (3, 5));
+    assert_eq!(first.len as u64, std::fs::metadata(&path).unwrap().len());
+    let compiled = |scan| {
+        let mut out = Vec::new();
+        let bytes = late.as_bytes();
+        let options = CompileOptions::default();
+        compile_file(&mut &bytes[..], "p.ngc", 0, scan, &options, None, &mut out).unwrap()
+    };
+    assert!(matches!(compiled(first), Streamed::Rescan));
+    let report = compiled(whole).compiled().expect("compiled");
+    assert!(report.succeeded(), "{:?}", report.diagnostics);
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
 /// A plain file read from a reader in parts (`compile::compile_file`)
 /// with a byte-order mark, CRLF line ends and Latin-1 comments (decoded
 /// line by line) gives what the decoded text compiled whole gives.
@@ -544,6 +585,7 @@ fn a_file_with_a_bom_and_latin1_lines_reads_in_parts_as_whole() {
             )
         })
         .unwrap()
+        .compiled()
         .expect("read in parts");
         assert!(report.succeeded(), "{:?}", report.diagnostics);
         assert_eq!(
