@@ -114,6 +114,8 @@ impl Report {
 struct Clock {
     last: Instant,
     timings: Vec<(&'static str, Duration)>,
+    /// Time the next lap spent on a stage reported apart.
+    inside: Duration,
 }
 
 impl Clock {
@@ -121,6 +123,7 @@ impl Clock {
         Clock {
             last: Instant::now(),
             timings: Vec::new(),
+            inside: Duration::ZERO,
         }
     }
 
@@ -132,11 +135,18 @@ impl Clock {
     /// its own time without them.
     fn split(&mut self, stage: &'static str, parts: &[(&'static str, Duration)]) {
         let now = Instant::now();
-        let inner = parts.iter().map(|(_, d)| *d).sum::<Duration>();
+        let inner =
+            parts.iter().map(|(_, d)| *d).sum::<Duration>() + std::mem::take(&mut self.inside);
         self.timings
             .push((stage, (now - self.last).saturating_sub(inner)));
         self.timings.extend_from_slice(parts);
         self.last = now;
+    }
+
+    /// Time the next lap spends on a stage reported apart (the passes the
+    /// evaluator's thread runs, reported with the lowering).
+    fn ran_inside(&mut self, took: Duration) {
+        self.inside += took;
     }
 
     /// Stages timed on another thread, at the same time as the last lap:
@@ -541,6 +551,7 @@ fn run<'a>(
     });
     diagnostics.extend(eval_diagnostics);
     drop(program);
+    clock.ran_inside(backend.lower_time_ahead);
     clock.lap("expand");
     Ok(finish_back_end(backend, diagnostics, clock))
 }
@@ -1337,6 +1348,7 @@ fn run_by_parts(
         names.forget_notes();
     }
     diagnostics.append(&mut parts.diagnostics);
+    clock.ran_inside(backend.lower_time_ahead);
     clock.split("expand", &[("parse", parts.time)]);
     // A syntax error (among `diagnostics` now) stops the compile: what the
     // evaluator said of the parts before it is not reported.
@@ -1358,9 +1370,26 @@ struct Backend<'s> {
     write_error: Option<std::io::Error>,
     /// Made by the first batch, when the setup and units are known.
     started: Option<Started>,
+    /// How many of the passes the evaluator's thread runs before it hands
+    /// a batch on ([`PASSES_AHEAD`]); the back end runs the others.
+    ahead: usize,
+    /// Those passes, given back when the program has been lowered (for
+    /// their diagnostics).
+    lowered_ahead: Option<Pipeline>,
+    /// The time those passes took (in `lower_time` too), inside the
+    /// evaluator's.
+    lower_time_ahead: Duration,
     lower_time: Duration,
     emit_time: Duration,
 }
+
+/// The passes the evaluator's thread runs when the back end has a thread
+/// of its own: units, polar, offsets and cycles. A program runs as fast as
+/// the slower of the two threads; on a plain program the back end was the
+/// slower, with 57 % of the samples (`perf`, the 2M program; 2026-11-28),
+/// the evaluator waiting on it. Measured against none, two and three
+/// ahead in ARCHITECTURE.md ("Streaming").
+const PASSES_AHEAD: usize = 4;
 
 struct Started {
     /// `None` for `--stage expand`.
@@ -1389,30 +1418,54 @@ impl<'s> Backend<'s> {
             out,
             write_error: None,
             started: None,
+            ahead: 0,
+            lowered_ahead: None,
+            lower_time_ahead: Duration::ZERO,
             lower_time: Duration::ZERO,
             emit_time: Duration::ZERO,
         }
     }
 
-    fn started(&self, start: &ir::Start) -> Started {
-        let (len, file) = (self.source.len(), self.file);
-        let last = match self.options.stage {
+    /// The last pass to run, if any.
+    fn last_pass(&self) -> Option<usize> {
+        match self.options.stage {
             Some(Stage::Lower(pass)) => Some(pass),
             Some(Stage::Parse | Stage::Expand) => None,
             None => Some(lower::PASSES.len() - 1),
+        }
+    }
+
+    /// How the passes lower.
+    fn lower_options(&self) -> lower::LowerOptions {
+        match self.out {
+            // A tool path is built from moves: cycles are always expanded
+            // and compensation resolved.
+            Output::Path(_) => lower::LowerOptions {
+                keep_cycles: false,
+                keep_comp: false,
+                ..self.options.lower.clone()
+            },
+            _ => self.options.lower.clone(),
+        }
+    }
+
+    /// The passes the evaluator's thread is to run ([`PASSES_AHEAD`], and
+    /// none past the last), and their options.
+    fn ahead(&self) -> (usize, lower::LowerOptions) {
+        let passes = self
+            .last_pass()
+            .map_or(0, |last| PASSES_AHEAD.min(last + 1));
+        (passes, self.lower_options())
+    }
+
+    fn started(&self, start: &ir::Start) -> Started {
+        let (len, file) = (self.source.len(), self.file);
+        let last = self.last_pass();
+        let options = self.lower_options();
+        let context = lower::Context {
+            start,
+            options: &options,
         };
-        // A tool path is built from moves: cycles are always expanded and
-        // compensation resolved.
-        let path_options = lower::LowerOptions {
-            keep_cycles: false,
-            keep_comp: false,
-            ..self.options.lower.clone()
-        };
-        let options = match self.out {
-            Output::Path(_) => &path_options,
-            _ => &self.options.lower,
-        };
-        let context = lower::Context { start, options };
         // What the first pass starts from is what is printed, unless the
         // units pass has run.
         let units = match last {
@@ -1420,7 +1473,7 @@ impl<'s> Backend<'s> {
             _ => start.program_units,
         };
         Started {
-            lowering: last.map(|last| Pipeline::new(&context, last)),
+            lowering: last.map(|last| Pipeline::new(&context, self.ahead..last + 1)),
             printer: match self.options.stage {
                 _ if matches!(self.out, Output::Path(_)) => {
                     Printer::Path(Box::new(ToolPathBuilder::new(units, &start.setup)))
@@ -1455,13 +1508,22 @@ impl<'s> Backend<'s> {
             return (Vec::new(), written);
         };
         let mut diagnostics = Vec::new();
+        // The evaluator's passes come first: after one failed, nothing of
+        // the later ones is reported (as with [`Pipeline::diagnostics`]).
+        if let Some(ahead) = self.lowered_ahead {
+            let failed = ahead.failed();
+            diagnostics = ahead.diagnostics();
+            if failed {
+                return (diagnostics, written);
+            }
+        }
         if let Some(mut lowering) = lowering {
             lowering.finish(&mut |rest| {
                 printer.print(rest);
                 rest.clear();
             });
             let failed = lowering.failed();
-            diagnostics = lowering.diagnostics();
+            diagnostics.extend(lowering.diagnostics());
             if failed {
                 return (diagnostics, written);
             }
@@ -1619,9 +1681,12 @@ impl Printer {
 /// the two. The order of everything is the one thread's order. Where no
 /// thread can be started, both run on this one.
 fn on_two_threads<'s, R>(
-    backend: Backend<'s>,
+    mut backend: Backend<'s>,
     front: impl FnOnce(&mut dyn ir::Sink) -> R,
 ) -> (R, Backend<'s>) {
+    // The first passes run on the evaluator's thread, if there are two.
+    let (ahead, lower_options) = backend.ahead();
+    backend.ahead = ahead;
     let backend = Mutex::new(backend);
     let slot = &backend;
     let result = std::thread::scope(|scope| {
@@ -1643,15 +1708,29 @@ fn on_two_threads<'s, R>(
                 }
             });
         let Ok(back) = back else {
-            // One thread: it runs the back end too.
+            // One thread: it runs the back end, every pass, too.
             let mut backend = slot.lock().unwrap_or_else(PoisonError::into_inner);
+            backend.ahead = 0;
             return front(&mut *backend);
         };
-        let result = front(&mut Handoff { to_back, spare });
+        let mut handoff = Handoff {
+            to_back,
+            spare,
+            ahead,
+            lower_options,
+            lowering: None,
+            lower_time: Duration::ZERO,
+        };
+        let result = front(&mut handoff);
+        let (lowering, lower_time) = handoff.finish();
         // The hand-off is gone: the back end has seen the last batch.
         if let Err(panic) = back.join() {
             std::panic::resume_unwind(panic);
         }
+        let mut backend = slot.lock().unwrap_or_else(PoisonError::into_inner);
+        backend.lowered_ahead = lowering;
+        backend.lower_time += lower_time;
+        backend.lower_time_ahead = lower_time;
         result
     });
     (
@@ -1669,26 +1748,75 @@ enum Handed {
     Batch(Vec<ir::Stmt>),
 }
 
-/// The evaluator's end of [`on_two_threads`]: it hands each batch on.
+/// The evaluator's end of [`on_two_threads`]: it runs the first `ahead`
+/// passes on each batch and hands what comes out on.
 struct Handoff {
     to_back: mpsc::SyncSender<Handed>,
     /// Emptied batches coming back, to be filled again.
     spare: mpsc::Receiver<Vec<ir::Stmt>>,
+    ahead: usize,
+    lower_options: lower::LowerOptions,
+    /// Those passes, made when the program starts.
+    lowering: Option<Pipeline>,
+    lower_time: Duration,
+}
+
+impl Handoff {
+    /// The end of the program: the passes flush what they hold back.
+    /// Returns them (for their diagnostics) and the time they took.
+    fn finish(mut self) -> (Option<Pipeline>, Duration) {
+        if let Some(lowering) = &mut self.lowering {
+            let (t0, mut handing) = (Instant::now(), Duration::ZERO);
+            let (to_back, spare) = (&self.to_back, &self.spare);
+            lowering.finish(&mut |lowered| handing += hand_on(to_back, spare, lowered));
+            self.lower_time += t0.elapsed().saturating_sub(handing);
+        }
+        (self.lowering, self.lower_time)
+    }
+}
+
+/// Send `stmts` to the back end, and leave an empty batch in their place;
+/// the time it took (waiting while the back end is behind).
+fn hand_on(
+    to_back: &mpsc::SyncSender<Handed>,
+    spare: &mpsc::Receiver<Vec<ir::Stmt>>,
+    stmts: &mut Vec<ir::Stmt>,
+) -> Duration {
+    let t0 = Instant::now();
+    let empty = spare
+        .try_recv()
+        .unwrap_or_else(|_| Vec::with_capacity(stmts.capacity()));
+    let full = std::mem::replace(stmts, empty);
+    let _ = to_back.send(Handed::Batch(full));
+    t0.elapsed()
 }
 
 impl ir::Sink for Handoff {
     fn start(&mut self, start: &ir::Start) {
+        if self.ahead > 0 {
+            let context = lower::Context {
+                start,
+                options: &self.lower_options,
+            };
+            self.lowering = Some(Pipeline::new(&context, 0..self.ahead));
+        }
         let _ = self.to_back.send(Handed::Start(Box::new(start.clone())));
     }
 
-    /// Send the batch to the back end, and leave an empty one in its place.
+    /// Lower the batch through the passes ahead (if any) and send what
+    /// comes out to the back end, leaving an empty batch in its place.
     fn batch(&mut self, batch: &mut Vec<ir::Stmt>) {
-        let empty = self
-            .spare
-            .try_recv()
-            .unwrap_or_else(|_| Vec::with_capacity(batch.capacity()));
-        let full = std::mem::replace(batch, empty);
-        let _ = self.to_back.send(Handed::Batch(full));
+        let (to_back, spare) = (&self.to_back, &self.spare);
+        match &mut self.lowering {
+            Some(lowering) => {
+                let (t0, mut handing) = (Instant::now(), Duration::ZERO);
+                lowering.run(batch, &mut |lowered| handing += hand_on(to_back, spare, lowered));
+                self.lower_time += t0.elapsed().saturating_sub(handing);
+            }
+            None => {
+                hand_on(to_back, spare, batch);
+            }
+        }
     }
 }
 

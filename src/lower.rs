@@ -256,9 +256,11 @@ pub struct Pipeline {
 }
 
 impl Pipeline {
-    /// The passes of [`PASSES`] up to and including index `last`.
-    pub fn new(context: &Context<'_>, last: usize) -> Pipeline {
-        let passes: Vec<(Box<dyn Pass>, Problems)> = PASSES[..=last.min(PASSES.len() - 1)]
+    /// The passes of [`PASSES`] in `range` (those up to index `last`:
+    /// `0..last + 1`).
+    pub fn new(context: &Context<'_>, range: std::ops::Range<usize>) -> Pipeline {
+        let end = range.end.min(PASSES.len());
+        let passes: Vec<(Box<dyn Pass>, Problems)> = PASSES[range.start.min(end)..end]
             .iter()
             .map(|p| ((p.make)(context), Problems::default()))
             .collect();
