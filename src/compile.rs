@@ -1026,13 +1026,19 @@ const FIRST_LOOK: u64 = 1 << 18;
 /// CAM writes its numbers with as many decimals throughout; one with more
 /// further on is compiled again, after the whole scan.
 pub fn first_look(path: &std::path::Path) -> std::io::Result<Option<FileScan>> {
+    first_look_within(path, FIRST_LOOK)
+}
+
+/// [`first_look`] with `most` bytes for [`FIRST_LOOK`] (for the tests: the
+/// first block, about 16 KB of lines, is always read).
+pub fn first_look_within(path: &std::path::Path, most: u64) -> std::io::Result<Option<FileScan>> {
     let size = std::fs::metadata(path)?.len();
-    if size <= FIRST_LOOK {
+    if size <= most {
         return scan_path(path);
     }
     let file = std::fs::File::open(path)?;
     let mut reader = std::io::BufReader::with_capacity(1 << 16, file);
-    let scan = scan_blocks(RawBlocks::new(&mut reader), FIRST_LOOK as usize)?;
+    let scan = scan_blocks(RawBlocks::new(&mut reader), most as usize)?;
     Ok(scan.map(|scan| FileScan {
         len: size as usize,
         partial: true,
@@ -1810,7 +1816,9 @@ impl ir::Sink for Handoff {
         match &mut self.lowering {
             Some(lowering) => {
                 let (t0, mut handing) = (Instant::now(), Duration::ZERO);
-                lowering.run(batch, &mut |lowered| handing += hand_on(to_back, spare, lowered));
+                lowering.run(batch, &mut |lowered| {
+                    handing += hand_on(to_back, spare, lowered)
+                });
                 self.lower_time += t0.elapsed().saturating_sub(handing);
             }
             None => {

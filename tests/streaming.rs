@@ -556,6 +556,109 @@ fn a_first_look_is_checked_part_by_part() {
     std::fs::remove_dir_all(&dir).unwrap();
 }
 
+/// A line of a made-up file for [`a_file_read_once_is_compiled_as_read_whole`]:
+/// the `n`th point of a path, as a move with one to six decimals, or an arc
+/// by its radius (whose centre is worked out, and printed on the output's
+/// grid), and lines with words in comments, CRLF and lone CR line ends,
+/// control characters, Latin-1 bytes.
+fn made_up_line(kind: u8, n: u32) -> Vec<u8> {
+    let x = f64::from(n % 1000) * 0.125;
+    let y = x / 4.0;
+    let line = match kind {
+        0 => format!("G1 X{x:.1} Y{y:.2}\n"),
+        1..=4 => format!("G1 X{x:.3} Y{y:.3}\n"),
+        5 => format!("G1 X{x:.4} Y{y:.4}\n"),
+        6 => format!("G1 X{x:.3} Y{y:.3} Z-{:.5}\n", x / 7.0),
+        7 => format!("G1 X{x:.3} Y{y:.3} (X{:.7} at {n})\n", x / 9.0),
+        8 => format!("G1 X{x:.3} Y{y:.3}\r\n"),
+        9 => format!("G1 X{x:.2}\rY{y:.6}\n"),
+        10 => format!("G1 X{x} Y{y} \u{1}\n"),
+        11 => {
+            return [
+                b"(caf\xe9)".as_slice(),
+                format!("G1 X{x:.4} Y{y}\n").as_bytes(),
+            ]
+            .concat()
+        }
+        // As a CAM program writes them: three decimals throughout.
+        _ if n % 10 == 5 => format!("G2 X{x:.3} Y{y:.3} R5\n"),
+        _ => format!("G1 X{x:.3} Y{y:.3} F300\n"),
+    };
+    line.into_bytes()
+}
+
+proptest::proptest! {
+    #![proptest_config(proptest::prelude::ProptestConfig::with_cases(64))]
+
+    /// A file compiled from its file after a first look at its first lines
+    /// (`compile::first_look_within`; checked part by part, scanned whole
+    /// and compiled again when a part is not as they said, as `ger` does)
+    /// gives what its decoded text compiled whole gives, or is refused and
+    /// read whole where the whole scan refuses it.
+    #[test]
+    fn a_file_read_once_is_compiled_as_read_whole(
+        // A rare kind, at some line, in a file of moves.
+        rare in proptest::collection::vec((0u8..12, 0usize..3000), 0..4),
+        lines in 1500usize..3000,
+        part in proptest::sample::select(vec![40usize, 4096, 16384]),
+    ) {
+        use ger::compile::{compile_file, first_look_within, scan_path, Streamed};
+        let mut bytes = b"G21 G90 G17\nG0 X0 Y0 Z2\nG1 Z-1 F300\n".to_vec();
+        for n in 0..lines {
+            let kind = rare.iter().find(|(_, at)| *at == n).map_or(12, |(k, _)| *k);
+            bytes.extend(made_up_line(kind, n as u32));
+        }
+        bytes.extend_from_slice(b"M30\n");
+        let dir = std::env::temp_dir().join(format!("ger-read-once-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let path = dir.join("p.ngc");
+        std::fs::write(&path, &bytes).unwrap();
+        let text = ger::source::decode(bytes.clone()).unwrap_or_default();
+        let shown = |sources: &Sources, out: Vec<u8>, report: &ger::compile::Report| {
+            let out = if report.succeeded() { String::from_utf8(out).unwrap() } else { String::new() };
+            (out, render(sources, &report.diagnostics))
+        };
+        let mut sources = Sources::new();
+        let file = sources.add("p.ngc", text.clone());
+        let whole = {
+            let mut out = Vec::new();
+            let report = ger::compile::compile_to(&sources, file, &CompileOptions::default(), None, &mut out);
+            shown(&sources, out, &report)
+        };
+        let streamed = |scan| {
+            let mut out = Vec::new();
+            let compiled = ger::syntax::egc::chunk::with_part_size(Some(part), || {
+                compile_file(&mut &bytes[..], "p.ngc", file, scan, &CompileOptions::default(), None, &mut out)
+            });
+            (compiled.unwrap(), out)
+        };
+        let first = first_look_within(&path, 1).unwrap();
+        let exact = scan_path(&path).unwrap();
+        std::fs::remove_dir_all(&dir).unwrap();
+        let Some(first) = first else {
+            // Refused from its first lines: the whole scan refuses it too.
+            proptest::prop_assert!(exact.is_none());
+            return Ok(());
+        };
+        let read = match streamed(first) {
+            (Streamed::Compiled(report), out) => Some((report, out)),
+            (Streamed::Rescan, _) => exact.map(|exact| match streamed(exact) {
+                (Streamed::Compiled(report), out) => (report, out),
+                _ => panic!("the whole scan's answer compiles"),
+            }),
+            (Streamed::Whole, _) => panic!("a plain program is never read whole"),
+        };
+        match read {
+            Some((report, out)) => {
+                proptest::prop_assert!(exact.is_some(), "compiled where the whole scan refuses");
+                proptest::prop_assert_eq!(shown(&sources, out, &report), whole);
+            }
+            // Read whole, as `ger` then does.
+            None => proptest::prop_assert!(exact.is_none()),
+        }
+    }
+}
+
 /// A plain file read from a reader in parts (`compile::compile_file`)
 /// with a byte-order mark, CRLF line ends and Latin-1 comments (decoded
 /// line by line) gives what the decoded text compiled whole gives.
