@@ -1008,12 +1008,25 @@ pub struct FileScan {
 }
 
 impl FileScan {
-    /// Whether a file whose numbers have `decimals` at most is printed as
-    /// one with `self.decimals` (the printer's grid: the most decimals, at
-    /// least 3 or 4 by the units, at most 6).
+    /// Whether a file that also has numbers with `decimals` is printed as
+    /// this one ([`grid_decimals`], in either units).
     fn prints_as(&self, decimals: usize) -> bool {
-        decimals.min(6) <= self.decimals.max(3)
+        let most = self.decimals.max(decimals);
+        [Some(ir::Units::Mm), Some(ir::Units::Inch)]
+            .into_iter()
+            .all(|units| grid_decimals(most, units) == grid_decimals(self.decimals, units))
     }
+}
+
+/// The output's decimals for an input whose numbers have `most` at most
+/// (SPEC §6): as many, at least 3 for mm and 4 for inch (or units not
+/// stated), at most 6.
+fn grid_decimals(most: usize, units: Option<ir::Units>) -> usize {
+    let least = match units {
+        Some(ir::Units::Mm) => 3,
+        Some(ir::Units::Inch) | None => 4,
+    };
+    most.clamp(least, 6)
 }
 
 /// The bytes [`first_look`] reads of a file larger than this: its whole
@@ -1486,15 +1499,9 @@ impl<'s> Backend<'s> {
                 }
                 Some(_) => Printer::Stage(emit::StagePrinter::new(units, len, file)),
                 None => {
-                    // SPEC §6: as many decimals as the input's most precise
-                    // coordinate, at least 3 for mm and 4 for inch, at most 6.
                     let mut emit = self.options.emit.clone();
                     if emit.decimals.is_none() {
-                        let least = match units {
-                            Some(ir::Units::Mm) => 3,
-                            Some(ir::Units::Inch) | None => 4,
-                        };
-                        emit.decimals = Some(self.source.decimals().clamp(least, 6));
+                        emit.decimals = Some(grid_decimals(self.source.decimals(), units));
                     }
                     Printer::Program(Box::new(emit::ProgramPrinter::new(&emit, units, len, file)))
                 }

@@ -54,6 +54,14 @@ pub struct EvalOptions {
     pub plain: bool,
 }
 
+impl EvalOptions {
+    /// LinuxCNC's macro language read as rs274 reads it: plain G-code not
+    /// read as Fanuc's (its trigonometry, its named parameters).
+    fn rs274(&self) -> bool {
+        self.plain && self.from != Flavour::Fanuc
+    }
+}
+
 /// The controller family a program was written for (`--from`, SPEC §1):
 /// it settles the codes controllers read differently.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
@@ -407,7 +415,7 @@ impl<'a> Evaluator<'a> {
                 numbered_parameters(&names, options.from),
                 &names,
                 options.from == Flavour::Fanuc,
-                options.plain && options.from != Flavour::Fanuc,
+                options.rs274(),
             ),
             messages: 0,
             changes: 0,
@@ -1148,8 +1156,7 @@ impl<'a> Evaluator<'a> {
                 // rs274 makes a named parameter (0) as it reads its
                 // assignment: the rest of the line reads it as 0 if it had
                 // no value (`#<n> = [#<n> + 1]` sets 1).
-                if self.options.plain
-                    && self.options.from != Flavour::Fanuc
+                if self.options.rs274()
                     && self.vars[name.0 as usize] == Slot::Unset
                     && self.names.text(*name).starts_with("#<")
                 {
