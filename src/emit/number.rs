@@ -84,6 +84,11 @@ pub fn push_fixed_bytes(out: &mut Vec<u8>, v: f64, decimals: usize) {
 /// trailing zeros dropped first), the point, the integer's digits (at least
 /// one) and the sign; then copied once.
 pub fn push_scaled(out: &mut Vec<u8>, q: i64, decimals: usize) {
+    // A millimetre program's numbers: three decimals, under a thousand.
+    let n = q.unsigned_abs();
+    if decimals == 3 && n < 1_000_000 {
+        return push_thousandths(out, n, q < 0);
+    }
     // The usual decimals as constants: their divisions become multiplications.
     match decimals {
         3 => push_scaled_by(out, q, 3),
@@ -94,6 +99,84 @@ pub fn push_scaled(out: &mut Vec<u8>, q: i64, decimals: usize) {
         _ => push_scaled_by(out, q, decimals),
     }
 }
+
+/// `n` thousandths (under a million), negative or not, as
+/// [`push_scaled_by`] writes it: its integer and its fraction looked up
+/// in [`INTEGERS`] and [`FRACTIONS`], and put together in a register, a
+/// byte each, then stored at once (no digit is computed, and nothing just
+/// stored is read back).
+#[inline]
+fn push_thousandths(out: &mut Vec<u8>, n: u64, negative: bool) {
+    let (integer, fraction) = ((n / 1000) as usize % 1000, (n % 1000) as usize);
+    let (integer, fraction) = (INTEGERS[integer], FRACTIONS[fraction]);
+    let mut text = if negative { u64::from(b'-') } else { 0 };
+    let mut len = u64::from(negative);
+    text |= (integer & TEXT) << (8 * len);
+    len += integer >> 56;
+    text |= (fraction & TEXT) << (8 * len);
+    len += fraction >> 56;
+    // At most 8 bytes: the sign, three digits, the point and three more.
+    let at = out.len();
+    out.extend_from_slice(&text.to_le_bytes());
+    out.truncate(at + len as usize);
+}
+
+/// The text bytes of an entry of [`INTEGERS`] or [`FRACTIONS`]; its top
+/// byte is their count.
+const TEXT: u64 = (1 << 56) - 1;
+
+/// 0 to 999 in digits (`0`, `7`, `42`, `999`), a byte each from the
+/// lowest, and their count in the top byte.
+const INTEGERS: [u64; 1000] = {
+    let mut table = [0u64; 1000];
+    let mut n = 0;
+    while n < 1000 {
+        let digits = [(n / 100) as u64, (n / 10 % 10) as u64, (n % 10) as u64];
+        let first = if n >= 100 {
+            0
+        } else if n >= 10 {
+            1
+        } else {
+            2
+        };
+        let (mut text, mut len, mut i) = (0u64, 0u64, first);
+        while i < 3 {
+            text |= (b'0' as u64 + digits[i]) << (8 * len);
+            len += 1;
+            i += 1;
+        }
+        table[n] = text | len << 56;
+        n += 1;
+    }
+    table
+};
+
+/// The point and 0 to 999 thousandths, trailing zeros dropped (`.`,
+/// `.5`, `.25`, `.125`, `.007`), as [`INTEGERS`] holds its text.
+const FRACTIONS: [u64; 1000] = {
+    let mut table = [0u64; 1000];
+    let mut n = 0;
+    while n < 1000 {
+        let digits = [(n / 100) as u64, (n / 10 % 10) as u64, (n % 10) as u64];
+        let width = if n == 0 {
+            0
+        } else if n % 100 == 0 {
+            1
+        } else if n % 10 == 0 {
+            2
+        } else {
+            3
+        };
+        let (mut text, mut i) = (b'.' as u64, 0);
+        while i < width {
+            text |= (b'0' as u64 + digits[i]) << (8 * (i + 1));
+            i += 1;
+        }
+        table[n] = text | ((width as u64 + 1) << 56);
+        n += 1;
+    }
+    table
+};
 
 #[inline(always)]
 fn push_scaled_by(out: &mut Vec<u8>, q: i64, decimals: usize) {
@@ -185,6 +268,25 @@ mod tests {
             let v = (unit - 0.5) * 10f64.powi((i % 13) as i32 - 4);
             let d = i % 10;
             assert_eq!(fixed(v, d), reference(v, d), "{v} with {d} decimals");
+        }
+    }
+
+    /// Every number of thousandths the tables write, both signs, as the
+    /// digits computed write it.
+    #[test]
+    fn thousandths_from_the_tables_are_the_computed_digits() {
+        let (mut tables, mut computed) = (Vec::new(), Vec::new());
+        for n in 0..1_000_000u64 {
+            for negative in [false, n > 0] {
+                tables.clear();
+                computed.clear();
+                tables.push(b'X');
+                computed.push(b'X');
+                super::push_thousandths(&mut tables, n, negative);
+                let q = if negative { -(n as i64) } else { n as i64 };
+                super::push_scaled_by(&mut computed, q, 3);
+                assert_eq!(tables, computed, "{q}");
+            }
         }
     }
 
