@@ -121,6 +121,47 @@ fn push_thousandths(out: &mut Vec<u8>, n: u64, negative: bool) {
     out.truncate(at + len as usize);
 }
 
+/// `N<line> `, the word of a source line: from the tables, as
+/// [`push_thousandths`] writes a number, up to 999,999.
+pub fn push_line_word(out: &mut Vec<u8>, line: u32) {
+    if line >= 1_000_000 {
+        out.push(b'N');
+        push_int(out, i64::from(line));
+        out.push(b' ');
+        return;
+    }
+    let (thousands, rest) = ((line / 1000) as usize, (line % 1000) as usize);
+    let digits = if thousands == 0 {
+        INTEGERS[rest]
+    } else {
+        let high = INTEGERS[thousands];
+        let len = high >> 56;
+        (high & TEXT) | u64::from(PADDED[rest]) << (8 * len) | (len + 3) << 56
+    };
+    let len = digits >> 56;
+    // At most 8 bytes: `N`, six digits, the space.
+    let text = u64::from(b'N') | (digits & TEXT) << 8 | u64::from(b' ') << (8 * (len + 1));
+    let at = out.len();
+    out.extend_from_slice(&text.to_le_bytes());
+    out.truncate(at + len as usize + 2);
+}
+
+/// 0 to 999 in three digits (`000`, `042`), a byte each from the lowest.
+const PADDED: [u32; 1000] = {
+    let mut table = [0u32; 1000];
+    let mut n = 0;
+    while n < 1000 {
+        let digits = [n / 100, n / 10 % 10, n % 10];
+        let mut i = 0;
+        while i < 3 {
+            table[n] |= (b'0' as u32 + digits[i] as u32) << (8 * i);
+            i += 1;
+        }
+        n += 1;
+    }
+    table
+};
+
 /// The text bytes of an entry of [`INTEGERS`] or [`FRACTIONS`]; its top
 /// byte is their count.
 const TEXT: u64 = (1 << 56) - 1;

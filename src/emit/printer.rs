@@ -2,7 +2,7 @@
 //! time, and the spelling of every statement as written. It decides
 //! nothing about what to print; the stage and program printers do.
 
-use super::number::{push_fixed_bytes, push_int, push_scaled, round_to_int};
+use super::number::{push_fixed_bytes, push_int, push_line_word, push_scaled, round_to_int};
 use super::{Numbering, Target};
 use crate::ir::{self, ArcGeometry, CompRadius, Motion, Op, Passthrough, Units};
 use crate::source::Span;
@@ -21,90 +21,11 @@ pub(super) struct Printer {
     /// 10^decimals.
     scale: f64,
     main_file: u32,
-    /// The `N` words of source lines, made ahead.
-    line_numbers: LineNumbers,
     seq: u64,
     /// The arc plane as printed so far.
     pub plane: ir::Plane,
     /// The tool of the last T word, for targets that name it at M6.
     selected_tool: Option<u32>,
-}
-
-/// The `N` word of a source line (`N12 `), and the next line's, made as
-/// soon as this one's is used: most lines come one after another, and their
-/// word is then neither worked out again nor copied right after it was
-/// written (the copy would wait for the writes to finish).
-#[derive(Default)]
-struct LineNumbers {
-    words: [NWord; 2],
-    /// The one of `words` used last.
-    current: usize,
-}
-
-impl LineNumbers {
-    fn push(&mut self, out: &mut Vec<u8>, line: u32) {
-        let next = 1 - self.current;
-        if self.words[next].line == line {
-            self.current = next;
-        } else if self.words[self.current].line != line {
-            self.words[self.current] = NWord::of(line);
-        }
-        let word = &self.words[self.current];
-        out.extend_from_slice(&word.text[..word.len]);
-        // Counted up in place (a word made apart and copied would be read
-        // right after it was written).
-        let after = 1 - self.current;
-        self.words[after] = self.words[self.current];
-        self.words[after].count_up();
-    }
-}
-
-/// `N<line> `, written out.
-#[derive(Clone, Copy, Default)]
-struct NWord {
-    /// 0: none (source lines start at 1).
-    line: u32,
-    text: [u8; 16],
-    len: usize,
-}
-
-impl NWord {
-    fn of(line: u32) -> NWord {
-        let mut bytes = Vec::with_capacity(16);
-        bytes.push(b'N');
-        push_int(&mut bytes, i64::from(line));
-        bytes.push(b' ');
-        let mut text = [0; 16];
-        text[..bytes.len()].copy_from_slice(&bytes);
-        NWord {
-            line,
-            text,
-            len: bytes.len(),
-        }
-    }
-
-    /// Become the word of the line after: the last digit counted up, with
-    /// carries.
-    fn count_up(&mut self) {
-        let Some(line) = self.line.checked_add(1) else {
-            *self = NWord::default();
-            return;
-        };
-        self.line = line;
-        // The digits are text[1..len - 1].
-        let mut at = self.len - 2;
-        while at > 0 {
-            if self.text[at] == b'9' {
-                self.text[at] = b'0';
-                at -= 1;
-            } else {
-                self.text[at] += 1;
-                return;
-            }
-        }
-        // All nines: one digit more.
-        *self = NWord::of(line);
-    }
 }
 
 impl Printer {
@@ -136,7 +57,6 @@ impl Printer {
             decimals,
             scale: 10f64.powi(decimals as i32),
             main_file: main_file as u32,
-            line_numbers: LineNumbers::default(),
             seq: 0,
             plane: ir::Plane::XY,
             selected_tool: None,
@@ -173,7 +93,7 @@ impl Printer {
         }
         match self.numbering {
             Numbering::Source if span.file == self.main_file && span.line > 0 => {
-                self.line_numbers.push(&mut self.out, span.line);
+                push_line_word(&mut self.out, span.line);
             }
             Numbering::Seq => self.seq_number(),
             Numbering::Source | Numbering::None => {}
@@ -469,20 +389,23 @@ pub(super) fn motion_code(m: Motion) -> &'static str {
 
 #[cfg(test)]
 mod tests {
-    use super::LineNumbers;
+    use super::push_line_word;
 
-    /// Lines one after another (across carries and a digit more), the same
-    /// line again, jumps back and forth and the last line number: every
-    /// word as formatting the number writes it.
+    /// Lines one after another (across a digit more and a thousand), the
+    /// same line again, jumps back and forth, around each power of ten and
+    /// past the tables' million, and the last line number: every word as
+    /// formatting the number writes it.
     #[test]
     fn line_numbers_are_written_as_formatted() {
         let mut lines: Vec<u32> = (1..=1200).collect();
         lines.extend([1200, 1200, 5, 6, 9, 10, 9, 99, 100, 101, 999_999, 1_000_000]);
+        lines.extend([
+            10_000, 10_001, 100_000, 100_001, 123_456, 999_000, 999_001, 1_000_001,
+        ]);
         lines.extend([u32::MAX - 2, u32::MAX - 1, u32::MAX, u32::MAX, 1, 2]);
-        let mut numbers = LineNumbers::default();
         let (mut got, mut expected) = (Vec::new(), String::new());
         for line in lines {
-            numbers.push(&mut got, line);
+            push_line_word(&mut got, line);
             expected.push_str(&format!("N{line} "));
         }
         assert_eq!(String::from_utf8(got).unwrap(), expected);
