@@ -201,21 +201,15 @@ impl Evaluator<'_> {
         // each given once.
         let (mut given, mut values) = (0u8, [0.0; 7]);
         for w in args {
-            let slot = match w.letter() {
-                b'X' => 0,
-                b'Y' => 1,
-                b'Z' => 2,
-                b'F' => 3,
-                b'I' => 4,
-                b'J' => 5,
-                b'K' => 6,
-                b'N' => continue,
-                _ => return None,
+            let slot = match MOVE_SLOTS[usize::from(w.letter())] {
+                SKIP => continue,
+                OTHER => return None,
+                slot => slot,
             };
             match w.number() {
                 Some(n) if ir::is_length(n) && given & (1 << slot) == 0 => {
                     given |= 1 << slot;
-                    values[slot] = n;
+                    values[usize::from(slot)] = n;
                 }
                 _ => return None,
             }
@@ -972,6 +966,24 @@ fn axis_words_into(w: &mut WordValues, axes: &mut Axes) {
         }
     }
 }
+
+/// [`Evaluator::plain_move`]'s slot of each letter: X, Y, Z, F, I, J and
+/// K are 0 to 6, `N` is [`SKIP`]ped, any other is [`OTHER`] (looked up,
+/// not matched: a match on the letter is a jump the processor guesses
+/// wrong as often as the letters change).
+const MOVE_SLOTS: [u8; 256] = {
+    let mut slots = [OTHER; 256];
+    let letters = *b"XYZFIJK";
+    let mut i = 0;
+    while i < letters.len() {
+        slots[letters[i] as usize] = i as u8;
+        i += 1;
+    }
+    slots[b'N' as usize] = SKIP;
+    slots
+};
+const SKIP: u8 = 254;
+const OTHER: u8 = 255;
 
 #[cfg(test)]
 thread_local! {
