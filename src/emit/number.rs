@@ -89,6 +89,10 @@ pub fn push_scaled(out: &mut Vec<u8>, q: i64, decimals: usize) {
     if decimals == 3 && n < 1_000_000 {
         return push_thousandths(out, n, q < 0);
     }
+    // An inch program's: four decimals, under a hundred.
+    if decimals == 4 && n < 1_000_000 {
+        return push_ten_thousandths(out, n, q < 0);
+    }
     // The usual decimals as constants: their divisions become multiplications.
     match decimals {
         3 => push_scaled_by(out, q, 3),
@@ -116,6 +120,33 @@ fn push_thousandths(out: &mut Vec<u8>, n: u64, negative: bool) {
     text |= (fraction & TEXT) << (8 * len);
     len += fraction >> 56;
     // At most 8 bytes: the sign, three digits, the point and three more.
+    let at = out.len();
+    out.extend_from_slice(&text.to_le_bytes());
+    out.truncate(at + len as usize);
+}
+
+/// `n` ten-thousandths (under a hundred units), as [`push_thousandths`]
+/// writes thousandths: the first three decimals looked up as three, the
+/// fourth after them where it is not a zero.
+#[inline]
+fn push_ten_thousandths(out: &mut Vec<u8>, n: u64, negative: bool) {
+    let (integer, fraction) = ((n / 10_000) as usize % 1000, n % 10_000);
+    let (three, fourth) = ((fraction / 10) as usize, fraction % 10);
+    let fraction = if fourth == 0 {
+        FRACTIONS[three]
+    } else {
+        // The point, three digits and the fourth.
+        let digits = u64::from(PADDED[three]) | (u64::from(b'0') + fourth) << 24;
+        u64::from(b'.') | digits << 8 | 5 << 56
+    };
+    let integer = INTEGERS[integer];
+    let mut text = if negative { u64::from(b'-') } else { 0 };
+    let mut len = u64::from(negative);
+    text |= (integer & TEXT) << (8 * len);
+    len += integer >> 56;
+    text |= (fraction & TEXT) << (8 * len);
+    len += fraction >> 56;
+    // At most 8 bytes: the sign, two digits, the point and four more.
     let at = out.len();
     out.extend_from_slice(&text.to_le_bytes());
     out.truncate(at + len as usize);
@@ -326,6 +357,25 @@ mod tests {
                 super::push_thousandths(&mut tables, n, negative);
                 let q = if negative { -(n as i64) } else { n as i64 };
                 super::push_scaled_by(&mut computed, q, 3);
+                assert_eq!(tables, computed, "{q}");
+            }
+        }
+    }
+
+    /// Every number of ten-thousandths the tables write (under a hundred),
+    /// both signs, as the digits computed write it.
+    #[test]
+    fn ten_thousandths_from_the_tables_are_the_computed_digits() {
+        let (mut tables, mut computed) = (Vec::new(), Vec::new());
+        for n in 0..1_000_000u64 {
+            for negative in [false, n > 0] {
+                tables.clear();
+                computed.clear();
+                tables.push(b'X');
+                computed.push(b'X');
+                super::push_ten_thousandths(&mut tables, n, negative);
+                let q = if negative { -(n as i64) } else { n as i64 };
+                super::push_scaled_by(&mut computed, q, 4);
                 assert_eq!(tables, computed, "{q}");
             }
         }
