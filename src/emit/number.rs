@@ -80,7 +80,8 @@ pub fn push_fixed_bytes(out: &mut Vec<u8>, v: f64, decimals: usize) {
 }
 
 /// `q` × 10^-`decimals` (at most 18) as [`push_fixed_bytes`] writes it.
-/// Written right to left into one buffer: the fraction's digits (its
+/// The usual numbers from tables ([`push_thousandths`]); the others
+/// written right to left into one buffer: the fraction's digits (its
 /// trailing zeros dropped first), the point, the integer's digits (at least
 /// one) and the sign; then copied once.
 pub fn push_scaled(out: &mut Vec<u8>, q: i64, decimals: usize) {
@@ -111,18 +112,10 @@ pub fn push_scaled(out: &mut Vec<u8>, q: i64, decimals: usize) {
 /// stored is read back).
 #[inline]
 fn push_thousandths(out: &mut Vec<u8>, n: u64, negative: bool) {
+    // (Under a thousand already: the `%` spares the bounds check.)
     let (integer, fraction) = ((n / 1000) as usize % 1000, (n % 1000) as usize);
-    let (integer, fraction) = (INTEGERS[integer], FRACTIONS[fraction]);
-    let mut text = if negative { u64::from(b'-') } else { 0 };
-    let mut len = u64::from(negative);
-    text |= (integer & TEXT) << (8 * len);
-    len += integer >> 56;
-    text |= (fraction & TEXT) << (8 * len);
-    len += fraction >> 56;
     // At most 8 bytes: the sign, three digits, the point and three more.
-    let at = out.len();
-    out.extend_from_slice(&text.to_le_bytes());
-    out.truncate(at + len as usize);
+    push_number(out, negative, INTEGERS[integer], FRACTIONS[fraction]);
 }
 
 /// `n` ten-thousandths (under a hundred units), as [`push_thousandths`]
@@ -130,6 +123,7 @@ fn push_thousandths(out: &mut Vec<u8>, n: u64, negative: bool) {
 /// fourth after them where it is not a zero.
 #[inline]
 fn push_ten_thousandths(out: &mut Vec<u8>, n: u64, negative: bool) {
+    // (Under a hundred: the `%` spares the bounds check.)
     let (integer, fraction) = ((n / 10_000) as usize % 1000, n % 10_000);
     let (three, fourth) = ((fraction / 10) as usize, fraction % 10);
     let fraction = if fourth == 0 {
@@ -139,14 +133,21 @@ fn push_ten_thousandths(out: &mut Vec<u8>, n: u64, negative: bool) {
         let digits = u64::from(PADDED[three]) | (u64::from(b'0') + fourth) << 24;
         u64::from(b'.') | digits << 8 | 5 << 56
     };
-    let integer = INTEGERS[integer];
+    // At most 8 bytes: the sign, two digits, the point and four more.
+    push_number(out, negative, INTEGERS[integer], fraction);
+}
+
+/// The sign if `negative`, then the texts of two table entries (an
+/// integer's and a fraction's), a byte each in one register, stored at
+/// once: eight bytes, then cut to theirs (at most eight together).
+#[inline(always)]
+fn push_number(out: &mut Vec<u8>, negative: bool, integer: u64, fraction: u64) {
     let mut text = if negative { u64::from(b'-') } else { 0 };
     let mut len = u64::from(negative);
     text |= (integer & TEXT) << (8 * len);
     len += integer >> 56;
     text |= (fraction & TEXT) << (8 * len);
     len += fraction >> 56;
-    // At most 8 bytes: the sign, two digits, the point and four more.
     let at = out.len();
     out.extend_from_slice(&text.to_le_bytes());
     out.truncate(at + len as usize);
@@ -343,10 +344,10 @@ mod tests {
         }
     }
 
-    /// Every number of thousandths the tables write, both signs, as the
-    /// digits computed write it.
-    #[test]
-    fn thousandths_from_the_tables_are_the_computed_digits() {
+    /// Every number `push` writes from the tables (the first million of
+    /// units of 10^-`decimals`), both signs, after text already in the
+    /// buffer, as the digits computed write it.
+    fn tables_write_the_computed_digits(push: fn(&mut Vec<u8>, u64, bool), decimals: usize) {
         let (mut tables, mut computed) = (Vec::new(), Vec::new());
         for n in 0..1_000_000u64 {
             for negative in [false, n > 0] {
@@ -354,31 +355,22 @@ mod tests {
                 computed.clear();
                 tables.push(b'X');
                 computed.push(b'X');
-                super::push_thousandths(&mut tables, n, negative);
+                push(&mut tables, n, negative);
                 let q = if negative { -(n as i64) } else { n as i64 };
-                super::push_scaled_by(&mut computed, q, 3);
-                assert_eq!(tables, computed, "{q}");
+                super::push_scaled_by(&mut computed, q, decimals);
+                assert_eq!(tables, computed, "{q} with {decimals} decimals");
             }
         }
     }
 
-    /// Every number of ten-thousandths the tables write (under a hundred),
-    /// both signs, as the digits computed write it.
+    #[test]
+    fn thousandths_from_the_tables_are_the_computed_digits() {
+        tables_write_the_computed_digits(super::push_thousandths, 3);
+    }
+
     #[test]
     fn ten_thousandths_from_the_tables_are_the_computed_digits() {
-        let (mut tables, mut computed) = (Vec::new(), Vec::new());
-        for n in 0..1_000_000u64 {
-            for negative in [false, n > 0] {
-                tables.clear();
-                computed.clear();
-                tables.push(b'X');
-                computed.push(b'X');
-                super::push_ten_thousandths(&mut tables, n, negative);
-                let q = if negative { -(n as i64) } else { n as i64 };
-                super::push_scaled_by(&mut computed, q, 4);
-                assert_eq!(tables, computed, "{q}");
-            }
-        }
+        tables_write_the_computed_digits(super::push_ten_thousandths, 4);
     }
 
     /// Integers and grid values at the ends of `i64`, with every number of
