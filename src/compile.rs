@@ -1403,11 +1403,13 @@ struct Backend<'s> {
 }
 
 /// The passes the evaluator's thread runs when the back end has a thread
-/// of its own: units, polar, offsets and cycles. A program runs as fast as
-/// the slower of the two threads; on a plain program the back end was the
-/// slower, with 57 % of the samples (`perf`, the 2M program; 2026-11-28),
-/// the evaluator waiting on it. Measured against none, two and three
-/// ahead in ARCHITECTURE.md ("Streaming").
+/// of its own: units, polar, offsets and cycles. Chosen when the back end
+/// was the slower thread on a plain program (57 % of the samples, `perf`,
+/// the 2M program; 2026-11-28); since its printer got lighter the
+/// evaluator is the busier, but one, two or three ahead give the same wall
+/// time (a batch's lines come over from the other core in whichever pass
+/// first touches them there). ARCHITECTURE.md, "Streaming" and "The ninth
+/// stop".
 const PASSES_AHEAD: usize = 4;
 
 struct Started {

@@ -303,15 +303,11 @@ fn needs_whole(stmt: &Stmt, known: &dyn Fn(u32) -> bool, in_sub: bool) -> bool {
     match &stmt.kind {
         StmtKind::Goto(_) => true,
         StmtKind::Line(line) => line_needs_whole(&line.words, known, in_sub),
-        // (Only a call can make a line of numbers need it.)
-        StmtKind::Lines(lines) => {
-            let call =
-                |w: &PlainWord| matches!((w.letter, w.value), (b'M', 98.0 | 99.0) | (b'G', 65.0));
-            lines.words.iter().any(call)
-                && lines
-                    .each_as_words()
-                    .any(|words| line_needs_whole(&words, known, in_sub))
-        }
+        // (The parser `cut_part` reads with makes no `Lines`, only
+        // `parse_lines` does: kept whole for any other caller.)
+        StmtKind::Lines(lines) => lines
+            .each_as_words()
+            .any(|words| line_needs_whole(&words, known, in_sub)),
         StmtKind::If(f) => f
             .branches
             .iter()
