@@ -1756,7 +1756,7 @@ fn on_two_threads<'s, R>(
 
 /// Batches made but not yet lowered, at most. Eight (about 1.4 MB of
 /// statements at most): the evaluator runs on while the back end is held
-/// up a moment (its core is shared with the early syncs and the kernel's
+/// up a moment (its core is shared with the kernel's
 /// writeback), and a batch comes back to be filled after the back end's
 /// core has moved on from its lines. With two, a 200k compile took 1–2 ms
 /// longer (ARCHITECTURE, "The ninth stop").

@@ -1329,62 +1329,57 @@ fn same_file(a: &Path, b: &Path) -> bool {
     }
 }
 
-/// A file being written that is flushed to the disk as it grows: after
-/// each [`EarlySync::EVERY`] bytes, one `sync_data` at a time on a thread of
-/// its own, so that the `sync_all` before the rename finds little left to
-/// write (for a 5 MB output, 2 of its 5 ms). A failed sync is the file's
-/// write error ([`EarlySync::finish`]): the kernel reports a lost write to
-/// one sync of the open file only.
+/// A file being written whose pages go to the disk as it grows: after each
+/// [`EarlySync::EVERY`] bytes the kernel is asked to start writing them,
+/// without waiting, so that the `sync_all` before the rename finds little
+/// left to write (ARCHITECTURE.md, "Output"). `sync_all` still says
+/// whether every write reached the disk.
 struct EarlySync<'f> {
     file: &'f mut std::fs::File,
-    since: usize,
-    syncing: Option<std::thread::JoinHandle<std::io::Result<()>>>,
-    failed: Option<std::io::Error>,
+    /// Bytes written and handed to the kernel's writeback, and since.
+    started: u64,
+    since: u64,
 }
 
 impl<'f> EarlySync<'f> {
-    const EVERY: usize = 1 << 20;
+    const EVERY: u64 = 1 << 18;
 
     fn new(file: &'f mut std::fs::File) -> EarlySync<'f> {
         EarlySync {
             file,
+            started: 0,
             since: 0,
-            syncing: None,
-            failed: None,
         }
     }
 
-    /// Wait for the sync under way; the first error of any.
-    fn join(&mut self) {
-        if let Some(thread) = self.syncing.take() {
-            let result = thread
-                .join()
-                .unwrap_or_else(|_| Err(std::io::Error::other("sync failed")));
-            if let Err(e) = result {
-                self.failed.get_or_insert(e);
-            }
+    /// Start the writeback of the bytes written since the last time. On
+    /// Linux, `POSIX_FADV_DONTNEED` on dirty pages starts their writeback
+    /// and returns (what PostgreSQL uses where `sync_file_range` is
+    /// missing); those pages stay cached until written. Elsewhere the sync
+    /// before the rename writes it all.
+    fn start_writeback(&mut self) {
+        #[cfg(target_os = "linux")]
+        {
+            let advice = rustix::fs::Advice::DontNeed;
+            // Only a hint: an error here is the final sync's to report.
+            let _ = rustix::fs::fadvise(
+                &*self.file,
+                self.started,
+                std::num::NonZeroU64::new(self.since),
+                advice,
+            );
         }
-    }
-
-    fn finish(mut self) -> std::io::Result<()> {
-        self.join();
-        self.failed.map_or(Ok(()), Err)
+        self.started += self.since;
+        self.since = 0;
     }
 }
 
 impl Write for EarlySync<'_> {
     fn write(&mut self, bytes: &[u8]) -> std::io::Result<usize> {
         let n = self.file.write(bytes)?;
-        self.since += n;
-        let idle = self.syncing.as_ref().is_none_or(|t| t.is_finished());
-        if self.since >= Self::EVERY && idle {
-            self.join();
-            self.since = 0;
-            // No clone or no thread: the sync before the rename does it all.
-            if let Ok(clone) = self.file.try_clone() {
-                let sync = move || clone.sync_data();
-                self.syncing = std::thread::Builder::new().spawn(sync).ok();
-            }
+        self.since += n as u64;
+        if self.since >= Self::EVERY {
+            self.start_writeback();
         }
         Ok(n)
     }
@@ -1413,12 +1408,9 @@ fn write_atomically(
             return report;
         }
     };
-    let mut early = EarlySync::new(&mut file);
-    let mut report = compile(&mut early);
-    let synced = early.finish();
+    let mut report = compile(&mut EarlySync::new(&mut file));
     if report.succeeded() {
-        let done = synced.and_then(|()| file.sync_all());
-        if let Err(e) = done.and_then(|()| std::fs::rename(&tmp, &path)) {
+        if let Err(e) = file.sync_all().and_then(|()| std::fs::rename(&tmp, &path)) {
             report.write_error = Some(e);
         }
     }

@@ -528,9 +528,8 @@ fn a_file_not_as_its_first_lines_said_is_compiled_again() {
     }
 }
 
-/// An output of megabytes, synced to the disk while it is written (each
-/// megabyte, on a thread), or held aside for standard output: what a whole
-/// read gives.
+/// An output of megabytes, its writeback started while it is written (each
+/// 256 KB), or held aside for standard output: what a whole read gives.
 #[test]
 fn a_long_output_written_to_a_file_is_whole() {
     let dir = scratch("long-output");
