@@ -1355,8 +1355,8 @@ impl<'f> EarlySync<'f> {
     /// Start the writeback of the bytes written since the last time. On
     /// Linux, `POSIX_FADV_DONTNEED` on dirty pages starts their writeback
     /// and returns (what PostgreSQL uses where `sync_file_range` is
-    /// missing); those pages stay cached until written. Elsewhere the sync
-    /// before the rename writes it all.
+    /// missing); it drops only pages already clean, so these stay cached.
+    /// Elsewhere the sync before the rename writes it all.
     fn start_writeback(&mut self) {
         #[cfg(target_os = "linux")]
         {
