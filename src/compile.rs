@@ -1756,9 +1756,9 @@ fn on_two_threads<'s, R>(
 
 /// Batches made but not yet lowered, at most. Eight (about 1.4 MB of
 /// statements at most): the evaluator runs on while the back end is held
-/// up a moment (its core is shared with the kernel's
-/// writeback), and a batch comes back to be filled after the back end's
-/// core has moved on from its lines. With two, a 200k compile took 1–2 ms
+/// up a moment (its core is shared with the kernel's writeback), and a
+/// batch comes back to be filled after the back end's core has moved on
+/// from its lines. With two, a 200k compile took 1–2 ms
 /// longer (ARCHITECTURE, "The ninth stop").
 const BATCHES_IN_FLIGHT: usize = 8;
 

@@ -1330,22 +1330,22 @@ fn same_file(a: &Path, b: &Path) -> bool {
 }
 
 /// A file being written whose pages go to the disk as it grows: after each
-/// [`EarlySync::EVERY`] bytes the kernel is asked to start writing them,
+/// [`EarlyWriteback::EVERY`] bytes the kernel is asked to start writing them,
 /// without waiting, so that the `sync_all` before the rename finds little
-/// left to write (ARCHITECTURE.md, "Output"). `sync_all` still says
+/// left to write (ARCHITECTURE.md, "Bird's-eye view"). `sync_all` still says
 /// whether every write reached the disk.
-struct EarlySync<'f> {
+struct EarlyWriteback<'f> {
     file: &'f mut std::fs::File,
     /// Bytes written and handed to the kernel's writeback, and since.
     started: u64,
     since: u64,
 }
 
-impl<'f> EarlySync<'f> {
+impl<'f> EarlyWriteback<'f> {
     const EVERY: u64 = 1 << 18;
 
-    fn new(file: &'f mut std::fs::File) -> EarlySync<'f> {
-        EarlySync {
+    fn new(file: &'f mut std::fs::File) -> EarlyWriteback<'f> {
+        EarlyWriteback {
             file,
             started: 0,
             since: 0,
@@ -1374,7 +1374,7 @@ impl<'f> EarlySync<'f> {
     }
 }
 
-impl Write for EarlySync<'_> {
+impl Write for EarlyWriteback<'_> {
     fn write(&mut self, bytes: &[u8]) -> std::io::Result<usize> {
         let n = self.file.write(bytes)?;
         self.since += n as u64;
@@ -1408,7 +1408,7 @@ fn write_atomically(
             return report;
         }
     };
-    let mut report = compile(&mut EarlySync::new(&mut file));
+    let mut report = compile(&mut EarlyWriteback::new(&mut file));
     if report.succeeded() {
         if let Err(e) = file.sync_all().and_then(|()| std::fs::rename(&tmp, &path)) {
             report.write_error = Some(e);
