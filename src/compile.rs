@@ -1756,10 +1756,11 @@ fn on_two_threads<'s, R>(
 
 /// Batches made but not yet lowered, at most. Eight (about 1.4 MB of
 /// statements at most): the evaluator runs on while the back end is held
-/// up a moment (its core is shared with the kernel's writeback), and a
-/// batch comes back to be filled after the back end's core has moved on
-/// from its lines. With two, a 200k compile took 1–2 ms
-/// longer (ARCHITECTURE, "The ninth stop").
+/// up a moment (the kernel's work on its core: the output's writeback is
+/// started there), and a batch comes back to be filled after the back
+/// end's core has moved on from its lines. With two, a 200k compile took
+/// 1–2 ms longer (ARCHITECTURE, "The ninth stop"; two and four measured
+/// again in the tenth: no faster).
 const BATCHES_IN_FLIGHT: usize = 8;
 
 /// What the evaluator sends the back-end thread.

@@ -148,9 +148,16 @@ fn push_number(out: &mut Vec<u8>, negative: bool, integer: u64, fraction: u64) {
     len += integer >> 56;
     text |= (fraction & TEXT) << (8 * len);
     len += fraction >> 56;
+    push_packed(out, text, len as usize);
+}
+
+/// The first `len` bytes of `text` (at most eight, the first the lowest):
+/// the eight stored at once, then the vector cut to theirs.
+#[inline(always)]
+fn push_packed(out: &mut Vec<u8>, text: u64, len: usize) {
     let at = out.len();
     out.extend_from_slice(&text.to_le_bytes());
-    out.truncate(at + len as usize);
+    out.truncate(at + len);
 }
 
 /// `N<line> `, the word of a source line: from the tables, as
@@ -173,9 +180,7 @@ pub fn push_line_word(out: &mut Vec<u8>, line: u32) {
     let len = digits >> 56;
     // At most 8 bytes: `N`, six digits, the space.
     let text = u64::from(b'N') | (digits & TEXT) << 8 | u64::from(b' ') << (8 * (len + 1));
-    let at = out.len();
-    out.extend_from_slice(&text.to_le_bytes());
-    out.truncate(at + len as usize + 2);
+    push_packed(out, text, len as usize + 2);
 }
 
 /// 0 to 999 in three digits (`000`, `042`), a byte each from the lowest.
