@@ -139,7 +139,7 @@ def main():
         print("  ger peak memory: %.1f MB" % peak_mb([ger, "compile", plain, "-o", out]))
 
         big = write("big.ngc", plain_program(2_000_000))
-        tb = median([ger, "compile", big, "-o", out], max(1, a.runs // 2))
+        tb = median([ger, "compile", big, "-o", out], a.runs)
         print("plain 2M moves: ger %.3f s (%.1fx the 200k time for 10x the moves); "
               "peak memory %.1f MB (goal <= 30 MB)"
               % (tb, tb / tg, peak_mb([ger, "compile", big, "-o", out])))
@@ -153,7 +153,7 @@ def main():
         # outside every block rather than line by line.
         text = plain_program(2_000_000).replace("G1 Z-1 F800", "Id = -1\nG1 Z<Id> F800", 1)
         egc_big = write("big.egc", text)
-        te = median([ger, "compile", egc_big, "-o", out], max(1, a.runs // 2))
+        te = median([ger, "compile", egc_big, "-o", out], a.runs)
         print("  the same as .egc with a variable: ger %.3f s; peak memory %.1f MB"
               % (te, peak_mb([ger, "compile", egc_big, "-o", out])))
 
