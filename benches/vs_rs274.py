@@ -10,8 +10,8 @@ Side by side in one run, each figure the median of --runs runs:
           ger compile vs rs274 -g vs `awk '{print}'`, in turn (3 x --runs);
 3. big:   the same kind of program with 2,000,000 moves: ger's time with
           `-o` and to standard output (is it linear in the size?) and its
-          peak memory; and the same as `.egc`
-          with a variable (not plain: read in parts cut outside blocks).
+          peak memory; and the same as `.egc` with a variable (not plain:
+          read in parts cut outside blocks).
 Prints the figures with the goals, dated, ready for README's table. Times
 are wall clock on this machine; run on an idle machine.
 """

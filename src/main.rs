@@ -1386,7 +1386,7 @@ impl<'f> EarlyWriteback<'f> {
 /// output is about to replace. The rename that replaces it frees them
 /// otherwise, on the compile's last step; let go of while the compile
 /// still runs, on the back end's thread (which has room), they cost the
-/// end nothing: 200k moves with `-o`, 1.1 ms faster at the median
+/// end nothing: 200k moves with `-o`, 1.2 ms faster at the median
 /// (ARCHITECTURE.md, "The eleventh stop"). Only clean pages are dropped,
 /// and the file is not changed: if the compile then fails, it stays as
 /// it was. Opened without blocking (a FIFO put there since the start
