@@ -1710,11 +1710,13 @@ fn on_two_threads<'s, R>(
         let back = std::thread::Builder::new()
             .name("ger back end".into())
             .spawn_scoped(scope, move || {
+                let mut apart = Apart::new();
                 let mut backend = slot.lock().unwrap_or_else(PoisonError::into_inner);
                 for handed in from_front {
                     match handed {
                         Handed::Start(start) => ir::Sink::start(&mut *backend, &start),
-                        Handed::Batch(mut batch) => {
+                        Handed::Batch(mut batch, front_cpu) => {
+                            apart.keep_off(front_cpu);
                             ir::Sink::batch(&mut *backend, &mut batch);
                             // Full: the front allocates another.
                             let _ = to_front.try_send(batch);
@@ -1763,10 +1765,77 @@ fn on_two_threads<'s, R>(
 /// again in the tenth: no faster).
 const BATCHES_IN_FLIGHT: usize = 8;
 
+/// The back end's thread kept off the processor the evaluator's thread
+/// was last seen on (Linux, where more than one is allowed). Left to
+/// itself, the kernel now and then wakes the back end, woken for each
+/// batch, on the evaluator's processor and leaves it there while the
+/// other idles, and the compile takes up to twice as long (on this
+/// project's virtual machine, traced, the threads shared a processor for
+/// more than 3 ms in 74–85 of 200 runs of the 200k program, 6–10 with
+/// this; ARCHITECTURE.md, "The eleventh stop"). The evaluator's thread is
+/// left free, to go wherever the kernel sends it (a faster core, say):
+/// each batch says where it was, and the back end moves off that
+/// processor when it changes (one system call then, none otherwise). The
+/// thread ends with the compile, and its affinity with it.
+struct Apart {
+    #[cfg(target_os = "linux")]
+    allowed: Option<rustix::thread::CpuSet>,
+    /// The processor kept off, if any yet.
+    off: Option<usize>,
+}
+
+impl Apart {
+    #[cfg(target_os = "linux")]
+    fn new() -> Apart {
+        let allowed = rustix::thread::sched_getaffinity(None).ok();
+        Apart {
+            allowed: allowed.filter(|cpus| cpus.count() >= 2),
+            off: None,
+        }
+    }
+    #[cfg(not(target_os = "linux"))]
+    fn new() -> Apart {
+        Apart { off: None }
+    }
+
+    /// Keep off `cpu`, where the evaluator was when it sent the batch. A
+    /// failure leaves the thread where the kernel puts it.
+    fn keep_off(&mut self, cpu: usize) {
+        if self.off == Some(cpu) {
+            return;
+        }
+        self.off = Some(cpu);
+        #[cfg(target_os = "linux")]
+        if let Some(allowed) = &self.allowed {
+            if cpu >= rustix::thread::CpuSet::MAX_CPU {
+                return;
+            }
+            let mut others = *allowed;
+            others.unset(cpu);
+            if others.count() > 0 {
+                let _ = rustix::thread::sched_setaffinity(None, &others);
+            }
+        }
+    }
+}
+
+/// The processor this thread is on (0 where it cannot be known).
+fn this_cpu() -> usize {
+    #[cfg(target_os = "linux")]
+    {
+        rustix::thread::sched_getcpu()
+    }
+    #[cfg(not(target_os = "linux"))]
+    {
+        0
+    }
+}
+
 /// What the evaluator sends the back-end thread.
 enum Handed {
     Start(Box<ir::Start>),
-    Batch(Vec<ir::Stmt>),
+    /// A batch, and the processor the evaluator sent it from.
+    Batch(Vec<ir::Stmt>, usize),
 }
 
 /// The evaluator's end of [`on_two_threads`]: it runs the first `ahead`
@@ -1808,7 +1877,7 @@ fn hand_on(
         .try_recv()
         .unwrap_or_else(|_| Vec::with_capacity(stmts.capacity()));
     let full = std::mem::replace(stmts, empty);
-    let _ = to_back.send(Handed::Batch(full));
+    let _ = to_back.send(Handed::Batch(full, this_cpu()));
     t0.elapsed()
 }
 
@@ -1978,5 +2047,38 @@ mod tests {
             assert_eq!(input_decimals(text), most, "{text:?}");
             assert_eq!(decimals_read_forward(text), most, "{text:?}");
         }
+    }
+
+    /// The back end moves off the evaluator's processor, and only off it:
+    /// every other allowed processor stays allowed. (On one processor
+    /// nothing changes.)
+    #[cfg(target_os = "linux")]
+    #[test]
+    fn the_back_end_keeps_off_the_evaluators_processor() {
+        use rustix::thread::sched_getaffinity;
+        std::thread::spawn(|| {
+            let allowed = sched_getaffinity(None).unwrap();
+            let here = this_cpu();
+            assert!(allowed.is_set(here));
+            let mut apart = Apart::new();
+            apart.keep_off(here);
+            let now = sched_getaffinity(None).unwrap();
+            if allowed.count() < 2 {
+                assert_eq!(now, allowed);
+                return;
+            }
+            assert!(!now.is_set(here), "still allowed on {here}");
+            assert_eq!(now.count(), allowed.count() - 1);
+            assert_ne!(this_cpu(), here, "not moved off {here}");
+            // The evaluator moved: the first one is allowed again.
+            let other = (0..rustix::thread::CpuSet::MAX_CPU)
+                .find(|&c| c != here && allowed.is_set(c))
+                .unwrap();
+            apart.keep_off(other);
+            let now = sched_getaffinity(None).unwrap();
+            assert!(now.is_set(here) && !now.is_set(other));
+        })
+        .join()
+        .unwrap();
     }
 }
