@@ -1785,17 +1785,14 @@ struct Apart {
 }
 
 impl Apart {
-    #[cfg(target_os = "linux")]
     fn new() -> Apart {
-        let allowed = rustix::thread::sched_getaffinity(None).ok();
         Apart {
-            allowed: allowed.filter(|cpus| cpus.count() >= 2),
+            #[cfg(target_os = "linux")]
+            allowed: rustix::thread::sched_getaffinity(None)
+                .ok()
+                .filter(|cpus| cpus.count() >= 2),
             off: None,
         }
-    }
-    #[cfg(not(target_os = "linux"))]
-    fn new() -> Apart {
-        Apart { off: None }
     }
 
     /// Keep off `cpu`, where the evaluator was when it sent the batch. A

@@ -1178,7 +1178,9 @@ fn write_file<T>(
             out.flush()?;
             return Ok(value);
         }
-        Destination::Replacing { path, tmp, file } => (path, tmp, file),
+        Destination::Replacing {
+            path, tmp, file, ..
+        } => (path, tmp, file),
     };
     let mut out = std::io::BufWriter::new(file);
     let result = write(&mut out).and_then(|value| {
@@ -1199,11 +1201,13 @@ enum Destination {
     /// replaced.
     Device(PathBuf),
     /// A file, or nothing yet: written to `tmp` beside it
-    /// ([`create_replacing`]), then renamed over it.
+    /// ([`create_replacing`]), then renamed over it. `replaces`: there is
+    /// a file there now.
     Replacing {
         path: PathBuf,
         tmp: PathBuf,
         file: std::fs::File,
+        replaces: bool,
     },
 }
 
@@ -1214,8 +1218,13 @@ fn destination(path: &Path) -> std::io::Result<Destination> {
         return Ok(Destination::Device(path));
     }
     let tmp = temporary_beside(&path);
-    let file = create_replacing(&tmp, &path)?;
-    Ok(Destination::Replacing { path, tmp, file })
+    let (file, replaces) = create_replacing(&tmp, &path)?;
+    Ok(Destination::Replacing {
+        path,
+        tmp,
+        file,
+        replaces,
+    })
 }
 
 /// The file `path` names, through symbolic links: the new file replaces
@@ -1283,19 +1292,18 @@ fn write_when_whole(
 
 /// Create the file `tmp` that is to replace `path`, with `path`'s
 /// permissions if it exists (a program a machine's account may read stays
-/// readable to it).
-fn create_replacing(tmp: &Path, path: &Path) -> std::io::Result<std::fs::File> {
+/// readable to it), and say whether a file is there to be replaced.
+fn create_replacing(tmp: &Path, path: &Path) -> std::io::Result<(std::fs::File, bool)> {
     let file = std::fs::File::create(tmp)?;
-    if let Ok(old) = std::fs::metadata(path) {
-        if old.is_file() {
-            let done = file.set_permissions(old.permissions());
-            if let Err(e) = done {
-                let _ = std::fs::remove_file(tmp);
-                return Err(e);
-            }
+    let old = std::fs::metadata(path).ok().filter(|old| old.is_file());
+    if let Some(old) = &old {
+        let done = file.set_permissions(old.permissions());
+        if let Err(e) = done {
+            let _ = std::fs::remove_file(tmp);
+            return Err(e);
         }
     }
-    Ok(file)
+    Ok((file, old.is_some()))
 }
 
 /// A temporary file's name beside `path` (same folder, so that the rename
@@ -1342,13 +1350,13 @@ struct EarlyWriteback<'f> {
     /// The file the new one will replace, if there is one: its cached
     /// pages are let go of at the first writeback ([`let_go_of`]).
     #[cfg_attr(not(target_os = "linux"), allow(dead_code))]
-    old: Option<PathBuf>,
+    old: Option<&'f Path>,
 }
 
 impl<'f> EarlyWriteback<'f> {
     const EVERY: u64 = 1 << 18;
 
-    fn new(file: &'f mut std::fs::File, old: Option<PathBuf>) -> EarlyWriteback<'f> {
+    fn new(file: &'f mut std::fs::File, old: Option<&'f Path>) -> EarlyWriteback<'f> {
         EarlyWriteback {
             file,
             started: 0,
@@ -1374,7 +1382,7 @@ impl<'f> EarlyWriteback<'f> {
                 advice,
             );
             if let Some(old) = self.old.take() {
-                let_go_of(&old);
+                let_go_of(old);
             }
         }
         self.started += self.since;
@@ -1430,9 +1438,14 @@ fn write_atomically(
     path: &Path,
     compile: impl FnOnce(&mut (dyn Write + Send)) -> Report,
 ) -> Report {
-    let (path, tmp, mut file) = match destination(path) {
+    let (path, tmp, mut file, replaces) = match destination(path) {
         Ok(Destination::Device(path)) => return write_when_whole(&path, compile),
-        Ok(Destination::Replacing { path, tmp, file }) => (path, tmp, file),
+        Ok(Destination::Replacing {
+            path,
+            tmp,
+            file,
+            replaces,
+        }) => (path, tmp, file, replaces),
         Err(e) => {
             // Still compile, for the diagnostics.
             let mut report = compile(&mut std::io::sink());
@@ -1442,7 +1455,7 @@ fn write_atomically(
     };
     // The file it replaces, if any (on Linux its pages are let go of as
     // the compile runs).
-    let old = path.is_file().then(|| path.clone());
+    let old = replaces.then_some(path.as_path());
     let mut report = compile(&mut EarlyWriteback::new(&mut file, old));
     if report.succeeded() {
         if let Err(e) = file.sync_all().and_then(|()| std::fs::rename(&tmp, &path)) {
