@@ -647,3 +647,52 @@ fn a_pipe_is_read_once() {
     let out = std::fs::read_to_string(dir.join("part.out")).unwrap();
     assert!(out.contains("G1 X10.") && out.contains("M30"), "{out}");
 }
+
+/// Under valgrind (which gives a program no vDSO it can read): a compile
+/// on two threads runs as it runs without it, to the same bytes. rustix's
+/// own vDSO reader, used for the processor a thread is on
+/// (`compile::this_cpu`), read past valgrind's mapping and the process
+/// died of SIGSEGV; through the C library it does not. Skipped where
+/// valgrind is not installed, unless `GER_REQUIRE_VALGRIND=1` (CI).
+#[test]
+fn a_two_thread_compile_runs_under_valgrind() {
+    let present = Command::new("valgrind")
+        .arg("--version")
+        .stdout(Stdio::null())
+        .stderr(Stdio::null())
+        .status()
+        .is_ok_and(|s| s.success());
+    if !present {
+        let required = std::env::var("GER_REQUIRE_VALGRIND").is_ok_and(|v| v == "1");
+        assert!(
+            !required,
+            "valgrind is not installed: `apt-get install valgrind`, then run the tests again"
+        );
+        eprintln!("skipped: valgrind is not installed");
+        return;
+    }
+    let dir = scratch("valgrind");
+    // Enough moves for several batches, so the back end's thread runs.
+    let mut program = String::from("G21 G90 G17\nG0 X0 Y0 Z5\nG1 Z-1 F800\n");
+    for i in 0..6000 {
+        program.push_str(&format!("G1 X{}.5 Y{}\n", i % 97, i % 31));
+    }
+    program.push_str("M30\n");
+    std::fs::write(dir.join("many.ngc"), &program).unwrap();
+    let plain = ger(&["compile", "many.ngc", "-o", "plain.nc"], &dir);
+    assert_success(&plain);
+    let under = Command::new("valgrind")
+        .args(["--tool=none", "--quiet", env!("CARGO_BIN_EXE_ger")])
+        .args(["compile", "many.ngc", "-o", "valgrind.nc"])
+        .current_dir(&dir)
+        .env_remove("GER_WIZARDS")
+        .output()
+        .expect("run valgrind");
+    assert_success(&under);
+    let (a, b) = (
+        std::fs::read(dir.join("plain.nc")).unwrap(),
+        std::fs::read(dir.join("valgrind.nc")).unwrap(),
+    );
+    assert!(a.len() > 6000 * 8, "{} bytes", a.len());
+    assert_eq!(a, b, "the same bytes under valgrind");
+}
