@@ -373,6 +373,9 @@ struct Evaluator<'a> {
     spindle: ir::Spindle,
     /// Cutter compensation is on: its side and where it was turned on.
     comp: Option<(ir::Side, Span)>,
+    /// G40 turned compensation off in this plane and no move has been made
+    /// since: a tool change then reads the point back ([`ir::Op::ReadPosition`]).
+    comp_off: Option<ir::Plane>,
     /// LinuxCNC's subroutine scope (`o… call`).
     linuxcnc: LinuxCncNames,
     /// Subprograms being run, innermost last: (number, call span).
@@ -449,6 +452,7 @@ impl<'a> Evaluator<'a> {
             plane: ir::Plane::XY,
             spindle: ir::Spindle::Off,
             comp: None,
+            comp_off: None,
             calls: Vec::new(),
             setup: setup::SetupBuilder::with_tools(&options.tools),
             tool: 1,
@@ -558,7 +562,11 @@ impl<'a> Evaluator<'a> {
         self.check_under_comp(op, span)?;
         match op {
             ir::Op::Comp { side, .. } => self.comp = Some((*side, span)),
-            ir::Op::CompOff | ir::Op::End => self.comp = None,
+            ir::Op::CompOff if self.comp.is_some() => {
+                self.comp = None;
+                self.comp_off = Some(self.plane);
+            }
+            ir::Op::End => self.comp = None,
             ir::Op::Feed(_) => {
                 self.feed_set = true;
                 self.feed_before_units |= self.first_units.is_none();
@@ -667,6 +675,7 @@ impl<'a> Evaluator<'a> {
     fn track(&mut self, op: &ir::Op) {
         match op {
             ir::Op::Move(m) => {
+                self.comp_off = None;
                 self.motion = Some(m.motion);
                 for axis in [ir::Axis::X, ir::Axis::Y, ir::Axis::Z] {
                     if let Some(v) = m.to.get(axis) {
@@ -689,6 +698,13 @@ impl<'a> Evaluator<'a> {
                         self.position[axis.index()] = Some(v);
                     }
                 }
+            }
+            ir::Op::Cycle(_) => self.comp_off = None,
+            ir::Op::ReadPosition(plane) => {
+                // The tool's offset point: not known here.
+                let (u, v, _) = plane.axes();
+                self.position[u] = None;
+                self.position[v] = None;
             }
             _ => {}
         }

@@ -510,6 +510,12 @@ pub enum Op {
     SelectTool(u32),
     /// M6
     ChangeTool,
+    /// The current point read back from where the tool is, as LinuxCNC
+    /// does at a tool change (M6, M61): made only after G40 with no move
+    /// since, where the tool still stands at its last offset point and
+    /// the programmed point differs from it in the plane's two axes. The
+    /// comp pass knows that point; the passes before it forget the two.
+    ReadPosition(Plane),
     Spindle(Spindle),
     Coolant(Coolant),
     /// G4, in seconds.
@@ -584,6 +590,10 @@ impl Op {
                 true
             }
             Op::ToolLength { .. } | Op::CancelToolLength => axis == Axis::Z,
+            Op::ReadPosition(plane) => {
+                let (u, v, _) = plane.axes();
+                axis.index() == u || axis.index() == v
+            }
             Op::Move(_)
             | Op::Feed(_)
             | Op::Speed(_)

@@ -233,6 +233,8 @@ impl Builder {
             Op::Feed(f) => self.state.feed = f * k,
             Op::Speed(s) => self.state.rpm = *s,
             Op::SelectTool(t) => self.selected = *t,
+            // The comp pass has placed the moves after it.
+            Op::ReadPosition(_) => {}
             Op::ChangeTool => {
                 self.state.tool = self.selected;
                 self.event(EventKind::ToolChange(self.selected), stmt.span);

@@ -159,6 +159,10 @@ impl Printer {
 
     /// A statement on its own line, as written.
     pub fn stmt(&mut self, stmt: &ir::Stmt) {
+        if let Op::ReadPosition(_) = stmt.op {
+            // Not a code: what the source's controller does at a tool change.
+            return;
+        }
         if let Op::Passthrough(Passthrough::Line(text)) = &stmt.op {
             // A controller command (`$H`) takes no N word.
             self.line_start = self.out.len();
@@ -281,6 +285,7 @@ impl Printer {
             Op::CycleOff => self.code("G80"),
             Op::Comp { side, radius } => self.comp_words(*side, *radius),
             Op::CompOff => self.code("G40"),
+            Op::ReadPosition(_) => {}
             Op::Comment(text) => self.comment(text),
             Op::Passthrough(Passthrough::MCode { number, words }) => {
                 self.int_word(b'M', *number);

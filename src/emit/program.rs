@@ -94,6 +94,8 @@ impl ProgramPrinter {
                 // The operator may move the machine at a tool change or a
                 // stop: write every axis of the next move again.
                 Op::ChangeTool | Op::Stop(_) => self.printed = [None; 9],
+                // Nothing to write, and the output's tool has not moved.
+                Op::ReadPosition(_) => continue,
                 // Where the tool is, in program coordinates, is no longer
                 // known (the absolute pass forgets the same axes).
                 Op::MachineMove(_)

@@ -662,6 +662,13 @@ impl Evaluator<'_> {
             }
         };
         self.emit(op, span)?;
+        // LinuxCNC reads the point back at a tool change (M6, M61): after
+        // G40 with no move since, it is the tool's last offset point.
+        if t == 60 || t == 610 {
+            if let Some(plane) = self.comp_off.take() {
+                self.emit(Op::ReadPosition(plane), span)?;
+            }
+        }
         self.leftover_move(w, span, code)?;
         Ok(flow)
     }
@@ -1183,5 +1190,44 @@ mod tests {
         // made by `plain_move`.
         assert!(with_output > 50, "{with_output} programs with output");
         assert!(taken > 3000, "{taken} moves");
+    }
+}
+
+#[cfg(test)]
+mod read_back {
+    #![allow(clippy::unwrap_used)]
+
+    use crate::compile::{tool_path, CompileOptions};
+    use crate::source::Sources;
+
+    /// Where the last move of `between` (put after a G41 profile's G40
+    /// with no move) leaves the tool.
+    fn last_end(between: &str) -> [f64; 3] {
+        let text = format!(
+            "G21 G90 G17\nSetTool 1 6\nT1 M6\nG0 X-10 Y-10 Z5\nG41 G1 X0 Y-5 F500\n\
+             G1 Y20\nG40\n{between}\nG0 Z20\nM30\n"
+        );
+        let mut sources = Sources::new();
+        let file = sources.add("read_back.egc", text.clone());
+        let (path, diagnostics) = tool_path(&sources, file, &CompileOptions::default(), None);
+        let path = path.unwrap_or_else(|| panic!("{text}\n{diagnostics:?}"));
+        path.moves.last().unwrap().end
+    }
+
+    /// M6 and M61 (LinuxCNC's tool number, no change) read the tool's
+    /// point back: the Z move after them keeps X at the offset point
+    /// (-3, the tool's radius left of X0). Other codes between do not: the
+    /// Z move goes back to the programmed X and Y.
+    #[test]
+    fn a_tool_change_after_g40_reads_the_tools_point_back() {
+        for between in ["T1 M6", "M61 Q1"] {
+            let end = last_end(between);
+            assert!((end[0] + 3.0).abs() < 1e-9, "{between}: {end:?}");
+            assert!((end[1] - 20.0).abs() < 1e-9, "{between}: {end:?}");
+        }
+        for between in ["M5", "G4 P1", "T1"] {
+            let end = last_end(between);
+            assert!(end[0].abs() < 1e-9, "{between}: {end:?}");
+        }
     }
 }

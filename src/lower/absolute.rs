@@ -154,7 +154,10 @@ impl Pass for AbsolutePass {
             | Op::SetWorkOffset { .. }
             | Op::SetWorkOffsetHere { .. }
             | Op::ToolLength { .. }
-            | Op::CancelToolLength => self.at.forget_after(&stmt.op, span),
+            | Op::CancelToolLength
+            // The point read back is the tool's offset point, which only
+            // the comp pass knows.
+            | Op::ReadPosition(_) => self.at.forget_after(&stmt.op, span),
             // Only a kept cycle comes this far: it is absolute already.
             Op::Cycle(c) => {
                 let (a, b, n) = self.at.plane.axes();

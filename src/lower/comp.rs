@@ -145,8 +145,8 @@ struct CompPass {
     at: Tracker,
     on: Option<On>,
     /// After G40: the next move writes u and v (the tool is at the last
-    /// offset point) and may not be an arc. The G40's span.
-    after_off: Option<Span>,
+    /// offset point) and may not be an arc. The G40's span, and that point.
+    after_off: Option<(Span, P2)>,
     /// The tolerance on a trimmed arc's sweep (rs274's: 0.001 / 0.0254).
     sweep_tol: f64,
     /// How far an arc's start and end radii may differ for LinuxCNC to
@@ -237,7 +237,7 @@ impl CompPass {
                     if on.r > 0.0 && !on.first {
                         let c = on.c;
                         self.trim(&mut on, c, span, out)?;
-                        self.after_off = Some(span);
+                        self.after_off = Some((span, c));
                     }
                 }
                 return Ok(false);
@@ -272,6 +272,19 @@ impl CompPass {
                 return Ok(true);
             }
             Op::ChangeTool => self.loaded = self.selected,
+            Op::ReadPosition(_) => {
+                // A tool change after G40, before any move: LinuxCNC takes
+                // the tool's point, the last offset one, as the current
+                // point (the next move must still be straight).
+                if let Some((_, tool)) = self.after_off {
+                    let (u, v, _) = self.axes();
+                    if self.at.position[u].is_some() && self.at.position[v].is_some() {
+                        self.at.position[u] = Some(tool[0]);
+                        self.at.position[v] = Some(tool[1]);
+                    }
+                }
+                return Ok(false);
+            }
             Op::MachineMove(_)
             | Op::Home { .. }
             | Op::SelectWorkOffset(_)
@@ -317,7 +330,7 @@ impl CompPass {
         // After the absolute pass the written axes are absolute.
         let end = self.at.end_of(&m.to, "cutter compensation", span)?;
         let Some(mut on) = self.on.take_if(|on| on.r > 0.0) else {
-            if let Some(off) = self.after_off.take() {
+            if let Some((off, _)) = self.after_off.take() {
                 if m.motion.is_arc() {
                     return Err(LowerError::new(CompError::ArcAfterOff { off }, span));
                 }

@@ -403,6 +403,7 @@ impl Pass for CyclesPass {
             | Op::Speed(_)
             | Op::SelectTool(_)
             | Op::ChangeTool
+            | Op::ReadPosition(_)
             | Op::Coolant(_)
             | Op::Dwell(_)
             | Op::Stop(_)

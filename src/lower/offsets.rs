@@ -286,6 +286,11 @@ impl Pass for OffsetsPass {
                 self.forget_after(&stmt.op);
                 true
             }
+            // The tool's offset point, which only the comp pass knows.
+            Op::ReadPosition(_) => {
+                self.forget_after(&stmt.op);
+                true
+            }
             Op::SelectWorkOffset(i) => {
                 let index = *i;
                 self.select_work_offset(index, stmt, out)

@@ -123,6 +123,7 @@ impl Pass for PolarPass {
             | Op::Speed(_)
             | Op::SelectTool(_)
             | Op::ChangeTool
+            | Op::ReadPosition(_)
             | Op::Spindle(_)
             | Op::Coolant(_)
             | Op::Dwell(_)

@@ -131,6 +131,7 @@ impl Pass for UnitsPass {
             | Op::Speed(_)
             | Op::SelectTool(_)
             | Op::ChangeTool
+            | Op::ReadPosition(_)
             | Op::Spindle(_)
             | Op::Coolant(_)
             | Op::Dwell(_)
