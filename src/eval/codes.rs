@@ -719,6 +719,16 @@ impl Evaluator<'_> {
         let Some((l, lspan)) = w.take(b'L') else {
             return Err(CodeError::new(K::G10WithoutL, at).into());
         };
+        // The form first: P and R mean other things in the others (L1's
+        // P is a tool, its R the tool's radius).
+        let here = match l as i64 {
+            2 if l == 2.0 => false,
+            20 if l == 20.0 => true,
+            1 | 10 | 11 if l.fract() == 0.0 => {
+                return Err(CodeError::new(K::G10ToolTable, lspan).into());
+            }
+            _ => return Err(CodeError::new(K::G10Form, lspan).into()),
+        };
         let Some((p, pspan)) = w.take(b'P') else {
             return Err(CodeError::new(K::G10WithoutP, at).into());
         };
@@ -730,17 +740,16 @@ impl Evaluator<'_> {
             return Err(CodeError::new(K::RotatedWorkOffset, rspan).into());
         }
         let axes = self.take_axes(w, at, "G10", true)?;
-        match l as i64 {
-            2 if l == 2.0 => Ok(Op::SetWorkOffset {
+        Ok(match here {
+            false => Op::SetWorkOffset {
                 index: index as u8,
                 origin: axes,
-            }),
-            20 if l == 20.0 => Ok(Op::SetWorkOffsetHere {
+            },
+            true => Op::SetWorkOffsetHere {
                 index: index as u8,
                 at: axes,
-            }),
-            _ => Err(CodeError::new(K::G10Form, lspan).into()),
-        }
+            },
+        })
     }
 
     /// X/Y/Z of a code that takes axes itself (G52, G92, G10).

@@ -54,6 +54,8 @@ pub enum CodeErrorKind {
     WorkOffsetNumber,
     RotatedWorkOffset,
     G10Form,
+    /// G10 L1, L10, L11: the machine's tool table.
+    G10ToolTable,
     /// G52/G92/G10 with no axis word.
     WithoutAxes(&'static str),
     M98WithoutP,
@@ -194,6 +196,13 @@ impl Wording for CodeErrorKind {
                 at,
                 "ger knows G10 L2 and G10 L20",
             ),
+            K::G10ToolTable => error(
+                "G10 L1, L10 and L11 are not supported",
+                at,
+                "they write the machine's tool table",
+            )
+            .with_note("ger knows G10 L2 and G10 L20 (work offsets)")
+            .with_help("give ger the tools with `SetTool` lines or `--tool-table`"),
             K::WithoutAxes(code) => error(format!("{code} without axes"), at, "give X, Y or Z"),
             K::M98WithoutP => error(
                 "M98 without P",
