@@ -347,13 +347,26 @@ pub enum NotText {
 /// read as Latin-1 (old controllers and editors write it), so a comment
 /// with `°` survives. A byte-order mark is dropped, a lone CR (old Mac
 /// line ends) becomes LF, and a DOS end-of-file `^Z` with anything after
-/// it is dropped. NUL bytes or other control characters mean the file is
-/// not text: refused before any parsing. Every span refers to this text.
+/// it is dropped, as are NUL bytes that only pad the file's end (a
+/// transfer in blocks leaves them). NUL bytes elsewhere or other control
+/// characters mean the file is not text: refused before any parsing.
+/// Every span refers to this text.
 pub fn decode(mut bytes: Vec<u8>) -> Result<String, NotText> {
     drop_bom(&mut bytes);
     if let Some(eof) = bytes.iter().position(|&b| b == 0x1a) {
         if bytes[eof + 1..].iter().all(|b| b.is_ascii_whitespace()) {
             bytes.truncate(eof);
+        }
+    }
+    if let Some(pad) = bytes.iter().position(|&b| b == 0) {
+        // (A file of NULs alone is no program: still refused.)
+        let text_before = bytes[..pad].iter().any(|b| !b.is_ascii_whitespace());
+        if text_before
+            && bytes[pad..]
+                .iter()
+                .all(|&b| b == 0 || b.is_ascii_whitespace())
+        {
+            bytes.truncate(pad);
         }
     }
     // One pass: a NUL anywhere says "binary" before any other control byte.
@@ -482,6 +495,18 @@ mod tests {
         assert_eq!(decode(b"G0\x00X1".to_vec()), Err(NotText::Nul(2)));
         assert_eq!(decode(b"G0 X1\n\x1a".to_vec()).unwrap(), "G0 X1\n");
         assert_eq!(decode(b"G0\x01".to_vec()), Err(NotText::Control(2)));
+    }
+
+    /// NUL bytes that only pad the end of a text go (a real file: `%`, the
+    /// program, `%`, then NULs); with text after them, or none before,
+    /// the file is still not text.
+    #[test]
+    fn nul_padding_at_the_end_is_dropped() {
+        let padded = b"%\nG0 X1\nM30\n%\n\x00\x00".to_vec();
+        assert_eq!(decode(padded).unwrap(), "%\nG0 X1\nM30\n%\n");
+        assert_eq!(decode(b"G0 X1\n\x00\n\x00 ".to_vec()).unwrap(), "G0 X1\n");
+        assert_eq!(decode(b"G0 X1\n\x00\x00G1".to_vec()), Err(NotText::Nul(6)));
+        assert_eq!(decode(b"\n\x00\x00".to_vec()), Err(NotText::Nul(1)));
     }
 
     #[test]
