@@ -46,7 +46,7 @@ pub fn in_order(words: &[Word]) -> Option<Vec<Owned>> {
         .zip(&kinds)
         .map(|(&c, kind)| {
             (
-                kind.rank(),
+                kind.rank_of(c),
                 Owned {
                     code: Some(c.clone()),
                     args: Vec::new(),
@@ -146,6 +146,19 @@ impl Kind {
         }
     }
 
+    /// [`Kind::rank`] of `code`: G91 after the offsets, where rs274 sets
+    /// the distance mode, and G90 before them. No offset depends on the
+    /// mode, and ger refuses a change of offsets under G91, so each goes
+    /// where the offsets change under G90 if the line allows it: `G90 G54`
+    /// ends a G91 before G54, `G49 G28 G91 Z0` (a Fanuc program's end)
+    /// cancels the length under the G90 before the line.
+    fn rank_of(self, code: &Word) -> u8 {
+        match (self, &code.value) {
+            (Kind::Distance, WordValue::Number(n)) if n.value == 91.0 => 14,
+            _ => self.rank(),
+        }
+    }
+
     /// rs274's order of execution (interp_execute.cc's list).
     fn rank(self) -> u8 {
         match self {
@@ -162,9 +175,7 @@ impl Kind {
             Kind::WorkOffset => 11,
             Kind::PathMode => 12,
             Kind::Polar => 13,
-            // Before the offsets (rs274 runs it after them): no offset
-            // depends on it, and `G90 G54` must not change offsets under
-            // a G91 the line itself ends.
+            // G90 before the offsets, G91 after them ([`Kind::rank_of`]).
             Kind::Distance => 8,
             Kind::ReturnLevel => 15,
             Kind::AxisUser => 16,

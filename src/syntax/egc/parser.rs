@@ -456,8 +456,9 @@ fn expected_list(expected: &[String]) -> String {
 /// The `O` number of a line that holds only an `O` word.
 fn program_number(stmt: &Stmt) -> Option<(f64, Span)> {
     match &stmt.kind {
+        // (A sequence number may come first: `N1 O0003`.)
         StmtKind::Line(line) => match line.words.as_slice() {
-            [w] if w.letter == b'O' => match w.value {
+            [w] | [Word { letter: b'N', .. }, w] if w.letter == b'O' => match w.value {
                 WordValue::Number(n) => Some((n.value, w.span)),
                 WordValue::Expr(_) => None,
             },
