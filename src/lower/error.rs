@@ -437,7 +437,7 @@ fn comp_diagnostic(e: &CompError, span: Span) -> Diagnostic {
             NoTool => error(
                 "cutter compensation without a tool",
                 span,
-                "no D here and no tool loaded (M6)",
+                "no tool number here (no D, or D0: the loaded tool) and no tool loaded (M6)",
             )
             .with_help("name the tool (`G41 D1`) or load it first (`T1 M6`)"),
             UnknownTool { tool } => error(
