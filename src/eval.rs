@@ -907,17 +907,18 @@ impl<'a> Evaluator<'a> {
     }
 
     fn exec_line_in_order(&mut self, words: &[ast::Word]) -> Flow {
-        // Most lines: one code or none, whose order is the line's.
+        // Most lines: one code or none, with nothing before the code but
+        // N words, whose order is the line's. Words before the one code
+        // (`Z5 G0`, `X5 G91`, `Y40 M8`) go in rs274's order below, as
+        // with several codes: the code acts first, on all of them.
         // (Not an iterator over the two: moving them into one stalls on
         // the stores that made them.)
         if let Some([uncoded, coded]) = ast::few_statements(words) {
-            if let Some(s) = uncoded {
-                let flow = self.exec_line_stmt(s);
-                if flow != Flow::Next {
-                    return flow;
-                }
+            match (uncoded, coded) {
+                (Some(_), Some(_)) => {}
+                (Some(s), None) | (None, Some(s)) => return self.exec_line_stmt(s),
+                (None, None) => return Flow::Next,
             }
-            return coded.map_or(Flow::Next, |s| self.exec_line_stmt(s));
         }
         if let Some(stmts) = block::in_order(words) {
             for s in &stmts {
