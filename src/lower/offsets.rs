@@ -273,11 +273,10 @@ impl Pass for OffsetsPass {
                 self.plane = *p;
                 true
             }
-            Op::MachineMove(m) => {
-                // Machine coordinates ignore work offsets, not the tool's length.
-                if let Some(z) = m.to.get(Axis::Z) {
-                    m.to.set(Axis::Z, z + self.tool_length);
-                }
+            Op::MachineMove(_) => {
+                // Machine coordinates ignore the work offsets and the
+                // tool's length alike (rs274: `G53 G0 Z0` under G43 goes
+                // to machine Z0 whatever the length): written as they are.
                 self.forget_after(&stmt.op);
                 true
             }
