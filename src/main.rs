@@ -37,7 +37,7 @@ enum Command {
     Compile {
         /// The .egc file, or `-` for standard input.
         input: String,
-        /// Output file (standard output when absent).
+        /// Output file (standard output when absent, or `-`).
         #[arg(short, long)]
         output: Option<PathBuf>,
         #[command(flatten)]
@@ -333,6 +333,8 @@ fn real_main() -> ExitCode {
                     return ExitCode::from(2);
                 }
             };
+            // `-o -`: standard output, as `-` is standard input.
+            let output = output.filter(|o| o.as_os_str() != "-");
             run(&input, output.as_deref(), &options, stage, true)
         }
         Command::Check { input, options } => run(&input, None, &options, None, false),

@@ -696,3 +696,17 @@ fn a_two_thread_compile_runs_under_valgrind() {
     assert!(a.len() > 6000 * 8, "{} bytes", a.len());
     assert_eq!(a, b, "the same bytes under valgrind");
 }
+
+/// `-o -` is standard output, as `-` is standard input: the program comes
+/// out there and no file named `-` is made.
+#[test]
+fn dash_output_is_standard_output() {
+    let dir = scratch("dash_output");
+    std::fs::write(dir.join("good.egc"), GOOD).unwrap();
+    let to_dash = ger(&["compile", "good.egc", "-o", "-"], &dir);
+    assert_success(&to_dash);
+    let plain = ger(&["compile", "good.egc"], &dir);
+    assert!(String::from_utf8_lossy(&to_dash.stdout).contains("G1 X10."));
+    assert_eq!(to_dash.stdout, plain.stdout);
+    assert!(!dir.join("-").exists(), "a file named `-` was made");
+}
