@@ -18,20 +18,27 @@ use crate::source::Span;
 
 pub const PASS: PassInfo = PassInfo {
     name: "absolute",
-    make: |_: &Context<'_>| Box::new(AbsolutePass::new()),
+    make: |cx: &Context<'_>| Box::new(AbsolutePass::new(cx.start.output_units)),
 };
 
 struct AbsolutePass {
     at: Tracker,
+    /// How far an R may fall short of half the chord and still make a
+    /// half circle: rs274's 0.00005 in (0.00127 mm).
+    r_tolerance: f64,
     /// An M2/M30 went by, and the span of the last statement.
     ended: bool,
     last: Option<Span>,
 }
 
 impl AbsolutePass {
-    fn new() -> AbsolutePass {
+    fn new(units: Option<ir::Units>) -> AbsolutePass {
         AbsolutePass {
             at: Tracker::new(),
+            r_tolerance: match units {
+                Some(ir::Units::Inch) => 0.00005,
+                Some(ir::Units::Mm) | None => 0.00005 * 25.4,
+            },
             ended: false,
             last: None,
         }
@@ -47,15 +54,33 @@ impl AbsolutePass {
                 self.at.check_absolute(&m.to, span)?;
                 let at = &self.at.position;
                 let end = std::array::from_fn(|i| m.to.get(Axis::ALL[i]).or(at[i]));
-                let center = resolve_arc(&self.at, end, arc.geometry, clockwise, span)?;
+                let resolved = resolve_arc(
+                    &self.at,
+                    end,
+                    arc.geometry,
+                    clockwise,
+                    self.r_tolerance,
+                    span,
+                );
+                // A refused arc still ends where it says: the moves after
+                // it start there, and report no error of its making.
+                let center = resolved.inspect_err(|_| m.to.place(&mut self.at.position, Some))?;
                 arc.geometry = ArcGeometry::Center(center);
             }
             return self.at.move_absolute(&m.to, span);
         }
         let end = self.at.end_of(&m.to, "an incremental move", span)?;
         if let Some(arc) = &mut m.arc {
-            let end = [end[0], end[1], end[2]];
-            let center = resolve_arc(&self.at, end, arc.geometry, clockwise, span)?;
+            let ends = [end[0], end[1], end[2]];
+            let resolved = resolve_arc(
+                &self.at,
+                ends,
+                arc.geometry,
+                clockwise,
+                self.r_tolerance,
+                span,
+            );
+            let center = resolved.inspect_err(|_| self.at.position = end)?;
             arc.geometry = ArcGeometry::Center(center);
         }
         // Only the axes the statement wrote: a Z retract stays a Z move.
@@ -200,6 +225,7 @@ fn resolve_arc(
     end: [Option<f64>; 3],
     geometry: ArcGeometry,
     clockwise: bool,
+    r_tolerance: f64,
     span: Span,
 ) -> Result<ir::Center, LowerError> {
     let start = pass.position;
@@ -225,7 +251,8 @@ fn resolve_arc(
     };
     let center: Point = match geometry {
         ArcGeometry::Radius(r) => {
-            geometry::center_from_radius(s, e, r, pass.plane, clockwise).map_err(arc_error)?
+            geometry::center_from_radius(s, e, r, pass.plane, clockwise, r_tolerance)
+                .map_err(arc_error)?
         }
         ArcGeometry::Center(c) => {
             let mut center = s;
