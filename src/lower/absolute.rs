@@ -18,27 +18,20 @@ use crate::source::Span;
 
 pub const PASS: PassInfo = PassInfo {
     name: "absolute",
-    make: |cx: &Context<'_>| Box::new(AbsolutePass::new(cx.start.output_units)),
+    make: |_: &Context<'_>| Box::new(AbsolutePass::new()),
 };
 
 struct AbsolutePass {
     at: Tracker,
-    /// How far an R may fall short of half the chord and still make a
-    /// half circle: rs274's 0.00005 in (0.00127 mm).
-    r_tolerance: f64,
     /// An M2/M30 went by, and the span of the last statement.
     ended: bool,
     last: Option<Span>,
 }
 
 impl AbsolutePass {
-    fn new(units: Option<ir::Units>) -> AbsolutePass {
+    fn new() -> AbsolutePass {
         AbsolutePass {
             at: Tracker::new(),
-            r_tolerance: match units {
-                Some(ir::Units::Inch) => 0.00005,
-                Some(ir::Units::Mm) | None => 0.00005 * 25.4,
-            },
             ended: false,
             last: None,
         }
@@ -54,14 +47,7 @@ impl AbsolutePass {
                 self.at.check_absolute(&m.to, span)?;
                 let at = &self.at.position;
                 let end = std::array::from_fn(|i| m.to.get(Axis::ALL[i]).or(at[i]));
-                let resolved = resolve_arc(
-                    &self.at,
-                    end,
-                    arc.geometry,
-                    clockwise,
-                    self.r_tolerance,
-                    span,
-                );
+                let resolved = resolve_arc(&self.at, end, arc.geometry, clockwise, span);
                 // A refused arc still ends where it says: the moves after
                 // it start there, and report no error of its making.
                 let center = resolved.inspect_err(|_| m.to.place(&mut self.at.position, Some))?;
@@ -72,14 +58,7 @@ impl AbsolutePass {
         let end = self.at.end_of(&m.to, "an incremental move", span)?;
         if let Some(arc) = &mut m.arc {
             let ends = [end[0], end[1], end[2]];
-            let resolved = resolve_arc(
-                &self.at,
-                ends,
-                arc.geometry,
-                clockwise,
-                self.r_tolerance,
-                span,
-            );
+            let resolved = resolve_arc(&self.at, ends, arc.geometry, clockwise, span);
             let center = resolved.inspect_err(|_| self.at.position = end)?;
             arc.geometry = ArcGeometry::Center(center);
         }
@@ -225,7 +204,6 @@ fn resolve_arc(
     end: [Option<f64>; 3],
     geometry: ArcGeometry,
     clockwise: bool,
-    r_tolerance: f64,
     span: Span,
 ) -> Result<ir::Center, LowerError> {
     let start = pass.position;
@@ -251,8 +229,7 @@ fn resolve_arc(
     };
     let center: Point = match geometry {
         ArcGeometry::Radius(r) => {
-            geometry::center_from_radius(s, e, r, pass.plane, clockwise, r_tolerance)
-                .map_err(arc_error)?
+            geometry::center_from_radius(s, e, r, pass.plane, clockwise).map_err(arc_error)?
         }
         ArcGeometry::Center(c) => {
             let mut center = s;
