@@ -285,6 +285,40 @@ impl CompPass {
                 }
                 return Ok(false);
             }
+            // The first move after G40 leaves compensation (rs274), a
+            // machine move too: for G28/G30 a rapid to their intermediate
+            // point first, with the programmed point for the plane's axes
+            // they leave out (the home move's own is then in place).
+            Op::Home {
+                via, incremental, ..
+            } if self.after_off.is_some() => {
+                self.after_off = None;
+                let (u, v, _) = self.axes();
+                if !(via.has(Axis::ALL[u]) && via.has(Axis::ALL[v])) {
+                    // (Zero steps from an unknown point: the point is here.)
+                    let mut to = if *incremental { ir::Axes::NONE } else { *via };
+                    for i in [u, v] {
+                        if !via.has(Axis::ALL[i]) {
+                            if let Some(p) = self.at.position[i] {
+                                to.set(Axis::ALL[i], p);
+                            }
+                        }
+                    }
+                    out.push(stmt.with_op(Op::Move(ir::Move {
+                        motion: Motion::Rapid,
+                        to,
+                        arc: None,
+                    })));
+                }
+                self.at.forget_after(&stmt.op, span);
+            }
+            Op::MachineMove(_) if self.after_off.is_some() => {
+                let off = self.after_off.map_or(span, |(off, _)| off);
+                return Err(LowerError::new(
+                    CompError::MachineMoveAfterOff { off },
+                    span,
+                ));
+            }
             Op::MachineMove(_)
             | Op::Home { .. }
             | Op::SelectWorkOffset(_)

@@ -138,6 +138,9 @@ pub enum CompError {
     CornerAfterStop,
     /// An arc right after G40.
     ArcAfterOff { off: Span },
+    /// A G53 move right after G40: rs274 leaves compensation on it, back
+    /// to the programmed point in the plane, which no one line can write.
+    MachineMoveAfterOff { off: Span },
     /// The program ends with compensation on.
     StillOn { since: Span },
     /// A near-tangent corner into an arc makes rs274 start the arc off its
@@ -484,6 +487,14 @@ fn comp_diagnostic(e: &CompError, span: Span) -> Diagnostic {
                 "the move after compensation ends must be straight",
             )
             .with_secondary(*off, "compensation ended here"),
+            MachineMoveAfterOff { off } => error(
+                "a G53 move right after G40",
+                span,
+                "LinuxCNC leaves compensation on this move, back to the programmed point",
+            )
+            .with_secondary(*off, "compensation ended here")
+            .with_note("one line cannot move in machine coordinates and to a program point")
+            .with_help("give a straight move after G40 first"),
             StillOn { since } => error(
                 "the program ends with cutter compensation on",
                 span,
