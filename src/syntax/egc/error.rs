@@ -4,7 +4,7 @@
 //! lives; the code that finds a problem decides its kind, never its words.
 
 use super::lexer::Language;
-use crate::diagnostic::{error, Diagnostic, DiagnosticExt, Located, Wording};
+use crate::diagnostic::{error, warning, Diagnostic, DiagnosticExt, Located, Wording};
 use crate::source::Span;
 
 #[derive(Clone, Debug, PartialEq)]
@@ -40,6 +40,8 @@ pub enum SyntaxErrorKind {
     UnterminatedString,
     /// A number with more than one decimal point, as written.
     MalformedNumber(String),
+    /// `//` in plain G-code, read as a comment (a warning).
+    SlashCommentInGcode,
     /// A single letter where an expression wants a name.
     LetterAsName(String),
     /// A letter with no number where a word belongs.
@@ -189,6 +191,13 @@ impl Wording for SyntaxErrorKind {
                 "this string has no closing `\"`",
             )
             .with_help("strings end on the line they start on"),
+            SlashCommentInGcode => warning(
+                "`//` read as a comment in plain G-code",
+                at,
+                "the rest of the line is not read",
+            )
+            .with_note("`//` comments are ger's `.egc` language; LinuxCNC refuses them")
+            .with_help("write the comment as `( … )` or after `;`"),
             MalformedNumber(text) => error(
                 format!("malformed number `{text}`"),
                 at,

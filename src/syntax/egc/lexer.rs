@@ -1271,6 +1271,11 @@ impl<'a> Lexer<'a> {
     fn token(&mut self, raw: Raw, start: usize, end: usize) {
         let text = &self.text[start..end];
         let tok = match raw {
+            Raw::LineComment if self.language == Language::Gcode => {
+                // Read as a comment, as in `.egc`, but not silently.
+                self.report(SyntaxErrorKind::SlashCommentInGcode, start, start + 2);
+                return;
+            }
             Raw::LineComment | Raw::LParen => return,
             Raw::Newline if !self.groups.is_empty() => return self.newline_in_group(start, end),
             Raw::Newline | Raw::Semi => return self.statement_end(start, end),
