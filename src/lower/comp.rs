@@ -304,11 +304,13 @@ impl CompPass {
                             }
                         }
                     }
-                    out.push(stmt.with_op(Op::Move(ir::Move {
-                        motion: Motion::Rapid,
-                        to,
-                        arc: None,
-                    })));
+                    if !to.is_empty() {
+                        out.push(stmt.with_op(Op::Move(ir::Move {
+                            motion: Motion::Rapid,
+                            to,
+                            arc: None,
+                        })));
+                    }
                 }
                 self.at.forget_after(&stmt.op, span);
             }
