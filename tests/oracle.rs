@@ -458,8 +458,17 @@ fn random_macros() -> Result<(), Failed> {
     random_trial("macros", count, random_macro_program, true, count * 2 / 3)
 }
 
+/// A case's name for its scratch files: its area and its stem, since two
+/// areas may hold cases of one name (`fanuc/indirect`, `linuxcnc/indirect`)
+/// and the trials run at the same time.
+fn scratch_name(case: &Path) -> String {
+    let area = case.parent().and_then(Path::file_name).unwrap_or_default();
+    let stem = case.file_stem().unwrap_or_default();
+    format!("{}-{}", area.to_string_lossy(), stem.to_string_lossy())
+}
+
 fn run_case(case: &Path) -> Result<(), Failed> {
-    let stem = case.file_stem().unwrap().to_string_lossy().into_owned();
+    let stem = scratch_name(case);
     let work = std::env::temp_dir().join(format!("ger-oracle-{}-{stem}", std::process::id()));
     std::fs::create_dir_all(&work).map_err(|e| e.to_string())?;
     let tools = case_tools(case);
@@ -536,7 +545,7 @@ fn case_tools(case: &Path) -> Vec<rs274::Tool> {
 /// `--cycles keep` or `--comp keep` (`keep`): rs274 must run ger's output
 /// as it runs the input.
 fn run_kept(case: &Path, keep: &str) -> Result<(), Failed> {
-    let stem = case.file_stem().unwrap().to_string_lossy().into_owned();
+    let stem = scratch_name(case);
     let out = std::env::temp_dir().join(format!("ger-kept-{}-{stem}.nc", std::process::id()));
     support::compile_with(case, &out, &[keep, "keep", "--target", "linuxcnc"])?;
     let text = std::fs::read_to_string(&out).map_err(|e| e.to_string())?;
