@@ -801,6 +801,9 @@ impl<'a> Lexer<'a> {
             self.push(start, tok, end);
             return Some(end);
         }
+        if let Some(taken) = self.operator_then_number(start, end) {
+            return Some(taken);
+        }
         // LinuxCNC's FIX and FUP round down and up.
         let rounding = [("fix", "floor"), ("fup", "ceil")]
             .iter()
@@ -813,6 +816,31 @@ impl<'a> Lexer<'a> {
             }
         }
         self.o_word(text, start, end)
+    }
+
+    /// An operator written against the number after it, inside brackets
+    /// (`[#1EQ1]`, `[#2GT0.5]`: rs274 and Fanuc read them so): the
+    /// operator, then the number; where they end.
+    fn operator_then_number(&mut self, start: usize, end: usize) -> Option<usize> {
+        let text = &self.text[start..end];
+        let digits = text.find(|c: char| c.is_ascii_digit())?;
+        let tok = self.operator(&text[..digits])?;
+        if !text[digits..].bytes().all(|b| b.is_ascii_digit()) {
+            return None;
+        }
+        // The number may go on past what the lexer took: `1.5`.
+        let bytes = self.text.as_bytes();
+        let mut number_end = end;
+        if bytes.get(number_end) == Some(&b'.') {
+            number_end += 1;
+            while bytes.get(number_end).is_some_and(u8::is_ascii_digit) {
+                number_end += 1;
+            }
+        }
+        let number = parse_decimal(&self.text[start + digits..number_end]);
+        self.push(start, tok, start + digits);
+        self.push(start + digits, Tok::Number(number), number_end);
+        Some(number_end)
     }
 
     /// `o<name>`: a named subroutine, given a number of its own.
