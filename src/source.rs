@@ -358,21 +358,15 @@ pub fn decode(mut bytes: Vec<u8>) -> Result<String, NotText> {
             bytes.truncate(eof);
         }
     }
-    if let Some(pad) = bytes.iter().position(|&b| b == 0) {
-        // (A file of NULs alone is no program: still refused.)
-        let text_before = bytes[..pad].iter().any(|b| !b.is_ascii_whitespace());
-        if text_before
-            && bytes[pad..]
-                .iter()
-                .all(|&b| b == 0 || b.is_ascii_whitespace())
-        {
-            bytes.truncate(pad);
-        }
-    }
-    // One pass: a NUL anywhere says "binary" before any other control byte.
-    let mut control = None;
+    // One pass: a NUL anywhere says "binary" before any other control
+    // byte, unless it starts the padding of a text's end.
+    let (mut control, mut padding) = (None, None);
     for (at, &b) in bytes.iter().enumerate() {
         match b {
+            0 if is_padding(&bytes, at) => {
+                padding = Some(at);
+                break;
+            }
             0 => return Err(NotText::Nul(at)),
             b'\n' | b'\r' | b'\t' | 0x0c => {}
             _ if b < 0x20 => {
@@ -380,6 +374,9 @@ pub fn decode(mut bytes: Vec<u8>) -> Result<String, NotText> {
             }
             _ => {}
         }
+    }
+    if let Some(pad) = padding {
+        bytes.truncate(pad);
     }
     if let Some(at) = control {
         return Err(NotText::Control(at));
@@ -393,6 +390,15 @@ pub fn decode(mut bytes: Vec<u8>) -> Result<String, NotText> {
         }
     }
     Ok(decode_lines(bytes))
+}
+
+/// Whether the NUL at `at` only pads the end of a text: NULs and blanks
+/// from it on, and text before it (a file of NULs alone is no program).
+fn is_padding(bytes: &[u8], at: usize) -> bool {
+    bytes[at..]
+        .iter()
+        .all(|&b| b == 0 || b.is_ascii_whitespace())
+        && bytes[..at].iter().any(|b| !b.is_ascii_whitespace())
 }
 
 /// Clean bytes as text: UTF-8 when they all are, else each line as UTF-8

@@ -273,20 +273,17 @@ impl Pass for OffsetsPass {
                 self.plane = *p;
                 true
             }
-            Op::MachineMove(_) => {
-                // Machine coordinates ignore the work offsets and the
-                // tool's length alike (rs274: `G53 G0 Z0` under G43 goes
-                // to machine Z0 whatever the length): written as they are.
+            // Machine coordinates ignore the work offsets and the tool's
+            // length alike (rs274: `G53 G0 Z0` under G43 goes to machine
+            // Z0 whatever the length): written as they are. A point read
+            // back is the tool's offset point, which only the comp pass
+            // knows.
+            Op::MachineMove(_) | Op::ReadPosition(_) => {
                 self.forget_after(&stmt.op);
                 true
             }
             Op::Home { via, .. } => {
                 self.place(via);
-                self.forget_after(&stmt.op);
-                true
-            }
-            // The tool's offset point, which only the comp pass knows.
-            Op::ReadPosition(_) => {
                 self.forget_after(&stmt.op);
                 true
             }
