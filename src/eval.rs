@@ -176,6 +176,8 @@ pub struct MachineState {
     pub incremental: bool,
     /// G16 is on at the call.
     pub polar: bool,
+    /// G90.1 is on at the call.
+    pub absolute_centers: bool,
     pub units: Option<ir::Units>,
     pub tool: u32,
     pub tool_diameter: f64,
@@ -387,6 +389,8 @@ struct Evaluator<'a> {
     units: Option<ir::Units>,
     position: [Option<f64>; 3],
     distance: ir::Distance,
+    /// G90.1 (absolute arc centres) or G91.1.
+    arc_centers: ir::Distance,
     polar: bool,
     /// An F word has been given: a feed move without one is an error.
     feed_set: bool,
@@ -460,6 +464,7 @@ impl<'a> Evaluator<'a> {
             units: None,
             position: [None; 3],
             distance: ir::Distance::Absolute,
+            arc_centers: ir::Distance::Incremental,
             polar: false,
             feed_set: false,
         }
@@ -691,6 +696,7 @@ impl<'a> Evaluator<'a> {
             ir::Op::Plane(p) => self.plane = *p,
             ir::Op::Spindle(s) => self.spindle = *s,
             ir::Op::Distance(d) => self.distance = *d,
+            ir::Op::ArcCenters(d) => self.arc_centers = *d,
             ir::Op::Polar(on) => self.polar = *on,
             ir::Op::SetPosition(a) => {
                 for axis in [ir::Axis::X, ir::Axis::Y, ir::Axis::Z] {
@@ -1353,6 +1359,7 @@ impl WizardContext for Context<'_, '_> {
         MachineState {
             position: self.ev.position,
             incremental: self.ev.distance == ir::Distance::Incremental,
+            absolute_centers: self.ev.arc_centers == ir::Distance::Absolute,
             polar: self.ev.polar,
             units: self.ev.units,
             tool,

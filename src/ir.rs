@@ -525,6 +525,12 @@ pub enum Op {
     End,
     Units(Units),
     Distance(Distance),
+    /// G90.1 (`Absolute`): the I/J/K of the arcs after it are their
+    /// centre's coordinates, in the program's frame as X/Y/Z are; G91.1
+    /// (`Incremental`, where every program starts): the centre relative
+    /// to the arc's start. Made only where the mode changes; the absolute
+    /// pass makes every centre relative and drops these.
+    ArcCenters(Distance),
     Plane(Plane),
     /// G54..G59.3 as 1..=9.
     SelectWorkOffset(u8),
@@ -606,6 +612,7 @@ impl Op {
             | Op::End
             | Op::Units(_)
             | Op::Distance(_)
+            | Op::ArcCenters(_)
             | Op::Plane(_)
             | Op::LocalOffset(_)
             | Op::SetPosition(_)

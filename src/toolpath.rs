@@ -277,6 +277,7 @@ impl Builder {
             // Folded away before the absolute pass, or the machine's own
             // (taken as zero, see the module doc), or nothing that moves.
             Op::Distance(_)
+            | Op::ArcCenters(_)
             | Op::LocalOffset(_)
             | Op::SetPosition(_)
             | Op::CancelPosition

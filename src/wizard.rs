@@ -666,8 +666,9 @@ impl WizardEngine {
                 WizardError::new(&wizard.name, kind, call.span).to_diagnostic()
             ]);
         }
-        // Wizard coordinates are absolute and Cartesian: switch a G91 or G16
-        // caller to G90/G15 around them, and back.
+        // Wizard coordinates are absolute and Cartesian, their arc centres
+        // relative: switch a G91, G16 or G90.1 caller to G90/G15/G91.1
+        // around them, and back.
         let mut emit = |op: Op| ctx.emit(op).map_err(|d| vec![d]);
         if state.incremental {
             emit(Op::Distance(ir::Distance::Absolute))?;
@@ -675,11 +676,18 @@ impl WizardEngine {
         if state.polar {
             emit(Op::Polar(false))?;
         }
+        if state.absolute_centers {
+            emit(Op::ArcCenters(ir::Distance::Incremental))?;
+        }
         for action in actions {
             match action {
                 Action::Op(op) => ctx.emit(op).map_err(|d| vec![d])?,
                 Action::Line(line) => ctx.run_line(&line)?,
             }
+        }
+        if state.absolute_centers {
+            ctx.emit(Op::ArcCenters(ir::Distance::Absolute))
+                .map_err(|d| vec![d])?;
         }
         if state.polar {
             ctx.emit(Op::Polar(true)).map_err(|d| vec![d])?;

@@ -296,6 +296,42 @@ fn cases() -> Vec<Case> {
                 (x - 50.0).hypot(y - 40.0) <= 15.0
             })
         }),
+        ("CirclePocket under G90.1", || {
+            // The wizard's arc centres are relative whatever the caller's
+            // mode; the caller's G90.1 holds again after it (the last arc's
+            // centre given as coordinates).
+            let program = |centers: &str, last_arc: &str| {
+                format!(
+                    "SetTool 1 6\nG21 G90 G17\nG0 X50 Y40 Z10\nF400\n{centers}\n\
+                     CirclePocket 30 4 2\nG0 X50 Y40\nG1 Z-1\n{last_arc}\nM30\n"
+                )
+            };
+            let relative = tool_path("pocket-g911", &program("G91.1", "G2 X60 Y40 I5 J0"))?;
+            let absolute = tool_path("pocket-g901", &program("G90.1", "G2 X60 Y40 I55 J40"))?;
+            if relative.len() != absolute.len() {
+                return Err(
+                    format!("{} moves, {} under G90.1", relative.len(), absolute.len()).into(),
+                );
+            }
+            let same = |a: Point, b: Point| (0..3).all(|i| near(a[i], b[i], 1e-6));
+            for (a, b) in relative.iter().zip(&absolute) {
+                let centres = match (a.center, b.center) {
+                    (Some(x), Some(y)) => same(x, y),
+                    (x, y) => x.is_none() && y.is_none(),
+                };
+                if a.kind != b.kind || !same(a.start, b.start) || !same(a.end, b.end) || !centres {
+                    return Err(format!("{a:?}\nunder G90.1: {b:?}").into());
+                }
+            }
+            match relative.last() {
+                Some(m)
+                    if m.kind == "arc" && m.center.is_some_and(|c| same(c, [55.0, 40.0, -1.0])) =>
+                {
+                    Ok(())
+                }
+                m => Err(format!("the last move is not the arc about X55 Y40: {m:?}").into()),
+            }
+        }),
         ("spiral", || {
             let p = tool_path(
                 "spiral",

@@ -240,6 +240,8 @@ impl Printer {
             Op::Units(Units::Mm) => self.code("G21"),
             Op::Distance(ir::Distance::Absolute) => self.code("G90"),
             Op::Distance(ir::Distance::Incremental) => self.code("G91"),
+            Op::ArcCenters(ir::Distance::Absolute) => self.code("G90.1"),
+            Op::ArcCenters(ir::Distance::Incremental) => self.code("G91.1"),
             Op::Plane(plane) => {
                 self.plane = *plane;
                 self.code(match plane {

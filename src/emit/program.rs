@@ -113,6 +113,7 @@ impl ProgramPrinter {
                 | Op::End
                 | Op::Units(_)
                 | Op::Distance(_)
+                | Op::ArcCenters(_)
                 | Op::Plane(_)
                 | Op::LocalOffset(_)
                 | Op::SetPosition(_)

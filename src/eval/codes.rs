@@ -25,7 +25,6 @@ fn unsupported_g(t: u32) -> &'static str {
         680 | 690 => "coordinate rotation is not supported",
         500 | 510 => "scaling is not supported",
         650 => "G65 is Fanuc's macro call: pass --from fanuc",
-        901 => "absolute arc centres (G90.1) are not supported; I/J/K are relative to the start",
         930 | 950 => "only feed per minute (G94) is supported",
         310 | 382..=385 => "a probing move stops where its switch trips, which only the machine knows; what follows it cannot be worked out",
         _ => "ger does not know this code",
@@ -566,7 +565,20 @@ impl Evaluator<'_> {
             }
             900 => Op::Distance(ir::Distance::Absolute),
             910 => Op::Distance(ir::Distance::Incremental),
-            911 => return self.leftover_move(w, span, code).map(|_| Flow::Next),
+            // G90.1/G91.1: made only where the mode changes (G91.1, the
+            // mode every program starts in, is most often a post's
+            // header, and leaves the IR as it was).
+            901 | 911 => {
+                let mode = if t == 901 {
+                    ir::Distance::Absolute
+                } else {
+                    ir::Distance::Incremental
+                };
+                if mode != self.arc_centers {
+                    self.emit(Op::ArcCenters(mode), span)?;
+                }
+                return self.leftover_move(w, span, code).map(|_| Flow::Next);
+            }
             920 => {
                 let axes = self.take_axes(w, at, "G92", true)?;
                 Op::SetPosition(if axes.is_empty() {

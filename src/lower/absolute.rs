@@ -23,6 +23,8 @@ pub const PASS: PassInfo = PassInfo {
 
 struct AbsolutePass {
     at: Tracker,
+    /// G90.1 (absolute arc centres) or G91.1.
+    centers: Distance,
     /// An M2/M30 went by, and the span of the last statement.
     ended: bool,
     last: Option<Span>,
@@ -32,6 +34,7 @@ impl AbsolutePass {
     fn new() -> AbsolutePass {
         AbsolutePass {
             at: Tracker::new(),
+            centers: Distance::Incremental,
             ended: false,
             last: None,
         }
@@ -47,7 +50,8 @@ impl AbsolutePass {
                 self.at.check_absolute(&m.to, span)?;
                 let at = &self.at.position;
                 let end = std::array::from_fn(|i| m.to.get(Axis::ALL[i]).or(at[i]));
-                let resolved = resolve_arc(&self.at, end, arc.geometry, clockwise, span);
+                let resolved =
+                    resolve_arc(&self.at, end, arc.geometry, self.centers, clockwise, span);
                 // A refused arc still ends where it says: the moves after
                 // it start there, and report no error of its making.
                 let center = resolved.inspect_err(|_| m.to.place(&mut self.at.position, Some))?;
@@ -58,7 +62,7 @@ impl AbsolutePass {
         let end = self.at.end_of(&m.to, "an incremental move", span)?;
         if let Some(arc) = &mut m.arc {
             let ends = [end[0], end[1], end[2]];
-            let resolved = resolve_arc(&self.at, ends, arc.geometry, clockwise, span);
+            let resolved = resolve_arc(&self.at, ends, arc.geometry, self.centers, clockwise, span);
             let center = resolved.inspect_err(|_| self.at.position = end)?;
             arc.geometry = ArcGeometry::Center(center);
         }
@@ -106,6 +110,10 @@ impl Pass for AbsolutePass {
         match &mut stmt.op {
             Op::Distance(d) => {
                 self.at.distance = *d;
+                return false;
+            }
+            Op::ArcCenters(d) => {
+                self.centers = *d;
                 return false;
             }
             Op::Plane(p) => self.at.plane = *p,
@@ -198,11 +206,14 @@ impl Pass for AbsolutePass {
 }
 
 /// The centre of an arc, relative to its start, in the plane's two axes.
-/// `end`: where X, Y and Z end (`None`: unknown).
+/// `end`: where X, Y and Z end (`None`: unknown); `centers`: how I/J/K
+/// give the centre (G90.1: its coordinates, both needed, as in LinuxCNC;
+/// G91.1: from the start, a missing one 0).
 fn resolve_arc(
     pass: &Tracker,
     end: [Option<f64>; 3],
     geometry: ArcGeometry,
+    centers: Distance,
     clockwise: bool,
     span: Span,
 ) -> Result<ir::Center, LowerError> {
@@ -222,7 +233,11 @@ fn resolve_arc(
                 LowerErrorKind::ArcRadiusTooSmall { radius, half_chord }
             }
             ArcError::SamePoints => LowerErrorKind::FullCircleWithR,
-            ArcError::RadiiDiffer { start, end } => LowerErrorKind::ArcRadiiDiffer { start, end },
+            ArcError::RadiiDiffer { start, end } => LowerErrorKind::ArcRadiiDiffer {
+                start,
+                end,
+                absolute: centers == Distance::Absolute,
+            },
             ArcError::ZeroRadius => LowerErrorKind::ArcZeroRadius,
         };
         LowerError::new(kind, span)
@@ -233,8 +248,17 @@ fn resolve_arc(
         }
         ArcGeometry::Center(c) => {
             let mut center = s;
-            center[a] += c[a].unwrap_or(0.0);
-            center[b] += c[b].unwrap_or(0.0);
+            for axis in [a, b] {
+                center[axis] = match (centers, c[axis]) {
+                    (Distance::Incremental, c) => s[axis] + c.unwrap_or(0.0),
+                    (Distance::Absolute, Some(c)) => c,
+                    (Distance::Absolute, None) => {
+                        let letter = char::from(b"IJK"[axis]);
+                        let kind = LowerErrorKind::AbsoluteCentreIncomplete { letter };
+                        return Err(LowerError::new(kind, span));
+                    }
+                };
+            }
             geometry::check_center(s, e, center, pass.plane).map_err(arc_error)?;
             center
         }

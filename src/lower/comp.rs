@@ -335,6 +335,7 @@ impl CompPass {
             | Op::Dwell(_)
             | Op::Units(_)
             | Op::Distance(_)
+            | Op::ArcCenters(_)
             | Op::LocalOffset(_)
             | Op::SetPosition(_)
             | Op::CancelPosition

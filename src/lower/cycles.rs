@@ -410,6 +410,7 @@ impl Pass for CyclesPass {
             | Op::End
             | Op::Units(_)
             | Op::Distance(_)
+            | Op::ArcCenters(_)
             | Op::Plane(_)
             | Op::SelectWorkOffset(_)
             | Op::SetWorkOffset { .. }

@@ -41,9 +41,15 @@ pub enum LowerErrorKind {
     ArcRadiiDiffer {
         start: f64,
         end: f64,
+        /// G90.1 was on: I/J/K were the centre's coordinates.
+        absolute: bool,
     },
     /// I/J/K that put the centre on the start point.
     ArcZeroRadius,
+    /// An arc under G90.1 without one of the centre's two coordinates.
+    AbsoluteCentreIncomplete {
+        letter: char,
+    },
     /// An offset changed under G91.
     OffsetsUnderIncremental {
         since: Option<Span>,
@@ -230,15 +236,27 @@ impl LowerError {
                 "the end point is the start point",
             )
             .with_help("give a full circle's centre with I/J/K"),
-            ArcRadiiDiffer { start, end } => error(
+            ArcRadiiDiffer {
+                start,
+                end,
+                absolute,
+            } => error(
                 "arc end is not on the circle",
                 span,
                 format!("radius {} at the start, {} at the end", fmt(*start), fmt(*end)),
             )
-            .with_note(
-                "the two radii may differ by at most 1%; check the centre (I/J/K are relative to the start)",
-            ),
+            .with_note(if *absolute {
+                "the two radii may differ by at most 1%; check the centre (G90.1 is on: I/J/K are its coordinates)"
+            } else {
+                "the two radii may differ by at most 1%; check the centre (I/J/K are relative to the start)"
+            }),
             ArcZeroRadius => error("arc with zero radius", span, "the centre is the start point"),
+            AbsoluteCentreIncomplete { letter } => error(
+                format!("{letter} word missing in absolute centre arc"),
+                span,
+                "G90.1 is on: I/J/K are the centre's coordinates, both needed",
+            )
+            .with_help("give both of the plane's centre words, or G91.1 for centres relative to the start"),
             OffsetsUnderIncremental { since } => {
                 let d = error(
                     "offsets changed under G91",

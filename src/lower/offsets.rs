@@ -74,6 +74,8 @@ struct OffsetsPass {
     tools: BTreeMap<u32, ir::Tool>,
     distance: Distance,
     incremental_since: Option<Span>,
+    /// G90.1: arc centres are coordinates, shifted as X/Y/Z are.
+    centers: Distance,
     /// Position per axis in the output's coordinates, once known.
     position: Position,
     /// Work offsets already reported as unknown.
@@ -110,6 +112,7 @@ impl OffsetsPass {
             tools: cx.start.setup.tools.clone(),
             distance: Distance::Absolute,
             incremental_since: None,
+            centers: Distance::Incremental,
             position: [None; 9],
             warned: 0,
         }
@@ -214,7 +217,8 @@ impl Pass for OffsetsPass {
     /// A run of moves under G90 changes no offset: each shift is worked
     /// out once for the run, not for every axis of every move.
     fn feed_each(&mut self, input: &mut [Stmt], to: &mut Batch<'_, '_>) -> usize {
-        if self.distance != Distance::Absolute || !follows_only(input) {
+        let centers = self.centers == Distance::Absolute;
+        if self.distance != Distance::Absolute || centers || !follows_only(input) {
             return feed_in_turn(self, input, to);
         }
         let shift: [f64; 9] = std::array::from_fn(|i| self.shift(i));
@@ -249,6 +253,25 @@ impl Pass for OffsetsPass {
             }
             Op::Move(m) => {
                 self.place(&mut m.to);
+                if let Some(ir::Arc {
+                    geometry: ir::ArcGeometry::Center(center),
+                    ..
+                }) = &mut m.arc
+                {
+                    if self.centers == Distance::Absolute {
+                        // The centre's coordinates: in the frame of X/Y/Z,
+                        // whether those are given under G90 or G91.
+                        for (i, c) in center.iter_mut().enumerate() {
+                            if let Some(c) = c {
+                                *c += self.shift(i);
+                            }
+                        }
+                    }
+                }
+                true
+            }
+            Op::ArcCenters(d) => {
+                self.centers = *d;
                 true
             }
             Op::Cycle(c) => {

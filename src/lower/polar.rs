@@ -131,6 +131,7 @@ impl Pass for PolarPass {
             | Op::End
             | Op::Units(_)
             | Op::Distance(_)
+            | Op::ArcCenters(_)
             | Op::DiameterMode(_)
             | Op::ReturnLevel(_)
             | Op::CycleOff

@@ -138,6 +138,7 @@ impl Pass for UnitsPass {
             | Op::Stop(_)
             | Op::End
             | Op::Distance(_)
+            | Op::ArcCenters(_)
             | Op::SelectWorkOffset(_)
             | Op::CancelPosition
             | Op::ToolLength { .. }
