@@ -256,11 +256,13 @@ impl CompPass {
                         on.s = None;
                     }
                     if matches!(stmt.op, Op::End) {
-                        out.push(stmt.clone());
-                        return Err(LowerError::new(
+                        // LinuxCNC turns compensation off at M2/M30, the
+                        // tool left there: a warning, the path is rs274's.
+                        out.report(LowerError::new(
                             CompError::StillOn { since: on.since },
                             span,
                         ));
+                        return Ok(true);
                     }
                     self.on = Some(on);
                 }

@@ -147,7 +147,8 @@ pub enum CompError {
     /// A G53 move right after G40: rs274 leaves compensation on it, back
     /// to the programmed point in the plane, which no one line can write.
     MachineMoveAfterOff { off: Span },
-    /// The program ends with compensation on.
+    /// The program ends with compensation on (a warning: LinuxCNC turns
+    /// it off there).
     StillOn { since: Span },
     /// A near-tangent corner into an arc makes rs274 start the arc off its
     /// circle: radii differ.
@@ -182,6 +183,7 @@ impl LowerError {
                 | LowerErrorKind::NoProgramEnd
                 | LowerErrorKind::FeedInMachineUnits
                 | LowerErrorKind::WorkOffsetSetByMachine { .. }
+                | LowerErrorKind::Comp(CompError::StillOn { .. })
         )
     }
 
@@ -513,12 +515,13 @@ fn comp_diagnostic(e: &CompError, span: Span) -> Diagnostic {
             .with_secondary(*off, "compensation ended here")
             .with_note("one line cannot move in machine coordinates and to a program point")
             .with_help("give a straight move after G40 first"),
-            StillOn { since } => error(
+            StillOn { since } => warning(
                 "the program ends with cutter compensation on",
                 span,
                 "no G40 before the end",
             )
             .with_secondary(*since, "compensation turned on here")
+            .with_note("the last move ends at its offset point and the tool stays there, as LinuxCNC turns compensation off at the end")
             .with_help("end the profile with a G40 move"),
             Spiral { start, end } => error(
                 "a near-tangent corner into this arc",
