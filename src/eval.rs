@@ -178,6 +178,8 @@ pub struct MachineState {
     pub polar: bool,
     /// G90.1 is on at the call.
     pub absolute_centers: bool,
+    /// G93 is on at the call.
+    pub inverse_time: bool,
     pub units: Option<ir::Units>,
     pub tool: u32,
     pub tool_diameter: f64,
@@ -391,6 +393,12 @@ struct Evaluator<'a> {
     distance: ir::Distance,
     /// G90.1 (absolute arc centres) or G91.1.
     arc_centers: ir::Distance,
+    /// G93 is on, and an F under it on the line being run (a feed move
+    /// needs one on its own line).
+    inverse_time: bool,
+    inverse_feed: bool,
+    /// G94 after G93, and no F since.
+    inverse_time_ended: bool,
     polar: bool,
     /// An F word has been given: a feed move without one is an error.
     feed_set: bool,
@@ -465,6 +473,9 @@ impl<'a> Evaluator<'a> {
             position: [None; 3],
             distance: ir::Distance::Absolute,
             arc_centers: ir::Distance::Incremental,
+            inverse_time: false,
+            inverse_feed: false,
+            inverse_time_ended: false,
             polar: false,
             feed_set: false,
         }
@@ -574,10 +585,32 @@ impl<'a> Evaluator<'a> {
             ir::Op::End => self.comp = None,
             ir::Op::Feed(_) => {
                 self.feed_set = true;
+                self.inverse_time_ended = false;
                 self.feed_before_units |= self.first_units.is_none();
+                self.inverse_feed = self.inverse_time;
             }
             ir::Op::Move(m) if m.motion != ir::Motion::Rapid && !self.feed_set => {
-                return Err(EvalError::new(EvalErrorKind::FeedBeforeRate, span).into());
+                let kind = if self.inverse_time_ended {
+                    EvalErrorKind::FeedAfterInverseTime
+                } else {
+                    EvalErrorKind::FeedBeforeRate
+                };
+                return Err(EvalError::new(kind, span).into());
+            }
+            ir::Op::Move(m) if m.motion != ir::Motion::Rapid && self.inverse_time => {
+                // rs274: each G1/G2/G3 under G93 has its own F.
+                if !std::mem::take(&mut self.inverse_feed) {
+                    return Err(EvalError::new(EvalErrorKind::InverseTimeWithoutF, span).into());
+                }
+                if m.arc.is_some() && self.comp.is_some() {
+                    let kind = EvalErrorKind::InverseTimeArcUnderComp;
+                    return Err(EvalError::new(kind, span).into());
+                }
+            }
+            // G94 after G93: rs274 sets the feed to 0.
+            ir::Op::InverseTime(false) => {
+                self.feed_set = false;
+                self.inverse_time_ended = true;
             }
             ir::Op::Units(u) if self.cycle_run && self.units != Some(*u) => {
                 self.units_in_cycles = Some(span);
@@ -697,6 +730,7 @@ impl<'a> Evaluator<'a> {
             ir::Op::Spindle(s) => self.spindle = *s,
             ir::Op::Distance(d) => self.distance = *d,
             ir::Op::ArcCenters(d) => self.arc_centers = *d,
+            ir::Op::InverseTime(on) => self.inverse_time = *on,
             ir::Op::Polar(on) => self.polar = *on,
             ir::Op::SetPosition(a) => {
                 for axis in [ir::Axis::X, ir::Axis::Y, ir::Axis::Z] {
@@ -884,6 +918,7 @@ impl<'a> Evaluator<'a> {
         let before = &words[..first.map_or(words.len(), |(at, _)| at)];
         let uncoded = !before.iter().all(|w| w.letter == b'N');
         self.machine_coordinates = false;
+        self.inverse_feed = false;
         let stmt = match first {
             _ if more => None,
             Some(_) if uncoded => None,
@@ -906,6 +941,7 @@ impl<'a> Evaluator<'a> {
     /// Run a line of `words`, written after a `/` if `block_delete`.
     fn exec_words(&mut self, words: &[ast::Word], block_delete: bool) -> Flow {
         self.machine_coordinates = false;
+        self.inverse_feed = false;
         self.block_delete = block_delete;
         let flow = self.exec_line_in_order(words);
         self.block_delete = false;
@@ -1360,6 +1396,7 @@ impl WizardContext for Context<'_, '_> {
             position: self.ev.position,
             incremental: self.ev.distance == ir::Distance::Incremental,
             absolute_centers: self.ev.arc_centers == ir::Distance::Absolute,
+            inverse_time: self.ev.inverse_time,
             polar: self.ev.polar,
             units: self.ev.units,
             tool,

@@ -531,6 +531,12 @@ pub enum Op {
     /// to the arc's start. Made only where the mode changes; the absolute
     /// pass makes every centre relative and drops these.
     ArcCenters(Distance),
+    /// G93 (true): the F of each feed move, given on its line, is the
+    /// inverse of the move's time in minutes; G94 (false), where every
+    /// program starts. Made only where the mode changes; the absolute pass
+    /// turns each such F into a feed per minute (the move's length times
+    /// F, as LinuxCNC does) and drops these.
+    InverseTime(bool),
     Plane(Plane),
     /// G54..G59.3 as 1..=9.
     SelectWorkOffset(u8),
@@ -613,6 +619,7 @@ impl Op {
             | Op::Units(_)
             | Op::Distance(_)
             | Op::ArcCenters(_)
+            | Op::InverseTime(_)
             | Op::Plane(_)
             | Op::LocalOffset(_)
             | Op::SetPosition(_)

@@ -278,6 +278,7 @@ impl Builder {
             // (taken as zero, see the module doc), or nothing that moves.
             Op::Distance(_)
             | Op::ArcCenters(_)
+            | Op::InverseTime(_)
             | Op::LocalOffset(_)
             | Op::SetPosition(_)
             | Op::CancelPosition

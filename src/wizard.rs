@@ -667,8 +667,8 @@ impl WizardEngine {
             ]);
         }
         // Wizard coordinates are absolute and Cartesian, their arc centres
-        // relative: switch a G91, G16 or G90.1 caller to G90/G15/G91.1
-        // around them, and back.
+        // relative, their feeds per minute: switch a G91, G16, G90.1 or G93
+        // caller to G90/G15/G91.1/G94 around them, and back.
         let mut emit = |op: Op| ctx.emit(op).map_err(|d| vec![d]);
         if state.incremental {
             emit(Op::Distance(ir::Distance::Absolute))?;
@@ -679,6 +679,9 @@ impl WizardEngine {
         if state.absolute_centers {
             emit(Op::ArcCenters(ir::Distance::Incremental))?;
         }
+        if state.inverse_time {
+            emit(Op::InverseTime(false))?;
+        }
         for action in actions {
             match action {
                 Action::Op(op) => ctx.emit(op).map_err(|d| vec![d])?,
@@ -688,6 +691,9 @@ impl WizardEngine {
         if state.absolute_centers {
             ctx.emit(Op::ArcCenters(ir::Distance::Absolute))
                 .map_err(|d| vec![d])?;
+        }
+        if state.inverse_time {
+            ctx.emit(Op::InverseTime(true)).map_err(|d| vec![d])?;
         }
         if state.polar {
             ctx.emit(Op::Polar(true)).map_err(|d| vec![d])?;

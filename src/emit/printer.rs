@@ -242,6 +242,8 @@ impl Printer {
             Op::Distance(ir::Distance::Incremental) => self.code("G91"),
             Op::ArcCenters(ir::Distance::Absolute) => self.code("G90.1"),
             Op::ArcCenters(ir::Distance::Incremental) => self.code("G91.1"),
+            Op::InverseTime(true) => self.code("G93"),
+            Op::InverseTime(false) => self.code("G94"),
             Op::Plane(plane) => {
                 self.plane = *plane;
                 self.code(match plane {

@@ -114,6 +114,7 @@ impl ProgramPrinter {
                 | Op::Units(_)
                 | Op::Distance(_)
                 | Op::ArcCenters(_)
+                | Op::InverseTime(_)
                 | Op::Plane(_)
                 | Op::LocalOffset(_)
                 | Op::SetPosition(_)

@@ -120,6 +120,10 @@ enum Kind {
     DiameterMode,
     Polar,
     Distance,
+    /// G90.1/G91.1.
+    ArcDistance,
+    /// G93/G94: before the F words of the line.
+    FeedMode,
     ReturnLevel,
     AxisUser,
     /// G53: the motion of the line is in machine coordinates.
@@ -177,6 +181,9 @@ impl Kind {
             Kind::Polar => 13,
             // G90 before the offsets, G91 after them ([`Kind::rank_of`]).
             Kind::Distance => 8,
+            Kind::ArcDistance => 8,
+            // With the F, S and T words (rank 0) and before them.
+            Kind::FeedMode => 0,
             Kind::ReturnLevel => 15,
             Kind::AxisUser => 16,
             Kind::MachineCoordinates => 17,
@@ -214,6 +221,8 @@ fn kind_of(w: &Word) -> Option<Kind> {
         (b'G', 610 | 611 | 640) => Kind::PathMode,
         (b'G', 150 | 160) => Kind::Polar,
         (b'G', 900 | 910) => Kind::Distance,
+        (b'G', 901 | 911) => Kind::ArcDistance,
+        (b'G', 930 | 940) => Kind::FeedMode,
         (b'G', 980 | 990) => Kind::ReturnLevel,
         (b'G', 100 | 280 | 300 | 520 | 920 | 921 | 922) => Kind::AxisUser,
         (b'G', 0 | 10 | 20 | 30 | 730 | 810..=890) => Kind::Motion,

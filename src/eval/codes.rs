@@ -25,7 +25,7 @@ fn unsupported_g(t: u32) -> &'static str {
         680 | 690 => "coordinate rotation is not supported",
         500 | 510 => "scaling is not supported",
         650 => "G65 is Fanuc's macro call: pass --from fanuc",
-        930 | 950 => "only feed per minute (G94) is supported",
+        950 => "feed per revolution (G95) is not supported: use G94 or G93",
         310 | 382..=385 => "a probing move stops where its switch trips, which only the machine knows; what follows it cannot be worked out",
         _ => "ger does not know this code",
     }
@@ -588,7 +588,15 @@ impl Evaluator<'_> {
                 })
             }
             921 | 922 => Op::CancelPosition,
-            940 => return self.leftover_move(w, span, code).map(|_| Flow::Next),
+            // G93/G94: made only where the mode changes (G94 is most often
+            // a post's header).
+            930 | 940 => {
+                let on = t == 930;
+                if on != self.inverse_time {
+                    self.emit(Op::InverseTime(on), span)?;
+                }
+                return self.leftover_move(w, span, code).map(|_| Flow::Next);
+            }
             980 | 990 => {
                 self.return_level_stated = true;
                 Op::ReturnLevel(if t == 980 {

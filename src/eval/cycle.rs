@@ -176,6 +176,10 @@ impl Evaluator<'_> {
         if !self.feed_set {
             return Err(CycleBlockError::new(CycleBlockErrorKind::NoFeed, at_code).into());
         }
+        if self.inverse_time {
+            let kind = CycleBlockErrorKind::InverseTime;
+            return Err(CycleBlockError::new(kind, at_code).into());
+        }
         let pecks = match q {
             Some(q) if self.distance == ir::Distance::Absolute => {
                 Some(count_pecks(r, depth, q).ok_or_else(|| -> Diagnostic {
@@ -389,6 +393,8 @@ pub enum CycleBlockErrorKind {
         depth: f64,
     },
     NoFeed,
+    /// A cycle under G93.
+    InverseTime,
     TooManyPecks,
     /// A block continuing a run of cycles after G20/G21 (at `units`)
     /// changed the units inside it.
@@ -458,6 +464,13 @@ impl Wording for CycleBlockErrorKind {
                 "no F word has been given yet",
             )
             .with_help("set the feed on this line or before it: `G81 X10 Z-3 R1 F100`"),
+            CycleBlockErrorKind::InverseTime => error(
+                "a canned cycle under G93",
+                at,
+                "inverse time feed is on",
+            )
+            .with_note("rs274 refuses canned cycles in inverse time")
+            .with_help("switch to G94 and give a feed per minute before the cycle"),
             CycleBlockErrorKind::TooManyPecks => error(
                 format!("more than {MAX_PECKS} pecks in one hole"),
                 at,

@@ -12,6 +12,12 @@ pub enum EvalErrorKind {
     /// More statements than `--max-statements` allows.
     TooManyStatements(usize),
     FeedBeforeRate,
+    /// A feed move after G94 ended G93, before any F.
+    FeedAfterInverseTime,
+    /// A feed move under G93 without an F on its line.
+    InverseTimeWithoutF,
+    /// An arc under G93 and compensation (rs274 times the offset arc).
+    InverseTimeArcUnderComp,
     /// A warning: the program never says its units.
     UnitsUnstated,
     /// A warning: a controller command (`$H`) written through.
@@ -76,6 +82,28 @@ impl Wording for EvalErrorKind {
                 "no F word has been given yet",
             )
             .with_help("set the feed on this line or before it: `G1 X10 F300`"),
+            EvalErrorKind::FeedAfterInverseTime => error(
+                "a feed move after G94 before a feed rate",
+                at,
+                "no F word since G93 ended",
+            )
+            .with_note("G94 after G93 leaves no feed per minute (rs274 sets it to 0)")
+            .with_help("set the feed on this line or before it: `G1 X10 F300`"),
+            EvalErrorKind::InverseTimeWithoutF => error(
+                "a feed move under G93 without an F word",
+                at,
+                "G93 (inverse time) is on: each feed move gives its own F",
+            )
+            .with_note(
+                "F is the inverse of the move's time in minutes: `G1 X10 F2` takes half a minute",
+            )
+            .with_help("give F on this line, or G94 for a feed per minute"),
+            EvalErrorKind::InverseTimeArcUnderComp => error(
+                "an arc under G93 and cutter compensation",
+                at,
+                "not supported: the feed would depend on the compensated arc's length",
+            )
+            .with_help("switch to G94 for the compensated profile"),
             EvalErrorKind::UnitsUnstated => warning(
                 "the program does not state its units",
                 at,

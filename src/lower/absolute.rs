@@ -25,6 +25,9 @@ struct AbsolutePass {
     at: Tracker,
     /// G90.1 (absolute arc centres) or G91.1.
     centers: Distance,
+    /// G93, and the F (per minute of the move's time) of the next feed move.
+    inverse_time: bool,
+    inverse_feed: f64,
     /// An M2/M30 went by, and the span of the last statement.
     ended: bool,
     last: Option<Span>,
@@ -35,6 +38,8 @@ impl AbsolutePass {
         AbsolutePass {
             at: Tracker::new(),
             centers: Distance::Incremental,
+            inverse_time: false,
+            inverse_feed: 0.0,
             ended: false,
             last: None,
         }
@@ -87,7 +92,7 @@ impl Pass for AbsolutePass {
             _ => true,
         };
         // (`follow_run` takes only a run under G90.)
-        if input.iter().all(straight) && self.at.follow_run(input) {
+        if !self.inverse_time && input.iter().all(straight) && self.at.follow_run(input) {
             self.last = input.last().map(|s| s.span).or(self.last);
             return 0;
         }
@@ -115,6 +120,38 @@ impl Pass for AbsolutePass {
             Op::ArcCenters(d) => {
                 self.centers = *d;
                 return false;
+            }
+            Op::InverseTime(on) => {
+                self.inverse_time = *on;
+                return false;
+            }
+            // The evaluator saw to an F on each feed move's line.
+            Op::Feed(f) if self.inverse_time => {
+                self.inverse_feed = *f;
+                return false;
+            }
+            Op::Move(m) if self.inverse_time && m.motion != ir::Motion::Rapid => {
+                let start = self.at.position;
+                if let Err(e) = self.lower_move(m, span) {
+                    out.report(e);
+                    return false;
+                }
+                match inverse_time_feed(&start, &self.at.position, m, self.at.plane) {
+                    Some(length) => {
+                        // rs274's rate for a move of no length.
+                        let rate = if length == 0.0 {
+                            0.1
+                        } else {
+                            length * self.inverse_feed
+                        };
+                        out.push(stmt.with_op(Op::Feed(rate)));
+                    }
+                    None => {
+                        let axis = (0..9).find(|&i| start[i].is_none()).unwrap_or(0);
+                        out.report(self.at.unknown(axis, "a move under G93 (its length)", span));
+                        return false;
+                    }
+                }
             }
             Op::Plane(p) => self.at.plane = *p,
             Op::End => self.ended = true,
@@ -203,6 +240,62 @@ impl Pass for AbsolutePass {
         }
         true
     }
+}
+
+/// The length of a feed move under G93, as rs274 measures it: in X/Y/Z
+/// if they move, else in U/V/W, else in A/B/C (degrees); an arc's along
+/// its helix. `None` where an axis that moves has no known start.
+fn inverse_time_feed(
+    start: &ir::Position,
+    end: &ir::Position,
+    m: &ir::Move,
+    plane: ir::Plane,
+) -> Option<f64> {
+    let mut deltas = [0.0; 9];
+    for i in 0..9 {
+        deltas[i] = match (start[i], end[i]) {
+            (Some(s), Some(e)) => e - s,
+            (None, None) => 0.0,
+            _ => return None,
+        };
+    }
+    if let Some(ir::Arc {
+        geometry: ArcGeometry::Center(rel),
+        turns,
+    }) = m.arc
+    {
+        let (a, b, n) = plane.axes();
+        let s: Point = std::array::from_fn(|i| start[i].unwrap_or(0.0));
+        let e: Point = std::array::from_fn(|i| end[i].unwrap_or(0.0));
+        let mut center = s;
+        center[a] += rel[a].unwrap_or(0.0);
+        center[b] += rel[b].unwrap_or(0.0);
+        let radius = (center[a] - s[a]).hypot(center[b] - s[b]);
+        let clockwise = m.motion == ir::Motion::ArcCw;
+        let turn = geometry::sweep(s, e, center, plane, clockwise, turns);
+        return Some(if deltas[n] == 0.0 {
+            radius * turn.abs()
+        } else {
+            (radius * turn).hypot(deltas[n])
+        });
+    }
+    const TINY: f64 = 1e-7;
+    // Axis::ALL is X Y Z A B C U V W.
+    let moves = |g: usize| deltas[g..g + 3].iter().any(|d| d.abs() > TINY);
+    let group = if moves(0) {
+        0
+    } else if moves(6) {
+        6
+    } else {
+        3
+    };
+    Some(
+        deltas[group..group + 3]
+            .iter()
+            .map(|d| d * d)
+            .sum::<f64>()
+            .sqrt(),
+    )
 }
 
 /// The centre of an arc, relative to its start, in the plane's two axes.

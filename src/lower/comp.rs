@@ -338,6 +338,7 @@ impl CompPass {
             | Op::Units(_)
             | Op::Distance(_)
             | Op::ArcCenters(_)
+            | Op::InverseTime(_)
             | Op::LocalOffset(_)
             | Op::SetPosition(_)
             | Op::CancelPosition

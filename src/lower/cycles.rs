@@ -411,6 +411,7 @@ impl Pass for CyclesPass {
             | Op::Units(_)
             | Op::Distance(_)
             | Op::ArcCenters(_)
+            | Op::InverseTime(_)
             | Op::Plane(_)
             | Op::SelectWorkOffset(_)
             | Op::SetWorkOffset { .. }

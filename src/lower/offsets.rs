@@ -274,6 +274,7 @@ impl Pass for OffsetsPass {
                 self.centers = *d;
                 true
             }
+            Op::InverseTime(_) => true,
             Op::Cycle(c) => {
                 if self.distance == Distance::Absolute {
                     // R lies on the drilling axis: the plane's normal.

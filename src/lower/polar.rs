@@ -132,6 +132,7 @@ impl Pass for PolarPass {
             | Op::Units(_)
             | Op::Distance(_)
             | Op::ArcCenters(_)
+            | Op::InverseTime(_)
             | Op::DiameterMode(_)
             | Op::ReturnLevel(_)
             | Op::CycleOff

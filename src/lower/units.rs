@@ -32,6 +32,8 @@ struct UnitsPass {
     /// A feed given in the machine's units, before the program's first
     /// G20/G21: warned about when that G20/G21 comes.
     machine_feed: Option<crate::source::Span>,
+    /// G93: an F is the inverse of a time, not a length a minute.
+    inverse_time: bool,
 }
 
 impl UnitsPass {
@@ -42,6 +44,7 @@ impl UnitsPass {
             polar: false,
             plane: ir::Plane::XY,
             machine_feed: None,
+            inverse_time: false,
         }
     }
 
@@ -117,6 +120,8 @@ impl Pass for UnitsPass {
             | Op::SetWorkOffsetHere { at: a, .. }
             | Op::LocalOffset(a)
             | Op::SetPosition(a) => *a = a.map_lengths(|v| v * k),
+            Op::InverseTime(on) => self.inverse_time = *on,
+            Op::Feed(_) if self.inverse_time => {}
             Op::Feed(f) => {
                 if self.current.is_none() {
                     self.machine_feed.get_or_insert(stmt.span);
