@@ -63,13 +63,16 @@ pub fn center_from_radius(
     Ok(center)
 }
 
-/// Check an I/J/K arc: radii at start and end within 1 % (SPEC §4). Returns
-/// the radius to use (the larger).
+/// Check an I/J/K arc: radii at start and end within 1 % (SPEC §4), or
+/// within `spiral` of each other (LinuxCNC's absolute tolerance, which
+/// real CAM output of tiny arcs needs). Returns the radius to use (the
+/// larger).
 pub fn check_center(
     start: Point,
     end: Point,
     center: Point,
     plane: Plane,
+    spiral: f64,
 ) -> Result<f64, ArcError> {
     let c = project(center, plane);
     let rs = (project(start, plane) - c).norm();
@@ -78,7 +81,7 @@ pub fn check_center(
         return Err(ArcError::ZeroRadius);
     }
     let (lo, hi) = if rs < re { (rs, re) } else { (re, rs) };
-    if hi - lo > 0.01 * hi && hi - lo > 1e-6 {
+    if hi - lo > 0.01 * hi && hi - lo > 1e-6 && hi - lo > spiral {
         return Err(ArcError::RadiiDiffer { start: rs, end: re });
     }
     Ok(hi)

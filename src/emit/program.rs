@@ -296,10 +296,13 @@ impl ProgramPrinter {
         let e = end_q.map(|q| self.p.unscaled(q));
         let base = center.map(|v| self.p.scaled(v));
         let good = 0.75 * self.p.unscaled(1);
+        // How much the printed arc's two radii differ other than the given
+        // arc's do (a spiral stays the spiral it is).
+        let given = radius - (end[a] - center[a]).hypot(end[b] - center[b]);
         let radii_differ = |c: [f64; 3]| {
             let rs = (s[a] - c[a]).hypot(s[b] - c[b]);
             let re = (e[a] - c[a]).hypot(e[b] - c[b]);
-            (rs - re).abs()
+            (rs - re - given).abs()
         };
         // The arc on the grid already (its numbers printed as the program
         // gave them): the centre does not move and the sweep does not turn,

@@ -2,7 +2,8 @@
 //! move's written axes absolute machine coordinates (axes it did not write
 //! stay out, so the emitter knows what the source commanded), and every
 //! arc checked and given as a centre relative to its start in the active
-//! plane (R arcs resolved, I/J/K arcs checked: radii within 1 %). The given
+//! plane (R arcs resolved, I/J/K arcs checked: radii within 1 % or
+//! LinuxCNC's 0.0283 mm). The given
 //! centre is kept, as LinuxCNC keeps it (a small radius difference is a
 //! slight spiral); the larger radius is what `--arcs r` writes.
 //!
@@ -16,15 +17,25 @@ use crate::geometry::{self, ArcError, Point};
 use crate::ir::{self, ArcGeometry, Axes, Axis, Distance, Op, Stmt};
 use crate::source::Span;
 
+/// LinuxCNC's absolute tolerance on the two radii of an I/J/K arc in a
+/// millimetre program (`CENTER_ARC_RADIUS_TOLERANCE_MM`, 0.02·√2 mm; an
+/// inch program's is looser): arcs within it are accepted whatever the
+/// ratio of their radii, kept as given (a slight spiral, as LinuxCNC
+/// cuts it).
+const SPIRAL_MM: f64 = 0.02 * std::f64::consts::SQRT_2;
+
 pub const PASS: PassInfo = PassInfo {
     name: "absolute",
-    make: |_: &Context<'_>| Box::new(AbsolutePass::new()),
+    make: |cx: &Context<'_>| Box::new(AbsolutePass::new(cx.start.output_units)),
 };
 
 struct AbsolutePass {
     at: Tracker,
     /// G90.1 (absolute arc centres) or G91.1.
     centers: Distance,
+    /// How far apart an arc's two radii may be whatever their ratio
+    /// ([`SPIRAL_MM`] in the output's units).
+    spiral: f64,
     /// G93, and the F (per minute of the move's time) of the next feed move.
     inverse_time: bool,
     inverse_feed: f64,
@@ -34,8 +45,13 @@ struct AbsolutePass {
 }
 
 impl AbsolutePass {
-    fn new() -> AbsolutePass {
+    fn new(units: Option<ir::Units>) -> AbsolutePass {
         AbsolutePass {
+            spiral: match units {
+                Some(ir::Units::Mm) => SPIRAL_MM,
+                // Inch, or not known: a number within it either way.
+                Some(ir::Units::Inch) | None => SPIRAL_MM / 25.4,
+            },
             at: Tracker::new(),
             centers: Distance::Incremental,
             inverse_time: false,
@@ -55,8 +71,15 @@ impl AbsolutePass {
                 self.at.check_absolute(&m.to, span)?;
                 let at = &self.at.position;
                 let end = std::array::from_fn(|i| m.to.get(Axis::ALL[i]).or(at[i]));
-                let resolved =
-                    resolve_arc(&self.at, end, arc.geometry, self.centers, clockwise, span);
+                let resolved = resolve_arc(
+                    &self.at,
+                    end,
+                    arc.geometry,
+                    self.centers,
+                    self.spiral,
+                    clockwise,
+                    span,
+                );
                 // A refused arc still ends where it says: the moves after
                 // it start there, and report no error of its making.
                 let center = resolved.inspect_err(|_| m.to.place(&mut self.at.position, Some))?;
@@ -67,7 +90,15 @@ impl AbsolutePass {
         let end = self.at.end_of(&m.to, "an incremental move", span)?;
         if let Some(arc) = &mut m.arc {
             let ends = [end[0], end[1], end[2]];
-            let resolved = resolve_arc(&self.at, ends, arc.geometry, self.centers, clockwise, span);
+            let resolved = resolve_arc(
+                &self.at,
+                ends,
+                arc.geometry,
+                self.centers,
+                self.spiral,
+                clockwise,
+                span,
+            );
             let center = resolved.inspect_err(|_| self.at.position = end)?;
             arc.geometry = ArcGeometry::Center(center);
         }
@@ -307,6 +338,7 @@ fn resolve_arc(
     end: [Option<f64>; 3],
     geometry: ArcGeometry,
     centers: Distance,
+    spiral: f64,
     clockwise: bool,
     span: Span,
 ) -> Result<ir::Center, LowerError> {
@@ -352,7 +384,7 @@ fn resolve_arc(
                     }
                 };
             }
-            geometry::check_center(s, e, center, pass.plane).map_err(arc_error)?;
+            geometry::check_center(s, e, center, pass.plane, spiral).map_err(arc_error)?;
             center
         }
     };

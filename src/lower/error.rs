@@ -37,7 +37,8 @@ pub enum LowerErrorKind {
     },
     /// An R arc whose end is its start.
     FullCircleWithR,
-    /// I/J/K whose radii at start and end differ by more than 1 %.
+    /// I/J/K whose radii at start and end differ by more than 1 % and
+    /// LinuxCNC's 0.0283 mm.
     ArcRadiiDiffer {
         start: f64,
         end: f64,
@@ -248,9 +249,9 @@ impl LowerError {
                 format!("radius {} at the start, {} at the end", fmt(*start), fmt(*end)),
             )
             .with_note(if *absolute {
-                "the two radii may differ by at most 1%; check the centre (G90.1 is on: I/J/K are its coordinates)"
+                "the two radii may differ by at most 1% or 0.0283 mm; check the centre (G90.1 is on: I/J/K are its coordinates)"
             } else {
-                "the two radii may differ by at most 1%; check the centre (I/J/K are relative to the start)"
+                "the two radii may differ by at most 1% or 0.0283 mm; check the centre (I/J/K are relative to the start)"
             }),
             ArcZeroRadius => error("arc with zero radius", span, "the centre is the start point"),
             AbsoluteCentreIncomplete { letter } => error(
