@@ -1543,6 +1543,9 @@ impl<'s> Backend<'s> {
                 return (diagnostics, written);
             }
         }
+        if let Printer::Program(p) = &printer {
+            diagnostics.extend(p.arcs_not_r());
+        }
         match (printer.finish(), self.out) {
             (Ok(rest), Output::Text(out)) => {
                 (diagnostics, written.and_then(|()| out.write_all(&rest)))

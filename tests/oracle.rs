@@ -35,14 +35,23 @@ fn main() {
             _ => support::egc_files(&dir),
         };
         for case in cases {
-            let name = format!("{area}/{}", case.file_stem().unwrap().to_string_lossy());
-            let trial = Trial::test(name, move || {
-                if !have_oracle {
-                    return Err(rs274::missing().into());
-                }
-                run_case(&case)
-            });
-            trials.push(trial.with_ignored_flag(!have_oracle && !required));
+            // Each again with `--arcs r`: R words must place every centre
+            // as I/J do (or the arc keeps I/J).
+            for arcs in ["ij", "r"] {
+                let stem = case.file_stem().unwrap().to_string_lossy().into_owned();
+                let name = match arcs {
+                    "ij" => format!("{area}/{stem}"),
+                    _ => format!("arcs-r/{area}/{stem}"),
+                };
+                let case = case.clone();
+                let trial = Trial::test(name, move || {
+                    if !have_oracle {
+                        return Err(rs274::missing().into());
+                    }
+                    run_case(&case, arcs)
+                });
+                trials.push(trial.with_ignored_flag(!have_oracle && !required));
+            }
         }
     }
     // `--cycles keep`: the kept cycles must run on LinuxCNC as the
@@ -467,8 +476,8 @@ fn scratch_name(case: &Path) -> String {
     format!("{}-{}", area.to_string_lossy(), stem.to_string_lossy())
 }
 
-fn run_case(case: &Path) -> Result<(), Failed> {
-    let stem = scratch_name(case);
+fn run_case(case: &Path, arcs: &str) -> Result<(), Failed> {
+    let stem = format!("{}-{arcs}", scratch_name(case));
     let work = std::env::temp_dir().join(format!("ger-oracle-{}-{stem}", std::process::id()));
     std::fs::create_dir_all(&work).map_err(|e| e.to_string())?;
     let tools = case_tools(case);
@@ -490,14 +499,14 @@ fn run_case(case: &Path) -> Result<(), Failed> {
     // The case's wizards, wherever its input is written.
     let wizards = case.parent().unwrap().join("wizards");
     let fanuc = case.parent().unwrap().ends_with("fanuc");
+    let dir = wizards.to_string_lossy().into_owned();
+    let mut args = vec!["--arcs", arcs];
     if wizards.is_dir() {
-        let dir = wizards.to_string_lossy().into_owned();
-        support::compile_with(&input, &out, &["--wizards", &dir])?;
+        args.extend(["--wizards", &dir]);
     } else if fanuc {
-        support::compile_with(&input, &out, &["--from", "fanuc"])?;
-    } else {
-        support::compile(&input, &out)?;
+        args.extend(["--from", "fanuc"]);
     }
+    support::compile_with(&input, &out, &args)?;
     let text = std::fs::read_to_string(&out).map_err(|e| e.to_string())?;
     check_allowed_codes(&text)?;
     let reference = match case.with_extension("ngc") {

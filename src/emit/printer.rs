@@ -123,9 +123,15 @@ impl Printer {
     }
 
     pub fn word(&mut self, letter: u8, v: f64) {
+        self.word_decimals(letter, v, self.decimals);
+    }
+
+    /// [`Printer::word`] with `decimals` of its own (an R that needs more
+    /// than the grid's).
+    pub fn word_decimals(&mut self, letter: u8, v: f64, decimals: usize) {
         self.separate();
         self.out.push(letter);
-        push_fixed_bytes(&mut self.out, v, self.decimals);
+        push_fixed_bytes(&mut self.out, v, decimals);
     }
 
     /// A word with an integer value (`T3`, `P2`, `H1`).

@@ -4,8 +4,10 @@
 
 use super::printer::{motion_code, Printer};
 use super::{ArcFormat, EmitOptions};
+use crate::diagnostic::{warning, Diagnostic, DiagnosticExt};
 use crate::geometry::{self, Point};
 use crate::ir::{self, ArcGeometry, Axis, Motion, Op, Units};
+use crate::source::Span;
 
 /// Prints the final program: absolute, one unit, only the codes of SPEC §6
 /// and what the passes passed through.
@@ -13,6 +15,12 @@ pub struct ProgramPrinter {
     p: Printer,
     arcs: ArcFormat,
     tolerance: f64,
+    /// 1 µm in the output units (a number that is at most 1 µm in either
+    /// where they are not known): how far `--arcs r` may move a centre.
+    micron: f64,
+    /// `--arcs r`: the arcs written with I/J all the same (the first one's
+    /// line, and how many).
+    not_r: Option<(Span, usize)>,
     /// Machine position per axis, as the absolute pass knows it.
     position: ir::Position,
     /// Last printed value of each axis, on the output grid; `None` makes
@@ -52,6 +60,11 @@ impl ProgramPrinter {
             p,
             arcs: options.arcs,
             tolerance: options.tolerance,
+            micron: match units {
+                Some(Units::Mm) => 0.001,
+                Some(Units::Inch) | None => 0.001 / 25.4,
+            },
+            not_r: None,
             position: [None; 9],
             printed: [None; 9],
             pending_feed: None,
@@ -134,6 +147,25 @@ impl ProgramPrinter {
     }
 
     /// The rest of the text.
+    /// `--arcs r`: a warning that some arcs are written with I/J.
+    pub fn arcs_not_r(&self) -> Option<Diagnostic> {
+        let (first, n) = self.not_r?;
+        let arcs = if n == 1 { "an arc" } else { "arcs" };
+        Some(
+            warning(
+                format!("{n} {arcs} written with I/J, not R"),
+                first,
+                "the first of them",
+            )
+            .with_note(
+                "an R would move the centre a controller finds by more than the output's last digit \
+                 or 0.001 mm: an arc near a half circle, a short arc of a large radius, or a centre \
+                 off the middle of its ends (two radii that differ)",
+            )
+            .with_help("more decimals (`--decimals`) let more arcs be written with R"),
+        )
+    }
+
     pub fn finish(mut self) -> Vec<u8> {
         if let Some(epilogue) = self.p.target.epilogue() {
             self.p.raw(epilogue);
@@ -193,14 +225,16 @@ impl ProgramPrinter {
             }
         }
         let full = start_q[a] == end3[a] && start_q[b] == end3[b];
-        if self.arcs == ArcFormat::R && turns == 1 && !full {
-            // SPEC §4: of the start and end radii, the larger is used.
-            let r = (center[a] - start[a])
-                .hypot(center[b] - start[b])
-                .max((center[a] - end[a]).hypot(center[b] - end[b]));
-            let long = geometry::is_long_arc(start, end, center, self.p.plane, clockwise);
-            self.p.word(b'R', if long { -r } else { r });
+        let r_word = (self.arcs == ArcFormat::R && turns == 1 && !full)
+            .then(|| self.r_word([start, end, center], start_q, end3, clockwise))
+            .flatten();
+        if let Some((r, decimals)) = r_word {
+            self.p.word_decimals(b'R', r, decimals);
         } else {
+            if self.arcs == ArcFormat::R && turns == 1 && !full {
+                let (_, n) = self.not_r.get_or_insert((stmt.span, 0));
+                *n += 1;
+            }
             let printed_center =
                 self.round_center([start, end, center], start_q, end3, clockwise, turns);
             for (axis, letter) in [(a, CENTER[a]), (b, CENTER[b])] {
@@ -339,6 +373,47 @@ impl ProgramPrinter {
             }
         }
         best.1
+    }
+
+    /// `--arcs r`: the R of an arc from the printed start to the printed
+    /// end, and its decimals: the output's, or more (up to 6) where the
+    /// centre a controller finds from them would be more than a unit of
+    /// the output grid, or 1 µm if more, from the arc's centre (or its
+    /// sweep turn the end that far). SPEC §4: of the start and end radii,
+    /// the larger is used. `None` where no R of 6 decimals places the
+    /// centre so: the arc is written with I/J. That is an arc near a half
+    /// circle, whose centre moves by far more than the rounding of R and
+    /// of the ends; a short arc of a large radius, whose centre the
+    /// rounded ends hardly fix; or a centre off the bisector of its ends
+    /// (radii that differ: a slight spiral, which no R gives).
+    fn r_word(
+        &self,
+        [start, end, center]: [Point; 3],
+        start_q: [i64; 3],
+        end_q: [i64; 3],
+        clockwise: bool,
+    ) -> Option<(f64, usize)> {
+        let plane = self.p.plane;
+        let (a, b, _) = plane.axes();
+        let r = (center[a] - start[a])
+            .hypot(center[b] - start[b])
+            .max((center[a] - end[a]).hypot(center[b] - end[b]));
+        let long = geometry::is_long_arc(start, end, center, plane, clockwise);
+        let r = if long { -r } else { r };
+        let s = start_q.map(|q| self.p.unscaled(q));
+        let e = end_q.map(|q| self.p.unscaled(q));
+        let exact_sweep = geometry::sweep(start, end, center, plane, clockwise, 1);
+        let good = self.p.unscaled(1).max(self.micron);
+        let most = self.p.decimals.max(6);
+        (self.p.decimals..=most).find_map(|decimals| {
+            let scale = 10f64.powi(decimals as i32);
+            let printed = crate::emit::number::round_to_int(r * scale) as f64 / scale;
+            let c = geometry::center_from_radius(s, e, printed, plane, clockwise).ok()?;
+            let moved = (c[a] - center[a]).hypot(c[b] - center[b]);
+            let turned =
+                (geometry::sweep(s, e, c, plane, clockwise, 1) - exact_sweep).abs() * r.abs();
+            (moved.max(turned) <= good).then_some((printed, decimals))
+        })
     }
 
     /// A straight move to the known axes of `end_q`; nothing if none changed.
