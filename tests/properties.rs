@@ -342,6 +342,54 @@ proptest! {
     }
 }
 
+/// Steps whose arcs are often near a half circle, where an R places the
+/// centre worst.
+fn step_near_half() -> impl Strategy<Value = Step> {
+    prop_oneof![
+        step(),
+        (
+            any::<bool>(),
+            [-30.0..30.0f64, -30.0..30.0f64],
+            prop_oneof![179.0..181.0f64, 178.0..182.0f64, 5.0..20.0f64],
+            -20.0..5.0f64
+        )
+            .prop_map(|(cw, center, sweep_deg, z)| Step::Arc {
+                cw,
+                center,
+                sweep_deg,
+                z
+            }),
+    ]
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig { cases: 300, ..ProptestConfig::default() })]
+
+    /// `--arcs r`: the output moves as the source does, arcs near a half
+    /// circle and short arcs included (R words with more decimals, or
+    /// I/J where no R places the centre).
+    #[test]
+    fn r_output_moves_as_the_source(steps in proptest::collection::vec(step_near_half(), 1..20), inch in any::<bool>()) {
+        let moves = resolve(&steps);
+        let text = program(&moves, false, inch);
+        let mut options = CompileOptions::default();
+        options.emit.arcs = ger::emit::ArcFormat::R;
+        let mut sources = Sources::new();
+        let file = sources.add("p.egc", text.clone());
+        let first = compile(&sources, file, &options, None).output.expect("the generated program compiles");
+        let path = |text: &str| {
+            let mut sources = Sources::new();
+            let file = sources.add("p.egc", text.to_string());
+            ger::compile::tool_path(&sources, file, &CompileOptions::default(), None).0
+        };
+        let (a, b) = (path(&text).expect("a path"), path(&first).expect("the output's path"));
+        let options = ger::toolpath::compare::Options { tol: 0.002, ..Default::default() };
+        if let Err(d) = ger::toolpath::compare::compare(&a, &b, &options) {
+            prop_assert!(false, "{}\n--- output ---\n{}", d, first);
+        }
+    }
+}
+
 /// Text a comment may hold: code-like pieces, parentheses, semicolons.
 fn comment_text() -> impl Strategy<Value = String> {
     let piece = prop_oneof![

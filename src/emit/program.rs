@@ -225,13 +225,15 @@ impl ProgramPrinter {
             }
         }
         let full = start_q[a] == end3[a] && start_q[b] == end3[b];
-        let r_word = (self.arcs == ArcFormat::R && turns == 1 && !full)
+        // (A full circle, or more than one turn, has no R.)
+        let wants_r = self.arcs == ArcFormat::R && turns == 1 && !full;
+        let r_word = wants_r
             .then(|| self.r_word([start, end, center], start_q, end3, clockwise))
             .flatten();
         if let Some((r, decimals)) = r_word {
             self.p.word_decimals(b'R', r, decimals);
         } else {
-            if self.arcs == ArcFormat::R && turns == 1 && !full {
+            if wants_r {
                 let (_, n) = self.not_r.get_or_insert((stmt.span, 0));
                 *n += 1;
             }

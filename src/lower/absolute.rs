@@ -167,7 +167,7 @@ impl Pass for AbsolutePass {
                     out.report(e);
                     return false;
                 }
-                match inverse_time_feed(&start, &self.at.position, m, self.at.plane) {
+                match inverse_time_length(&start, &self.at.position, m, self.at.plane) {
                     Some(length) => {
                         // rs274's rate for a move of no length.
                         let rate = if length == 0.0 {
@@ -276,7 +276,7 @@ impl Pass for AbsolutePass {
 /// The length of a feed move under G93, as rs274 measures it: in X/Y/Z
 /// if they move, else in U/V/W, else in A/B/C (degrees); an arc's along
 /// its helix. `None` where an axis that moves has no known start.
-fn inverse_time_feed(
+fn inverse_time_length(
     start: &ir::Position,
     end: &ir::Position,
     m: &ir::Move,
