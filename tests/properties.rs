@@ -310,6 +310,27 @@ fn outcome(text: &str, fast: bool) -> String {
     format!("{:?}\n{:?}", compiled.output, compiled.diagnostics)
 }
 
+/// Whether `output` moves as `source` does (ger's own tool paths, within
+/// 0.002 mm), or how it differs.
+fn same_tool_path(source: &str, output: &str) -> Result<(), String> {
+    let path = |text: &str| {
+        let mut sources = Sources::new();
+        let file = sources.add("p.egc", text.to_string());
+        ger::compile::tool_path(&sources, file, &CompileOptions::default(), None).0
+    };
+    let (a, b) = (
+        path(source).expect("a path"),
+        path(output).expect("the output's path"),
+    );
+    let options = ger::toolpath::compare::Options {
+        tol: 0.002,
+        ..Default::default()
+    };
+    ger::toolpath::compare::compare(&a, &b, &options)
+        .map(|_| ())
+        .map_err(|d| d.to_string())
+}
+
 proptest! {
     #![proptest_config(ProptestConfig { cases: 300, ..ProptestConfig::default() })]
 
@@ -329,14 +350,7 @@ proptest! {
         let moves = resolve(&steps);
         let text = program(&moves, false, inch);
         let first = run(&text).output.expect("the generated program compiles");
-        let path = |text: &str| {
-            let mut sources = Sources::new();
-            let file = sources.add("p.egc", text.to_string());
-            ger::compile::tool_path(&sources, file, &CompileOptions::default(), None).0
-        };
-        let (a, b) = (path(&text).expect("a path"), path(&first).expect("the output's path"));
-        let options = ger::toolpath::compare::Options { tol: 0.002, ..Default::default() };
-        if let Err(d) = ger::toolpath::compare::compare(&a, &b, &options) {
+        if let Err(d) = same_tool_path(&text, &first) {
             prop_assert!(false, "{}\n--- output ---\n{}", d, first);
         }
     }
@@ -377,14 +391,7 @@ proptest! {
         let mut sources = Sources::new();
         let file = sources.add("p.egc", text.clone());
         let first = compile(&sources, file, &options, None).output.expect("the generated program compiles");
-        let path = |text: &str| {
-            let mut sources = Sources::new();
-            let file = sources.add("p.egc", text.to_string());
-            ger::compile::tool_path(&sources, file, &CompileOptions::default(), None).0
-        };
-        let (a, b) = (path(&text).expect("a path"), path(&first).expect("the output's path"));
-        let options = ger::toolpath::compare::Options { tol: 0.002, ..Default::default() };
-        if let Err(d) = ger::toolpath::compare::compare(&a, &b, &options) {
+        if let Err(d) = same_tool_path(&text, &first) {
             prop_assert!(false, "{}\n--- output ---\n{}", d, first);
         }
     }
