@@ -1,8 +1,9 @@
 //! Structure-aware: generate a valid program (moves, arcs by centre and by
 //! radius, G90/G91, G20/G21, planes, feeds, spindle, tools, dwells), compile
 //! it, compile ger's own output again, and require the same tool path
-//! three ways: source, output, output of the output. Output that ger cannot
-//! read back, or that moves differently, is a crash.
+//! three ways: source, output, output of the output; and the output with
+//! `--arcs r` moves as the source does. Output that ger cannot read back,
+//! or that moves differently, is a crash.
 #![no_main]
 
 use arbitrary::Arbitrary;
@@ -113,9 +114,13 @@ fn options() -> CompileOptions {
 }
 
 fn compiled(text: &str) -> Option<String> {
+    compiled_with(text, options())
+}
+
+fn compiled_with(text: &str, options: CompileOptions) -> Option<String> {
     let mut sources = Sources::new();
     let file = sources.add("p.egc", text.to_string());
-    compile(&sources, file, &options(), None).output
+    compile(&sources, file, &options, None).output
 }
 
 fn path(text: &str) -> Option<ger::toolpath::ToolPath> {
@@ -140,5 +145,12 @@ fuzz_target!(|cmds: Vec<Cmd>| {
     }
     if let Err(d) = compare(&b, &c, &options) {
         panic!("output and its output move differently: {d}\n{first}\n---\n{second}");
+    }
+    let mut r = self::options();
+    r.emit.arcs = ger::emit::ArcFormat::R;
+    let with_r = compiled_with(&source, r).unwrap_or_else(|| panic!("no --arcs r output:\n{source}"));
+    let d = path(&with_r).unwrap_or_else(|| panic!("ger cannot read its --arcs r output:\n{with_r}"));
+    if let Err(e) = compare(&a, &d, &options) {
+        panic!("source and --arcs r output move differently: {e}\n{source}\n---\n{with_r}");
     }
 });
