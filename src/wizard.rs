@@ -669,18 +669,31 @@ impl WizardEngine {
         // Wizard coordinates are absolute and Cartesian, their arc centres
         // relative, their feeds per minute: switch a G91, G16, G90.1 or G93
         // caller to G90/G15/G91.1/G94 around them, and back.
-        let mut emit = |op: Op| ctx.emit(op).map_err(|d| vec![d]);
-        if state.incremental {
-            emit(Op::Distance(ir::Distance::Absolute))?;
-        }
-        if state.polar {
-            emit(Op::Polar(false))?;
-        }
-        if state.absolute_centers {
-            emit(Op::ArcCenters(ir::Distance::Incremental))?;
-        }
-        if state.inverse_time {
-            emit(Op::InverseTime(false))?;
+        // (Each mode that is on: the op that leaves it, the op back.)
+        let modes = [
+            (
+                state.incremental,
+                Op::Distance(ir::Distance::Absolute),
+                Op::Distance(ir::Distance::Incremental),
+            ),
+            (state.polar, Op::Polar(false), Op::Polar(true)),
+            (
+                state.absolute_centers,
+                Op::ArcCenters(ir::Distance::Incremental),
+                Op::ArcCenters(ir::Distance::Absolute),
+            ),
+            (
+                state.inverse_time,
+                Op::InverseTime(false),
+                Op::InverseTime(true),
+            ),
+        ];
+        let on: Vec<(Op, Op)> = modes
+            .into_iter()
+            .filter_map(|(is_on, leave, back)| is_on.then_some((leave, back)))
+            .collect();
+        for (leave, _) in &on {
+            ctx.emit(leave.clone()).map_err(|d| vec![d])?;
         }
         for action in actions {
             match action {
@@ -688,19 +701,8 @@ impl WizardEngine {
                 Action::Line(line) => ctx.run_line(&line)?,
             }
         }
-        if state.absolute_centers {
-            ctx.emit(Op::ArcCenters(ir::Distance::Absolute))
-                .map_err(|d| vec![d])?;
-        }
-        if state.inverse_time {
-            ctx.emit(Op::InverseTime(true)).map_err(|d| vec![d])?;
-        }
-        if state.polar {
-            ctx.emit(Op::Polar(true)).map_err(|d| vec![d])?;
-        }
-        if state.incremental {
-            ctx.emit(Op::Distance(ir::Distance::Incremental))
-                .map_err(|d| vec![d])?;
+        for (_, back) in on.into_iter().rev() {
+            ctx.emit(back).map_err(|d| vec![d])?;
         }
         Ok(())
     }

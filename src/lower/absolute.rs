@@ -161,35 +161,26 @@ impl Pass for AbsolutePass {
                 self.inverse_feed = *f;
                 return false;
             }
-            Op::Move(m) if self.inverse_time && m.motion != ir::Motion::Rapid => {
-                let start = self.at.position;
-                if let Err(e) = self.lower_move(m, span) {
-                    out.report(e);
-                    return false;
-                }
-                match inverse_time_length(&start, &self.at.position, m, self.at.plane) {
-                    Some(length) => {
-                        // rs274's rate for a move of no length.
-                        let rate = if length == 0.0 {
-                            0.1
-                        } else {
-                            length * self.inverse_feed
-                        };
-                        out.push(stmt.with_op(Op::Feed(rate)));
-                    }
-                    None => {
-                        let axis = (0..9).find(|&i| start[i].is_none()).unwrap_or(0);
-                        out.report(self.at.unknown(axis, "a move under G93 (its length)", span));
-                        return false;
-                    }
-                }
-            }
             Op::Plane(p) => self.at.plane = *p,
             Op::End => self.ended = true,
             Op::Move(m) => {
+                // Under G93, where a feed move starts, for its length.
+                let timed = self.inverse_time && m.motion != ir::Motion::Rapid;
+                let start = timed.then_some(self.at.position);
                 if let Err(e) = self.lower_move(m, span) {
                     out.report(e);
                     return false;
+                }
+                if let Some(start) = start {
+                    let Some(length) = inverse_time_length(&start, &self.at.position, m, self.at.plane)
+                    else {
+                        let axis = (0..9).find(|&i| start[i].is_none()).unwrap_or(0);
+                        out.report(self.at.unknown(axis, "a move under G93 (its length)", span));
+                        return false;
+                    };
+                    // rs274's rate for a move of no length.
+                    let rate = if length == 0.0 { 0.1 } else { length * self.inverse_feed };
+                    out.push(stmt.with_op(Op::Feed(rate)));
                 }
             }
             Op::MachineMove(_) => {
