@@ -6,7 +6,7 @@
 #![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
 
 use criterion::{criterion_group, criterion_main, Criterion};
-use ger::compile::{compile, CompileOptions};
+use ger::driver::{compile, CompileOptions};
 use ger::source::Sources;
 use std::hint::black_box;
 

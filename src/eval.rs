@@ -1668,7 +1668,7 @@ impl Evaluator<'_> {
 
 #[cfg(test)]
 mod tests {
-    use crate::compile::{compile, CompileOptions};
+    use crate::driver::{compile, CompileOptions};
     use crate::source::Sources;
     use crate::syntax::egc::Language;
 

@@ -1,8 +1,11 @@
 //! ger: a compiler from extended G-code (`.egc`) to plain ISO G-code.
 //!
-//! The library is the whole compiler and does no I/O: it takes source text
-//! and returns G-code text and diagnostics. Files, terminals and exit codes
-//! belong to the binary (`src/main.rs`). See ARCHITECTURE.md for the map.
+//! The library is the whole compiler. Its entry point is
+//! [`driver::Session`]: source text (through a file-system view) and
+//! options in; G-code text, diagnostics and the tool path out. It reads
+//! files only through [`driver::fs::FileSystem`] and writes them only in
+//! [`driver::output`]; terminals and exit codes belong to the binary
+//! (`src/bin/ger/`). See ARCHITECTURE.md for the map.
 
 // Support: spans, sources, diagnostics.
 pub mod diagnostic;
@@ -12,8 +15,9 @@ pub mod source;
 pub mod ast;
 pub mod syntax;
 
-// The compiler: evaluation to IR, lowering, G-code output.
-pub mod compile;
+// The compiler: evaluation to IR, lowering, G-code output; the driver
+// that runs it.
+pub mod driver;
 pub mod emit;
 pub mod eval;
 pub mod geometry;

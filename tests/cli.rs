@@ -472,7 +472,7 @@ fn a_plain_program_compiled_to_a_file_is_read_in_parts() {
 
 /// A file is read once: its first lines (about 256 KB) say how its
 /// numbers are printed, and each part after them is checked as it is read
-/// (`compile::first_look`). One found otherwise far into it (a number
+/// (`driver::first_look`). One found otherwise far into it (a number
 /// with more decimals, in a word or a comment, a lone CR, a control
 /// character) is scanned whole and compiled again: the same bytes, the
 /// same diagnostics and exit code as a whole read, said once.
@@ -651,7 +651,7 @@ fn a_pipe_is_read_once() {
 /// Under valgrind (which gives a program no vDSO it can read): a compile
 /// on two threads runs as it runs without it, to the same bytes. rustix's
 /// own vDSO reader, used for the processor a thread is on
-/// (`compile::this_cpu`), read past valgrind's mapping and the process
+/// (`driver::this_cpu`), read past valgrind's mapping and the process
 /// died of SIGSEGV; through the C library it does not. Skipped where
 /// valgrind is not installed, unless `GER_REQUIRE_VALGRIND=1` (CI).
 #[test]

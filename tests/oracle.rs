@@ -573,46 +573,28 @@ fn run_kept(case: &Path, keep: &str) -> Result<(), Failed> {
         })
 }
 
-/// ger's own tool path of `input`, with the wizards of `folder`.
+/// ger's own tool path of `input`, with the wizards of `folder`, found
+/// and compiled as the command line does (`ger::driver::Session`).
 fn own_tool_path(
     input: &Path,
     folder: &Path,
     fanuc: bool,
 ) -> Result<ger::toolpath::ToolPath, Failed> {
-    use ger::wizard::{standard_library, Library, WizardEngine, WizardSource};
-    let text = std::fs::read_to_string(input).map_err(|e| e.to_string())?;
-    let mut sources = ger::source::Sources::new();
-    // The wizards beside the case, as the command line finds them.
-    let mut found = Vec::new();
-    if let Ok(entries) = std::fs::read_dir(folder) {
-        for path in entries.filter_map(|e| e.ok().map(|e| e.path())) {
-            if path.extension().is_some_and(|x| x == "rhai") {
-                found.push(WizardSource {
-                    name: path.file_stem().unwrap().to_string_lossy().into_owned(),
-                    text: std::fs::read_to_string(&path).map_err(|e| e.to_string())?,
-                    origin: path.display().to_string(),
-                });
-            }
-        }
-    }
-    found.extend(standard_library());
-    let mut engine = WizardEngine::new(Library::new(found, &mut sources));
-    let file = sources.add(input.display().to_string(), text);
-    // LinuxCNC subroutine files beside the case, as the command line finds them.
-    let beside = input.parent().unwrap().to_path_buf();
-    let library = ger::compile::subroutine_library(&mut sources, file, &mut |name| {
-        let path = beside.join(format!("{name}.ngc"));
-        Ok(std::fs::read_to_string(&path)
-            .ok()
-            .map(|text| (path.display().to_string(), text)))
-    })?;
-    let options = ger::compile::CompileOptions {
-        library,
+    use ger::driver::{discovery::Search, fs::Disk, Program, Session};
+    let options = ger::driver::CompileOptions {
         from: fanuc.then_some(ger::eval::Flavour::Fanuc),
         ..Default::default()
     };
-    let (path, diagnostics) = ger::compile::tool_path(&sources, file, &options, Some(&mut engine));
-    path.ok_or_else(|| ger::diagnostic::render(&sources, &diagnostics).into())
+    let search = Search {
+        wizard_path: vec![folder.to_path_buf()],
+        ..Search::default()
+    };
+    let session = Session::new(&Disk, options, search).map_err(|e| e.to_string())?;
+    let mut job = session
+        .load(Program::Path(input))
+        .map_err(|e| e.to_string())?;
+    let (path, diagnostics) = job.tool_path();
+    path.ok_or_else(|| ger::diagnostic::render(&job.sources, &diagnostics).into())
 }
 
 fn run_example(case: &Path) -> Result<(), Failed> {

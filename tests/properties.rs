@@ -4,7 +4,7 @@
 // Test code: a failed unwrap is a failed test.
 #![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
 
-use ger::compile::{compile, CompileOptions, Compiled};
+use ger::driver::{compile, CompileOptions, Compiled};
 use ger::eval::EvalOptions;
 use ger::source::Sources;
 use proptest::prelude::*;
@@ -316,7 +316,7 @@ fn same_tool_path(source: &str, output: &str) -> Result<(), String> {
     let path = |text: &str| {
         let mut sources = Sources::new();
         let file = sources.add("p.egc", text.to_string());
-        ger::compile::tool_path(&sources, file, &CompileOptions::default(), None).0
+        ger::driver::tool_path(&sources, file, &CompileOptions::default(), None).0
     };
     let (a, b) = (
         path(source).expect("a path"),
@@ -536,7 +536,7 @@ proptest! {
         let file = sources.add("poly.egc", text.clone());
         let mut options = CompileOptions::default();
         options.lower.comp_entry_lookahead = lookahead;
-        let (path, diagnostics) = ger::compile::tool_path(&sources, file, &options, None);
+        let (path, diagnostics) = ger::driver::tool_path(&sources, file, &options, None);
         let path = path.unwrap_or_else(|| panic!("{}\n{text}", ger::diagnostic::render(&sources, &diagnostics)));
         // Lines 8.. are the profile (line 7 is the entry, the G40 line the exit).
         let last = 8 + corners.len() as u32;

@@ -7,7 +7,7 @@
 // Test code: a failed unwrap is a failed test.
 #![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
 
-use ger::compile::CompileOptions;
+use ger::driver::CompileOptions;
 use ger::render::carve::{self, Frame, Grid, Segment, Shape};
 use ger::render::cutter::{Arc, Cutter, Line, Profile};
 use ger::render::{RenderOptions, Scene};
@@ -25,7 +25,7 @@ fn carved(program: &str, cell: f64) -> (Scene, Grid) {
 fn carved_with(program: &str, cell: f64, compile: &CompileOptions) -> (Scene, Grid) {
     let mut sources = Sources::new();
     let file = sources.add("part.egc", program.to_string());
-    let (path, diagnostics) = ger::compile::tool_path(&sources, file, compile, None);
+    let (path, diagnostics) = ger::driver::tool_path(&sources, file, compile, None);
     let path =
         path.unwrap_or_else(|| panic!("{}", ger::diagnostic::render(&sources, &diagnostics)));
     let options = RenderOptions {
@@ -648,7 +648,7 @@ fn the_picture_follows_the_tip_whatever_the_tool_length() {
     let with_length = plain.replace("T1 M6\n", "T1 M6\nG43 H1\n");
     let mut sources = Sources::new();
     let file = sources.add("part.egc", with_length.clone());
-    let compiled = ger::compile::tool_path(&sources, file, &CompileOptions::default(), None)
+    let compiled = ger::driver::tool_path(&sources, file, &CompileOptions::default(), None)
         .0
         .unwrap();
     assert!(
@@ -657,7 +657,7 @@ fn the_picture_follows_the_tip_whatever_the_tool_length() {
     );
     let mut options = CompileOptions::default();
     options.lower.tip_path = true;
-    let tip = ger::compile::tool_path(&sources, file, &options, None)
+    let tip = ger::driver::tool_path(&sources, file, &options, None)
         .0
         .unwrap();
     assert!(

@@ -10,11 +10,13 @@
 // Test code: a failed unwrap is a failed test.
 #![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
 
-use ger::compile::{compile, CompileOptions, Stage};
 use ger::diagnostic::render;
+use ger::driver::discovery::Search;
+use ger::driver::fs::Disk;
+use ger::driver::{compile, CompileOptions, Stage};
 use ger::eval::EvalOptions;
 use ger::source::Sources;
-use ger::wizard::{standard_library, Library, WizardEngine, WizardSource};
+use ger::wizard::{Library, WizardEngine, WizardSource};
 use std::path::{Path, PathBuf};
 
 mod support;
@@ -34,10 +36,14 @@ fn options(from: Option<ger::eval::Flavour>, stage: Option<Stage>, batch: usize)
     }
 }
 
-/// The wizards of `wizards/` and the standard library, in `sources`.
+/// The wizards of `wizards/` (which some test programs call) and the
+/// standard library, in `sources`, found as the command line finds them.
 fn engine(sources: &mut Sources) -> WizardEngine {
-    let mut found = user_wizards();
-    found.extend(standard_library());
+    let search = Search {
+        wizard_path: vec![support::manifest().join("wizards")],
+        ..Search::default()
+    };
+    let found = ger::driver::discovery::wizards(&Disk, &search, None).unwrap();
     WizardEngine::new(Library::new(found, sources))
 }
 
@@ -53,23 +59,6 @@ fn run(path: &Path, text: &str, stage: Option<Stage>, batch: usize) -> String {
         compiled.output.as_deref().unwrap_or("<no output>"),
         render(&sources, &compiled.diagnostics)
     )
-}
-
-/// The example wizards of `wizards/`, which some test programs call.
-fn user_wizards() -> Vec<WizardSource> {
-    let dir = support::manifest().join("wizards");
-    let mut found = Vec::new();
-    for entry in std::fs::read_dir(dir).into_iter().flatten().flatten() {
-        let path = entry.path();
-        if path.extension().is_some_and(|x| x == "rhai") {
-            found.push(WizardSource {
-                name: path.file_stem().unwrap().to_string_lossy().into_owned(),
-                text: std::fs::read_to_string(&path).unwrap(),
-                origin: path.display().to_string(),
-            });
-        }
-    }
-    found
 }
 
 fn programs() -> Vec<PathBuf> {
@@ -173,14 +162,16 @@ fn any_program_read_in_parts_is_read_as_a_whole() {
     use ger::syntax::egc::Language;
     let (mut cut, mut whole_only, mut read_in_parts) = (0, 0, 0);
     for (path, text) in &support::programs() {
+        // The thresholds count the repository's own programs only.
+        let own = usize::from(!support::is_shared(path));
         let language = Language::of_file(&path.to_string_lossy());
         let parts = with_part_size(Some(40), || {
             cuts(text, &Locator::new(0, text), language).map(|c| c.len())
         });
         match parts {
-            Some(n) if n > 1 => cut += 1,
+            Some(n) if n > 1 => cut += own,
             Some(_) => {}
-            None => whole_only += 1,
+            None => whole_only += own,
         }
         for from in [None, Some(Flavour::Fanuc)] {
             // `checked`: through `compile_to`, which reads in parts only a
@@ -194,7 +185,7 @@ fn any_program_read_in_parts_is_read_as_a_whole() {
                     let options = options(from, stage, EvalOptions::default().batch);
                     let (output, diagnostics) = if checked {
                         let mut out = Vec::new();
-                        let report = ger::compile::compile_to(
+                        let report = ger::driver::compile_to(
                             &sources,
                             file,
                             &options,
@@ -236,7 +227,7 @@ fn any_program_read_in_parts_is_read_as_a_whole() {
             for part in [1, 4096] {
                 match from_reader(path, text, &options, part, true) {
                     Read::Compiled(read) => {
-                        read_in_parts += 1;
+                        read_in_parts += own;
                         assert!(
                             read == whole,
                             "{} ({from:?}) read in parts of {part}:\n{read}\nwhole:\n{whole}",
@@ -283,7 +274,7 @@ fn any_program_read_in_parts_is_read_as_a_whole() {
 /// and of `../shared/real` where it is present, gives the same output and
 /// diagnostics read whole and read in parts of about 1, 40 and 4096 bytes
 /// (a part ends at a line end), as LinuxCNC's G-code and as Fanuc's; and
-/// compiled from a reader without its text (`compile::compile_file`).
+/// compiled from a reader without its text (`driver::compile_file`).
 #[test]
 fn a_plain_program_read_in_parts_is_read_as_a_whole() {
     use ger::eval::Flavour;
@@ -292,7 +283,8 @@ fn a_plain_program_read_in_parts_is_read_as_a_whole() {
     let (mut in_parts, mut from_readers) = (0, 0);
     // Any other program is read whole either way: nothing to compare.
     for (path, text) in &support::plain_programs() {
-        in_parts += 1;
+        let own = usize::from(!support::is_shared(path));
+        in_parts += own;
         for from in [Flavour::LinuxCnc, Flavour::Fanuc] {
             let compile_with = |part: Option<usize>| {
                 with_part_size(part, || {
@@ -334,7 +326,7 @@ fn a_plain_program_read_in_parts_is_read_as_a_whole() {
                     path.display()
                 );
             }
-            from_readers += 1;
+            from_readers += own;
         }
     }
     assert!(in_parts > 20, "only {in_parts} programs are read in parts");
@@ -410,7 +402,7 @@ fn a_subroutine_written_twice_after_the_end_is_an_error_in_parts() {
 
 /// `path` (its decoded `text`) compiled from a reader in parts of about
 /// `part` bytes, its text never held, as `ger compile -o` compiles it
-/// (`compile::scan_file`, `compile::compile_file`), with the wizards of
+/// (`driver::scan_file`, `driver::compile_file`), with the wizards of
 /// `wizards/` and the standard library if `wizards`: its text (`<no
 /// output>` on errors) and diagnostics.
 fn from_reader(
@@ -420,7 +412,7 @@ fn from_reader(
     part: usize,
     wizards: bool,
 ) -> Read {
-    use ger::compile::{compile_file, scan_file};
+    use ger::driver::{compile_file, scan_file};
     use ger::syntax::egc::chunk::with_part_size;
     let raw = std::fs::read(path).unwrap();
     let Some(scan) = scan_file(&mut raw.as_slice()).unwrap() else {
@@ -472,13 +464,13 @@ enum Read {
 }
 
 /// `ger compile` scans a file in two halves at once
-/// (`compile::scan_path`): the answer must be the one reader's,
+/// (`driver::scan_path`): the answer must be the one reader's,
 /// wherever the middle falls (files of every length from 0 to 80 bytes of
 /// each kind), with a byte-order mark, CRLF and lone CR (refused), Latin-1
 /// comments, the most decimals in either half.
 #[test]
 fn a_file_scanned_in_halves_is_scanned_as_one() {
-    use ger::compile::{scan_file, scan_path};
+    use ger::driver::{scan_file, scan_path};
     let kinds: [&[u8]; 7] = [
         b"G1 X1\nG1 X2.5\nG1 Y3\nG1 X1.123456\nM30\n",
         b"\xef\xbb\xbfG0 X1\nG1 X2.25 (a)\nM30",
@@ -498,7 +490,7 @@ fn a_file_scanned_in_halves_is_scanned_as_one() {
             let bytes = &long[..len];
             std::fs::write(&path, bytes).unwrap();
             let one = scan_file(&mut &bytes[..]).unwrap();
-            let halves = scan_path(&path).unwrap();
+            let halves = scan_path(&Disk, &path).unwrap();
             assert_eq!(halves, one, "{:?}", String::from_utf8_lossy(bytes));
             match one {
                 Some(scan) => {
@@ -516,19 +508,22 @@ fn a_file_scanned_in_halves_is_scanned_as_one() {
     );
 }
 
-/// `compile::first_look` reads a small file through (`scan_path`'s
+/// `driver::first_look` reads a small file through (`scan_path`'s
 /// answer) and a large one's first lines only; a compile from a reader
 /// with that answer stops at a part that has more decimals
 /// (`Streamed::Rescan`), and with the whole scan's answer compiles.
 #[test]
 fn a_first_look_is_checked_part_by_part() {
-    use ger::compile::{compile_file, first_look, scan_path, Streamed};
+    use ger::driver::{compile_file, first_look, scan_path, Streamed};
     let dir = std::env::temp_dir().join(format!("ger-first-look-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
     let path = dir.join("p.ngc");
     let small = "G21 G1 X1.25 F100\nG1 X2.125\nM30\n";
     std::fs::write(&path, small).unwrap();
-    assert_eq!(first_look(&path).unwrap(), scan_path(&path).unwrap());
+    assert_eq!(
+        first_look(&Disk, &path).unwrap(),
+        scan_path(&Disk, &path).unwrap()
+    );
     let mut text = String::from("G21 G90\nG1 Z-1 F300\n");
     for i in 0..40_000 {
         text.push_str(&format!(
@@ -539,8 +534,8 @@ fn a_first_look_is_checked_part_by_part() {
     }
     let late = format!("{text}G1 X1.12345\nM30\n");
     std::fs::write(&path, &late).unwrap();
-    let first = first_look(&path).unwrap().expect("a plain file");
-    let whole = scan_path(&path).unwrap().expect("a plain file");
+    let first = first_look(&Disk, &path).unwrap().expect("a plain file");
+    let whole = scan_path(&Disk, &path).unwrap().expect("a plain file");
     assert!(first.partial && !whole.partial);
     assert_eq!((first.decimals, whole.decimals), (3, 5));
     assert_eq!(first.len as u64, std::fs::metadata(&path).unwrap().len());
@@ -591,7 +586,7 @@ proptest::proptest! {
     #![proptest_config(proptest::prelude::ProptestConfig::with_cases(64))]
 
     /// A file compiled from its file after a first look at its first lines
-    /// (`compile::first_look_within`; checked part by part, scanned whole
+    /// (`driver::first_look_within`; checked part by part, scanned whole
     /// and compiled again when a part is not as they said, as `ger` does)
     /// gives what its decoded text compiled whole gives, or is refused and
     /// read whole where the whole scan refuses it.
@@ -602,7 +597,7 @@ proptest::proptest! {
         lines in 1500usize..3000,
         part in proptest::sample::select(vec![40usize, 4096, 16384]),
     ) {
-        use ger::compile::{compile_file, first_look_within, scan_path, Streamed};
+        use ger::driver::{compile_file, first_look_within, scan_path, Streamed};
         let mut bytes = b"G21 G90 G17\nG0 X0 Y0 Z2\nG1 Z-1 F300\n".to_vec();
         for n in 0..lines {
             let kind = rare.iter().find(|(_, at)| *at == n).map_or(12, |(k, _)| *k);
@@ -614,7 +609,7 @@ proptest::proptest! {
         let path = dir.join("p.ngc");
         std::fs::write(&path, &bytes).unwrap();
         let text = ger::source::decode(bytes.clone()).unwrap_or_default();
-        let shown = |sources: &Sources, out: Vec<u8>, report: &ger::compile::Report| {
+        let shown = |sources: &Sources, out: Vec<u8>, report: &ger::driver::Report| {
             let out = if report.succeeded() { String::from_utf8(out).unwrap() } else { String::new() };
             (out, render(sources, &report.diagnostics))
         };
@@ -622,7 +617,7 @@ proptest::proptest! {
         let file = sources.add("p.ngc", text.clone());
         let whole = {
             let mut out = Vec::new();
-            let report = ger::compile::compile_to(&sources, file, &CompileOptions::default(), None, &mut out);
+            let report = ger::driver::compile_to(&sources, file, &CompileOptions::default(), None, &mut out);
             shown(&sources, out, &report)
         };
         let streamed = |scan| {
@@ -632,8 +627,8 @@ proptest::proptest! {
             });
             (compiled.unwrap(), out)
         };
-        let first = first_look_within(&path, 1).unwrap();
-        let exact = scan_path(&path).unwrap();
+        let first = first_look_within(&Disk, &path, 1).unwrap();
+        let exact = scan_path(&Disk, &path).unwrap();
         std::fs::remove_dir_all(&dir).unwrap();
         let Some(first) = first else {
             // Refused from its first lines: the whole scan refuses it too.
@@ -659,12 +654,12 @@ proptest::proptest! {
     }
 }
 
-/// A plain file read from a reader in parts (`compile::compile_file`)
+/// A plain file read from a reader in parts (`driver::compile_file`)
 /// with a byte-order mark, CRLF line ends and Latin-1 comments (decoded
 /// line by line) gives what the decoded text compiled whole gives.
 #[test]
 fn a_file_with_a_bom_and_latin1_lines_reads_in_parts_as_whole() {
-    use ger::compile::{compile_file, scan_file};
+    use ger::driver::{compile_file, scan_file};
     let bytes: &[u8] = b"\xef\xbb\xbfG21 G90\r\nG0 X1 (25\xb0)\r\nG1 X2.5 F100 (\xe9t\xe9)\r\n\
                          G1 Y3 (caf\xc3\xa9)\r\nG1 X1 (\xb0)\r\nM30\r\n";
     let text = ger::source::decode(bytes.to_vec()).unwrap();
@@ -700,7 +695,7 @@ fn a_file_with_a_bom_and_latin1_lines_reads_in_parts_as_whole() {
 }
 
 /// The diagnostics of a program compiled from its file show the lines
-/// they are about, read again a part at a time (`compile::lines_shown`,
+/// they are about, read again a part at a time (`driver::lines_shown`,
 /// `Sources::set_lines`: memory grows with the lines shown, not with the
 /// file), exactly as with the file's whole text: every program of the
 /// repository with diagnostics, and files made for the edges (a last line
@@ -708,7 +703,7 @@ fn a_file_with_a_bom_and_latin1_lines_reads_in_parts_as_whole() {
 /// two apart, a long line cut around its label).
 #[test]
 fn diagnostics_shown_from_some_lines_are_those_of_the_whole_text() {
-    use ger::compile::{lines_shown, scan_file};
+    use ger::driver::{lines_shown, scan_file};
     let long = format!(
         "G0 X1 ({})\nG0 X<Undefined> ({})\nM30\n",
         "a".repeat(300),

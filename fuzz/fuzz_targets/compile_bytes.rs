@@ -3,7 +3,7 @@
 //! or run out of memory; it either compiles them or reports errors.
 #![no_main]
 
-use ger::compile::{compile, CompileOptions};
+use ger::driver::{compile, CompileOptions};
 use ger::eval::{EvalOptions, Flavour};
 use ger::source::{decode, Sources};
 use ger::syntax::egc::Language;

@@ -3,7 +3,7 @@
 //! hang or run out of memory; it draws or reports.
 #![no_main]
 
-use ger::compile::{tool_path, CompileOptions};
+use ger::driver::{tool_path, CompileOptions};
 use ger::eval::EvalOptions;
 use ger::render::{image, stl, svg, RenderOptions, Scene};
 use ger::source::{decode, Sources};

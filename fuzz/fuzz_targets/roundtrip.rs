@@ -7,7 +7,7 @@
 #![no_main]
 
 use arbitrary::Arbitrary;
-use ger::compile::{compile, tool_path, CompileOptions};
+use ger::driver::{compile, tool_path, CompileOptions};
 use ger::source::Sources;
 use ger::toolpath::compare::{compare, Options};
 use libfuzzer_sys::fuzz_target;

@@ -1068,7 +1068,7 @@ mod tests {
     #![allow(clippy::unwrap_used)]
 
     use super::{GENERAL_PATH_ONLY, PLAIN_MOVES};
-    use crate::compile::{compile, CompileOptions};
+    use crate::driver::{compile, CompileOptions};
     use crate::source::Sources;
 
     /// A made-up program of moves of numbers (the statements
@@ -1226,7 +1226,7 @@ mod tests {
 mod read_back {
     #![allow(clippy::unwrap_used)]
 
-    use crate::compile::{tool_path, CompileOptions};
+    use crate::driver::{tool_path, CompileOptions};
     use crate::source::Sources;
 
     /// Where the last move of `between` (put after a G41 profile's G40

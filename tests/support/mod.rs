@@ -12,6 +12,18 @@ pub fn manifest() -> &'static Path {
     Path::new(env!("CARGO_MANIFEST_DIR"))
 }
 
+/// The folder of third-party real programs beside the repository, when
+/// it is there (a clone of this repository alone has none).
+pub fn shared_real() -> Option<PathBuf> {
+    Some(manifest().join("../shared/real")).filter(|d| d.is_dir())
+}
+
+/// Whether `path` is one of `../shared`'s, not the repository's: the
+/// suite's thresholds count only the repository's own programs.
+pub fn is_shared(path: &Path) -> bool {
+    path.starts_with(manifest().join("../shared"))
+}
+
 /// The `.egc` files directly in `dir`, sorted.
 pub fn egc_files(dir: &Path) -> Vec<PathBuf> {
     files_with(dir, "egc")

@@ -1,0 +1,311 @@
+//! The command line's words: the subcommands and their options (clap),
+//! turned into the library's options. Nothing here reads a file.
+
+use clap::{Parser, Subcommand, ValueEnum};
+use ger::driver::discovery::Search;
+use ger::driver::CompileOptions;
+use ger::driver::Stage;
+use ger::emit::{ArcFormat, Numbering, Target};
+use ger::ir::Units;
+use std::path::PathBuf;
+
+#[derive(Parser)]
+#[command(
+    name = "ger",
+    version,
+    about = "Compile extended G-code (.egc) to plain ISO G-code"
+)]
+pub struct Cli {
+    #[command(subcommand)]
+    pub command: Command,
+}
+
+#[derive(Subcommand)]
+pub enum Command {
+    /// Compile a program to plain G-code.
+    Compile {
+        /// The .egc file, or `-` for standard input.
+        input: String,
+        /// Output file (standard output when absent, or `-`).
+        #[arg(short, long)]
+        output: Option<PathBuf>,
+        #[command(flatten)]
+        options: Options,
+        /// Print the program after this stage (parse, expand, units, polar, offsets, absolute).
+        #[arg(long)]
+        stage: Option<String>,
+    },
+    /// Check a program and print its diagnostics; write nothing.
+    Check {
+        input: String,
+        #[command(flatten)]
+        options: Options,
+    },
+    /// Draw the part the program cuts: a depth (or --shade) PNG, the tool
+    /// path as SVG, or the part as STL, by the output's extension.
+    Render {
+        /// The program, or `-` for standard input.
+        input: String,
+        /// The picture: part.png, part.svg or part.stl.
+        #[arg(short, long)]
+        output: PathBuf,
+        #[command(flatten)]
+        options: Options,
+        #[command(flatten)]
+        picture: PictureArgs,
+    },
+    /// List the wizards found, or show one wizard's signature and doc.
+    Wizards {
+        name: Option<String>,
+        /// A folder of wizards (`<Name>.rhai`), searched first; repeatable.
+        #[arg(long = "wizards", value_name = "DIR")]
+        dirs: Vec<PathBuf>,
+        /// Also search the `wizards/` folder beside this part program.
+        #[arg(long)]
+        part: Option<PathBuf>,
+    },
+}
+
+#[derive(clap::Args)]
+pub struct Options {
+    /// Line numbers: the source line (default), a sequence, or none.
+    #[arg(long, value_enum, default_value_t = NumbersArg::Source)]
+    pub numbers: NumbersArg,
+    /// The output flavour.
+    #[arg(long, alias = "dialect", value_enum, default_value_t = TargetArg::Generic)]
+    pub target: TargetArg,
+    /// Comments of a plain G-code program in the output.
+    #[arg(long, value_enum, default_value_t = CommentsArg::Keep)]
+    pub comments: CommentsArg,
+    /// The source language; default: `.egc` is ger's, any other file plain G-code.
+    #[arg(long = "input", id = "language", value_name = "LANGUAGE", value_enum)]
+    pub language: Option<InputArg>,
+    /// Whose meaning holds where controllers disagree (G4 P in s or ms);
+    /// default: linuxcnc for .ngc files, else generic.
+    #[arg(long, value_enum)]
+    pub from: Option<FromArg>,
+    /// A LinuxCNC tool table (`T1 P1 D6.35 Z75`), in the output's units;
+    /// the program's `SetTool` lines win over it.
+    #[arg(long = "tool-table", value_name = "FILE")]
+    pub tool_table: Option<PathBuf>,
+    /// The units of a program that states none (no G20/G21, no SetUnits).
+    #[arg(long, value_enum)]
+    pub units: Option<UnitsArg>,
+    /// Canned cycles: expanded to moves, or kept for a controller that has
+    /// them (--target fanuc or linuxcnc).
+    #[arg(long, value_enum, default_value_t = CyclesArg::Expand)]
+    pub cycles: CyclesArg,
+    /// Cutter compensation: resolved into the tool-centre path, or kept for
+    /// a controller that compensates itself (--target fanuc or linuxcnc).
+    #[arg(long, value_enum, default_value_t = CompArg::Resolve)]
+    pub comp: CompArg,
+    /// The move that starts compensation: rs274's (offset square to itself
+    /// at its end, then a corner) or lookahead (straight to the offset start
+    /// of the next move, as Ger does).
+    #[arg(long = "comp-entry", value_enum, default_value_t = CompEntryArg::Rs274)]
+    pub comp_entry: CompEntryArg,
+    /// How arcs are written.
+    #[arg(long, value_enum, default_value_t = ArcsArg::Ij)]
+    pub arcs: ArcsArg,
+    /// Chord tolerance for `--arcs lines`, in output units.
+    #[arg(long, default_value_t = 0.001)]
+    pub tolerance: f64,
+    /// Decimals in the output (default 3 for mm, 4 for inch).
+    #[arg(long)]
+    pub decimals: Option<usize>,
+    /// A `while` loop that runs more often is an error.
+    #[arg(long, default_value_t = 10_000_000)]
+    pub max_iterations: u64,
+    /// Print the time each stage took to stderr.
+    #[arg(long)]
+    pub timings: bool,
+    /// A folder of wizards (`<Name>.rhai`), searched first; repeatable.
+    #[arg(long = "wizards", value_name = "DIR")]
+    pub wizard_dirs: Vec<PathBuf>,
+    /// A folder of LinuxCNC subroutine files (`name.ngc` for `o<name>
+    /// call`), searched before the program's own folder; repeatable.
+    #[arg(long = "subroutines", value_name = "DIR")]
+    pub subroutine_dirs: Vec<PathBuf>,
+}
+
+#[derive(clap::Args)]
+pub struct PictureArgs {
+    /// The cell size, in the program's units (default 0.001 in / 0.025 mm).
+    #[arg(long)]
+    pub resolution: Option<f64>,
+    /// Coarser cells when the stock would need more than this many.
+    #[arg(long, default_value_t = 40_000_000)]
+    pub max_cells: u64,
+    /// The stock's size X,Y,Z (placed as SetPart places it).
+    #[arg(long, value_name = "X,Y,Z")]
+    pub stock: Option<String>,
+    /// A hill-shaded colour PNG with a depth legend instead of the depth image.
+    #[arg(long)]
+    pub shade: bool,
+    /// What colours the feeds of an SVG.
+    #[arg(long, value_enum, default_value_t = ColorArg::Depth)]
+    pub color: ColorArg,
+    /// Rapids in an SVG.
+    #[arg(long, value_enum, default_value_t = RapidsArg::Show)]
+    pub rapids: RapidsArg,
+    /// Another program: the PNG shows where the two cut differently.
+    #[arg(long, value_name = "OTHER")]
+    pub diff: Option<String>,
+}
+
+#[derive(Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum ColorArg {
+    Depth,
+    Feed,
+    Tool,
+}
+
+#[derive(Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum RapidsArg {
+    Show,
+    Hide,
+}
+
+#[derive(Clone, Copy, ValueEnum)]
+pub enum NumbersArg {
+    Source,
+    Seq,
+    None,
+}
+
+#[derive(Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum CommentsArg {
+    Keep,
+    Drop,
+}
+
+#[derive(Clone, Copy, ValueEnum)]
+pub enum FromArg {
+    Generic,
+    Linuxcnc,
+    Fanuc,
+    Grbl,
+    Mach3,
+}
+
+#[derive(Clone, Copy, ValueEnum)]
+pub enum InputArg {
+    Egc,
+    Gcode,
+}
+
+#[derive(Clone, Copy, ValueEnum)]
+pub enum UnitsArg {
+    Mm,
+    Inch,
+}
+
+#[derive(Clone, Copy, ValueEnum)]
+pub enum TargetArg {
+    Generic,
+    Fanuc,
+    Grbl,
+    Linuxcnc,
+}
+
+#[derive(Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum CyclesArg {
+    Expand,
+    Keep,
+}
+
+#[derive(Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum CompArg {
+    Resolve,
+    Keep,
+}
+
+#[derive(Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum CompEntryArg {
+    Rs274,
+    Lookahead,
+}
+
+#[derive(Clone, Copy, ValueEnum)]
+pub enum ArcsArg {
+    Ij,
+    R,
+    Lines,
+}
+
+impl Options {
+    /// The library's options for these command-line choices.
+    pub fn compile_options(&self, stage: Option<Stage>) -> CompileOptions {
+        CompileOptions {
+            eval: ger::eval::EvalOptions {
+                max_iterations: self.max_iterations,
+                keep_comments: self.comments == CommentsArg::Keep,
+                units: self.units.map(|u| match u {
+                    UnitsArg::Mm => Units::Mm,
+                    UnitsArg::Inch => Units::Inch,
+                }),
+                ..Default::default()
+            },
+            from: self.from.map(|f| match f {
+                FromArg::Generic => ger::eval::Flavour::Generic,
+                FromArg::Linuxcnc => ger::eval::Flavour::LinuxCnc,
+                FromArg::Fanuc => ger::eval::Flavour::Fanuc,
+                FromArg::Grbl => ger::eval::Flavour::Grbl,
+                FromArg::Mach3 => ger::eval::Flavour::Mach3,
+            }),
+            input: self.language.map(|i| match i {
+                InputArg::Egc => ger::syntax::egc::Language::Egc,
+                InputArg::Gcode => ger::syntax::egc::Language::Gcode,
+            }),
+            lower: ger::lower::LowerOptions {
+                keep_cycles: self.cycles == CyclesArg::Keep,
+                keep_comp: self.comp == CompArg::Keep,
+                comp_entry_lookahead: self.comp_entry == CompEntryArg::Lookahead,
+                tip_path: false,
+            },
+            emit: ger::emit::EmitOptions {
+                numbering: match self.numbers {
+                    NumbersArg::Source => Numbering::Source,
+                    NumbersArg::Seq => Numbering::Seq,
+                    NumbersArg::None => Numbering::None,
+                },
+                target: match self.target {
+                    TargetArg::Generic => Target::Generic,
+                    TargetArg::Fanuc => Target::Fanuc,
+                    TargetArg::Grbl => Target::Grbl,
+                    TargetArg::Linuxcnc => Target::LinuxCnc,
+                },
+                arcs: match self.arcs {
+                    ArcsArg::Ij => ArcFormat::Ij,
+                    ArcsArg::R => ArcFormat::R,
+                    ArcsArg::Lines => ArcFormat::Lines,
+                },
+                decimals: self.decimals,
+                tolerance: self.tolerance,
+                ..Default::default()
+            },
+            stage,
+            library: Vec::new(),
+        }
+    }
+}
+
+impl Options {
+    /// Where the program's wizards, subroutine files and tool table are
+    /// found: these options, and the `GER_WIZARDS` folders.
+    pub fn search(&self) -> Search {
+        Search {
+            wizard_dirs: self.wizard_dirs.clone(),
+            wizard_path: wizard_path(),
+            subroutine_dirs: self.subroutine_dirs.clone(),
+            tool_table: self.tool_table.clone(),
+        }
+    }
+}
+
+/// The `GER_WIZARDS` folders.
+pub fn wizard_path() -> Vec<PathBuf> {
+    std::env::var_os("GER_WIZARDS")
+        .map(|env| std::env::split_paths(&env).collect())
+        .unwrap_or_default()
+}

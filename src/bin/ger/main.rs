@@ -1,0 +1,292 @@
+//! The `ger` command line: parses the arguments, calls the library's
+//! session, prints diagnostics and maps results to exit codes (0 success,
+//! 1 the program has errors, 2 usage or I/O). The compile policy (reading
+//! a file in parts, compiling again whole), the option checks and the
+//! discovery of wizards and subroutine files are the library's
+//! (`ger::driver`); the atomic writer of the output too.
+
+mod args;
+mod picture;
+
+use args::{Cli, Command, Options};
+use clap::Parser;
+use ger::diagnostic::render;
+use ger::driver::fs::Disk;
+use ger::driver::output::same_file;
+use ger::driver::{Destination, Finished, Job, LoadError, Program, Report, Session, Stage};
+use ger::source::Sources;
+use ger::wizard::Library;
+use std::io::{Read, Write};
+use std::path::{Path, PathBuf};
+use std::process::ExitCode;
+
+// Big programs build a large tree, then a large IR, then a large text:
+// mimalloc reuses the freed pages where the system allocator returns them
+// and faults in new ones (about a third of the wall time on 200k lines).
+#[global_allocator]
+static ALLOCATOR: mimalloc::MiMalloc = mimalloc::MiMalloc;
+
+fn main() -> ExitCode {
+    // The evaluator and the grammar's trees recurse; the lexer bounds the
+    // nesting, and a big stack gives the bounded recursion ample room.
+    std::thread::Builder::new()
+        .stack_size(64 << 20)
+        .spawn(real_main)
+        .ok()
+        .and_then(|t| t.join().ok())
+        .unwrap_or(ExitCode::from(2))
+}
+
+fn real_main() -> ExitCode {
+    let cli = Cli::parse();
+    match cli.command {
+        Command::Compile {
+            input,
+            output,
+            options,
+            stage,
+        } => {
+            let stage = match stage.as_deref().map(|s| (s, Stage::from_name(s))) {
+                None => None,
+                Some((_, Some(stage))) => Some(stage),
+                Some((name, None)) => {
+                    let names: Vec<&str> = Stage::names().collect();
+                    eprintln!(
+                        "error: unknown stage `{name}`; the stages are {}",
+                        names.join(", ")
+                    );
+                    return ExitCode::from(2);
+                }
+            };
+            // `-o -`: standard output, as `-` is standard input.
+            let output = output.filter(|o| o.as_os_str() != "-");
+            run(&input, output.as_deref(), &options, stage, true)
+        }
+        Command::Check { input, options } => run(&input, None, &options, None, false),
+        Command::Render {
+            input,
+            output,
+            options,
+            picture,
+        } => picture::render_part(&input, &output, &options, &picture),
+        Command::Wizards { name, dirs, part } => {
+            list_wizards(name.as_deref(), &dirs, part.as_deref())
+        }
+    }
+}
+
+/// The session for these options, or the usage error printed.
+fn session(options: &Options, stage: Option<Stage>) -> Result<Session<'static>, ExitCode> {
+    Session::new(&Disk, options.compile_options(stage), options.search()).map_err(|e| {
+        eprintln!("error: {e}");
+        ExitCode::from(2)
+    })
+}
+
+/// Print why a program could not be loaded; its exit code.
+fn load_failed(error: LoadError) -> ExitCode {
+    let status = error.exit_status();
+    match error {
+        LoadError::Unread(why) | LoadError::NotText(why) => eprintln!("error: {why}"),
+        LoadError::ToolTable {
+            sources,
+            diagnostics,
+        } => eprint!("{}", render(&sources, &diagnostics)),
+    }
+    ExitCode::from(status)
+}
+
+/// Read standard input for `-`.
+fn read_stdin() -> Result<String, ExitCode> {
+    let mut bytes = Vec::new();
+    if let Err(e) = std::io::stdin().read_to_end(&mut bytes) {
+        eprintln!("error: cannot read `-`: {e}");
+        return Err(ExitCode::from(2));
+    }
+    ger::source::decode(bytes).map_err(|why| {
+        let (what, at) = match why {
+            ger::source::NotText::Nul(at) => ("a NUL byte", at),
+            ger::source::NotText::Control(at) => ("a control character", at),
+        };
+        eprintln!(
+            "error: `-` is not a text file: {what} at byte {at}\n  = note: ger reads G-code programs as text (UTF-8 or Latin-1)"
+        );
+        ExitCode::from(1)
+    })
+}
+
+/// `input` loaded as a whole job (for the picture); the problem printed.
+fn load(input: &str, options: &Options, stage: Option<Stage>) -> Result<Job, ExitCode> {
+    let session = session(options, stage)?;
+    let loaded = match input {
+        "-" => session.load(Program::Text {
+            name: "<stdin>",
+            path: None,
+            text: read_stdin()?,
+        }),
+        path => session.load(Program::Path(Path::new(path))),
+    };
+    loaded.map_err(load_failed)
+}
+
+/// `ger compile` (`write`) and `ger check`.
+fn run(
+    input: &str,
+    output: Option<&Path>,
+    options: &Options,
+    stage: Option<Stage>,
+    write: bool,
+) -> ExitCode {
+    if let Some(out) = output {
+        if input != "-" && same_file(Path::new(input), out) {
+            eprintln!("error: the output file is the input file; refusing to overwrite it");
+            return ExitCode::from(2);
+        }
+    }
+    let started = std::time::Instant::now();
+    let session = match session(options, stage) {
+        Ok(session) => session,
+        Err(code) => return code,
+    };
+    let destination = match (write, output) {
+        (true, Some(path)) => Destination::File(path),
+        (true, None) => Destination::Held,
+        (false, _) => Destination::Nowhere,
+    };
+    let program = match input {
+        "-" => match read_stdin() {
+            Ok(text) => Program::Text {
+                name: "<stdin>",
+                path: None,
+                text,
+            },
+            Err(code) => return code,
+        },
+        path => Program::Path(Path::new(path)),
+    };
+    let finished = match session.compile(program, destination) {
+        Ok(finished) => finished,
+        Err(e) => return load_failed(e),
+    };
+    finish(input, finished, options, started)
+}
+
+/// Print a compile's diagnostics and write the held output; the exit code.
+fn finish(
+    input: &str,
+    finished: Finished,
+    options: &Options,
+    started: std::time::Instant,
+) -> ExitCode {
+    if let Some(e) = finished.read_error {
+        eprintln!("error: cannot read `{input}`: {e}");
+        return ExitCode::from(2);
+    }
+    if finished.lines_unshown {
+        eprintln!("note: `{input}` could not be read again to show its lines");
+    }
+    if let Some(code) = reported(&finished.job.sources, &finished.report, options, started) {
+        return code;
+    }
+    if let Some(held) = finished.held {
+        if let Err(e) = held.copy_to(&mut std::io::stdout().lock()) {
+            eprintln!("error: cannot write output: {e}");
+            return ExitCode::from(2);
+        }
+    }
+    ExitCode::SUCCESS
+}
+
+/// Print a compile's diagnostics (and `--timings`); the exit code when it
+/// failed.
+fn reported(
+    sources: &Sources,
+    report: &Report,
+    options: &Options,
+    started: std::time::Instant,
+) -> Option<ExitCode> {
+    eprint!("{}", render(sources, &report.diagnostics));
+    if options.timings {
+        for (stage, took) in &report.timings {
+            eprintln!("{stage:>8}: {:8.2} ms", took.as_secs_f64() * 1e3);
+        }
+        eprintln!("   total: {:8.2} ms", started.elapsed().as_secs_f64() * 1e3);
+    }
+    if !report.compiled() {
+        return Some(ExitCode::from(1));
+    }
+    if let Some(e) = &report.write_error {
+        eprintln!("error: cannot write output: {e}");
+        return Some(ExitCode::from(2));
+    }
+    None
+}
+
+/// `ger wizards [NAME]`.
+fn list_wizards(name: Option<&str>, dirs: &[PathBuf], part: Option<&Path>) -> ExitCode {
+    let search = ger::driver::discovery::Search {
+        wizard_dirs: dirs.to_vec(),
+        wizard_path: args::wizard_path(),
+        ..Default::default()
+    };
+    let found = match ger::driver::discovery::wizards(&Disk, &search, part) {
+        Ok(found) => found,
+        Err(e) => {
+            eprintln!("error: {e}");
+            return ExitCode::from(2);
+        }
+    };
+    let mut sources = Sources::new();
+    let library = Library::new(found, &mut sources);
+    match name {
+        None => {
+            for w in library.iter() {
+                let (signature, summary) = described(w);
+                println!("{signature}\n    {summary}  [{}]", w.origin);
+            }
+            ExitCode::SUCCESS
+        }
+        Some(name) => {
+            let Some(w) = library.get(name) else {
+                eprintln!("error: no wizard named `{name}`; `ger wizards` lists them");
+                return ExitCode::from(2);
+            };
+            print_wizard(w);
+            ExitCode::SUCCESS
+        }
+    }
+}
+
+/// A wizard's signature and one-line summary.
+fn described(w: &ger::wizard::Wizard) -> (String, String) {
+    match &w.declaration {
+        Ok(d) => (d.signature(&w.name), d.summary().to_string()),
+        Err(e) => (
+            w.name.clone(),
+            format!("(bad declaration, line {}: {})", e.line, e.message),
+        ),
+    }
+}
+
+/// `ger wizards NAME`: the signature, the doc and each parameter.
+fn print_wizard(w: &ger::wizard::Wizard) {
+    let mut out = std::io::stdout().lock();
+    let (signature, _) = described(w);
+    let _ = writeln!(out, "{signature}    [{}]\n", w.origin);
+    let Ok(d) = &w.declaration else {
+        return;
+    };
+    for line in &d.doc {
+        let _ = writeln!(out, "{line}");
+    }
+    if !d.params.is_empty() {
+        let _ = writeln!(out);
+    }
+    for p in &d.params {
+        let default = p
+            .default
+            .as_ref()
+            .map_or(String::new(), |d| format!(" (default {d})"));
+        let _ = writeln!(out, "  {:<12} {}{default}", p.name, p.doc);
+    }
+}

@@ -1,0 +1,107 @@
+//! The options of one compile: which stages run, how the input is read
+//! and how the output is written. Validated here, in the library
+//! ([`CompileOptions::validate`]), so no caller can run a compile the
+//! command line would refuse. Knows nothing of files or of the stages' code.
+
+use crate::emit::{EmitOptions, Target};
+use crate::eval::{self, EvalOptions};
+use crate::lower;
+use crate::source::FileId;
+use crate::syntax::egc::Language;
+
+/// The stages of SPEC §4, in order; `--stage NAME` stops after one.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord)]
+pub enum Stage {
+    /// The parsed program, normalised (no evaluation).
+    Parse,
+    Expand,
+    /// After the pass of this index in [`lower::PASSES`].
+    Lower(usize),
+}
+
+impl Stage {
+    /// Every stage name, in order.
+    pub fn names() -> impl Iterator<Item = &'static str> {
+        ["parse", "expand"]
+            .into_iter()
+            .chain(lower::PASSES.iter().map(|p| p.name))
+    }
+
+    pub fn from_name(name: &str) -> Option<Stage> {
+        match name.to_ascii_lowercase().as_str() {
+            "parse" => Some(Stage::Parse),
+            "expand" => Some(Stage::Expand),
+            _ => lower::pass_index(name).map(Stage::Lower),
+        }
+    }
+}
+
+#[derive(Clone, Debug, Default)]
+pub struct CompileOptions {
+    pub eval: EvalOptions,
+    /// The source language (`--input`); `None`: from the file name.
+    pub input: Option<crate::syntax::egc::Language>,
+    /// `--from`; `None`: from the file name (`.ngc` is LinuxCNC's).
+    pub from: Option<eval::Flavour>,
+    pub emit: EmitOptions,
+    pub lower: lower::LowerOptions,
+    /// Print the program after this stage instead of the final output.
+    pub stage: Option<Stage>,
+    /// Files of LinuxCNC subroutines (`o<name> sub` … `endsub`) the
+    /// program calls but does not hold; the caller found and read them.
+    pub library: Vec<FileId>,
+}
+
+impl CompileOptions {
+    /// The language of the file `name`: `--input`, else its name's.
+    pub fn language(&self, name: &str) -> Language {
+        self.input.unwrap_or_else(|| Language::of_file(name))
+    }
+
+    /// Whose meaning holds for the file `name`: `--from`, else its name's.
+    pub(super) fn flavour(&self, name: &str) -> eval::Flavour {
+        self.from.unwrap_or_else(|| eval::Flavour::of_file(name))
+    }
+
+    /// The evaluator's options for a file in `language` read as `from`.
+    pub(super) fn eval_options(&self, from: eval::Flavour, language: Language) -> EvalOptions {
+        EvalOptions {
+            from,
+            plain: language == Language::Gcode,
+            ..self.eval.clone()
+        }
+    }
+}
+
+/// Options no compile can run with: the command line's usage errors,
+/// refused by the library for every caller.
+#[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
+pub enum OptionError {
+    #[error("--tolerance must be positive and --decimals at most 9")]
+    ToleranceOrDecimals,
+    #[error("--cycles keep needs a controller with canned cycles: --target fanuc or linuxcnc")]
+    CyclesKeptWithout,
+    #[error("--comp keep needs a controller that compensates: --target fanuc or linuxcnc")]
+    CompKeptWithout,
+}
+
+impl CompileOptions {
+    /// Whether a compile can run with these options.
+    pub fn validate(&self) -> Result<(), OptionError> {
+        let emit = &self.emit;
+        if !emit.tolerance.is_finite()
+            || emit.tolerance <= 0.0
+            || emit.decimals.is_some_and(|d| d > 9)
+        {
+            return Err(OptionError::ToleranceOrDecimals);
+        }
+        let keeps_cycles_and_comp = matches!(emit.target, Target::Fanuc | Target::LinuxCnc);
+        if self.lower.keep_cycles && !keeps_cycles_and_comp {
+            return Err(OptionError::CyclesKeptWithout);
+        }
+        if self.lower.keep_comp && !keeps_cycles_and_comp {
+            return Err(OptionError::CompKeptWithout);
+        }
+        Ok(())
+    }
+}

@@ -1,0 +1,190 @@
+//! The library's entry point as its callers meet it (`ger::driver`): a
+//! program that is not on disk (an editor's buffer, a test's map of
+//! files) compiles with its wizards, subroutine files and tool table found
+//! through the file-system view, and its tool path names each move's line.
+
+use ger::driver::discovery::Search;
+use ger::driver::fs::{Disk, FileSystem, Memory};
+use ger::driver::{CompileOptions, LoadError, OptionError, Program, Session};
+use ger::toolpath::MoveKind;
+use std::path::Path;
+
+/// A shop's folder, in memory: a program calling a wizard beside it, a
+/// LinuxCNC program calling a subroutine file beside it, a tool table.
+fn shop() -> Memory<'static> {
+    let mut fs = Memory::new();
+    fs.insert(
+        "/shop/wizards/Square.rhai",
+        "//! A square of side `size` from the current point, at its depth.\n\
+         //! @param size the side\n\
+         let x = pos_x();\n\
+         let y = pos_y();\n\
+         line(x + size, y);\n\
+         line(x + size, y + size);\n\
+         line(x, y + size);\n\
+         line(x, y);\n",
+    );
+    fs.insert(
+        "/shop/plate.egc",
+        "SetUnits \"mm\"\nG0 X0 Y0 Z5\nG1 Z-1 F300\nSquare 10\nG0 Z5\nM30\n",
+    );
+    fs.insert(
+        "/shop/sub.ngc",
+        "G21 G90\nG0 X0 Y0 Z5\no<corner> call [3]\nM2\n",
+    );
+    fs.insert(
+        "/shop/corner.ngc",
+        "o<corner> sub\nG1 X#1 F100\nG1 Y#1\no<corner> endsub\nM2\n",
+    );
+    fs.insert("/shop/tools.tbl", "T1 P1 D4 Z0 ;4 mm end mill\n");
+    fs
+}
+
+fn session<'fs>(fs: &'fs dyn FileSystem, search: Search) -> Session<'fs> {
+    Session::new(fs, CompileOptions::default(), search).expect("valid options")
+}
+
+#[test]
+fn a_program_in_memory_finds_its_wizard_beside_it() {
+    let fs = shop();
+    let mut job = session(&fs, Search::default())
+        .load(Program::Path(Path::new("/shop/plate.egc")))
+        .unwrap_or_else(|e| panic!("{e}"));
+    let outcome = job.outcome();
+    let text = outcome.output.expect("compiles");
+    assert!(text.contains("X10."), "{text}");
+    let path = outcome.tool_path.expect("a tool path");
+    // The wizard's four feed moves are each the call's line (4).
+    let square: Vec<_> = path
+        .moves
+        .iter()
+        .filter(|m| matches!(m.kind, MoveKind::Feed) && m.start[2] == m.end[2])
+        .collect();
+    assert_eq!(square.len(), 4);
+    for m in &square {
+        assert_eq!(job.line_of(m.span), ("/shop/plate.egc", 4));
+    }
+    let last = square.last().unwrap();
+    assert_eq!(last.end, [0.0, 0.0, -1.0]);
+    assert_eq!(last.state.feed, 300.0);
+}
+
+#[test]
+fn a_linuxcnc_program_finds_its_subroutine_file_beside_it() {
+    let fs = shop();
+    let mut job = session(&fs, Search::default())
+        .load(Program::Path(Path::new("/shop/sub.ngc")))
+        .unwrap_or_else(|e| panic!("{e}"));
+    let outcome = job.outcome();
+    assert!(outcome.output.is_some(), "{:?}", outcome.diagnostics);
+    let path = outcome.tool_path.unwrap();
+    let feeds: Vec<_> = path
+        .moves
+        .iter()
+        .filter(|m| matches!(m.kind, MoveKind::Feed))
+        .collect();
+    assert_eq!(feeds.len(), 2);
+    assert_eq!(feeds[1].end, [3.0, 3.0, 5.0]);
+    // The moves are the subroutine file's lines 2 and 3.
+    assert_eq!(job.line_of(feeds[0].span), ("/shop/corner.ngc", 2));
+    assert_eq!(job.line_of(feeds[1].span), ("/shop/corner.ngc", 3));
+}
+
+#[test]
+fn an_unsaved_buffer_is_compiled_instead_of_the_file() {
+    let disk = shop();
+    let mut buffers = Memory::over(&disk);
+    buffers.insert(
+        "/shop/plate.egc",
+        "SetUnits \"mm\"\nG0 X0 Y0 Z5\nG1 Z-1 F300\nSquare 25\nM30\n",
+    );
+    let mut job = session(&buffers, Search::default())
+        .load(Program::Path(Path::new("/shop/plate.egc")))
+        .unwrap_or_else(|e| panic!("{e}"));
+    let text = job.compile().output.expect("compiles");
+    assert!(text.contains("X25."), "{text}");
+    // A text given directly, standing for a file of the folder, finds the
+    // folder's wizards too.
+    let mut job = session(&disk, Search::default())
+        .load(Program::Text {
+            name: "/shop/unsaved.egc",
+            path: Some(Path::new("/shop/unsaved.egc")),
+            text: "SetUnits \"mm\"\nG0 X0 Y0 Z1\nG1 Z-1 F300\nSquare 7\nM30\n".into(),
+        })
+        .unwrap_or_else(|e| panic!("{e}"));
+    assert!(job.compile().output.expect("compiles").contains("X7."));
+}
+
+#[test]
+fn the_tool_table_is_read_through_the_view_and_its_errors_are_at_its_lines() {
+    let mut fs = shop();
+    let search = Search {
+        tool_table: Some("/shop/tools.tbl".into()),
+        ..Search::default()
+    };
+    let job = session(&fs, search.clone())
+        .load(Program::Path(Path::new("/shop/plate.egc")))
+        .unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(job.options.eval.tools[&1].diameter, 4.0);
+    fs.insert("/shop/tools.tbl", "T1 P1 Dx\n");
+    match session(&fs, search).load(Program::Path(Path::new("/shop/plate.egc"))) {
+        Err(e @ LoadError::ToolTable { .. }) => {
+            assert_eq!(e.exit_status(), 1);
+            assert!(e.to_string().contains("tools.tbl:1"), "{e}");
+        }
+        Err(e) => panic!("{e}"),
+        Ok(_) => panic!("a bad tool table was read"),
+    }
+}
+
+#[test]
+fn what_cannot_be_read_is_a_load_error_naming_it() {
+    let fs = shop();
+    let missing = session(&fs, Search::default()).load(Program::Path(Path::new("/shop/none.nc")));
+    assert!(
+        matches!(&missing, Err(LoadError::Unread(why)) if why.contains("/shop/none.nc")),
+        "{:?}",
+        missing.err().map(|e| e.to_string())
+    );
+    let search = Search {
+        wizard_dirs: vec!["/elsewhere".into()],
+        ..Search::default()
+    };
+    let folder = session(&fs, search).load(Program::Path(Path::new("/shop/plate.egc")));
+    assert!(matches!(&folder, Err(LoadError::Unread(why)) if why.contains("/elsewhere")));
+}
+
+#[test]
+fn options_no_compile_can_run_with_are_refused_by_the_library() {
+    let fs = shop();
+    let mut options = CompileOptions::default();
+    options.lower.keep_cycles = true;
+    let refused = Session::new(&fs, options, Search::default()).err();
+    assert_eq!(refused, Some(OptionError::CyclesKeptWithout));
+    let mut options = CompileOptions::default();
+    options.emit.tolerance = 0.0;
+    let refused = Session::new(&fs, options, Search::default()).err();
+    assert_eq!(refused, Some(OptionError::ToleranceOrDecimals));
+    let mut options = CompileOptions::default();
+    options.emit.target = ger::emit::Target::LinuxCnc;
+    options.lower.keep_comp = true;
+    assert!(Session::new(&fs, options, Search::default()).is_ok());
+}
+
+/// The binary goes through the same session: its output for a shipped
+/// example is the session's on the disk.
+#[test]
+fn the_binary_writes_what_the_session_compiles() {
+    let example = Path::new(env!("CARGO_MANIFEST_DIR")).join("examples/bolt_flange.egc");
+    let mut job = session(&Disk, Search::default())
+        .load(Program::Path(&example))
+        .unwrap_or_else(|e| panic!("{e}"));
+    let ours = job.compile().output.expect("compiles");
+    let ger = std::process::Command::new(env!("CARGO_BIN_EXE_ger"))
+        .arg("compile")
+        .arg(&example)
+        .output()
+        .unwrap();
+    assert!(ger.status.success());
+    assert_eq!(String::from_utf8(ger.stdout).unwrap(), ours);
+}
