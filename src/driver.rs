@@ -10,6 +10,8 @@
 //! The rooms, each importing only those below it:
 //! - [`options`]: what one compile does, validated here;
 //! - [`fs`]: the file-system view (disk, open buffers, a test's map);
+//! - [`project`], [`machine`]: `ger.toml`, its `[compile]` options and
+//!   the `[machine]` the program runs on;
 //! - [`discovery`]: wizards, subroutine files and the tool table, found
 //!   through that view;
 //! - [`scan`], `parts`: a file read a part at a time, for memory that
@@ -27,9 +29,11 @@ mod clock;
 pub mod compile;
 pub mod discovery;
 pub mod fs;
+pub mod machine;
 pub mod options;
 pub mod output;
 mod parts;
+pub mod project;
 pub mod scan;
 pub mod session;
 pub mod subroutines;

@@ -710,3 +710,76 @@ fn dash_output_is_standard_output() {
     assert_eq!(to_dash.stdout, plain.stdout);
     assert!(!dir.join("-").exists(), "a file named `-` was made");
 }
+
+/// `ger.toml` found from the program's folder upward: its `[compile]`
+/// options apply, a flag on the command line wins, and a wrong value is an
+/// error at its line (exit 2) before anything is compiled.
+#[test]
+fn the_project_file_gives_options_and_flags_win() {
+    let dir = scratch("project");
+    std::fs::create_dir_all(dir.join("jobs")).unwrap();
+    std::fs::write(
+        dir.join("ger.toml"),
+        "[compile]\nnumbers = \"none\"\narcs = \"r\"\n",
+    )
+    .unwrap();
+    let program = "G21 G90\nG0 X0 Y0\nG1 X10 F100\nG2 X20 Y0 I5 J0\nM30\n";
+    std::fs::write(dir.join("jobs/a.nc"), program).unwrap();
+    let r = ger(&["compile", "jobs/a.nc"], &dir);
+    assert_success(&r);
+    let text = String::from_utf8(r.stdout).unwrap();
+    assert!(text.contains("\nG2 X20. Y0. R5.\n"), "{text}");
+    let r = ger(&["compile", "jobs/a.nc", "--arcs", "ij"], &dir);
+    assert_success(&r);
+    let text = String::from_utf8(r.stdout).unwrap();
+    assert!(text.contains("\nG2 X20. Y0. I5. J0.\n"), "{text}");
+
+    std::fs::write(dir.join("ger.toml"), "[compile]\n\ncycles = \"maybe\"\n").unwrap();
+    std::fs::write(dir.join("jobs/out.nc"), "old").unwrap();
+    let r = ger(&["compile", "jobs/a.nc", "-o", "jobs/out.nc"], &dir);
+    assert_eq!(r.status.code(), Some(2));
+    let stderr = String::from_utf8(r.stderr).unwrap();
+    assert!(stderr.contains("ger.toml:3:10"), "{stderr}");
+    assert_eq!(
+        std::fs::read_to_string(dir.join("jobs/out.nc")).unwrap(),
+        "old"
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// `ger machine import`: a grbl `$$` dump on standard input becomes a
+/// `[machine]` table; a file of neither kind is refused.
+#[test]
+fn machine_import_reads_a_grbl_dump() {
+    let dir = scratch("machine-import");
+    let mut child = Command::new(env!("CARGO_BIN_EXE_ger"))
+        .args(["machine", "import", "-"])
+        .current_dir(&dir)
+        .stdin(Stdio::piped())
+        .stdout(Stdio::piped())
+        .spawn()
+        .unwrap();
+    let dump = "$11=0.010\n$12=0.002\n$110=5000.000\n$120=250.000\n$132=80.000\nok\n";
+    child
+        .stdin
+        .take()
+        .unwrap()
+        .write_all(dump.as_bytes())
+        .unwrap();
+    let out = child.wait_with_output().unwrap();
+    assert_success(&out);
+    let table = String::from_utf8(out.stdout).unwrap();
+    assert!(
+        table.starts_with("[machine]\ncontroller = \"grbl\"\n"),
+        "{table}"
+    );
+    assert!(table.contains("junction-deviation = 0.01\n"), "{table}");
+    assert!(
+        table.contains("[machine.z]\nmin = -80.0\nmax = 0.0\n"),
+        "{table}"
+    );
+    std::fs::write(dir.join("notes.txt"), "hello\n").unwrap();
+    let r = ger(&["machine", "import", "notes.txt"], &dir);
+    assert_eq!(r.status.code(), Some(2));
+    let _ = std::fs::remove_dir_all(&dir);
+}

@@ -3,6 +3,9 @@
 //! files) compiles with its wizards, subroutine files and tool table found
 //! through the file-system view, and its tool path names each move's line.
 
+// Test code: a failed unwrap is a failed test.
+#![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
+
 use ger::driver::discovery::Search;
 use ger::driver::fs::{Disk, FileSystem, Memory};
 use ger::driver::{CompileOptions, LoadError, OptionError, Program, Session};

@@ -54,6 +54,12 @@ pub enum Command {
         #[command(flatten)]
         picture: PictureArgs,
     },
+    /// The machine profile: `ger machine import FILE` prints the
+    /// `[machine]` table of ger.toml for a LinuxCNC INI or a grbl `$$` dump.
+    Machine {
+        #[command(subcommand)]
+        action: MachineCommand,
+    },
     /// List the wizards found, or show one wizard's signature and doc.
     Wizards {
         name: Option<String>,
@@ -126,6 +132,64 @@ pub struct Options {
     /// call`), searched before the program's own folder; repeatable.
     #[arg(long = "subroutines", value_name = "DIR")]
     pub subroutine_dirs: Vec<PathBuf>,
+    /// The `ger.toml` keys this command line set (they win over the file).
+    #[arg(skip)]
+    pub given: Vec<&'static str>,
+}
+
+#[derive(Subcommand)]
+pub enum MachineCommand {
+    /// Print the `[machine]` table for a LinuxCNC INI file or grbl's `$$`
+    /// settings dump (`-` reads standard input).
+    Import { file: String },
+}
+
+/// Each `ger.toml` key of `[compile]` and the id of its flag.
+const FLAGS: [(&str, &str); 16] = [
+    ("target", "target"),
+    ("from", "from"),
+    ("input", "language"),
+    ("units", "units"),
+    ("tool-table", "tool_table"),
+    ("arcs", "arcs"),
+    ("tolerance", "tolerance"),
+    ("decimals", "decimals"),
+    ("cycles", "cycles"),
+    ("comp", "comp"),
+    ("comp-entry", "comp_entry"),
+    ("numbers", "numbers"),
+    ("comments", "comments"),
+    ("max-iterations", "max_iterations"),
+    ("wizards", "wizard_dirs"),
+    ("subroutines", "subroutine_dirs"),
+];
+
+/// The command line, with the `ger.toml` keys each subcommand's flags set.
+pub fn parse() -> Cli {
+    use clap::{CommandFactory, FromArgMatches};
+    let matches = Cli::command().get_matches();
+    let mut cli = match Cli::from_arg_matches(&matches) {
+        Ok(cli) => cli,
+        Err(e) => e.exit(),
+    };
+    let Some((_, sub)) = matches.subcommand() else {
+        return cli;
+    };
+    let given: Vec<&'static str> = FLAGS
+        .iter()
+        .filter(|(_, id)| {
+            sub.try_get_raw(id).is_ok_and(|v| v.is_some())
+                && sub.value_source(id) == Some(clap::parser::ValueSource::CommandLine)
+        })
+        .map(|(key, _)| *key)
+        .collect();
+    match &mut cli.command {
+        Command::Compile { options, .. }
+        | Command::Check { options, .. }
+        | Command::Render { options, .. } => options.given = given,
+        Command::Machine { .. } | Command::Wizards { .. } => {}
+    }
+    cli
 }
 
 #[derive(clap::Args)]

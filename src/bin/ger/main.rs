@@ -8,8 +8,7 @@
 mod args;
 mod picture;
 
-use args::{Cli, Command, Options};
-use clap::Parser;
+use args::{Command, MachineCommand, Options};
 use ger::diagnostic::render;
 use ger::driver::fs::Disk;
 use ger::driver::output::same_file;
@@ -38,7 +37,7 @@ fn main() -> ExitCode {
 }
 
 fn real_main() -> ExitCode {
-    let cli = Cli::parse();
+    let cli = args::parse();
     match cli.command {
         Command::Compile {
             input,
@@ -72,12 +71,77 @@ fn real_main() -> ExitCode {
         Command::Wizards { name, dirs, part } => {
             list_wizards(name.as_deref(), &dirs, part.as_deref())
         }
+        Command::Machine {
+            action: MachineCommand::Import { file },
+        } => import_machine(&file),
     }
 }
 
-/// The session for these options, or the usage error printed.
-fn session(options: &Options, stage: Option<Stage>) -> Result<Session<'static>, ExitCode> {
-    Session::new(&Disk, options.compile_options(stage), options.search()).map_err(|e| {
+/// `ger machine import FILE`: the `[machine]` table on standard output.
+fn import_machine(file: &str) -> ExitCode {
+    use ger::driver::machine::{import, ImportFormat};
+    let text = match file {
+        "-" => read_stdin(),
+        path => std::fs::read(path)
+            .map(|bytes| String::from_utf8_lossy(&bytes).into_owned())
+            .map_err(|e| {
+                eprintln!("error: cannot read `{path}`: {e}");
+                ExitCode::from(2)
+            }),
+    };
+    let Ok(text) = text else {
+        return ExitCode::from(2);
+    };
+    let Some(format) = ImportFormat::of_text(&text) else {
+        eprintln!("error: `{file}` is neither a LinuxCNC INI ([TRAJ], [AXIS_X]) nor a grbl `$$` dump ($110=…)");
+        return ExitCode::from(2);
+    };
+    match import(&text, format) {
+        Ok(table) => {
+            print!("{table}");
+            ExitCode::SUCCESS
+        }
+        Err(why) => {
+            eprintln!("error: `{file}`: {why}");
+            ExitCode::from(2)
+        }
+    }
+}
+
+/// The session for these options and the `ger.toml` found from the
+/// program's folder upward (its `[compile]` keys, less those the command
+/// line set); the problem printed.
+fn session(
+    input: &str,
+    options: &Options,
+    stage: Option<Stage>,
+) -> Result<Session<'static>, ExitCode> {
+    use ger::driver::project::{self, ProjectError};
+    let (mut compile, mut search) = (options.compile_options(stage), options.search());
+    let start = match input {
+        "-" => Path::new("."),
+        path => ger::driver::discovery::folder_of(Path::new(path)),
+    };
+    // Absolute, so that the search climbs above the working folder.
+    let start = std::path::absolute(start).unwrap_or_else(|_| start.to_path_buf());
+    if let Some(file) = project::find(&Disk, &start) {
+        let mut sources = Sources::new();
+        match project::read(&Disk, &mut sources, &file) {
+            Ok(found) => {
+                let given = |key: &str| options.given.contains(&key);
+                found.compile.apply(&mut compile, &mut search, &given);
+            }
+            Err(ProjectError::Unread(why)) => {
+                eprintln!("error: {why}");
+                return Err(ExitCode::from(2));
+            }
+            Err(ProjectError::Invalid(diagnostics)) => {
+                eprint!("{}", render(&sources, &diagnostics));
+                return Err(ExitCode::from(2));
+            }
+        }
+    }
+    Session::new(&Disk, compile, search).map_err(|e| {
         eprintln!("error: {e}");
         ExitCode::from(2)
     })
@@ -117,7 +181,7 @@ fn read_stdin() -> Result<String, ExitCode> {
 
 /// `input` loaded as a whole job (for the picture); the problem printed.
 fn load(input: &str, options: &Options, stage: Option<Stage>) -> Result<Job, ExitCode> {
-    let session = session(options, stage)?;
+    let session = session(input, options, stage)?;
     let loaded = match input {
         "-" => session.load(Program::Text {
             name: "<stdin>",
@@ -144,7 +208,7 @@ fn run(
         }
     }
     let started = std::time::Instant::now();
-    let session = match session(options, stage) {
+    let session = match session(input, options, stage) {
         Ok(session) => session,
         Err(code) => return code,
     };
