@@ -27,6 +27,9 @@ pub mod tool_table;
 pub mod toolpath;
 pub mod wizard;
 
+// The run time on a machine, planned as its controller plans it.
+pub mod plan;
+
 // The picture: the tool path carved into a heightmap, drawn.
 pub mod render;
 

@@ -783,3 +783,47 @@ fn machine_import_reads_a_grbl_dump() {
     assert_eq!(r.status.code(), Some(2));
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// `ger stats`: without a machine, length / feed only (no planned time);
+/// with ger.toml's `[machine]`, the planned time, longer than length /
+/// feed on a slow machine; `--json` one object with the documented keys.
+#[test]
+fn stats_plans_on_the_machine_of_the_project_file() {
+    let dir = scratch("stats");
+    let program = "G21 G90\nT1 M6\nS1000 M3\nG0 X0 Y0 Z5\nG1 Z-1 F600\n\
+                   G1 X100 F6000\nY100\nX0\nY0\nG0 Z5\nM30\n";
+    std::fs::write(dir.join("p.nc"), program).unwrap();
+    let r = ger(&["stats", "p.nc", "--json"], &dir);
+    assert_success(&r);
+    let out = String::from_utf8(r.stdout).unwrap();
+    assert!(out.contains("\"time_s\":null"), "{out}");
+    assert!(out.contains("\"feed_time_s\":4.6"), "{out}"); // 6 mm at 10 mm/s + 400 at 100
+    assert!(out.contains("\"cut_mm\":406"), "{out}");
+    assert!(out.contains("\"tools\":[{"), "{out}");
+    std::fs::write(
+        dir.join("ger.toml"),
+        "[machine]\ncontroller = \"grbl\"\nunits = \"mm\"\n\
+         [machine.x]\nmax-velocity = 6000\nmax-acceleration = 50\n\
+         [machine.y]\nmax-velocity = 6000\nmax-acceleration = 50\n\
+         [machine.z]\nmax-velocity = 600\nmax-acceleration = 50\n",
+    )
+    .unwrap();
+    let r = ger(&["stats", "p.nc", "--json"], &dir);
+    assert_success(&r);
+    let out = String::from_utf8(r.stdout).unwrap();
+    let planned = |key: &str| -> f64 {
+        let at = out.find(&format!("\"{key}\":")).unwrap() + key.len() + 3;
+        let end = out[at..].find([',', '}']).unwrap();
+        out[at..at + end].parse().unwrap()
+    };
+    // At 50 mm/s² each 100 mm side stops at its corner (100 mm/s needs
+    // 100 mm to reach): 4 triangles of 2·√(50·100)/50 = 2.83 s at least.
+    assert!(planned("time_s") > planned("feed_time_s") + 6.0, "{out}");
+    assert!(out.contains("\"planned_on\":\"grbl\""), "{out}");
+    let r = ger(&["stats", "p.nc"], &dir);
+    assert_success(&r);
+    let table = String::from_utf8(r.stdout).unwrap();
+    assert!(table.starts_with("run time "), "{table}");
+    assert!(table.contains("planned as grbl plans it"), "{table}");
+    let _ = std::fs::remove_dir_all(&dir);
+}

@@ -54,6 +54,19 @@ pub enum Command {
         #[command(flatten)]
         picture: PictureArgs,
     },
+    /// How long the program runs on the machine of ger.toml's `[machine]`
+    /// (planned as its controller plans it), beside length / feed; cut and
+    /// rapid lengths, dwells, tool changes, and per tool its time, cut and
+    /// bounds.
+    Stats {
+        /// The program, or `-` for standard input.
+        input: String,
+        #[command(flatten)]
+        options: Options,
+        /// One JSON object instead of the table.
+        #[arg(long)]
+        json: bool,
+    },
     /// The machine profile: `ger machine import FILE` prints the
     /// `[machine]` table of ger.toml for a LinuxCNC INI or a grbl `$$` dump.
     Machine {
@@ -186,7 +199,8 @@ pub fn parse() -> Cli {
     match &mut cli.command {
         Command::Compile { options, .. }
         | Command::Check { options, .. }
-        | Command::Render { options, .. } => options.given = given,
+        | Command::Render { options, .. }
+        | Command::Stats { options, .. } => options.given = given,
         Command::Machine { .. } | Command::Wizards { .. } => {}
     }
     cli

@@ -7,10 +7,12 @@
 
 mod args;
 mod picture;
+mod stats;
 
 use args::{Command, MachineCommand, Options};
 use ger::diagnostic::render;
 use ger::driver::fs::Disk;
+use ger::driver::machine::Machine;
 use ger::driver::output::same_file;
 use ger::driver::{Destination, Finished, Job, LoadError, Program, Report, Session, Stage};
 use ger::source::Sources;
@@ -71,6 +73,11 @@ fn real_main() -> ExitCode {
         Command::Wizards { name, dirs, part } => {
             list_wizards(name.as_deref(), &dirs, part.as_deref())
         }
+        Command::Stats {
+            input,
+            options,
+            json,
+        } => stats::print_stats(&input, &options, json),
         Command::Machine {
             action: MachineCommand::Import { file },
         } => import_machine(&file),
@@ -116,6 +123,15 @@ fn session(
     options: &Options,
     stage: Option<Stage>,
 ) -> Result<Session<'static>, ExitCode> {
+    session_and_machine(input, options, stage).map(|(session, _)| session)
+}
+
+/// [`session`], and the `[machine]` of the `ger.toml` found.
+fn session_and_machine(
+    input: &str,
+    options: &Options,
+    stage: Option<Stage>,
+) -> Result<(Session<'static>, Option<Machine>), ExitCode> {
     use ger::driver::project::{self, ProjectError};
     let (mut compile, mut search) = (options.compile_options(stage), options.search());
     let start = match input {
@@ -124,12 +140,14 @@ fn session(
     };
     // Absolute, so that the search climbs above the working folder.
     let start = std::path::absolute(start).unwrap_or_else(|_| start.to_path_buf());
+    let mut machine = None;
     if let Some(file) = project::find(&Disk, &start) {
         let mut sources = Sources::new();
         match project::read(&Disk, &mut sources, &file) {
             Ok(found) => {
                 let given = |key: &str| options.given.contains(&key);
                 found.compile.apply(&mut compile, &mut search, &given);
+                machine = found.machine;
             }
             Err(ProjectError::Unread(why)) => {
                 eprintln!("error: {why}");
@@ -141,10 +159,13 @@ fn session(
             }
         }
     }
-    Session::new(&Disk, compile, search).map_err(|e| {
-        eprintln!("error: {e}");
-        ExitCode::from(2)
-    })
+    match Session::new(&Disk, compile, search) {
+        Ok(session) => Ok((session, machine)),
+        Err(e) => {
+            eprintln!("error: {e}");
+            Err(ExitCode::from(2))
+        }
+    }
 }
 
 /// Print why a program could not be loaded; its exit code.
@@ -181,7 +202,16 @@ fn read_stdin() -> Result<String, ExitCode> {
 
 /// `input` loaded as a whole job (for the picture); the problem printed.
 fn load(input: &str, options: &Options, stage: Option<Stage>) -> Result<Job, ExitCode> {
-    let session = session(input, options, stage)?;
+    load_with_machine(input, options, stage).map(|(job, _)| job)
+}
+
+/// [`load`], and the `[machine]` of the `ger.toml` found.
+fn load_with_machine(
+    input: &str,
+    options: &Options,
+    stage: Option<Stage>,
+) -> Result<(Job, Option<Machine>), ExitCode> {
+    let (session, machine) = session_and_machine(input, options, stage)?;
     let loaded = match input {
         "-" => session.load(Program::Text {
             name: "<stdin>",
@@ -190,7 +220,7 @@ fn load(input: &str, options: &Options, stage: Option<Stage>) -> Result<Job, Exi
         }),
         path => session.load(Program::Path(Path::new(path))),
     };
-    loaded.map_err(load_failed)
+    loaded.map(|job| (job, machine)).map_err(load_failed)
 }
 
 /// `ger compile` (`write`) and `ger check`.

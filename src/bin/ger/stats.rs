@@ -1,0 +1,116 @@
+//! `ger stats`: the program's run time on the machine of `ger.toml`
+//! (`ger::plan`), lengths and tools, as a table or one JSON object.
+
+use crate::args::Options;
+use crate::load_with_machine;
+use ger::diagnostic::render;
+use ger::plan::{plan, Figures, Limits};
+use std::process::ExitCode;
+
+/// `ger stats INPUT [--json]`.
+pub fn print_stats(input: &str, options: &Options, json: bool) -> ExitCode {
+    let (mut job, machine) = match load_with_machine(input, options, None) {
+        Ok(loaded) => loaded,
+        Err(code) => return code,
+    };
+    let (path, diagnostics) = job.tool_path();
+    eprint!("{}", render(&job.sources, &diagnostics));
+    let Some(path) = path else {
+        return ExitCode::from(1);
+    };
+    let limits = match machine.as_ref().map(Limits::of) {
+        None => None,
+        Some(Ok(limits)) => Some(limits),
+        Some(Err(why)) => {
+            eprintln!("error: ger.toml's [machine] cannot be planned with: {why}");
+            return ExitCode::from(2);
+        }
+    };
+    let figures = plan(&path, limits.as_ref());
+    let controller = machine.map(|m| match m.controller {
+        ger::driver::machine::Controller::Grbl => "grbl",
+        ger::driver::machine::Controller::LinuxCnc => "linuxcnc",
+    });
+    if json {
+        let object = serde_json::json!({
+            "units": "mm",
+            "planned_on": controller,
+            "time_s": figures.time_s,
+            "feed_time_s": figures.feed_time_s,
+            "cut_mm": figures.cut_mm,
+            "rapid_mm": figures.rapid_mm,
+            "dwell_s": figures.dwell_s,
+            "tool_changes": figures.tool_changes,
+            "spindle_starts": figures.spindle_starts,
+            "tools": figures.tools,
+        });
+        println!("{object}");
+    } else {
+        print!("{}", table(&figures, controller));
+    }
+    ExitCode::SUCCESS
+}
+
+/// The figures as a person reads them.
+fn table(f: &Figures, controller: Option<&str>) -> String {
+    let mut out = String::new();
+    let line = |out: &mut String, text: String| {
+        out.push_str(&text);
+        out.push('\n');
+    };
+    match (f.time_s, controller) {
+        (Some(t), Some(c)) => line(
+            &mut out,
+            format!(
+                "run time        {}  (planned as {c} plans it; length / feed: {})",
+                clock(t),
+                clock(f.feed_time_s)
+            ),
+        ),
+        _ => line(
+            &mut out,
+            format!(
+                "run time        {}  (length / feed only, rapids not timed: no [machine] in ger.toml)",
+                clock(f.feed_time_s)
+            ),
+        ),
+    }
+    line(&mut out, format!("cut             {:.1} mm", f.cut_mm));
+    line(&mut out, format!("rapid           {:.1} mm", f.rapid_mm));
+    line(
+        &mut out,
+        format!(
+            "dwells {:.1} s, tool changes {}, spindle starts {}",
+            f.dwell_s, f.tool_changes, f.spindle_starts
+        ),
+    );
+    for t in &f.tools {
+        let time = t.time_s.map_or(clock(t.feed_time_s), clock);
+        let bounds = t.bounds.map_or(String::from("no cut"), |[lo, hi]| {
+            format!(
+                "X {:.3}…{:.3}  Y {:.3}…{:.3}  Z {:.3}…{:.3}",
+                lo[0], hi[0], lo[1], hi[1], lo[2], hi[2]
+            )
+        });
+        line(
+            &mut out,
+            format!(
+                "tool {:<4}       {time}  cut {:.1} mm  {bounds}",
+                t.tool, t.cut_mm
+            ),
+        );
+    }
+    out
+}
+
+/// Seconds as `h:mm:ss` (or `m:ss.s` under an hour).
+fn clock(seconds: f64) -> String {
+    let s = seconds.max(0.0);
+    match s >= 3600.0 {
+        true => {
+            let whole = s.round() as u64;
+            format!("{}:{:02}:{:02}", whole / 3600, whole / 60 % 60, whole % 60)
+        }
+        false => format!("{}:{:04.1}", (s / 60.0).floor() as u64, s % 60.0),
+    }
+}

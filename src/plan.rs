@@ -1,0 +1,536 @@
+//! The run time of a tool path on a machine, planned as grbl's planner
+//! plans it (SPEC §9): each move a block (arcs cut into the chords grbl
+//! makes of them within its arc tolerance), its speed limited per axis,
+//! corners by junction deviation, accelerations per axis, and a look-ahead
+//! as deep as the planner's buffer, whose last block must be able to stop.
+//! The controller stops where it syncs spindle or coolant, at dwells, tool
+//! changes and program stops. Beside it, the length / feed figure other
+//! tools give.
+//!
+//! Architecture Invariant: reads a [`ToolPath`] and a [`Machine`] only;
+//! never sees the IR or the program text.
+
+use crate::driver::machine::Machine;
+use crate::toolpath::{EventKind, Move, MoveKind, ToolPath};
+use serde::Serialize;
+
+/// grbl's defaults where the profile says nothing.
+const DEFAULT_JUNCTION_DEVIATION: f64 = 0.01;
+const DEFAULT_ARC_TOLERANCE: f64 = 0.002;
+const DEFAULT_PLANNER_BLOCKS: usize = 16;
+
+/// What the planner needs of the machine, in mm, mm/s and s.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Limits {
+    /// Per axis, mm/s.
+    pub max_rate: [f64; 3],
+    /// Per axis, mm/s².
+    pub max_accel: [f64; 3],
+    /// mm/s for rapids, else each axis's maximum.
+    pub rapid_rate: Option<f64>,
+    pub junction_deviation: f64,
+    pub arc_tolerance: f64,
+    /// Blocks the planner holds, the one running included.
+    pub blocks: usize,
+    pub tool_change_s: f64,
+    pub spindle_start_s: f64,
+}
+
+impl Limits {
+    /// The planner's limits of `machine`; `Err`: what it lacks.
+    pub fn of(machine: &Machine) -> Result<Limits, String> {
+        let mut max_rate = [0.0; 3];
+        let mut max_accel = [0.0; 3];
+        for (i, axis) in machine.axes.iter().enumerate() {
+            let name = ["x", "y", "z"][i];
+            max_rate[i] = axis
+                .max_velocity
+                .ok_or_else(|| format!("[machine.{name}] has no max-velocity"))?
+                / 60.0;
+            max_accel[i] = axis
+                .max_acceleration
+                .ok_or_else(|| format!("[machine.{name}] has no max-acceleration"))?;
+        }
+        Ok(Limits {
+            max_rate,
+            max_accel,
+            rapid_rate: machine.rapid_rate.map(|r| r / 60.0),
+            junction_deviation: machine
+                .junction_deviation
+                .or(machine.path_tolerance)
+                .unwrap_or(DEFAULT_JUNCTION_DEVIATION),
+            arc_tolerance: machine.arc_tolerance.unwrap_or(DEFAULT_ARC_TOLERANCE),
+            blocks: machine
+                .planner_blocks
+                .map_or(DEFAULT_PLANNER_BLOCKS, |b| b as usize),
+            tool_change_s: machine.tool_change_s.unwrap_or(0.0),
+            spindle_start_s: machine.spindle_start_s.unwrap_or(0.0),
+        })
+    }
+}
+
+/// The largest value along `unit` that keeps each axis within its own
+/// (grbl's `limit_value_by_axis_maximum`).
+fn along(limits: [f64; 3], unit: [f64; 3]) -> f64 {
+    (0..3)
+        .filter(|&i| unit[i] != 0.0)
+        .map(|i| limits[i] / unit[i].abs())
+        .fold(f64::INFINITY, f64::min)
+}
+
+/// One planner block: a straight piece of a move.
+#[derive(Clone, Copy, Debug)]
+struct Block {
+    /// mm.
+    length: f64,
+    unit: [f64; 3],
+    /// mm/s.
+    nominal: f64,
+    /// mm/s².
+    accel: f64,
+    /// The machine is stopped before it (a sync, or the start).
+    stopped_before: bool,
+    /// The move it is part of.
+    source: usize,
+}
+
+/// The planned figures of a program.
+#[derive(Clone, Debug, Default, Serialize)]
+pub struct Figures {
+    /// Planned with acceleration (dwells, tool changes and spindle starts
+    /// included); `None` without a machine.
+    pub time_s: Option<f64>,
+    /// Feed moves' length over their feed, rapids at the machine's rapid
+    /// rate (left out without a machine), dwells.
+    pub feed_time_s: f64,
+    pub cut_mm: f64,
+    pub rapid_mm: f64,
+    pub dwell_s: f64,
+    pub tool_changes: usize,
+    pub spindle_starts: usize,
+    pub tools: Vec<ToolFigures>,
+    /// Each move's planned time, in order (empty without a machine).
+    #[serde(skip)]
+    pub move_s: Vec<f64>,
+}
+
+/// The figures of one tool's moves.
+#[derive(Clone, Debug, Default, Serialize)]
+pub struct ToolFigures {
+    pub tool: u32,
+    pub time_s: Option<f64>,
+    pub feed_time_s: f64,
+    pub cut_mm: f64,
+    /// The feed moves' bounds: `[[x, y, z] min, [x, y, z] max]`, mm.
+    pub bounds: Option<[[f64; 3]; 2]>,
+}
+
+/// The figures of `path` on the machine `limits` describes (length / feed
+/// only, without one).
+pub fn plan(path: &ToolPath, limits: Option<&Limits>) -> Figures {
+    let mut figures = lengths(path, limits);
+    let Some(limits) = limits else {
+        return figures;
+    };
+    let blocks = blocks(path, limits);
+    let mut move_s = vec![0.0; path.moves.len()];
+    for (block, seconds) in blocks.iter().zip(block_times(&blocks, limits)) {
+        move_s[block.source] += seconds;
+    }
+    let stops = figures.dwell_s
+        + figures.tool_changes as f64 * limits.tool_change_s
+        + figures.spindle_starts as f64 * limits.spindle_start_s;
+    figures.time_s = Some(move_s.iter().sum::<f64>() + stops);
+    for tool in &mut figures.tools {
+        let time = path
+            .moves
+            .iter()
+            .zip(&move_s)
+            .filter(|(m, _)| m.state.tool == tool.tool)
+            .map(|(_, s)| s)
+            .sum();
+        tool.time_s = Some(time);
+    }
+    figures.move_s = move_s;
+    figures
+}
+
+/// Lengths, length / feed, dwells, tool changes and spindle starts, per
+/// tool too.
+fn lengths(path: &ToolPath, limits: Option<&Limits>) -> Figures {
+    let mut figures = Figures::default();
+    let mut spindle_on = false;
+    for m in &path.moves {
+        let length = m.length();
+        let at = match figures.tools.iter().position(|t| t.tool == m.state.tool) {
+            Some(at) => at,
+            None => {
+                figures.tools.push(ToolFigures {
+                    tool: m.state.tool,
+                    ..ToolFigures::default()
+                });
+                figures.tools.len() - 1
+            }
+        };
+        let on = m.state.spindle.is_some();
+        figures.spindle_starts += usize::from(on && !spindle_on);
+        spindle_on = on;
+        if m.kind == MoveKind::Rapid {
+            figures.rapid_mm += length;
+            if let Some(limits) = limits {
+                let rate = rapid_rate(limits, unit(m));
+                figures.feed_time_s += length / rate;
+            }
+            continue;
+        }
+        let seconds = if m.state.feed > 0.0 {
+            length / (m.state.feed / 60.0)
+        } else {
+            0.0
+        };
+        figures.cut_mm += length;
+        figures.feed_time_s += seconds;
+        let tool = &mut figures.tools[at];
+        tool.cut_mm += length;
+        tool.feed_time_s += seconds;
+        let [low, high] = tool.bounds.get_or_insert([m.start, m.start]);
+        for p in [m.start, m.end] {
+            for i in 0..3 {
+                low[i] = low[i].min(p[i]);
+                high[i] = high[i].max(p[i]);
+            }
+        }
+    }
+    for event in &path.events {
+        match event.kind {
+            EventKind::Dwell(s) => figures.dwell_s += s,
+            EventKind::ToolChange(_) => figures.tool_changes += 1,
+            EventKind::Stop(_) | EventKind::End => {}
+        }
+    }
+    figures.feed_time_s += figures.dwell_s;
+    figures
+}
+
+/// A straight move's direction (a zero move's: none).
+fn unit(m: &Move) -> [f64; 3] {
+    direction(m.start, m.end)
+}
+
+fn direction(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
+    let d = [b[0] - a[0], b[1] - a[1], b[2] - a[2]];
+    let n = (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt();
+    match n > 0.0 {
+        true => [d[0] / n, d[1] / n, d[2] / n],
+        false => [0.0; 3],
+    }
+}
+
+/// A rapid's rate along `unit`, mm/s.
+fn rapid_rate(limits: &Limits, unit: [f64; 3]) -> f64 {
+    let axes = along(limits.max_rate, unit);
+    limits.rapid_rate.map_or(axes, |r| r.min(axes))
+}
+
+/// The planner's blocks: each move, arcs cut into chords as grbl's
+/// `mc_arc` cuts them; a block after a sync starts from rest.
+fn blocks(path: &ToolPath, limits: &Limits) -> Vec<Block> {
+    let syncs = sync_points(path);
+    let mut out = Vec::with_capacity(path.moves.len());
+    for (i, m) in path.moves.iter().enumerate() {
+        let stopped_before = syncs[i];
+        let points = match m.kind {
+            MoveKind::Arc(_) => arc_points(m, limits.arc_tolerance),
+            MoveKind::Rapid | MoveKind::Feed => vec![m.start, m.end],
+        };
+        for (k, pair) in points.windows(2).enumerate() {
+            let unit = direction(pair[0], pair[1]);
+            let length = crate::toolpath::distance(pair[0], pair[1]);
+            if length <= 0.0 {
+                continue;
+            }
+            let nominal = match m.kind {
+                MoveKind::Rapid => rapid_rate(limits, unit),
+                _ => (m.state.feed / 60.0).min(along(limits.max_rate, unit)),
+            };
+            out.push(Block {
+                length,
+                unit,
+                nominal: nominal.max(1e-9),
+                accel: along(limits.max_accel, unit),
+                stopped_before: stopped_before && k == 0,
+                source: i,
+            });
+        }
+    }
+    out
+}
+
+/// For each move, whether the machine stands still before it: the first
+/// move, and any after an event or a change of spindle or coolant (grbl
+/// empties its buffer to sync them).
+fn sync_points(path: &ToolPath) -> Vec<bool> {
+    let mut stops = vec![false; path.moves.len()];
+    if let Some(first) = stops.first_mut() {
+        *first = true;
+    }
+    for event in &path.events {
+        if let Some(s) = stops.get_mut(event.after_move) {
+            *s = true;
+        }
+    }
+    for (i, pair) in path.moves.windows(2).enumerate() {
+        let (a, b) = (pair[0].state, pair[1].state);
+        if (a.spindle, a.rpm, a.flood, a.mist) != (b.spindle, b.rpm, b.flood, b.mist) {
+            stops[i + 1] = true;
+        }
+    }
+    stops
+}
+
+/// The points of an arc's chords, as grbl's `mc_arc` makes them: as many
+/// segments as keep each chord within the arc tolerance of the arc.
+fn arc_points(m: &Move, tolerance: f64) -> Vec<[f64; 3]> {
+    let MoveKind::Arc(a) = m.kind else {
+        return vec![m.start, m.end];
+    };
+    let (p, q, _) = a.plane.axes();
+    let radius = (m.start[p] - a.center[p]).hypot(m.start[q] - a.center[q]);
+    let sweep = m.sweep();
+    let chord_angle = 2.0 * (tolerance * (2.0 * radius - tolerance)).max(0.0).sqrt();
+    let segments = match chord_angle > 0.0 {
+        true => ((0.5 * sweep * radius) / (0.5 * chord_angle))
+            .floor()
+            .max(1.0),
+        false => 1.0,
+    };
+    let segments = (segments as usize).clamp(1, 1 << 20);
+    (0..=segments)
+        .map(|k| m.at(k as f64 / segments as f64))
+        .collect()
+}
+
+/// The time of each block: planned with the look-ahead of the buffer
+/// (the last block held must be able to stop), corners limited by
+/// junction deviation, each block a trapezoid (or a triangle).
+fn block_times(blocks: &[Block], limits: &Limits) -> Vec<f64> {
+    let max_entry: Vec<f64> = (0..blocks.len())
+        .map(|i| match i {
+            0 => 0.0,
+            _ if blocks[i].stopped_before => 0.0,
+            _ => junction_sqr(&blocks[i - 1], &blocks[i], limits)
+                .min(blocks[i - 1].nominal.powi(2))
+                .min(blocks[i].nominal.powi(2)),
+        })
+        .collect();
+    let depth = limits.blocks.max(1);
+    let mut times = Vec::with_capacity(blocks.len());
+    let mut entry_sqr = 0.0;
+    for i in 0..blocks.len() {
+        // The buffer: this block and those after it, up to a stop.
+        let mut end = i + 1;
+        while end < blocks.len() && end < i + depth && !blocks[end].stopped_before {
+            end += 1;
+        }
+        // Backward from the buffer's end, where the speed must be 0.
+        let mut exit_sqr = 0.0;
+        for j in (i + 1..end).rev() {
+            let b = &blocks[j];
+            exit_sqr = max_entry[j].min(exit_sqr + 2.0 * b.accel * b.length);
+        }
+        let b = &blocks[i];
+        let exit_sqr = exit_sqr.min(entry_sqr + 2.0 * b.accel * b.length);
+        times.push(trapezoid(b, entry_sqr.sqrt(), exit_sqr.sqrt()));
+        entry_sqr = exit_sqr;
+    }
+    times
+}
+
+/// grbl's largest speed squared through the corner from `a` to `b`: the
+/// circle within the junction deviation of the corner, at the acceleration
+/// the corner's direction allows.
+fn junction_sqr(a: &Block, b: &Block, limits: &Limits) -> f64 {
+    let cos = -(a.unit[0] * b.unit[0] + a.unit[1] * b.unit[1] + a.unit[2] * b.unit[2]);
+    if cos > 0.999_999 {
+        // Straight back: a stop.
+        return 0.0;
+    }
+    if cos < -0.999_999 {
+        // Straight on.
+        return f64::INFINITY;
+    }
+    let corner = direction(a.unit, b.unit);
+    let accel = along(limits.max_accel, corner);
+    let sin_half = (0.5 * (1.0 - cos)).sqrt();
+    (accel * limits.junction_deviation * sin_half / (1.0 - sin_half)).max(0.0)
+}
+
+/// The time of a block entered at `entry` and left at `exit` (mm/s):
+/// accelerate to its nominal speed, cruise, slow down; a triangle where
+/// it is too short to reach it.
+fn trapezoid(b: &Block, entry: f64, exit: f64) -> f64 {
+    let (a, d, v) = (b.accel, b.length, b.nominal);
+    let up = (v * v - entry * entry).max(0.0) / (2.0 * a);
+    let down = (v * v - exit * exit).max(0.0) / (2.0 * a);
+    if up + down <= d {
+        return (v - entry).max(0.0) / a + (v - exit).max(0.0) / a + (d - up - down) / v;
+    }
+    let peak = ((2.0 * a * d + entry * entry + exit * exit) / 2.0).sqrt();
+    (peak - entry).max(0.0) / a + (peak - exit).max(0.0) / a
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::toolpath::State;
+
+    /// A machine of 1000 mm/s² and 200 mm/s on every axis, grbl's
+    /// junction deviation (0.01 mm).
+    fn limits() -> Limits {
+        Limits {
+            max_rate: [200.0; 3],
+            max_accel: [1000.0; 3],
+            rapid_rate: None,
+            junction_deviation: 0.01,
+            arc_tolerance: 0.002,
+            blocks: 16,
+            tool_change_s: 0.0,
+            spindle_start_s: 0.0,
+        }
+    }
+
+    /// Feed moves through `points` at `feed` mm/min.
+    fn path(points: &[[f64; 3]], feed: f64) -> ToolPath {
+        let moves = points
+            .windows(2)
+            .map(|p| Move {
+                kind: MoveKind::Feed,
+                start: p[0],
+                end: p[1],
+                extra: [0.0; 6],
+                state: State {
+                    feed,
+                    tool: 1,
+                    ..State::default()
+                },
+                span: crate::source::Span::new(0, 1, 0, 0),
+                guessed: [false; 3],
+            })
+            .collect();
+        ToolPath {
+            moves,
+            ..ToolPath::default()
+        }
+    }
+
+    fn planned(points: &[[f64; 3]], feed: f64, limits: &Limits) -> f64 {
+        plan(&path(points, feed), Some(limits)).time_s.unwrap()
+    }
+
+    #[test]
+    fn one_move_is_a_trapezoid() {
+        // 100 mm at 100 mm/s, 1000 mm/s²: 5 mm up (0.1 s), 90 mm at
+        // speed (0.9 s), 5 mm down (0.1 s).
+        let t = planned(&[[0.0; 3], [100.0, 0.0, 0.0]], 6000.0, &limits());
+        assert!((t - 1.1).abs() < 1e-12, "{t}");
+    }
+
+    #[test]
+    fn a_short_move_is_a_triangle_that_never_reaches_the_feed() {
+        // 4 mm: the peak is sqrt(1000 * 4) = 63.25 mm/s, up and down
+        // 0.06325 s each.
+        let t = planned(&[[0.0; 3], [4.0, 0.0, 0.0]], 6000.0, &limits());
+        let expected = 2.0 * (4000.0_f64).sqrt() / 1000.0;
+        assert!((t - expected).abs() < 1e-12, "{t} vs {expected}");
+        assert!((expected - 0.126491).abs() < 1e-6);
+    }
+
+    #[test]
+    fn a_right_angle_is_taken_at_the_junction_speed() {
+        // 90°: sin(45°) = 0.70711; the corner's direction (-1, 1)/√2
+        // allows 1414.2 mm/s²; v² = 1414.2 × 0.01 × 0.70711 / 0.29289 =
+        // 34.142, v = 5.8431 mm/s. Each leg: up 5 mm in 0.1 s, down from
+        // 100 to 5.8431 over 4.9829 mm in 0.094157 s, 90.017 mm at
+        // 100 mm/s in 0.90017 s: 1.094329 s, the two 2.188657 s.
+        let points = [[0.0; 3], [100.0, 0.0, 0.0], [100.0, 100.0, 0.0]];
+        let t = planned(&points, 6000.0, &limits());
+        let v2 = 1000.0 * std::f64::consts::SQRT_2 * 0.01 * 0.5_f64.sqrt() / (1.0 - 0.5_f64.sqrt());
+        let down = (10_000.0 - v2) / 2000.0;
+        let leg = 0.1 + (100.0 - v2.sqrt()) / 1000.0 + (100.0 - 5.0 - down) / 100.0;
+        assert!((t - 2.0 * leg).abs() < 1e-9, "{t} vs {}", 2.0 * leg);
+        assert!((t - 2.188657).abs() < 1e-5, "{t}");
+        // Straight on through the same point: no slowing.
+        let straight = [[0.0; 3], [100.0, 0.0, 0.0], [200.0, 0.0, 0.0]];
+        let t = planned(&straight, 6000.0, &limits());
+        assert!((t - 2.1).abs() < 1e-12, "{t}");
+    }
+
+    #[test]
+    fn the_look_ahead_is_as_deep_as_the_buffer() {
+        // 40 moves of 1 mm straight on at 100 mm/s², which needs 50 mm to
+        // reach 100 mm/s: with all of them in view, a triangle peaking at
+        // √(100 · 40) = 63.25 mm/s. With 16 (the one running and 15 after
+        // it) each block must be able to stop within the 15 mm after it:
+        // v² ≤ 3000 at each block's end; 15 blocks up to it (0.5477 s),
+        // 10 blocks from 3000 to 3000 through a peak of 3100 mid-block
+        // (0.018108 s each), 15 down. With 1, each move from rest to rest
+        // (0.2 s each).
+        let points: Vec<[f64; 3]> = (0..=40).map(|i| [i as f64, 0.0, 0.0]).collect();
+        let slow = Limits {
+            max_accel: [100.0; 3],
+            ..limits()
+        };
+        let deep = Limits {
+            blocks: 1000,
+            ..slow.clone()
+        };
+        let t_deep = planned(&points, 6000.0, &deep);
+        let expected = 2.0 * (100.0_f64 * 40.0).sqrt() / 100.0;
+        assert!((t_deep - expected).abs() < 1e-9, "{t_deep} vs {expected}");
+        let t16 = planned(&points, 6000.0, &slow);
+        let cruise = 2.0 * (3100.0_f64.sqrt() - 3000.0_f64.sqrt()) / 100.0;
+        let expected = 2.0 * (2.0_f64 * 15.0 / 100.0).sqrt() + 10.0 * cruise;
+        assert!((t16 - expected).abs() < 1e-9, "{t16} vs {expected}");
+        let t1 = planned(&points, 6000.0, &Limits { blocks: 1, ..slow });
+        assert!((t1 - 8.0).abs() < 1e-9, "{t1}");
+    }
+
+    #[test]
+    fn each_axis_limits_its_share_of_a_diagonal() {
+        // Z at 10 mm/s: a 45° XZ move of 100 mm is held to 14.142 mm/s.
+        let slow_z = Limits {
+            max_rate: [200.0, 200.0, 10.0],
+            ..limits()
+        };
+        let t = planned(&[[0.0; 3], [70.710678, 0.0, 70.710678]], 6000.0, &slow_z);
+        let v = 10.0 * std::f64::consts::SQRT_2;
+        let a = 1000.0 * std::f64::consts::SQRT_2;
+        let expected = 2.0 * v / a + (100.0 - v * v / a) / v;
+        assert!((t - expected).abs() < 1e-6, "{t} vs {expected}");
+    }
+
+    #[test]
+    fn arcs_are_cut_into_grbls_chords() {
+        // r = 10, tolerance 0.002: grbl's mc_arc makes floor(π·10 /
+        // √(0.002 · 19.998)) = 157 segments of a full circle.
+        let m = Move {
+            kind: MoveKind::Arc(crate::toolpath::ArcPath {
+                center: [0.0; 3],
+                plane: crate::ir::Plane::XY,
+                clockwise: false,
+                turns: 1,
+            }),
+            ..path(&[[10.0, 0.0, 0.0], [10.0, 0.0, 0.0]], 600.0).moves[0]
+        };
+        assert_eq!(arc_points(&m, 0.002).len(), 158);
+    }
+
+    #[test]
+    fn without_a_machine_only_length_over_feed() {
+        let f = plan(&path(&[[0.0; 3], [100.0, 0.0, 0.0]], 600.0), None);
+        assert_eq!(f.time_s, None);
+        assert!((f.feed_time_s - 10.0).abs() < 1e-12);
+        assert!((f.cut_mm - 100.0).abs() < 1e-12);
+        assert_eq!(f.tools[0].bounds, Some([[0.0; 3], [100.0, 0.0, 0.0]]));
+    }
+}
