@@ -385,3 +385,58 @@ mod tests {
         assert!(shown.contains("2 │ G1 Y2 Q3"), "{shown}");
     }
 }
+
+/// How bad a [`Plain`] diagnostic is.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Level {
+    Error,
+    Warning,
+    Note,
+}
+
+/// A diagnostic as plain data, for a caller that is not a terminal (the
+/// editor server): its level, message, places and notes.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Plain {
+    pub level: Level,
+    pub message: String,
+    /// The primary place first.
+    pub places: Vec<Place>,
+    pub notes: Vec<String>,
+}
+
+/// A place a diagnostic points at: a file of the [`Sources`], a byte
+/// range, what is said there.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Place {
+    pub file: usize,
+    pub range: Range<usize>,
+    pub label: String,
+    pub primary: bool,
+}
+
+/// `d` as plain data.
+pub fn plain(d: &Diagnostic) -> Plain {
+    let level = match d.severity {
+        Severity::Error | Severity::Bug => Level::Error,
+        Severity::Warning => Level::Warning,
+        Severity::Note | Severity::Help => Level::Note,
+    };
+    let mut places: Vec<Place> = d
+        .labels
+        .iter()
+        .map(|l| Place {
+            file: l.file_id,
+            range: l.range.clone(),
+            label: l.message.clone(),
+            primary: l.style == codespan_reporting::diagnostic::LabelStyle::Primary,
+        })
+        .collect();
+    places.sort_by_key(|p| !p.primary);
+    Plain {
+        level,
+        message: d.message.clone(),
+        places,
+        notes: d.notes.clone(),
+    }
+}

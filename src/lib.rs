@@ -30,6 +30,10 @@ pub mod wizard;
 // The run time on a machine, planned as its controller plans it.
 pub mod plan;
 
+// The editor server: the driver's session behind the Language Server
+// Protocol.
+pub mod lsp;
+
 // The picture: the tool path carved into a heightmap, drawn.
 pub mod render;
 

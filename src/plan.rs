@@ -155,6 +155,35 @@ pub fn plan(path: &ToolPath, limits: Option<&Limits>) -> Figures {
     figures
 }
 
+/// The time each move ends at, from the start, in seconds: planned on
+/// `limits`, else length / feed (rapids untimed); dwells counted where
+/// they stand.
+pub fn clock_per_move(path: &ToolPath, limits: Option<&Limits>) -> Vec<f64> {
+    let mut each = match limits {
+        Some(limits) => plan(path, Some(limits)).move_s,
+        None => path
+            .moves
+            .iter()
+            .map(|m| match m.kind {
+                MoveKind::Rapid => 0.0,
+                _ if m.state.feed > 0.0 => m.length() / (m.state.feed / 60.0),
+                _ => 0.0,
+            })
+            .collect(),
+    };
+    for event in &path.events {
+        if let (EventKind::Dwell(s), Some(next)) = (event.kind, each.get_mut(event.after_move)) {
+            *next += s;
+        }
+    }
+    let mut at = 0.0;
+    for t in &mut each {
+        at += *t;
+        *t = at;
+    }
+    each
+}
+
 /// Lengths, length / feed, dwells, tool changes and spindle starts, per
 /// tool too.
 fn lengths(path: &ToolPath, limits: Option<&Limits>) -> Figures {

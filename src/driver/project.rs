@@ -144,6 +144,30 @@ pub fn read(
     })
 }
 
+/// Put the `[compile]` of the project file found from the folder `start`
+/// upward (if any) into `options` and `search`, less the keys `given` says
+/// the caller set; the project read. `Err`: its problems, shown with the
+/// sources given back.
+pub fn configure(
+    fs: &dyn FileSystem,
+    start: &Path,
+    options: &mut CompileOptions,
+    search: &mut Search,
+    given: &dyn Fn(&str) -> bool,
+) -> Result<Option<Project>, (Sources, ProjectError)> {
+    let Some(path) = find(fs, start) else {
+        return Ok(None);
+    };
+    let mut sources = Sources::new();
+    match read(fs, &mut sources, &path) {
+        Ok(project) => {
+            project.compile.apply(options, search, given);
+            Ok(Some(project))
+        }
+        Err(e) => Err((sources, e)),
+    }
+}
+
 /// Why a project file could not be had.
 #[derive(Debug)]
 pub enum ProjectError {

@@ -67,6 +67,9 @@ pub enum Command {
         #[arg(long)]
         json: bool,
     },
+    /// The language server for editors (LSP on standard input and output):
+    /// diagnostics as you type, and where the tool is after each line.
+    Lsp,
     /// The machine profile: `ger machine import FILE` prints the
     /// `[machine]` table of ger.toml for a LinuxCNC INI or a grbl `$$` dump.
     Machine {
@@ -201,7 +204,7 @@ pub fn parse() -> Cli {
         | Command::Check { options, .. }
         | Command::Render { options, .. }
         | Command::Stats { options, .. } => options.given = given,
-        Command::Machine { .. } | Command::Wizards { .. } => {}
+        Command::Machine { .. } | Command::Wizards { .. } | Command::Lsp => {}
     }
     cli
 }

@@ -81,6 +81,18 @@ fn real_main() -> ExitCode {
         Command::Machine {
             action: MachineCommand::Import { file },
         } => import_machine(&file),
+        Command::Lsp => {
+            let (connection, threads) = lsp_server::Connection::stdio();
+            let served = ger::lsp::serve(&connection);
+            drop(connection);
+            match served.and_then(|()| threads.join().map_err(Into::into)) {
+                Ok(()) => ExitCode::SUCCESS,
+                Err(e) => {
+                    eprintln!("error: ger lsp: {e}");
+                    ExitCode::from(2)
+                }
+            }
+        }
     }
 }
 
@@ -140,25 +152,18 @@ fn session_and_machine(
     };
     // Absolute, so that the search climbs above the working folder.
     let start = std::path::absolute(start).unwrap_or_else(|_| start.to_path_buf());
-    let mut machine = None;
-    if let Some(file) = project::find(&Disk, &start) {
-        let mut sources = Sources::new();
-        match project::read(&Disk, &mut sources, &file) {
-            Ok(found) => {
-                let given = |key: &str| options.given.contains(&key);
-                found.compile.apply(&mut compile, &mut search, &given);
-                machine = found.machine;
-            }
-            Err(ProjectError::Unread(why)) => {
-                eprintln!("error: {why}");
-                return Err(ExitCode::from(2));
-            }
-            Err(ProjectError::Invalid(diagnostics)) => {
-                eprint!("{}", render(&sources, &diagnostics));
-                return Err(ExitCode::from(2));
-            }
+    let given = |key: &str| options.given.contains(&key);
+    let machine = match project::configure(&Disk, &start, &mut compile, &mut search, &given) {
+        Ok(project) => project.and_then(|p| p.machine),
+        Err((_, ProjectError::Unread(why))) => {
+            eprintln!("error: {why}");
+            return Err(ExitCode::from(2));
         }
-    }
+        Err((sources, ProjectError::Invalid(diagnostics))) => {
+            eprint!("{}", render(&sources, &diagnostics));
+            return Err(ExitCode::from(2));
+        }
+    };
     match Session::new(&Disk, compile, search) {
         Ok(session) => Ok((session, machine)),
         Err(e) => {

@@ -1,0 +1,322 @@
+//! What the editor server knows of one document: it compiled through the
+//! driver's session (the editor's unsaved text, the files it has open over
+//! the disk), its diagnostics at their places, and after each line that
+//! moves the tool, where the tool is and when. Pure: text and a
+//! file-system view in, data out; no protocol here.
+
+use crate::diagnostic::{plain, Level, Plain};
+use crate::driver::discovery::{folder_of, Search};
+use crate::driver::fs::FileSystem;
+use crate::driver::project::{self, ProjectError};
+use crate::driver::{CompileOptions, Job, Program, Session};
+use crate::ir::Units;
+use crate::plan::{clock_per_move, Limits};
+use crate::source::Sources;
+use std::path::Path;
+
+/// A place in a document: 0-based line and UTF-16 column, as LSP counts.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord)]
+pub struct At {
+    pub line: u32,
+    pub column: u32,
+}
+
+/// A diagnostic of the document, at its place in it.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Found {
+    pub level: Level,
+    pub from: At,
+    pub to: At,
+    pub message: String,
+    /// Other places in the document it points at, with what is said there.
+    pub related: Vec<(At, At, String)>,
+}
+
+/// After a line that moves: where the tool is (output units) and when.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ToolAt {
+    /// The end of the line, where the hint stands.
+    pub at: At,
+    pub label: String,
+}
+
+/// One document analysed.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Analysis {
+    pub diagnostics: Vec<Found>,
+    pub tool_at: Vec<ToolAt>,
+}
+
+/// Analyse the document `path` whose text is `text`, with the options of
+/// the `ger.toml` above it (else `ger compile`'s defaults).
+pub fn analyse(fs: &dyn FileSystem, path: &Path, text: &str) -> Analysis {
+    let (mut options, mut search) = (CompileOptions::default(), Search::default());
+    let machine =
+        match project::configure(fs, folder_of(path), &mut options, &mut search, &|_| false) {
+            Ok(project) => project.and_then(|p| p.machine),
+            Err((sources, ProjectError::Invalid(d))) => {
+                return at_top(
+                    text,
+                    d.iter().map(|d| outside(&sources, &plain(d))).collect(),
+                )
+            }
+            Err((_, ProjectError::Unread(why))) => return at_top(text, vec![why]),
+        };
+    let session = match Session::new(fs, options, search) {
+        Ok(session) => session,
+        Err(e) => return at_top(text, vec![format!("ger.toml: {e}")]),
+    };
+    let name = path.display().to_string();
+    let program = Program::Text {
+        name: &name,
+        path: Some(path),
+        text: text.to_string(),
+    };
+    let mut job = match session.load(program) {
+        Ok(job) => job,
+        Err(e) => return at_top(text, vec![e.to_string()]),
+    };
+    let outcome = job.outcome();
+    let lines = LineStarts::new(text);
+    let diagnostics = outcome
+        .diagnostics
+        .iter()
+        .map(|d| found(&job, &lines, &plain(d)))
+        .collect();
+    let limits = machine.as_ref().and_then(|m| Limits::of(m).ok());
+    let tool_at = match &outcome.tool_path {
+        Some(path) => tool_positions(&job, &lines, path, limits.as_ref()),
+        None => Vec::new(),
+    };
+    Analysis {
+        diagnostics,
+        tool_at,
+    }
+}
+
+/// Messages about something outside the document, shown at its top.
+fn at_top(text: &str, messages: Vec<String>) -> Analysis {
+    let end = LineStarts::new(text).at(text, text.find('\n').unwrap_or(text.len()));
+    let diagnostics = messages
+        .into_iter()
+        .map(|message| Found {
+            level: Level::Error,
+            from: At { line: 0, column: 0 },
+            to: end,
+            message,
+            related: Vec::new(),
+        })
+        .collect();
+    Analysis {
+        diagnostics,
+        tool_at: Vec::new(),
+    }
+}
+
+/// A diagnostic about another file, in words: `file:line: message`.
+fn outside(sources: &Sources, d: &Plain) -> String {
+    match d.places.first() {
+        Some(p) => {
+            let line = sources.get(p.file).map_or(1, |f| f.line_of(p.range.start));
+            format!("{}:{line}: {}", sources.name(p.file), d.message)
+        }
+        None => d.message.clone(),
+    }
+}
+
+/// A diagnostic placed in the document; one about another file (a
+/// wizard, a subroutine file) at the document's top, naming it.
+fn found(job: &Job, lines: &LineStarts, d: &Plain) -> Found {
+    let text = job.sources.text(job.file);
+    let mut notes = d.notes.join("\n");
+    if !notes.is_empty() {
+        notes.insert(0, '\n');
+    }
+    let in_document: Vec<_> = d.places.iter().filter(|p| p.file == job.file).collect();
+    let (from, to, message) = match d.places.first() {
+        Some(p) if p.file == job.file => {
+            let label = if p.label.is_empty() {
+                String::new()
+            } else {
+                format!(" ({})", p.label)
+            };
+            let (from, to) = (lines.at(text, p.range.start), lines.at(text, p.range.end));
+            (from, to, format!("{}{label}{notes}", d.message))
+        }
+        _ => {
+            let top = At { line: 0, column: 0 };
+            (top, top, format!("{}{notes}", outside(&job.sources, d)))
+        }
+    };
+    let related = in_document
+        .iter()
+        .skip(usize::from(
+            d.places.first().is_some_and(|p| p.file == job.file),
+        ))
+        .map(|p| {
+            (
+                lines.at(text, p.range.start),
+                lines.at(text, p.range.end),
+                p.label.clone(),
+            )
+        })
+        .collect();
+    Found {
+        level: d.level,
+        from,
+        to,
+        message,
+        related,
+    }
+}
+
+/// After each line of the document that moves the tool: its position at
+/// the line's last move (output units) and the time from the start.
+fn tool_positions(
+    job: &Job,
+    lines: &LineStarts,
+    path: &crate::toolpath::ToolPath,
+    limits: Option<&Limits>,
+) -> Vec<ToolAt> {
+    let text = job.sources.text(job.file);
+    let clock = clock_per_move(path, limits);
+    let scale = match path.units {
+        Some(Units::Inch) => 1.0 / 25.4,
+        _ => 1.0,
+    };
+    let mut out: Vec<ToolAt> = Vec::new();
+    for (m, t) in path.moves.iter().zip(&clock) {
+        if m.span.file_id() != job.file || m.span.line == 0 {
+            continue;
+        }
+        let line = m.span.line - 1;
+        let end = lines.line_end(text, line as usize);
+        let label = format!(
+            "→ X{} Y{} Z{} · {}",
+            short(m.end[0] * scale),
+            short(m.end[1] * scale),
+            short(m.end[2] * scale),
+            minutes(*t)
+        );
+        let hint = ToolAt {
+            at: lines.at(text, end),
+            label,
+        };
+        // A line's hint is its last move's; lines in the order first met.
+        match out.iter_mut().find(|h| h.at.line == line) {
+            Some(h) => *h = hint,
+            None => out.push(hint),
+        }
+    }
+    out
+}
+
+/// A coordinate as a person reads it: at most 3 decimals, no trailing
+/// zeros.
+fn short(v: f64) -> String {
+    let text = format!("{:.3}", v);
+    let text = text.trim_end_matches('0').trim_end_matches('.');
+    match text {
+        "-0" => "0".into(),
+        t => t.into(),
+    }
+}
+
+/// `m:ss` (or `h:mm:ss`).
+fn minutes(seconds: f64) -> String {
+    let s = seconds.max(0.0).round() as u64;
+    match s >= 3600 {
+        true => format!("{}:{:02}:{:02}", s / 3600, s / 60 % 60, s % 60),
+        false => format!("{}:{:02}", s / 60, s % 60),
+    }
+}
+
+/// Where each line of a text starts, to turn byte offsets into LSP places.
+struct LineStarts {
+    starts: Vec<usize>,
+}
+
+impl LineStarts {
+    fn new(text: &str) -> LineStarts {
+        let mut starts = vec![0];
+        starts.extend(text.match_indices('\n').map(|(i, _)| i + 1));
+        LineStarts { starts }
+    }
+
+    /// The place of byte `offset` (clamped to the text, to a character).
+    fn at(&self, text: &str, offset: usize) -> At {
+        let mut offset = offset.min(text.len());
+        while !text.is_char_boundary(offset) {
+            offset -= 1;
+        }
+        let line = self.starts.partition_point(|&s| s <= offset) - 1;
+        let column = text[self.starts[line]..offset].encode_utf16().count();
+        At {
+            line: line as u32,
+            column: column as u32,
+        }
+    }
+
+    /// The byte offset of the end of line `line` (before its line end).
+    fn line_end(&self, text: &str, line: usize) -> usize {
+        let end = self.starts.get(line + 1).map_or(text.len(), |&s| s - 1);
+        let end = end.min(text.len());
+        match text[..end].ends_with('\r') {
+            true => end - 1,
+            false => end,
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::driver::fs::Memory;
+
+    #[test]
+    fn an_error_is_at_its_place_and_each_moving_line_says_where_the_tool_is() {
+        let fs = Memory::new();
+        let text = "G21 G90\nG0 X0 Y0 Z5\nG1 Z-1 F600\nG1 X10 Y5\nG1 X<Nope>\nM30\n";
+        let a = analyse(&fs, Path::new("/p/part.egc"), text);
+        assert_eq!(a.diagnostics.len(), 1, "{:?}", a.diagnostics);
+        let d = &a.diagnostics[0];
+        assert_eq!((d.level, d.from.line), (Level::Error, 4), "{d:?}");
+        assert!(d.from.column >= 4, "{d:?}");
+        let fixed = text.replace("X<Nope>", "X20");
+        let a = analyse(&fs, Path::new("/p/part.egc"), &fixed);
+        assert!(a.diagnostics.iter().all(|d| d.level != Level::Error));
+        let labels: Vec<_> = a
+            .tool_at
+            .iter()
+            .map(|h| (h.at.line, h.label.as_str()))
+            .collect();
+        // At 10 mm/s: 6 mm down (0.6 s), 11.18 mm (1.72 s), 10 mm (2.72 s).
+        assert_eq!(
+            labels,
+            [
+                (1, "→ X0 Y0 Z5 · 0:00"),
+                (2, "→ X0 Y0 Z-1 · 0:01"),
+                (3, "→ X10 Y5 Z-1 · 0:02"),
+                (4, "→ X20 Y5 Z-1 · 0:03"),
+            ]
+        );
+        assert_eq!(
+            a.tool_at[0].at,
+            At {
+                line: 1,
+                column: 11
+            }
+        );
+    }
+
+    #[test]
+    fn places_count_utf16_and_line_ends_skip_the_cr() {
+        let text = "(é😀)\r\nG0 X1\r\n";
+        let lines = LineStarts::new(text);
+        assert_eq!(
+            lines.at(text, text.find(')').unwrap()),
+            At { line: 0, column: 4 }
+        );
+        assert_eq!(lines.line_end(text, 1), text.len() - 2);
+    }
+}
