@@ -12,6 +12,7 @@
 //! is called by no module of the library.
 
 pub mod analysis;
+pub mod codes;
 
 use crate::diagnostic::Level;
 use crate::driver::fs::{Disk, Memory};
@@ -21,7 +22,7 @@ use lsp_types::notification::{
     DidChangeTextDocument, DidCloseTextDocument, DidOpenTextDocument, Notification as _,
     PublishDiagnostics,
 };
-use lsp_types::request::{InlayHintRequest, Request as _};
+use lsp_types::request::{HoverRequest, InlayHintRequest, Request as _};
 use lsp_types::{
     Diagnostic, DiagnosticRelatedInformation, DiagnosticSeverity, InlayHint, InlayHintLabel,
     InlayHintParams, Location, OneOf, Position, PublishDiagnosticsParams, Range,
@@ -53,6 +54,7 @@ pub fn serve(connection: &Connection) -> Result<(), Error> {
     let capabilities = ServerCapabilities {
         text_document_sync: Some(TextDocumentSyncCapability::Kind(TextDocumentSyncKind::FULL)),
         inlay_hint_provider: Some(OneOf::Left(true)),
+        hover_provider: Some(lsp_types::HoverProviderCapability::Simple(true)),
         ..ServerCapabilities::default()
     };
     connection.initialize(serde_json::to_value(capabilities)?)?;
@@ -174,12 +176,36 @@ impl Server {
                     .unwrap_or_default();
                 Response::new_ok(request.id, hints)
             }
+            HoverRequest::METHOD => {
+                let hover = serde_json::from_value::<lsp_types::HoverParams>(request.params)
+                    .ok()
+                    .and_then(|p| self.hover(&p));
+                Response::new_ok(request.id, hover)
+            }
             _ => Response::new_err(
                 request.id,
                 lsp_server::ErrorCode::MethodNotFound as i32,
                 format!("ger lsp does not answer {}", request.method),
             ),
         }
+    }
+
+    /// The meaning of the code under the cursor.
+    fn hover(&self, p: &lsp_types::HoverParams) -> Option<lsp_types::Hover> {
+        let place = &p.text_document_position_params;
+        let document = self.documents.get(&place.text_document.uri)?;
+        let at = At {
+            line: place.position.line,
+            column: place.position.character,
+        };
+        let text = analysis::hover(&document.text, at)?;
+        Some(lsp_types::Hover {
+            contents: lsp_types::HoverContents::Markup(lsp_types::MarkupContent {
+                kind: lsp_types::MarkupKind::Markdown,
+                value: text,
+            }),
+            range: None,
+        })
     }
 
     /// The tool's place and time after each moving line in the range.

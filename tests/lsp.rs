@@ -169,6 +169,16 @@ fn diagnostics_come_on_open_go_when_fixed_and_hints_say_where_the_tool_is() {
             "4: → X12 Y0 Z-1 · 0:02"
         ]
     );
+    // Hovering G1 on line 3 (`G1 Z-1 F600`, after the line added above).
+    let hover = client.request(
+        lsp_types::request::HoverRequest::METHOD,
+        serde_json::json!({
+            "textDocument": { "uri": doc.as_str() },
+            "position": { "line": 3, "character": 1 }
+        }),
+    );
+    let shown = hover["contents"]["value"].as_str().unwrap_or_default();
+    assert!(shown.starts_with("**G1**: straight feed move"), "{hover}");
     client.stop();
 }
 

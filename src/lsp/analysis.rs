@@ -94,6 +94,46 @@ pub fn analyse(fs: &dyn FileSystem, path: &Path, text: &str) -> Analysis {
     }
 }
 
+/// What to show on hovering the place `at` of `text`: the meaning of the
+/// G or M code there (not in a comment).
+pub fn hover(text: &str, at: At) -> Option<String> {
+    let line = text.lines().nth(at.line as usize)?;
+    // The byte of the UTF-16 column.
+    let mut units = 0;
+    let column = line
+        .char_indices()
+        .find(|(_, c)| {
+            units += c.len_utf16();
+            units > at.column as usize
+        })
+        .map_or(line.len(), |(i, _)| i);
+    let bytes = line.as_bytes();
+    let in_comment = line[..column].contains(';')
+        || line[..column].matches('(').count() > line[..column].matches(')').count();
+    if in_comment || column >= bytes.len() {
+        return None;
+    }
+    // Back to the letter: over digits and a point.
+    let mut start = column;
+    while start > 0 && (bytes[start].is_ascii_digit() || bytes[start] == b'.') {
+        start -= 1;
+    }
+    let letter = bytes[start].to_ascii_uppercase();
+    if letter != b'G' && letter != b'M' {
+        return None;
+    }
+    // A letter that ends a name (`ProgM3`) is not a word's.
+    if start > 0 && (bytes[start - 1].is_ascii_alphanumeric() || bytes[start - 1] == b'_') {
+        return None;
+    }
+    let digits: String = line[start + 1..]
+        .chars()
+        .take_while(|c| c.is_ascii_digit() || *c == '.')
+        .collect();
+    let number: f64 = digits.parse().ok()?;
+    super::codes::lookup(letter, number).map(super::codes::Code::markdown)
+}
+
 /// Messages about something outside the document, shown at its top.
 fn at_top(text: &str, messages: Vec<String>) -> Analysis {
     let end = LineStarts::new(text).at(text, text.find('\n').unwrap_or(text.len()));
@@ -307,6 +347,22 @@ mod tests {
                 column: 11
             }
         );
+    }
+
+    #[test]
+    fn hovering_a_code_tells_its_meaning_and_words() {
+        let text = "G21 G90 (G83 in a comment)\nN10 G83 X1 Y2 Z-3 R1 Q0.5\ng38.2 Z-5\nM3 S1000\nMoveM3 = 1\n";
+        let at = |line, column| At { line, column };
+        let g83 = hover(text, at(1, 5)).unwrap();
+        assert!(g83.starts_with("**G83**: peck drilling"), "{g83}");
+        assert!(g83.contains("X Y Z R Q F, L/K repeats") && g83.contains("canned cycle"));
+        assert!(hover(text, at(0, 13)).is_none(), "in a comment");
+        assert!(hover(text, at(2, 2)).unwrap().starts_with("**G38.2**"));
+        assert!(hover(text, at(3, 0))
+            .unwrap()
+            .contains("spindle on, clockwise"));
+        assert!(hover(text, at(4, 5)).is_none(), "a name's letters");
+        assert!(hover(text, at(1, 9)).is_none(), "an axis word");
     }
 
     #[test]
