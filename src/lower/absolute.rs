@@ -11,8 +11,9 @@
 //! the axes a machine move (G28, G30, G53) or a passed-through offset left
 //! unknown. An incremental move or an arc on an unknown axis is an error.
 
+use super::error::{LowerError, LowerErrorKind};
+use super::pass::{feed_in_turn, Batch, Context, Out, Pass, PassInfo};
 use super::position::Tracker;
-use super::{feed_in_turn, Batch, Context, LowerError, LowerErrorKind, Out, Pass, PassInfo};
 use crate::geometry::{self, ArcError, Point};
 use crate::ir::{self, ArcGeometry, Axes, Axis, Distance, Op, Stmt};
 use crate::source::Span;

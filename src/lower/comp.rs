@@ -20,8 +20,9 @@
 //! grow, is a gouge: an error at the line, with the held move's line.
 
 use super::error::CompError;
+use super::error::LowerError;
+use super::pass::{feed_in_turn, Batch, Context, Out, Pass, PassInfo};
 use super::position::Tracker;
-use super::{feed_in_turn, Batch, Context, LowerError, Out, Pass, PassInfo};
 use crate::ir::{self, Axis, CompRadius, Motion, Op, Position, Side, Stmt};
 use crate::source::Span;
 use std::collections::BTreeMap;

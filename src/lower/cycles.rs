@@ -20,8 +20,9 @@
 //! the wrong axes.
 
 use super::error::CycleError;
+use super::error::LowerError;
+use super::pass::{feed_in_turn, Batch, Context, Out, Pass, PassInfo};
 use super::position::Tracker;
-use super::{feed_in_turn, Batch, Context, LowerError, Out, Pass, PassInfo};
 use crate::ir::{
     self, Axes, Axis, CycleKind, Distance, Motion, Op, Plane, ReturnLevel, Spindle, Stmt,
 };
@@ -172,7 +173,12 @@ impl CyclesPass {
         };
         self.expanded += u64::from(c.repeats) * (3 * u64::from(pecks.unwrap_or(0)) + 8);
         if self.expanded > MAX_EXPANDED {
-            return Err(LowerError::new(CycleError::TooLarge, span));
+            return Err(LowerError::new(
+                CycleError::TooLarge {
+                    limit: MAX_EXPANDED,
+                },
+                span,
+            ));
         }
         for i in 0..c.repeats {
             hole = [hole[0] + step[0], hole[1] + step[1]];

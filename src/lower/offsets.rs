@@ -24,9 +24,8 @@
 //! selected as it is only where the machine was given its values. A
 //! `G10 L20` passed through gets the point with the shifts ger folds.
 
-use super::{
-    feed_in_turn, follows_only, Batch, Context, LowerError, LowerErrorKind, Out, Pass, PassInfo,
-};
+use super::error::{LowerError, LowerErrorKind};
+use super::pass::{feed_in_turn, follows_only, Batch, Context, Out, Pass, PassInfo};
 use crate::ir::{self, Axes, Axis, Distance, Op, Position, Stmt};
 use crate::source::Span;
 use std::collections::BTreeMap;
