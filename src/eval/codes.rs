@@ -474,8 +474,6 @@ impl Evaluator<'_> {
         span: Span,
     ) -> Result<Flow, Diagnostic> {
         let code = Some((b'G', t));
-        // Only for messages: built when one is needed.
-        let name = || code_name(b'G', t);
         // Its F, S and T are arguments.
         if t == 650 && self.options.from == super::Flavour::Fanuc {
             return self.macro_call(w, at);
@@ -485,7 +483,24 @@ impl Evaluator<'_> {
             self.cycle_block(kind, Some(at), w, span)?;
             return self.unused_words(w, code).map(|_| Flow::Next);
         }
-        let op = match t {
+        if !self.g_mode(t, at, w, span)? {
+            let op = self.g_statement(t, at, w)?;
+            self.emit(op, span)?;
+        }
+        self.leftover_move(w, span, code)?;
+        Ok(Flow::Next)
+    }
+
+    /// A G code that sets a mode of the evaluator, and makes a statement
+    /// at most where the mode changes: whether `t` is one.
+    fn g_mode(
+        &mut self,
+        t: u32,
+        at: Span,
+        w: &mut WordValues,
+        span: Span,
+    ) -> Result<bool, Diagnostic> {
+        match t {
             0 | 10 | 20 | 30 => {
                 let motion = match t {
                     0 => Motion::Rapid,
@@ -496,17 +511,56 @@ impl Evaluator<'_> {
                 self.motion = Some(motion);
                 self.cycle = None;
                 self.cycle_run = false;
-                return self.leftover_move(w, span, code).map(|_| Flow::Next);
             }
-            40 => self.dwell(w, at)?,
-            100 => self.g10(w, at)?,
             70 | 80 => {
                 // Folded into the X words as they are read (above).
                 if t == 70 {
                     self.warn_once((b'G', 70), || CodeError::new(K::DiameterMode, at));
                 }
-                return self.leftover_move(w, span, code).map(|_| Flow::Next);
             }
+            530 => {
+                // The motion of this line is in machine coordinates.
+                self.machine_coordinates = true;
+            }
+            610 | 611 | 640 => {
+                w.take(b'P');
+                w.take(b'Q');
+                let name = code_name(b'G', t);
+                self.report(CodeError::new(K::BlendingDropped(name), at));
+            }
+            // G90.1/G91.1: made only where the mode changes (G91.1, the
+            // mode every program starts in, is most often a post's
+            // header, and leaves the IR as it was).
+            901 | 911 => {
+                let mode = if t == 901 {
+                    ir::Distance::Absolute
+                } else {
+                    ir::Distance::Incremental
+                };
+                if mode != self.arc_centers {
+                    self.emit(Op::ArcCenters(mode), span)?;
+                }
+            }
+            // G93/G94: made only where the mode changes (G94 is most often
+            // a post's header).
+            930 | 940 => {
+                let on = t == 930;
+                if on != self.inverse_time {
+                    self.emit(Op::InverseTime(on), span)?;
+                }
+            }
+            _ => return Ok(false),
+        }
+        Ok(true)
+    }
+
+    /// A G code that is one IR statement: that statement.
+    fn g_statement(&mut self, t: u32, at: Span, w: &mut WordValues) -> Result<Op, Diagnostic> {
+        // Only for messages: built when one is needed.
+        let name = || code_name(b'G', t);
+        Ok(match t {
+            40 => self.dwell(w, at)?,
+            100 => self.g10(w, at)?,
             150 => Op::Polar(false),
             160 => Op::Polar(true),
             170 => Op::Plane(ir::Plane::XY),
@@ -529,11 +583,6 @@ impl Evaluator<'_> {
                     incremental: false,
                 }
             }
-            530 => {
-                // The motion of this line is in machine coordinates.
-                self.machine_coordinates = true;
-                return self.leftover_move(w, span, code).map(|_| Flow::Next);
-            }
             400 => Op::CompOff,
             410 | 420 | 411 | 421 => self.comp_on(t, at, w)?,
             430 | 440 => {
@@ -551,12 +600,6 @@ impl Evaluator<'_> {
             540..=590 if t.is_multiple_of(10) => Op::SelectWorkOffset((t / 10 - 53) as u8),
             // G59.1 … G59.3: the systems after G59 (LinuxCNC's P7 … P9).
             591..=593 => Op::SelectWorkOffset((t - 584) as u8),
-            610 | 611 | 640 => {
-                w.take(b'P');
-                w.take(b'Q');
-                self.report(CodeError::new(K::BlendingDropped(name()), at));
-                return self.leftover_move(w, span, code).map(|_| Flow::Next);
-            }
             760 => return Err(CodeError::new(K::G76, at).into()),
             800 => {
                 self.cycle = None;
@@ -565,20 +608,6 @@ impl Evaluator<'_> {
             }
             900 => Op::Distance(ir::Distance::Absolute),
             910 => Op::Distance(ir::Distance::Incremental),
-            // G90.1/G91.1: made only where the mode changes (G91.1, the
-            // mode every program starts in, is most often a post's
-            // header, and leaves the IR as it was).
-            901 | 911 => {
-                let mode = if t == 901 {
-                    ir::Distance::Absolute
-                } else {
-                    ir::Distance::Incremental
-                };
-                if mode != self.arc_centers {
-                    self.emit(Op::ArcCenters(mode), span)?;
-                }
-                return self.leftover_move(w, span, code).map(|_| Flow::Next);
-            }
             920 => {
                 let axes = self.take_axes(w, at, "G92", true)?;
                 Op::SetPosition(if axes.is_empty() {
@@ -588,15 +617,6 @@ impl Evaluator<'_> {
                 })
             }
             921 | 922 => Op::CancelPosition,
-            // G93/G94: made only where the mode changes (G94 is most often
-            // a post's header).
-            930 | 940 => {
-                let on = t == 930;
-                if on != self.inverse_time {
-                    self.emit(Op::InverseTime(on), span)?;
-                }
-                return self.leftover_move(w, span, code).map(|_| Flow::Next);
-            }
             980 | 990 => {
                 self.return_level_stated = true;
                 Op::ReturnLevel(if t == 980 {
@@ -610,10 +630,7 @@ impl Evaluator<'_> {
                 let kind = K::Unsupported { code: name(), why };
                 return Err(CodeError::new(kind, at).into());
             }
-        };
-        self.emit(op, span)?;
-        self.leftover_move(w, span, code)?;
-        Ok(Flow::Next)
+        })
     }
 
     fn m_code(
