@@ -213,7 +213,7 @@ mod tests {
     /// passes' runs depend on (units, polar, distance, offsets) or show where
     /// they think the tool is (a G92, compensation, a drilling cycle).
     fn made_up_program(seed: u64, length: usize) -> Vec<Stmt> {
-        use ir::{Axes, Axis, Cycle, CycleKind, Distance, Motion, Units};
+        use ir::{Axes, Cycle, CycleKind, Distance, Units};
         let mut random = crate::test_random::Random::new(seed);
         let mut next = |n: u64| random.below(n);
         let mut ops = Vec::new();
@@ -224,41 +224,7 @@ mod tests {
                         0 => Op::Feed(100.0 + next(500) as f64),
                         1 => Op::Speed(next(9000) as f64),
                         2 => Op::Comment(String::from("run")),
-                        _ => {
-                            let mut to = Axes::default();
-                            for axis in [Axis::X, Axis::Y, Axis::Z, Axis::A] {
-                                // A quarter of the programs leave the
-                                // machine's range now and then.
-                                let v = match next(if seed.is_multiple_of(4) { 6 } else { 4000 }) {
-                                    0 => 2e9,
-                                    1 => -0.0,
-                                    _ => (next(200_000) as f64 - 100_000.0) / 1000.0,
-                                };
-                                if next(3) != 0 {
-                                    to.set(axis, v);
-                                }
-                            }
-                            // Now and then an arc: by R (the absolute pass
-                            // finds its centre) or by a centre (checked).
-                            // (In a third of the programs.)
-                            let kind = match seed.is_multiple_of(3) {
-                                true => next(10),
-                                false => 2 + next(8),
-                            };
-                            let (motion, arc) = match kind {
-                                0 => (Motion::ArcCw, Some(ir::ArcGeometry::Radius(50.0))),
-                                1 => (
-                                    Motion::ArcCcw,
-                                    Some(ir::ArcGeometry::Center([Some(1.0), None, None])),
-                                ),
-                                k => ([Motion::Rapid, Motion::Linear][k as usize % 2], None),
-                            };
-                            Op::Move(ir::Move {
-                                motion,
-                                to,
-                                arc: arc.map(|geometry| ir::Arc { geometry, turns: 1 }),
-                            })
-                        }
+                        _ => made_up_move(seed, &mut next),
                     };
                     ops.push(op);
                 }
@@ -312,6 +278,42 @@ mod tests {
             .zip(ops)
             .map(|(line, op)| Stmt::new(op, span(line)))
             .collect()
+    }
+
+    /// A move of [`made_up_program`]'s runs: to a point on some of X, Y, Z
+    /// and A (in a quarter of the programs now and then out of the
+    /// machine's range), in a third of the programs now and then an arc: by
+    /// R (the absolute pass finds its centre) or by a centre (checked).
+    fn made_up_move(seed: u64, next: &mut impl FnMut(u64) -> u64) -> Op {
+        use ir::{Axes, Axis, Motion};
+        let mut to = Axes::default();
+        for axis in [Axis::X, Axis::Y, Axis::Z, Axis::A] {
+            let v = match next(if seed.is_multiple_of(4) { 6 } else { 4000 }) {
+                0 => 2e9,
+                1 => -0.0,
+                _ => (next(200_000) as f64 - 100_000.0) / 1000.0,
+            };
+            if next(3) != 0 {
+                to.set(axis, v);
+            }
+        }
+        let kind = match seed.is_multiple_of(3) {
+            true => next(10),
+            false => 2 + next(8),
+        };
+        let (motion, arc) = match kind {
+            0 => (Motion::ArcCw, Some(ir::ArcGeometry::Radius(50.0))),
+            1 => (
+                Motion::ArcCcw,
+                Some(ir::ArcGeometry::Center([Some(1.0), None, None])),
+            ),
+            k => ([Motion::Rapid, Motion::Linear][k as usize % 2], None),
+        };
+        Op::Move(ir::Move {
+            motion,
+            to,
+            arc: arc.map(|geometry| ir::Arc { geometry, turns: 1 }),
+        })
     }
 
     /// Every pass takes a run of moves at once in its `feed_each` (`lower::

@@ -1147,29 +1147,7 @@ mod tests {
                 33 => line.push_str("G90 G1 "),
                 12..=17 => line.push_str(["G0 ", "G1 "][next(2) as usize]),
                 18..=25 => {
-                    // An arc from (x, y) about a centre a random step away.
-                    let i = (next(9) as f64 - 4.0) / 2.0;
-                    let j = (next(8) as f64 + 1.0) / 2.0 * [1.0, -1.0][next(2) as usize];
-                    let (cx, cy, turn) = (x + i, y + j, next(628) as f64 / 100.0);
-                    let (ex, ey) = (
-                        cx + (x - cx) * turn.cos() - (y - cy) * turn.sin(),
-                        cy + (x - cx) * turn.sin() + (y - cy) * turn.cos(),
-                    );
-                    let g = ["G2", "G3"][next(2) as usize];
-                    // (Under G7 the X word is twice the coordinate.)
-                    let xw = if diameters { 2.0 * ex } else { ex };
-                    line.push_str(&format!("{g} X{xw:.3} Y{ey:.3} I{i} J{j} "));
-                    match next(if wild { 12 } else { 1000 }) {
-                        0 => line.push_str("R2 "),
-                        1 => line.push_str("P2 "),
-                        2 => line.push_str("K1 "),
-                        3 => line.push_str("J1 "),
-                        _ => {}
-                    }
-                    (x, y) = (
-                        (ex * 1000.0).round() / 1000.0,
-                        (ey * 1000.0).round() / 1000.0,
-                    );
+                    (x, y) = push_arc(&mut line, &mut next, wild, diameters, (x, y));
                     text.push_str(&line);
                     text.push('\n');
                     continue;
@@ -1206,6 +1184,40 @@ mod tests {
         }
         text.push_str("M30\n");
         text
+    }
+
+    /// An arc from `from` about a centre a random step away, pushed to
+    /// `line` (in a wild program now and then with a word such an arc must
+    /// not have); where it ends, as written.
+    fn push_arc(
+        line: &mut String,
+        next: &mut impl FnMut(u64) -> u64,
+        wild: bool,
+        diameters: bool,
+        (x, y): (f64, f64),
+    ) -> (f64, f64) {
+        let i = (next(9) as f64 - 4.0) / 2.0;
+        let j = (next(8) as f64 + 1.0) / 2.0 * [1.0, -1.0][next(2) as usize];
+        let (cx, cy, turn) = (x + i, y + j, next(628) as f64 / 100.0);
+        let (ex, ey) = (
+            cx + (x - cx) * turn.cos() - (y - cy) * turn.sin(),
+            cy + (x - cx) * turn.sin() + (y - cy) * turn.cos(),
+        );
+        let g = ["G2", "G3"][next(2) as usize];
+        // (Under G7 the X word is twice the coordinate.)
+        let xw = if diameters { 2.0 * ex } else { ex };
+        line.push_str(&format!("{g} X{xw:.3} Y{ey:.3} I{i} J{j} "));
+        match next(if wild { 12 } else { 1000 }) {
+            0 => line.push_str("R2 "),
+            1 => line.push_str("P2 "),
+            2 => line.push_str("K1 "),
+            3 => line.push_str("J1 "),
+            _ => {}
+        }
+        (
+            (ex * 1000.0).round() / 1000.0,
+            (ey * 1000.0).round() / 1000.0,
+        )
     }
 
     /// `plain_move` makes what the general path makes of every statement:
