@@ -513,7 +513,7 @@ impl Evaluator<'_> {
                 self.cycle_run = false;
             }
             70 | 80 => {
-                // Folded into the X words as they are read (above).
+                // Folded into the X words as they are read.
                 if t == 70 {
                     self.warn_once((b'G', 70), || CodeError::new(K::DiameterMode, at));
                 }

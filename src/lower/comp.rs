@@ -231,6 +231,8 @@ impl CompPass {
                 self.read_position();
                 return Ok(false);
             }
+            // The first move after G40 leaves compensation (rs274), a
+            // machine move too.
             Op::Home {
                 via, incremental, ..
             } if self.after_off.is_some() => {
