@@ -483,16 +483,35 @@ impl Evaluator<'_> {
             self.cycle_block(kind, Some(at), w, span)?;
             return self.unused_words(w, code).map(|_| Flow::Next);
         }
-        if !self.g_mode(t, at, w, span)? {
-            let op = self.g_statement(t, at, w)?;
-            self.emit(op, span)?;
+        match t {
+            0 | 10 | 20 | 30 => self.select_motion(t),
+            _ if self.g_mode(t, at, w, span)? => {}
+            _ => {
+                let op = self.g_statement(t, at, w)?;
+                self.emit(op, span)?;
+            }
         }
         self.leftover_move(w, span, code)?;
         Ok(Flow::Next)
     }
 
-    /// A G code that sets a mode of the evaluator, and makes a statement
-    /// at most where the mode changes: whether `t` is one.
+    /// G0, G1, G2 or G3 (`t` is 0, 10, 20 or 30): the motion mode, which
+    /// ends a canned cycle's run.
+    #[inline]
+    fn select_motion(&mut self, t: u32) {
+        self.motion = Some(match t {
+            0 => Motion::Rapid,
+            10 => Motion::Linear,
+            20 => Motion::ArcCw,
+            _ => Motion::ArcCcw,
+        });
+        self.cycle = None;
+        self.cycle_run = false;
+    }
+
+    /// A G code other than the motion codes that sets a mode of the
+    /// evaluator, and makes a statement at most where the mode changes:
+    /// whether `t` is one.
     fn g_mode(
         &mut self,
         t: u32,
@@ -501,17 +520,6 @@ impl Evaluator<'_> {
         span: Span,
     ) -> Result<bool, Diagnostic> {
         match t {
-            0 | 10 | 20 | 30 => {
-                let motion = match t {
-                    0 => Motion::Rapid,
-                    10 => Motion::Linear,
-                    20 => Motion::ArcCw,
-                    _ => Motion::ArcCcw,
-                };
-                self.motion = Some(motion);
-                self.cycle = None;
-                self.cycle_run = false;
-            }
             70 | 80 => {
                 // Folded into the X words as they are read.
                 if t == 70 {
