@@ -870,16 +870,7 @@ impl Evaluator<'_> {
         at: Span,
         enter: impl FnOnce(&mut Self) -> Vec<(usize, super::Slot)>,
     ) -> Result<Flow, Diagnostic> {
-        let (program, names) = (self.program, Rc::clone(&self.names));
-        // A LinuxCNC `o<name>` is numbered by its name's symbol.
-        let name_of = |number: u32| {
-            number
-                .checked_sub(crate::syntax::egc::lexer::NAMED_SUB_BASE)
-                .filter(|&i| (i as usize) < names.len())
-                .map(|i| names.text(ast::Symbol(i)))
-                .filter(|text| text.starts_with("o<"))
-                .map_or_else(|| format!("O{number}"), str::to_string)
-        };
+        let program = self.program;
         // The program's, or one a part read before kept.
         let kept = || self.kept.iter().find(|s| s.number == number).cloned();
         let sub = match program.subprograms.iter().find(|s| s.number == number) {
@@ -891,18 +882,7 @@ impl Evaluator<'_> {
                     self.needs_whole = true;
                     return Ok(Flow::Abort);
                 }
-                None => {
-                    let name = name_of(number);
-                    let file = name
-                        .strip_prefix("o<")
-                        .and_then(|n| n.strip_suffix('>'))
-                        .map(str::to_string);
-                    let numbers = program.subprograms.iter().map(|s| s.number);
-                    let kept = self.kept.iter().map(|s| s.number);
-                    let known = numbers.chain(kept).map(name_of).collect();
-                    let kind = K::NoSubprogram { name, file, known };
-                    return Err(CodeError::new(kind, pspan).into());
-                }
+                None => return Err(self.no_subprogram(number, pspan)),
             },
         };
         let body: &[ast::Stmt] = match &sub {
@@ -910,19 +890,9 @@ impl Evaluator<'_> {
             Sub::Kept(sub) => &sub.body,
         };
         if self.calls.len() >= self.options.max_call_depth {
-            // Runaway recursion is the usual cause: say where it started.
-            let recursion = self
-                .calls
-                .iter()
-                .find(|(n, _)| *n == number)
-                .map(|&(_, first)| (number, first));
-            let kind = K::CallDepth {
-                limit: self.options.max_call_depth,
-                recursion,
-            };
             // It stops the program: going on, each level would run the
             // rest of its body and its repeats (`L3` at 64 levels: 3^64).
-            self.report(CodeError::new(kind, at));
+            self.report_call_depth(number, at);
             return Ok(Flow::Abort);
         }
         self.calls.push((number, at));
@@ -949,6 +919,51 @@ impl Evaluator<'_> {
         self.calls.pop();
         Ok(flow)
     }
+
+    /// A call of a subprogram neither the program nor a part read before
+    /// has; the error names those it has.
+    fn no_subprogram(&self, number: u32, pspan: Span) -> Diagnostic {
+        let names = &self.names;
+        let name = subprogram_name(names, number);
+        let file = name
+            .strip_prefix("o<")
+            .and_then(|n| n.strip_suffix('>'))
+            .map(str::to_string);
+        let numbers = self.program.subprograms.iter().map(|s| s.number);
+        let kept = self.kept.iter().map(|s| s.number);
+        let known = numbers
+            .chain(kept)
+            .map(|n| subprogram_name(names, n))
+            .collect();
+        let kind = K::NoSubprogram { name, file, known };
+        CodeError::new(kind, pspan).into()
+    }
+
+    /// Calls nested deeper than the limit. Runaway recursion is the usual
+    /// cause: the error says where it started.
+    fn report_call_depth(&mut self, number: u32, at: Span) {
+        let recursion = self
+            .calls
+            .iter()
+            .find(|(n, _)| *n == number)
+            .map(|&(_, first)| (number, first));
+        let kind = K::CallDepth {
+            limit: self.options.max_call_depth,
+            recursion,
+        };
+        self.report(CodeError::new(kind, at));
+    }
+}
+
+/// A subprogram's name for messages: `O1000`, or a LinuxCNC `o<name>`,
+/// which is numbered by its name's symbol.
+fn subprogram_name(names: &ast::Names, number: u32) -> String {
+    number
+        .checked_sub(crate::syntax::egc::lexer::NAMED_SUB_BASE)
+        .filter(|&i| (i as usize) < names.len())
+        .map(|i| names.text(ast::Symbol(i)))
+        .filter(|text| text.starts_with("o<"))
+        .map_or_else(|| format!("O{number}"), str::to_string)
 }
 
 /// A subprogram found for a call: the program's, or one kept from a part
