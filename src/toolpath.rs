@@ -192,44 +192,13 @@ impl Builder {
         let k = self.to_mm;
         match &stmt.op {
             Op::Move(m) | Op::MachineMove(m) => {
-                let kind = match (m.motion, m.arc.map(|a| (a.geometry, a.turns))) {
-                    (ir::Motion::Rapid, _) => MoveKind::Rapid,
-                    (
-                        ir::Motion::ArcCw | ir::Motion::ArcCcw,
-                        Some((ArcGeometry::Center(c), turns)),
-                    ) => {
-                        let mut center: Point = std::array::from_fn(|i| self.position[i]);
-                        for (i, v) in c.iter().enumerate() {
-                            center[i] += v.unwrap_or(0.0) * k;
-                        }
-                        MoveKind::Arc(ArcPath {
-                            center,
-                            plane: self.plane,
-                            clockwise: m.motion == ir::Motion::ArcCw,
-                            turns,
-                        })
-                    }
-                    _ => MoveKind::Feed,
-                };
+                let kind = self.move_kind(m);
                 let machine = matches!(stmt.op, Op::MachineMove(_));
                 self.move_to(kind, &m.to, stmt.span, machine);
             }
             Op::Home {
                 via, incremental, ..
-            } => {
-                if *incremental {
-                    // Zero steps from here: no move to the via point.
-                } else {
-                    self.move_to(MoveKind::Rapid, via, stmt.span, false);
-                }
-                // The homed axes go to the machine's home, zero here.
-                let homed = stmt.op.unknown_after();
-                let mut home = ir::Axes::default();
-                for axis in Axis::ALL.into_iter().filter(|&a| homed(a)) {
-                    home.set(axis, 0.0);
-                }
-                self.move_to(MoveKind::Rapid, &home, stmt.span, true);
-            }
+            } => self.home(via, *incremental, stmt),
             Op::Feed(f) => self.state.feed = f * k,
             Op::Speed(s) => self.state.rpm = *s,
             Op::SelectTool(t) => self.selected = *t,
@@ -258,20 +227,8 @@ impl Builder {
             // What reaches the printer was passed through to the machine
             // (the offsets pass folds the rest): its tables change, and a
             // system is selected there. (P0: the active one.)
-            Op::SetWorkOffsetHere { index, at } => {
-                let table = self.table(*index);
-                for (axis, v) in at.iter() {
-                    let i = axis.index();
-                    let v = if axis.is_rotary() { v } else { v * k };
-                    self.tables[table][i] = self.position[i] - v;
-                }
-            }
-            Op::SetWorkOffset { index, origin } => {
-                let table = self.table(*index);
-                for (axis, v) in origin.iter() {
-                    self.tables[table][axis.index()] = if axis.is_rotary() { v } else { v * k };
-                }
-            }
+            Op::SetWorkOffsetHere { index, at } => self.set_offset_here(*index, at),
+            Op::SetWorkOffset { index, origin } => self.set_offset(*index, origin),
             Op::SelectWorkOffset(index) => self.active = self.table(*index),
             Op::Plane(p) => self.plane = *p,
             // Folded away before the absolute pass, or the machine's own
@@ -293,6 +250,61 @@ impl Builder {
             | Op::CompOff
             | Op::Comment(_)
             | Op::Passthrough(_) => {}
+        }
+    }
+
+    /// What a move is on the path: a rapid, a feed, or an arc about the
+    /// centre its I/J/K give from where the tool is.
+    #[inline]
+    fn move_kind(&self, m: &ir::Move) -> MoveKind {
+        match (m.motion, m.arc.map(|a| (a.geometry, a.turns))) {
+            (ir::Motion::Rapid, _) => MoveKind::Rapid,
+            (ir::Motion::ArcCw | ir::Motion::ArcCcw, Some((ArcGeometry::Center(c), turns))) => {
+                let mut center: Point = std::array::from_fn(|i| self.position[i]);
+                for (i, v) in c.iter().enumerate() {
+                    center[i] += v.unwrap_or(0.0) * self.to_mm;
+                }
+                MoveKind::Arc(ArcPath {
+                    center,
+                    plane: self.plane,
+                    clockwise: m.motion == ir::Motion::ArcCw,
+                    turns,
+                })
+            }
+            _ => MoveKind::Feed,
+        }
+    }
+
+    /// G28/G30: a rapid to the via point (none for zero steps from here),
+    /// then the homed axes to the machine's home, zero here.
+    fn home(&mut self, via: &ir::Axes, incremental: bool, stmt: &Stmt) {
+        if !incremental {
+            self.move_to(MoveKind::Rapid, via, stmt.span, false);
+        }
+        let homed = stmt.op.unknown_after();
+        let mut home = ir::Axes::default();
+        for axis in Axis::ALL.into_iter().filter(|&a| homed(a)) {
+            home.set(axis, 0.0);
+        }
+        self.move_to(MoveKind::Rapid, &home, stmt.span, true);
+    }
+
+    /// G10 L20 passed through: work offset `index` moves so that the
+    /// tool's point has the coordinates `at`.
+    fn set_offset_here(&mut self, index: u8, at: &ir::Axes) {
+        let table = self.table(index);
+        for (axis, v) in at.iter() {
+            let i = axis.index();
+            let v = if axis.is_rotary() { v } else { v * self.to_mm };
+            self.tables[table][i] = self.position[i] - v;
+        }
+    }
+
+    /// G10 L2 passed through: work offset `index`'s origin.
+    fn set_offset(&mut self, index: u8, origin: &ir::Axes) {
+        let table = self.table(index);
+        for (axis, v) in origin.iter() {
+            self.tables[table][axis.index()] = if axis.is_rotary() { v } else { v * self.to_mm };
         }
     }
 

@@ -624,25 +624,7 @@ impl WizardEngine {
         let ast = wizard
             .compiled(self.engine())
             .map_err(|e| vec![e.to_diagnostic().with_secondary(call.span, "called here")])?;
-        let values: Array = args
-            .iter()
-            .map(|v| match v {
-                Value::Number(n) => Dynamic::from_float(*n),
-                Value::Bool(b) => Dynamic::from_bool(*b),
-                Value::Str(s) => Dynamic::from(call.names.text(*s).to_string()),
-            })
-            .collect();
-        let mut scope = bind(decl, values).map_err(|message| {
-            let kind = WizardErrorKind::WrongArguments {
-                message,
-                usage: decl.signature(&wizard.name),
-            };
-            let at = call
-                .arg_spans
-                .first()
-                .map_or(call.span, |f| f.to(*call.arg_spans.last().unwrap_or(f)));
-            vec![WizardError::new(&wizard.name, kind, at).to_diagnostic()]
-        })?;
+        let mut scope = arguments(wizard, decl, args, call)?;
         let state: MachineState = ctx.state();
         {
             let mut s = self.session.borrow_mut();
@@ -666,44 +648,82 @@ impl WizardEngine {
                 WizardError::new(&wizard.name, kind, call.span).to_diagnostic()
             ]);
         }
-        // Wizard coordinates are absolute and Cartesian, their arc centres
-        // relative, their feeds per minute: switch a G91, G16, G90.1 or G93
-        // caller to G90/G15/G91.1/G94 around them, and back.
-        // (Each mode that is on: the op that leaves it, the op back.)
-        let modes = [
-            (
-                state.incremental,
-                Op::Distance(ir::Distance::Absolute),
-                Op::Distance(ir::Distance::Incremental),
-            ),
-            (state.polar, Op::Polar(false), Op::Polar(true)),
-            (
-                state.absolute_centers,
-                Op::ArcCenters(ir::Distance::Incremental),
-                Op::ArcCenters(ir::Distance::Absolute),
-            ),
-            (
-                state.inverse_time,
-                Op::InverseTime(false),
-                Op::InverseTime(true),
-            ),
-        ];
-        let on: Vec<(Op, Op)> = modes
-            .into_iter()
-            .filter_map(|(is_on, leave, back)| is_on.then_some((leave, back)))
-            .collect();
-        for (leave, _) in &on {
-            ctx.emit(leave.clone()).map_err(|d| vec![d])?;
-        }
-        for action in actions {
-            match action {
-                Action::Op(op) => ctx.emit(op).map_err(|d| vec![d])?,
-                Action::Line(line) => ctx.run_line(&line)?,
-            }
-        }
-        for (_, back) in on.into_iter().rev() {
-            ctx.emit(back).map_err(|d| vec![d])?;
-        }
-        Ok(())
+        replay(actions, &state, ctx)
     }
+}
+
+/// The call's arguments bound to the declared parameters, as the script's
+/// scope; an error names the usage.
+fn arguments(
+    wizard: &Wizard,
+    decl: &Declaration,
+    args: &[Value],
+    call: &WizardCall<'_>,
+) -> Result<Scope<'static>, Vec<Diagnostic>> {
+    let values: Array = args
+        .iter()
+        .map(|v| match v {
+            Value::Number(n) => Dynamic::from_float(*n),
+            Value::Bool(b) => Dynamic::from_bool(*b),
+            Value::Str(s) => Dynamic::from(call.names.text(*s).to_string()),
+        })
+        .collect();
+    bind(decl, values).map_err(|message| {
+        let kind = WizardErrorKind::WrongArguments {
+            message,
+            usage: decl.signature(&wizard.name),
+        };
+        let at = call
+            .arg_spans
+            .first()
+            .map_or(call.span, |f| f.to(*call.arg_spans.last().unwrap_or(f)));
+        vec![WizardError::new(&wizard.name, kind, at).to_diagnostic()]
+    })
+}
+
+/// What a script did, sent to the caller in order. Wizard coordinates are
+/// absolute and Cartesian, their arc centres relative, their feeds per
+/// minute: a G91, G16, G90.1 or G93 caller is switched to
+/// G90/G15/G91.1/G94 around them, and back.
+fn replay(
+    actions: Vec<Action>,
+    state: &MachineState,
+    ctx: &mut dyn WizardContext,
+) -> Result<(), Vec<Diagnostic>> {
+    // (Each mode that is on: the op that leaves it, the op back.)
+    let modes = [
+        (
+            state.incremental,
+            Op::Distance(ir::Distance::Absolute),
+            Op::Distance(ir::Distance::Incremental),
+        ),
+        (state.polar, Op::Polar(false), Op::Polar(true)),
+        (
+            state.absolute_centers,
+            Op::ArcCenters(ir::Distance::Incremental),
+            Op::ArcCenters(ir::Distance::Absolute),
+        ),
+        (
+            state.inverse_time,
+            Op::InverseTime(false),
+            Op::InverseTime(true),
+        ),
+    ];
+    let on: Vec<(Op, Op)> = modes
+        .into_iter()
+        .filter_map(|(is_on, leave, back)| is_on.then_some((leave, back)))
+        .collect();
+    for (leave, _) in &on {
+        ctx.emit(leave.clone()).map_err(|d| vec![d])?;
+    }
+    for action in actions {
+        match action {
+            Action::Op(op) => ctx.emit(op).map_err(|d| vec![d])?,
+            Action::Line(line) => ctx.run_line(&line)?,
+        }
+    }
+    for (_, back) in on.into_iter().rev() {
+        ctx.emit(back).map_err(|d| vec![d])?;
+    }
+    Ok(())
 }

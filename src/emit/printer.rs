@@ -205,16 +205,7 @@ impl Printer {
                 home,
                 via,
                 incremental,
-            } => {
-                if *incremental {
-                    self.code("G91");
-                }
-                self.code(match home {
-                    ir::Home::G28 => "G28",
-                    ir::Home::G30 => "G30",
-                });
-                self.axes(via);
-            }
+            } => self.home_words(*home, via, *incremental),
             Op::Feed(f) => self.word(b'F', *f),
             Op::Speed(s) => self.word(b'S', *s),
             Op::SelectTool(t) => {
@@ -259,31 +250,12 @@ impl Printer {
                 })
             }
             Op::SelectWorkOffset(i) => self.code(ir::work_offset_code(*i).unwrap_or_default()),
-            Op::SetWorkOffset { index, origin } => {
-                self.code("G10 L2");
-                self.int_word(b'P', *index as u32);
-                self.axes(origin);
-            }
-            Op::SetWorkOffsetHere { index, at } => {
-                self.code("G10 L20");
-                self.int_word(b'P', *index as u32);
-                self.axes(at);
-            }
-            Op::LocalOffset(a) => {
-                self.code("G52");
-                self.axes(a);
-            }
-            Op::SetPosition(a) => {
-                self.code("G92");
-                self.axes(a);
-            }
+            Op::SetWorkOffset { index, origin } => self.g10_words("G10 L2", *index, origin),
+            Op::SetWorkOffsetHere { index, at } => self.g10_words("G10 L20", *index, at),
+            Op::LocalOffset(a) => self.code_axes("G52", a),
+            Op::SetPosition(a) => self.code_axes("G92", a),
             Op::CancelPosition => self.code("G92.1"),
-            Op::ToolLength { tool, negative } => {
-                self.code(if *negative { "G44" } else { "G43" });
-                if let Some(tool) = tool {
-                    self.int_word(b'H', *tool);
-                }
-            }
+            Op::ToolLength { tool, negative } => self.tool_length_words(*tool, *negative),
             Op::CancelToolLength => self.code("G49"),
             Op::Polar(true) => self.code("G16"),
             Op::Polar(false) => self.code("G15"),
@@ -304,6 +276,39 @@ impl Printer {
                 }
             }
             Op::Passthrough(Passthrough::Line(text)) => self.code(text),
+        }
+    }
+
+    /// G28/G30 and the via point; G91 first for zero steps from here.
+    fn home_words(&mut self, home: ir::Home, via: &ir::Axes, incremental: bool) {
+        if incremental {
+            self.code("G91");
+        }
+        self.code(match home {
+            ir::Home::G28 => "G28",
+            ir::Home::G30 => "G30",
+        });
+        self.axes(via);
+    }
+
+    /// G10 L2/L20 P`index` and the axes.
+    fn g10_words(&mut self, code: &str, index: u8, axes: &ir::Axes) {
+        self.code(code);
+        self.int_word(b'P', index as u32);
+        self.axes(axes);
+    }
+
+    /// A code followed by axis words (G52, G92).
+    fn code_axes(&mut self, code: &str, axes: &ir::Axes) {
+        self.code(code);
+        self.axes(axes);
+    }
+
+    /// G43/G44, with H where the tool is named.
+    fn tool_length_words(&mut self, tool: Option<u32>, negative: bool) {
+        self.code(if negative { "G44" } else { "G43" });
+        if let Some(tool) = tool {
+            self.int_word(b'H', tool);
         }
     }
 

@@ -474,8 +474,6 @@ impl Evaluator<'_> {
         span: Span,
     ) -> Result<Flow, Diagnostic> {
         let code = Some((b'G', t));
-        // Only for messages: built when one is needed.
-        let name = || code_name(b'G', t);
         // Its F, S and T are arguments.
         if t == 650 && self.options.from == super::Flavour::Fanuc {
             return self.macro_call(w, at);
@@ -485,28 +483,92 @@ impl Evaluator<'_> {
             self.cycle_block(kind, Some(at), w, span)?;
             return self.unused_words(w, code).map(|_| Flow::Next);
         }
-        let op = match t {
-            0 | 10 | 20 | 30 => {
-                let motion = match t {
-                    0 => Motion::Rapid,
-                    10 => Motion::Linear,
-                    20 => Motion::ArcCw,
-                    _ => Motion::ArcCcw,
-                };
-                self.motion = Some(motion);
-                self.cycle = None;
-                self.cycle_run = false;
-                return self.leftover_move(w, span, code).map(|_| Flow::Next);
+        match t {
+            0 | 10 | 20 | 30 => self.select_motion(t),
+            _ if self.g_mode(t, at, w, span)? => {}
+            _ => {
+                let op = self.g_statement(t, at, w)?;
+                self.emit(op, span)?;
             }
-            40 => self.dwell(w, at)?,
-            100 => self.g10(w, at)?,
+        }
+        self.leftover_move(w, span, code)?;
+        Ok(Flow::Next)
+    }
+
+    /// G0, G1, G2 or G3 (`t` is 0, 10, 20 or 30): the motion mode, which
+    /// ends a canned cycle's run.
+    #[inline]
+    fn select_motion(&mut self, t: u32) {
+        self.motion = Some(match t {
+            0 => Motion::Rapid,
+            10 => Motion::Linear,
+            20 => Motion::ArcCw,
+            _ => Motion::ArcCcw,
+        });
+        self.cycle = None;
+        self.cycle_run = false;
+    }
+
+    /// A G code other than the motion codes that sets a mode of the
+    /// evaluator, and makes a statement at most where the mode changes:
+    /// whether `t` is one.
+    fn g_mode(
+        &mut self,
+        t: u32,
+        at: Span,
+        w: &mut WordValues,
+        span: Span,
+    ) -> Result<bool, Diagnostic> {
+        match t {
             70 | 80 => {
-                // Folded into the X words as they are read (above).
+                // Folded into the X words as they are read.
                 if t == 70 {
                     self.warn_once((b'G', 70), || CodeError::new(K::DiameterMode, at));
                 }
-                return self.leftover_move(w, span, code).map(|_| Flow::Next);
             }
+            530 => {
+                // The motion of this line is in machine coordinates.
+                self.machine_coordinates = true;
+            }
+            610 | 611 | 640 => {
+                w.take(b'P');
+                w.take(b'Q');
+                let name = code_name(b'G', t);
+                self.report(CodeError::new(K::BlendingDropped(name), at));
+            }
+            // G90.1/G91.1: made only where the mode changes (G91.1, the
+            // mode every program starts in, is most often a post's
+            // header, and leaves the IR as it was).
+            901 | 911 => {
+                let mode = if t == 901 {
+                    ir::Distance::Absolute
+                } else {
+                    ir::Distance::Incremental
+                };
+                if mode != self.arc_centers {
+                    self.emit(Op::ArcCenters(mode), span)?;
+                }
+            }
+            // G93/G94: made only where the mode changes (G94 is most often
+            // a post's header).
+            930 | 940 => {
+                let on = t == 930;
+                if on != self.inverse_time {
+                    self.emit(Op::InverseTime(on), span)?;
+                }
+            }
+            _ => return Ok(false),
+        }
+        Ok(true)
+    }
+
+    /// A G code that is one IR statement: that statement.
+    fn g_statement(&mut self, t: u32, at: Span, w: &mut WordValues) -> Result<Op, Diagnostic> {
+        // Only for messages: built when one is needed.
+        let name = || code_name(b'G', t);
+        Ok(match t {
+            40 => self.dwell(w, at)?,
+            100 => self.g10(w, at)?,
             150 => Op::Polar(false),
             160 => Op::Polar(true),
             170 => Op::Plane(ir::Plane::XY),
@@ -529,11 +591,6 @@ impl Evaluator<'_> {
                     incremental: false,
                 }
             }
-            530 => {
-                // The motion of this line is in machine coordinates.
-                self.machine_coordinates = true;
-                return self.leftover_move(w, span, code).map(|_| Flow::Next);
-            }
             400 => Op::CompOff,
             410 | 420 | 411 | 421 => self.comp_on(t, at, w)?,
             430 | 440 => {
@@ -551,12 +608,6 @@ impl Evaluator<'_> {
             540..=590 if t.is_multiple_of(10) => Op::SelectWorkOffset((t / 10 - 53) as u8),
             // G59.1 … G59.3: the systems after G59 (LinuxCNC's P7 … P9).
             591..=593 => Op::SelectWorkOffset((t - 584) as u8),
-            610 | 611 | 640 => {
-                w.take(b'P');
-                w.take(b'Q');
-                self.report(CodeError::new(K::BlendingDropped(name()), at));
-                return self.leftover_move(w, span, code).map(|_| Flow::Next);
-            }
             760 => return Err(CodeError::new(K::G76, at).into()),
             800 => {
                 self.cycle = None;
@@ -565,20 +616,6 @@ impl Evaluator<'_> {
             }
             900 => Op::Distance(ir::Distance::Absolute),
             910 => Op::Distance(ir::Distance::Incremental),
-            // G90.1/G91.1: made only where the mode changes (G91.1, the
-            // mode every program starts in, is most often a post's
-            // header, and leaves the IR as it was).
-            901 | 911 => {
-                let mode = if t == 901 {
-                    ir::Distance::Absolute
-                } else {
-                    ir::Distance::Incremental
-                };
-                if mode != self.arc_centers {
-                    self.emit(Op::ArcCenters(mode), span)?;
-                }
-                return self.leftover_move(w, span, code).map(|_| Flow::Next);
-            }
             920 => {
                 let axes = self.take_axes(w, at, "G92", true)?;
                 Op::SetPosition(if axes.is_empty() {
@@ -588,15 +625,6 @@ impl Evaluator<'_> {
                 })
             }
             921 | 922 => Op::CancelPosition,
-            // G93/G94: made only where the mode changes (G94 is most often
-            // a post's header).
-            930 | 940 => {
-                let on = t == 930;
-                if on != self.inverse_time {
-                    self.emit(Op::InverseTime(on), span)?;
-                }
-                return self.leftover_move(w, span, code).map(|_| Flow::Next);
-            }
             980 | 990 => {
                 self.return_level_stated = true;
                 Op::ReturnLevel(if t == 980 {
@@ -610,10 +638,7 @@ impl Evaluator<'_> {
                 let kind = K::Unsupported { code: name(), why };
                 return Err(CodeError::new(kind, at).into());
             }
-        };
-        self.emit(op, span)?;
-        self.leftover_move(w, span, code)?;
-        Ok(Flow::Next)
+        })
     }
 
     fn m_code(
@@ -845,16 +870,7 @@ impl Evaluator<'_> {
         at: Span,
         enter: impl FnOnce(&mut Self) -> Vec<(usize, super::Slot)>,
     ) -> Result<Flow, Diagnostic> {
-        let (program, names) = (self.program, Rc::clone(&self.names));
-        // A LinuxCNC `o<name>` is numbered by its name's symbol.
-        let name_of = |number: u32| {
-            number
-                .checked_sub(crate::syntax::egc::lexer::NAMED_SUB_BASE)
-                .filter(|&i| (i as usize) < names.len())
-                .map(|i| names.text(ast::Symbol(i)))
-                .filter(|text| text.starts_with("o<"))
-                .map_or_else(|| format!("O{number}"), str::to_string)
-        };
+        let program = self.program;
         // The program's, or one a part read before kept.
         let kept = || self.kept.iter().find(|s| s.number == number).cloned();
         let sub = match program.subprograms.iter().find(|s| s.number == number) {
@@ -866,18 +882,7 @@ impl Evaluator<'_> {
                     self.needs_whole = true;
                     return Ok(Flow::Abort);
                 }
-                None => {
-                    let name = name_of(number);
-                    let file = name
-                        .strip_prefix("o<")
-                        .and_then(|n| n.strip_suffix('>'))
-                        .map(str::to_string);
-                    let numbers = program.subprograms.iter().map(|s| s.number);
-                    let kept = self.kept.iter().map(|s| s.number);
-                    let known = numbers.chain(kept).map(name_of).collect();
-                    let kind = K::NoSubprogram { name, file, known };
-                    return Err(CodeError::new(kind, pspan).into());
-                }
+                None => return Err(self.no_subprogram(number, pspan)),
             },
         };
         let body: &[ast::Stmt] = match &sub {
@@ -885,19 +890,9 @@ impl Evaluator<'_> {
             Sub::Kept(sub) => &sub.body,
         };
         if self.calls.len() >= self.options.max_call_depth {
-            // Runaway recursion is the usual cause: say where it started.
-            let recursion = self
-                .calls
-                .iter()
-                .find(|(n, _)| *n == number)
-                .map(|&(_, first)| (number, first));
-            let kind = K::CallDepth {
-                limit: self.options.max_call_depth,
-                recursion,
-            };
             // It stops the program: going on, each level would run the
             // rest of its body and its repeats (`L3` at 64 levels: 3^64).
-            self.report(CodeError::new(kind, at));
+            self.report_call_depth(number, at);
             return Ok(Flow::Abort);
         }
         self.calls.push((number, at));
@@ -924,6 +919,51 @@ impl Evaluator<'_> {
         self.calls.pop();
         Ok(flow)
     }
+
+    /// A call of a subprogram neither the program nor a part read before
+    /// has; the error names those it has.
+    fn no_subprogram(&self, number: u32, pspan: Span) -> Diagnostic {
+        let names = &self.names;
+        let name = subprogram_name(names, number);
+        let file = name
+            .strip_prefix("o<")
+            .and_then(|n| n.strip_suffix('>'))
+            .map(str::to_string);
+        let numbers = self.program.subprograms.iter().map(|s| s.number);
+        let kept = self.kept.iter().map(|s| s.number);
+        let known = numbers
+            .chain(kept)
+            .map(|n| subprogram_name(names, n))
+            .collect();
+        let kind = K::NoSubprogram { name, file, known };
+        CodeError::new(kind, pspan).into()
+    }
+
+    /// Calls nested deeper than the limit. Runaway recursion is the usual
+    /// cause: the error says where it started.
+    fn report_call_depth(&mut self, number: u32, at: Span) {
+        let recursion = self
+            .calls
+            .iter()
+            .find(|(n, _)| *n == number)
+            .map(|&(_, first)| (number, first));
+        let kind = K::CallDepth {
+            limit: self.options.max_call_depth,
+            recursion,
+        };
+        self.report(CodeError::new(kind, at));
+    }
+}
+
+/// A subprogram's name for messages: `O1000`, or a LinuxCNC `o<name>`,
+/// which is numbered by its name's symbol.
+fn subprogram_name(names: &ast::Names, number: u32) -> String {
+    number
+        .checked_sub(crate::syntax::egc::lexer::NAMED_SUB_BASE)
+        .filter(|&i| (i as usize) < names.len())
+        .map(|i| names.text(ast::Symbol(i)))
+        .filter(|text| text.starts_with("o<"))
+        .map_or_else(|| format!("O{number}"), str::to_string)
 }
 
 /// A subprogram found for a call: the program's, or one kept from a part
@@ -1130,29 +1170,7 @@ mod tests {
                 33 => line.push_str("G90 G1 "),
                 12..=17 => line.push_str(["G0 ", "G1 "][next(2) as usize]),
                 18..=25 => {
-                    // An arc from (x, y) about a centre a random step away.
-                    let i = (next(9) as f64 - 4.0) / 2.0;
-                    let j = (next(8) as f64 + 1.0) / 2.0 * [1.0, -1.0][next(2) as usize];
-                    let (cx, cy, turn) = (x + i, y + j, next(628) as f64 / 100.0);
-                    let (ex, ey) = (
-                        cx + (x - cx) * turn.cos() - (y - cy) * turn.sin(),
-                        cy + (x - cx) * turn.sin() + (y - cy) * turn.cos(),
-                    );
-                    let g = ["G2", "G3"][next(2) as usize];
-                    // (Under G7 the X word is twice the coordinate.)
-                    let xw = if diameters { 2.0 * ex } else { ex };
-                    line.push_str(&format!("{g} X{xw:.3} Y{ey:.3} I{i} J{j} "));
-                    match next(if wild { 12 } else { 1000 }) {
-                        0 => line.push_str("R2 "),
-                        1 => line.push_str("P2 "),
-                        2 => line.push_str("K1 "),
-                        3 => line.push_str("J1 "),
-                        _ => {}
-                    }
-                    (x, y) = (
-                        (ex * 1000.0).round() / 1000.0,
-                        (ey * 1000.0).round() / 1000.0,
-                    );
+                    (x, y) = push_arc(&mut line, &mut next, wild, diameters, (x, y));
                     text.push_str(&line);
                     text.push('\n');
                     continue;
@@ -1189,6 +1207,40 @@ mod tests {
         }
         text.push_str("M30\n");
         text
+    }
+
+    /// An arc from `from` about a centre a random step away, pushed to
+    /// `line` (in a wild program now and then with a word such an arc must
+    /// not have); where it ends, as written.
+    fn push_arc(
+        line: &mut String,
+        next: &mut impl FnMut(u64) -> u64,
+        wild: bool,
+        diameters: bool,
+        (x, y): (f64, f64),
+    ) -> (f64, f64) {
+        let i = (next(9) as f64 - 4.0) / 2.0;
+        let j = (next(8) as f64 + 1.0) / 2.0 * [1.0, -1.0][next(2) as usize];
+        let (cx, cy, turn) = (x + i, y + j, next(628) as f64 / 100.0);
+        let (ex, ey) = (
+            cx + (x - cx) * turn.cos() - (y - cy) * turn.sin(),
+            cy + (x - cx) * turn.sin() + (y - cy) * turn.cos(),
+        );
+        let g = ["G2", "G3"][next(2) as usize];
+        // (Under G7 the X word is twice the coordinate.)
+        let xw = if diameters { 2.0 * ex } else { ex };
+        line.push_str(&format!("{g} X{xw:.3} Y{ey:.3} I{i} J{j} "));
+        match next(if wild { 12 } else { 1000 }) {
+            0 => line.push_str("R2 "),
+            1 => line.push_str("P2 "),
+            2 => line.push_str("K1 "),
+            3 => line.push_str("J1 "),
+            _ => {}
+        }
+        (
+            (ex * 1000.0).round() / 1000.0,
+            (ey * 1000.0).round() / 1000.0,
+        )
     }
 
     /// `plain_move` makes what the general path makes of every statement:

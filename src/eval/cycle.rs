@@ -106,6 +106,36 @@ pub fn count_pecks(r: f64, bottom: f64, q: f64) -> Option<u32> {
     Some(n)
 }
 
+/// The hole of a cycle block: its words on the plane's three axes (the
+/// normal one is the bottom), taken from `w`. An axis off the plane is an
+/// error, and so is a block with none of the three.
+fn hole_words(
+    kind: CycleKind,
+    w: &mut WordValues,
+    plane: ir::Plane,
+    at_code: Span,
+) -> Result<ir::Axes, Diagnostic> {
+    if let Some((letter, at)) = [b'A', b'B', b'C', b'U', b'V', b'W']
+        .into_iter()
+        .find_map(|l| w.given(l).map(|s| (l, s)))
+    {
+        return Err(
+            CycleBlockError::new(CycleBlockErrorKind::OtherAxis(letter as char), at).into(),
+        );
+    }
+    let (a, b, n) = plane.axes();
+    let mut at = ir::Axes::default();
+    for axis in [a, b, n].map(|i| Axis::ALL[i]) {
+        if let Some((v, _)) = w.take(axis.letter()) {
+            at.set(axis, v);
+        }
+    }
+    if at.is_empty() {
+        return Err(CycleBlockError::new(CycleBlockErrorKind::NoHole(kind), at_code).into());
+    }
+    Ok(at)
+}
+
 impl Evaluator<'_> {
     /// A cycle block: `kind` given by its G code (`code` is its span), or
     /// repeated by axis words (`code` is `None`).
@@ -118,37 +148,11 @@ impl Evaluator<'_> {
     ) -> Result<(), Diagnostic> {
         let at_code = code.unwrap_or(span);
         self.warn_return_level(at_code);
-        // LinuxCNC keeps the run's G98 level (the Z it started from, and
-        // under G91 what R is measured from) as a number, in the units it
-        // was set in: after G20/G21 it means another height.
-        match self.units_in_cycles {
-            Some(units) if self.cycle_run => {
-                let kind = CycleBlockErrorKind::UnitsChangedInRun { units };
-                return Err(CycleBlockError::new(kind, at_code).into());
-            }
-            _ => self.units_in_cycles = None,
-        }
+        self.check_units_in_run(at_code)?;
         // A block of the same cycle may leave out what the last one gave.
         let repeat = self.cycle == Some(kind);
-        if let Some((letter, at)) = [b'A', b'B', b'C', b'U', b'V', b'W']
-            .into_iter()
-            .find_map(|l| w.given(l).map(|s| (l, s)))
-        {
-            return Err(
-                CycleBlockError::new(CycleBlockErrorKind::OtherAxis(letter as char), at).into(),
-            );
-        }
-        let (a, b, n) = self.plane.axes();
-        let [a, b, n] = [a, b, n].map(|i| Axis::ALL[i]);
-        let mut at = ir::Axes::default();
-        for axis in [a, b, n] {
-            if let Some((v, _)) = w.take(axis.letter()) {
-                at.set(axis, v);
-            }
-        }
-        if at.is_empty() {
-            return Err(CycleBlockError::new(CycleBlockErrorKind::NoHole(kind), at_code).into());
-        }
+        let mut at = hole_words(kind, w, self.plane, at_code)?;
+        let n = Axis::ALL[self.plane.axes().2];
         // A word as given, else the last block's (a repeat may leave it
         // out), else missing.
         let sticky = self.sticky;
@@ -169,17 +173,7 @@ impl Evaluator<'_> {
         let q = self.cycle_peck(kind, w, repeat, at_code)?;
         let dwell = self.cycle_dwell(kind, w, repeat, at_code)?;
         let (ijk, repeats) = self.offsets_and_repeats(kind, w, repeat, at_code)?;
-        self.check_levels(r, depth, n, at_code)?;
-        if let Some(needed) = spindle_needed(kind) {
-            self.check_spindle(kind, needed, at_code)?;
-        }
-        if !self.feed_set {
-            return Err(CycleBlockError::new(CycleBlockErrorKind::NoFeed, at_code).into());
-        }
-        if self.inverse_time {
-            let kind = CycleBlockErrorKind::InverseTime;
-            return Err(CycleBlockError::new(kind, at_code).into());
-        }
+        self.check_machine_for_cycle(kind, r, depth, n, at_code)?;
         let pecks = match q {
             Some(q) if self.distance == ir::Distance::Absolute => {
                 Some(count_pecks(r, depth, q).ok_or_else(|| -> Diagnostic {
@@ -215,6 +209,46 @@ impl Evaluator<'_> {
         };
         self.cycle = Some(kind);
         self.emit(Op::Cycle(Box::new(cycle)), span)
+    }
+
+    /// LinuxCNC keeps the run's G98 level (the Z it started from, and
+    /// under G91 what R is measured from) as a number, in the units it was
+    /// set in: after G20/G21 within a run it means another height.
+    fn check_units_in_run(&mut self, at_code: Span) -> Result<(), Diagnostic> {
+        match self.units_in_cycles {
+            Some(units) if self.cycle_run => {
+                let kind = CycleBlockErrorKind::UnitsChangedInRun { units };
+                Err(CycleBlockError::new(kind, at_code).into())
+            }
+            _ => {
+                self.units_in_cycles = None;
+                Ok(())
+            }
+        }
+    }
+
+    /// What the machine must be for the cycle to run: R above the bottom,
+    /// the spindle as the cycle needs it, a feed, and not G93.
+    fn check_machine_for_cycle(
+        &self,
+        kind: CycleKind,
+        r: f64,
+        depth: f64,
+        n: Axis,
+        at_code: Span,
+    ) -> Result<(), Diagnostic> {
+        self.check_levels(r, depth, n, at_code)?;
+        if let Some(needed) = spindle_needed(kind) {
+            self.check_spindle(kind, needed, at_code)?;
+        }
+        if !self.feed_set {
+            return Err(CycleBlockError::new(CycleBlockErrorKind::NoFeed, at_code).into());
+        }
+        if self.inverse_time {
+            let kind = CycleBlockErrorKind::InverseTime;
+            return Err(CycleBlockError::new(kind, at_code).into());
+        }
+        Ok(())
     }
 
     /// The depth of each peck of a pecking cycle (its Q, or the last

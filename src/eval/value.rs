@@ -186,50 +186,7 @@ impl ExprError {
     ) -> Option<Diagnostic> {
         Some(match self {
             ExprError::Undefined { name, span } => {
-                let text = names.text(*name);
-                let machine =
-                    super::parameter_number(text).is_some_and(|n| from.machine_parameter(n));
-                if machine && from == super::Flavour::Fanuc {
-                    return Some(
-                        error(
-                            format!("`{text}` is a variable of the machine"),
-                            *span,
-                            "ger cannot know its value",
-                        )
-                        .with_help("#500–#999 keep their values on the machine and #1000 and up are system variables: set the value in the program"),
-                    );
-                }
-                if machine {
-                    return Some(
-                        error(
-                            format!("`{text}` is a parameter of the machine's state"),
-                            *span,
-                            "ger cannot know its value",
-                        )
-                        .with_help("LinuxCNC keeps positions and offsets in #5001 and up; give the value in the program"),
-                    );
-                }
-                if text == RETURN_VALUE {
-                    return Some(
-                        error(
-                            format!("`{text}` is read before a subroutine returned a value"),
-                            *span,
-                            "ger does not know LinuxCNC's value here",
-                        )
-                        .with_help("rs274 also sets it as it reads a subroutine's definition, to the value of its `endsub [v]` worked out there; read it after a call"),
-                    );
-                }
-                let mut d = error(
-                    format!("undefined variable `{text}`"),
-                    *span,
-                    "no value has been assigned to this name",
-                );
-                if let Some(close) = closest_name(text, names, vars) {
-                    d = d.with_help(format!("did you mean `{close}`?"));
-                } else {
-                    d = d.with_help(format!("assign it first: `{text} = …`"));
-                }
-                d
+                undefined_diagnostic(names.text(*name), *span, names, vars, from)
             }
             ExprError::TypeMismatch {
                 expected,
@@ -290,6 +247,53 @@ impl ExprError {
             }
             ExprError::Poisoned => return None,
         })
+    }
+}
+
+/// The wording of a read of a name with no value: a parameter of the
+/// machine's, LinuxCNC's subroutine return value, or a name never set.
+fn undefined_diagnostic(
+    text: &str,
+    span: Span,
+    names: &Names,
+    vars: &[Slot],
+    from: super::Flavour,
+) -> Diagnostic {
+    let machine = super::parameter_number(text).is_some_and(|n| from.machine_parameter(n));
+    if machine && from == super::Flavour::Fanuc {
+        return error(
+            format!("`{text}` is a variable of the machine"),
+            span,
+            "ger cannot know its value",
+        )
+        .with_help("#500–#999 keep their values on the machine and #1000 and up are system variables: set the value in the program");
+    }
+    if machine {
+        return error(
+            format!("`{text}` is a parameter of the machine's state"),
+            span,
+            "ger cannot know its value",
+        )
+        .with_help(
+            "LinuxCNC keeps positions and offsets in #5001 and up; give the value in the program",
+        );
+    }
+    if text == RETURN_VALUE {
+        return error(
+            format!("`{text}` is read before a subroutine returned a value"),
+            span,
+            "ger does not know LinuxCNC's value here",
+        )
+        .with_help("rs274 also sets it as it reads a subroutine's definition, to the value of its `endsub [v]` worked out there; read it after a call");
+    }
+    let d = error(
+        format!("undefined variable `{text}`"),
+        span,
+        "no value has been assigned to this name",
+    );
+    match closest_name(text, names, vars) {
+        Some(close) => d.with_help(format!("did you mean `{close}`?")),
+        None => d.with_help(format!("assign it first: `{text} = …`")),
     }
 }
 

@@ -11,8 +11,9 @@
 //! the axes a machine move (G28, G30, G53) or a passed-through offset left
 //! unknown. An incremental move or an arc on an unknown axis is an error.
 
+use super::error::{LowerError, LowerErrorKind};
+use super::pass::{feed_in_turn, Batch, Context, Out, Pass, PassInfo};
 use super::position::Tracker;
-use super::{feed_in_turn, Batch, Context, LowerError, LowerErrorKind, Out, Pass, PassInfo};
 use crate::geometry::{self, ArcError, Point};
 use crate::ir::{self, ArcGeometry, Axes, Axis, Distance, Op, Stmt};
 use crate::source::Span;
@@ -111,6 +112,69 @@ impl AbsolutePass {
         self.at.position = end;
         Ok(())
     }
+
+    /// A move, lowered; under G93 a feed move's rate as well (F per minute
+    /// of its time, times its length), for an F before it.
+    #[inline]
+    fn timed_move(&mut self, m: &mut ir::Move, span: Span) -> Result<Option<f64>, LowerError> {
+        // Under G93, where a feed move starts, for its length.
+        let timed = self.inverse_time && m.motion != ir::Motion::Rapid;
+        let start = timed.then_some(self.at.position);
+        self.lower_move(m, span)?;
+        let Some(start) = start else {
+            return Ok(None);
+        };
+        let Some(length) = inverse_time_length(&start, &self.at.position, m, self.at.plane) else {
+            let axis = (0..9).find(|&i| start[i].is_none()).unwrap_or(0);
+            return Err(self.at.unknown(axis, "a move under G93 (its length)", span));
+        };
+        // rs274's rate for a move of no length.
+        Ok(Some(if length == 0.0 {
+            0.1
+        } else {
+            length * self.inverse_feed
+        }))
+    }
+
+    /// G28/G30's intermediate point to absolute coordinates. Zero steps
+    /// under G91 from an unknown point home straight from where the tool
+    /// is: kept relative.
+    fn home_via(
+        &mut self,
+        via: &mut Axes,
+        incremental: &mut bool,
+        span: Span,
+    ) -> Result<(), LowerError> {
+        let zero_steps = self.at.distance == Distance::Incremental
+            && via.iter().all(|(_, v)| v == 0.0)
+            && !via.is_empty();
+        let end = match self.at.end_of(via, "an incremental G28/G30", span) {
+            Ok(end) => end,
+            Err(_) if zero_steps => {
+                *incremental = true;
+                return Ok(());
+            }
+            Err(e) => return Err(e),
+        };
+        let mut absolute = Axes::default();
+        for (axis, _) in via.iter() {
+            absolute.put(axis, end[axis.index()]);
+        }
+        *via = absolute;
+        Ok(())
+    }
+
+    /// Only a kept cycle comes this far, absolute already: the tool ends
+    /// over its last hole, at the height it says.
+    fn follow_kept_cycle(&mut self, c: &ir::Cycle) {
+        let (a, b, n) = self.at.plane.axes();
+        for i in [a, b] {
+            if let Some(v) = c.at.get(Axis::ALL[i]) {
+                self.at.position[i] = Some(v);
+            }
+        }
+        self.at.position[n] = c.kept.map(|k| k.ends_at);
+    }
 }
 
 impl Pass for AbsolutePass {
@@ -163,26 +227,14 @@ impl Pass for AbsolutePass {
             }
             Op::Plane(p) => self.at.plane = *p,
             Op::End => self.ended = true,
-            Op::Move(m) => {
-                // Under G93, where a feed move starts, for its length.
-                let timed = self.inverse_time && m.motion != ir::Motion::Rapid;
-                let start = timed.then_some(self.at.position);
-                if let Err(e) = self.lower_move(m, span) {
+            Op::Move(m) => match self.timed_move(m, span) {
+                Ok(None) => {}
+                Ok(Some(rate)) => out.push(stmt.with_op(Op::Feed(rate))),
+                Err(e) => {
                     out.report(e);
                     return false;
                 }
-                if let Some(start) = start {
-                    let Some(length) = inverse_time_length(&start, &self.at.position, m, self.at.plane)
-                    else {
-                        let axis = (0..9).find(|&i| start[i].is_none()).unwrap_or(0);
-                        out.report(self.at.unknown(axis, "a move under G93 (its length)", span));
-                        return false;
-                    };
-                    // rs274's rate for a move of no length.
-                    let rate = if length == 0.0 { 0.1 } else { length * self.inverse_feed };
-                    out.push(stmt.with_op(Op::Feed(rate)));
-                }
-            }
+            },
             Op::MachineMove(_) => {
                 if self.at.distance == Distance::Incremental {
                     out.report(LowerError::new(
@@ -196,27 +248,10 @@ impl Pass for AbsolutePass {
             Op::Home {
                 via, incremental, ..
             } => {
-                let zero_steps = self.at.distance == Distance::Incremental
-                    && via.iter().all(|(_, v)| v == 0.0)
-                    && !via.is_empty();
-                let end = match self.at.end_of(via, "an incremental G28/G30", span) {
-                    Ok(end) => end,
-                    // Home straight from an unknown point: kept relative.
-                    Err(_) if zero_steps => {
-                        *incremental = true;
-                        self.at.forget_after(&stmt.op, span);
-                        return true;
-                    }
-                    Err(e) => {
-                        out.report(e);
-                        return false;
-                    }
-                };
-                let mut absolute = Axes::default();
-                for (axis, _) in via.iter() {
-                    absolute.put(axis, end[axis.index()]);
+                if let Err(e) = self.home_via(via, incremental, span) {
+                    out.report(e);
+                    return false;
                 }
-                *via = absolute;
                 self.at.forget_after(&stmt.op, span);
             }
             // A work offset or tool length passed through to the machine:
@@ -229,16 +264,7 @@ impl Pass for AbsolutePass {
             // The point read back is the tool's offset point, which only
             // the comp pass knows.
             | Op::ReadPosition(_) => self.at.forget_after(&stmt.op, span),
-            // Only a kept cycle comes this far: it is absolute already.
-            Op::Cycle(c) => {
-                let (a, b, n) = self.at.plane.axes();
-                for i in [a, b] {
-                    if let Some(v) = c.at.get(Axis::ALL[i]) {
-                        self.at.position[i] = Some(v);
-                    }
-                }
-                self.at.position[n] = c.kept.map(|k| k.ends_at);
-            }
+            Op::Cycle(c) => self.follow_kept_cycle(c),
             Op::Feed(_)
             | Op::Speed(_)
             | Op::SelectTool(_)

@@ -20,8 +20,9 @@
 //! grow, is a gouge: an error at the line, with the held move's line.
 
 use super::error::CompError;
+use super::error::LowerError;
+use super::pass::{feed_in_turn, Batch, Context, Out, Pass, PassInfo};
 use super::position::Tracker;
-use super::{feed_in_turn, Batch, Context, LowerError, Out, Pass, PassInfo};
 use crate::ir::{self, Axis, CompRadius, Motion, Op, Position, Side, Stmt};
 use crate::source::Span;
 use std::collections::BTreeMap;
@@ -207,66 +208,18 @@ impl CompPass {
         let span = stmt.span;
         match &stmt.op {
             Op::Comp { side, radius } => {
-                let (mut side, mut r) = (*side, self.radius(*radius, span)?);
-                if r < 0.0 {
-                    r = -r;
-                    side = match side {
-                        Side::Left => Side::Right,
-                        Side::Right => Side::Left,
-                    };
-                }
-                let c = if r > 0.0 {
-                    self.uv(&self.at.position, span)?
-                } else {
-                    [0.0; 2]
-                };
-                self.on = Some(On {
-                    side,
-                    r,
-                    since: span,
-                    first: true,
-                    c,
-                    queue: Vec::new(),
-                    s: None,
-                    entry_waits: false,
-                });
+                self.turn_on(*side, *radius, span)?;
                 return Ok(false);
             }
             Op::CompOff => {
-                if let Some(mut on) = self.on.take() {
-                    if on.r > 0.0 && !on.first {
-                        let c = on.c;
-                        self.trim(&mut on, c, span, out)?;
-                        self.after_off = Some((span, c));
-                    }
-                }
+                self.turn_off(span, out)?;
                 return Ok(false);
             }
             Op::Move(m) => {
                 let m = *m;
                 return self.motion(stmt, &m, out);
             }
-            Op::Stop(_) | Op::End => {
-                // The held move ends at its offset end; compensation stays
-                // on after M0/M1.
-                if let Some(mut on) = self.on.take() {
-                    if on.r > 0.0 && !on.first {
-                        let c = on.c;
-                        self.trim(&mut on, c, span, out)?;
-                        on.s = None;
-                    }
-                    if matches!(stmt.op, Op::End) {
-                        // LinuxCNC turns compensation off at M2/M30, the
-                        // tool left there: a warning, the path is rs274's.
-                        out.report(LowerError::new(
-                            CompError::StillOn { since: on.since },
-                            span,
-                        ));
-                        return Ok(true);
-                    }
-                    self.on = Some(on);
-                }
-            }
+            Op::Stop(_) | Op::End => self.stop(matches!(stmt.op, Op::End), span, out)?,
             Op::Plane(p) => self.at.plane = *p,
             Op::SelectTool(t) => {
                 self.selected = Some(*t);
@@ -275,46 +228,16 @@ impl CompPass {
             }
             Op::ChangeTool => self.loaded = self.selected,
             Op::ReadPosition(_) => {
-                // A tool change after G40, before any move: LinuxCNC takes
-                // the tool's point, the last offset one, as the current
-                // point (the next move must still be straight).
-                if let Some((_, tool)) = self.after_off {
-                    let (u, v, _) = self.axes();
-                    if self.at.position[u].is_some() && self.at.position[v].is_some() {
-                        self.at.position[u] = Some(tool[0]);
-                        self.at.position[v] = Some(tool[1]);
-                    }
-                }
+                self.read_position();
                 return Ok(false);
             }
             // The first move after G40 leaves compensation (rs274), a
-            // machine move too: for G28/G30 a rapid to their intermediate
-            // point first, with the programmed point for the plane's axes
-            // they leave out (the home move's own is then in place).
+            // machine move too.
             Op::Home {
                 via, incremental, ..
             } if self.after_off.is_some() => {
-                self.after_off = None;
-                let (u, v, _) = self.axes();
-                if !(via.has(Axis::ALL[u]) && via.has(Axis::ALL[v])) {
-                    // (Zero steps from an unknown point: the point is here.)
-                    let mut to = if *incremental { ir::Axes::NONE } else { *via };
-                    for i in [u, v] {
-                        if !via.has(Axis::ALL[i]) {
-                            if let Some(p) = self.at.position[i] {
-                                to.set(Axis::ALL[i], p);
-                            }
-                        }
-                    }
-                    if !to.is_empty() {
-                        out.push(stmt.with_op(Op::Move(ir::Move {
-                            motion: Motion::Rapid,
-                            to,
-                            arc: None,
-                        })));
-                    }
-                }
-                self.at.forget_after(&stmt.op, span);
+                let (via, incremental) = (*via, *incremental);
+                self.home_after_off(stmt, via, incremental, out);
             }
             Op::MachineMove(_) if self.after_off.is_some() => {
                 let off = self.after_off.map_or(span, |(off, _)| off);
@@ -357,6 +280,113 @@ impl CompPass {
             }
             _ => Ok(true),
         }
+    }
+
+    /// G41/G42: compensation on, from where the tool is. A negative
+    /// radius is the other side.
+    fn turn_on(&mut self, side: Side, radius: CompRadius, span: Span) -> Result<(), LowerError> {
+        let (mut side, mut r) = (side, self.radius(radius, span)?);
+        if r < 0.0 {
+            r = -r;
+            side = match side {
+                Side::Left => Side::Right,
+                Side::Right => Side::Left,
+            };
+        }
+        let c = if r > 0.0 {
+            self.uv(&self.at.position, span)?
+        } else {
+            [0.0; 2]
+        };
+        self.on = Some(On {
+            side,
+            r,
+            since: span,
+            first: true,
+            c,
+            queue: Vec::new(),
+            s: None,
+            entry_waits: false,
+        });
+        Ok(())
+    }
+
+    /// G40: the held move ends at its offset end, and the next move leaves
+    /// compensation from there.
+    fn turn_off(&mut self, span: Span, out: &mut Out<'_>) -> Result<(), LowerError> {
+        if let Some(mut on) = self.on.take() {
+            if on.r > 0.0 && !on.first {
+                let c = on.c;
+                self.trim(&mut on, c, span, out)?;
+                self.after_off = Some((span, c));
+            }
+        }
+        Ok(())
+    }
+
+    /// M0/M1 (`end` false) or M2/M30: the held move ends at its offset
+    /// end; compensation stays on after M0/M1.
+    fn stop(&mut self, end: bool, span: Span, out: &mut Out<'_>) -> Result<(), LowerError> {
+        let Some(mut on) = self.on.take() else {
+            return Ok(());
+        };
+        if on.r > 0.0 && !on.first {
+            let c = on.c;
+            self.trim(&mut on, c, span, out)?;
+            on.s = None;
+        }
+        if end {
+            // LinuxCNC turns compensation off at M2/M30, the tool left
+            // there: a warning, the path is rs274's.
+            out.report(LowerError::new(
+                CompError::StillOn { since: on.since },
+                span,
+            ));
+        } else {
+            self.on = Some(on);
+        }
+        Ok(())
+    }
+
+    /// A tool change after G40, before any move: LinuxCNC takes the
+    /// tool's point, the last offset one, as the current point (the next
+    /// move must still be straight).
+    fn read_position(&mut self) {
+        if let Some((_, tool)) = self.after_off {
+            let (u, v, _) = self.axes();
+            if self.at.position[u].is_some() && self.at.position[v].is_some() {
+                self.at.position[u] = Some(tool[0]);
+                self.at.position[v] = Some(tool[1]);
+            }
+        }
+    }
+
+    /// G28/G30 as the first move after G40: it leaves compensation
+    /// (rs274), with a rapid to the intermediate point first, the
+    /// programmed point standing in for the plane's axes it leaves out
+    /// (the home move's own is then in place).
+    fn home_after_off(&mut self, stmt: &Stmt, via: ir::Axes, incremental: bool, out: &mut Out<'_>) {
+        self.after_off = None;
+        let (u, v, _) = self.axes();
+        if !(via.has(Axis::ALL[u]) && via.has(Axis::ALL[v])) {
+            // (Zero steps from an unknown point: the point is here.)
+            let mut to = if incremental { ir::Axes::NONE } else { via };
+            for i in [u, v] {
+                if !via.has(Axis::ALL[i]) {
+                    if let Some(p) = self.at.position[i] {
+                        to.set(Axis::ALL[i], p);
+                    }
+                }
+            }
+            if !to.is_empty() {
+                out.push(stmt.with_op(Op::Move(ir::Move {
+                    motion: Motion::Rapid,
+                    to,
+                    arc: None,
+                })));
+            }
+        }
+        self.at.forget_after(&stmt.op, stmt.span);
     }
 
     /// A move: passed on (compensation off or radius 0), or compensated.
@@ -593,27 +623,7 @@ impl CompPass {
                     let retreat = r / ((beta + PI) / 2.0).tan();
                     add(c, dir(theta + gamma), retreat)
                 }
-                Some((a, tp, ae)) => {
-                    let rho = dist(a, ae);
-                    let base = angle(op, p);
-                    let th = if tp > 0 {
-                        base + FRAC_PI_2
-                    } else {
-                        base - FRAC_PI_2
-                    };
-                    let phi = angle(op, a);
-                    let ins = inside(on.side, tp);
-                    let d = (if ins { rho + r } else { rho - r }) * (th - phi).cos();
-                    let l = (if ins { d - r } else { d + r }) / rho;
-                    if !(-1.0..=1.0).contains(&l) {
-                        return Err(self.gouge("an arc into a line", on, span));
-                    }
-                    let ang = match (ins, tp > 0) {
-                        (true, true) | (false, false) => th + PI - l.acos(),
-                        (true, false) | (false, true) => th + PI + l.acos(),
-                    };
-                    add(a, dir(ang), rho)
-                }
+                Some(held_arc) => self.arc_into_line_point(on, op, p, held_arc, span)?,
             };
             self.trim(on, point, span, out)?;
         } else {
@@ -630,6 +640,41 @@ impl CompPass {
         }));
         on.c = e;
         Ok(())
+    }
+
+    /// Where the offset of the held arc (`centre`, turn `t`, ending at
+    /// `end`) meets the offset of the line `op`→`p` after it, at a concave
+    /// corner: the point the held arc is trimmed to. An error where they
+    /// do not meet (the cutter would gouge).
+    #[inline]
+    fn arc_into_line_point(
+        &self,
+        on: &On,
+        op: P2,
+        p: P2,
+        (centre, t, end): (P2, i32, P2),
+        span: Span,
+    ) -> Result<P2, LowerError> {
+        let r = on.r;
+        let rho = dist(centre, end);
+        let base = angle(op, p);
+        let th = if t > 0 {
+            base + FRAC_PI_2
+        } else {
+            base - FRAC_PI_2
+        };
+        let phi = angle(op, centre);
+        let ins = inside(on.side, t);
+        let d = (if ins { rho + r } else { rho - r }) * (th - phi).cos();
+        let l = (if ins { d - r } else { d + r }) / rho;
+        if !(-1.0..=1.0).contains(&l) {
+            return Err(self.gouge("an arc into a line", on, span));
+        }
+        let ang = match (ins, t > 0) {
+            (true, true) | (false, false) => th + PI - l.acos(),
+            (true, false) | (false, true) => th + PI + l.acos(),
+        };
+        Ok(add(centre, dir(ang), rho))
     }
 
     /// An arc after the entry.
@@ -711,16 +756,7 @@ impl CompPass {
             on.s = Some(c);
         }
         let start = on.s.unwrap_or(c);
-        // A corner within SMALL of tangent starts the arc off its circle
-        // (rs274 makes a spiral): the output could not say it as an arc.
-        let (r0, r1) = (dist(start, o), dist(e, o));
-        let differ = (r0 - r1).abs();
-        if differ > self.spiral_tol && differ > 0.001 * r0.max(r1) {
-            return Err(LowerError::new(
-                CompError::Spiral { start: r0, end: r1 },
-                span,
-            ));
-        }
+        self.check_spiral(start, e, o, span)?;
         on.queue.push(Queued::Move(Held {
             stmt,
             start,
@@ -732,6 +768,21 @@ impl CompPass {
             },
         }));
         on.c = e;
+        Ok(())
+    }
+
+    /// A corner within SMALL of tangent starts the arc off its circle
+    /// (rs274 makes a spiral): the output could not say it as an arc.
+    #[inline]
+    fn check_spiral(&self, start: P2, end: P2, centre: P2, span: Span) -> Result<(), LowerError> {
+        let (r0, r1) = (dist(start, centre), dist(end, centre));
+        let differ = (r0 - r1).abs();
+        if differ > self.spiral_tol && differ > 0.001 * r0.max(r1) {
+            return Err(LowerError::new(
+                CompError::Spiral { start: r0, end: r1 },
+                span,
+            ));
+        }
         Ok(())
     }
 

@@ -20,8 +20,9 @@
 //! the wrong axes.
 
 use super::error::CycleError;
+use super::error::LowerError;
+use super::pass::{feed_in_turn, Batch, Context, Out, Pass, PassInfo};
 use super::position::Tracker;
-use super::{feed_in_turn, Batch, Context, LowerError, Out, Pass, PassInfo};
 use crate::ir::{
     self, Axes, Axis, CycleKind, Distance, Motion, Op, Plane, ReturnLevel, Spindle, Stmt,
 };
@@ -114,19 +115,7 @@ impl CyclesPass {
         let initial = self.initial.unwrap_or(level);
         let written = |i: usize| c.at.get(Axis::ALL[i]);
         let incremental = self.at.distance == Distance::Incremental;
-        // The hole's a and b: from the words, else from where the tool is.
-        let mut hole = [0.0; 2];
-        let mut step = [0.0; 2];
-        for (k, i) in [a, b].into_iter().enumerate() {
-            match (incremental, written(i)) {
-                (false, Some(v)) => hole[k] = v,
-                (true, v) => {
-                    hole[k] = self.current(i, span)?;
-                    step[k] = v.unwrap_or(0.0);
-                }
-                (false, None) => hole[k] = self.current(i, span)?,
-            }
-        }
+        let (mut hole, step) = self.hole_and_step(c, incremental, span)?;
         let (r, bottom) = if incremental {
             let r = c.r + initial;
             (r, r + written(n).unwrap_or(0.0))
@@ -161,19 +150,7 @@ impl CyclesPass {
             bottom,
             clear,
         };
-        let pecks = match (c.kind, c.pecks) {
-            (CycleKind::G73 | CycleKind::G83, None) => {
-                let q = c.q.unwrap_or(r - bottom);
-                let n = crate::eval::count_pecks(r, bottom, q)
-                    .ok_or_else(|| LowerError::new(CycleError::TooManyPecks, span))?;
-                Some(n)
-            }
-            (_, known) => known,
-        };
-        self.expanded += u64::from(c.repeats) * (3 * u64::from(pecks.unwrap_or(0)) + 8);
-        if self.expanded > MAX_EXPANDED {
-            return Err(LowerError::new(CycleError::TooLarge, span));
-        }
+        let pecks = self.pecks_within_budget(c, r, bottom, span)?;
         for i in 0..c.repeats {
             hole = [hole[0] + step[0], hole[1] + step[1]];
             if self.keep {
@@ -196,6 +173,62 @@ impl CyclesPass {
             });
         }
         Ok(())
+    }
+
+    /// Where the holes start from, before the first step, and the step
+    /// between them (zero under G90): a hole's a and b from its words,
+    /// else from where the tool is; under G91 the words are the step.
+    fn hole_and_step(
+        &self,
+        c: &ir::Cycle,
+        incremental: bool,
+        span: Span,
+    ) -> Result<([f64; 2], [f64; 2]), LowerError> {
+        let (a, b, _) = self.at.plane.axes();
+        let mut hole = [0.0; 2];
+        let mut step = [0.0; 2];
+        for (k, i) in [a, b].into_iter().enumerate() {
+            match (incremental, c.at.get(Axis::ALL[i])) {
+                (false, Some(v)) => hole[k] = v,
+                (true, v) => {
+                    hole[k] = self.current(i, span)?;
+                    step[k] = v.unwrap_or(0.0);
+                }
+                (false, None) => hole[k] = self.current(i, span)?,
+            }
+        }
+        Ok((hole, step))
+    }
+
+    /// The pecks of each hole (counted here for a G73/G83 under G91,
+    /// whose depth the evaluator did not know), counted against the
+    /// program's budget of expanded statements.
+    fn pecks_within_budget(
+        &mut self,
+        c: &ir::Cycle,
+        r: f64,
+        bottom: f64,
+        span: Span,
+    ) -> Result<Option<u32>, LowerError> {
+        let pecks = match (c.kind, c.pecks) {
+            (CycleKind::G73 | CycleKind::G83, None) => {
+                let q = c.q.unwrap_or(r - bottom);
+                let n = crate::eval::count_pecks(r, bottom, q)
+                    .ok_or_else(|| LowerError::new(CycleError::TooManyPecks, span))?;
+                Some(n)
+            }
+            (_, known) => known,
+        };
+        self.expanded += u64::from(c.repeats) * (3 * u64::from(pecks.unwrap_or(0)) + 8);
+        if self.expanded > MAX_EXPANDED {
+            return Err(LowerError::new(
+                CycleError::TooLarge {
+                    limit: MAX_EXPANDED,
+                },
+                span,
+            ));
+        }
+        Ok(pecks)
     }
 
     /// `--cycles keep`: the hole as one normalised block.

@@ -118,9 +118,9 @@ pub enum CycleError {
     PeckUnits { code: u32 },
     /// More pecks in one hole than [`crate::eval::MAX_PECKS`].
     TooManyPecks,
-    /// The cycles of the program expand to more than
-    /// `cycles::MAX_EXPANDED` statements.
-    TooLarge,
+    /// The cycles of the program expand to more than `limit` statements
+    /// (the cycles pass's `MAX_EXPANDED`).
+    TooLarge { limit: u64 },
 }
 
 /// The comp pass's errors.
@@ -442,11 +442,8 @@ fn cycle_diagnostic(e: &CycleError, span: Span) -> Diagnostic {
             span,
             "Q is very small for this depth",
         ),
-        TooLarge => error(
-            format!(
-                "the canned cycles make more than {} moves",
-                super::cycles::MAX_EXPANDED
-            ),
+        TooLarge { limit } => error(
+            format!("the canned cycles make more than {limit} moves"),
             span,
             "the limit was reached here",
         )

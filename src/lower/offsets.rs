@@ -24,9 +24,8 @@
 //! selected as it is only where the machine was given its values. A
 //! `G10 L20` passed through gets the point with the shifts ger folds.
 
-use super::{
-    feed_in_turn, follows_only, Batch, Context, LowerError, LowerErrorKind, Out, Pass, PassInfo,
-};
+use super::error::{LowerError, LowerErrorKind};
+use super::pass::{feed_in_turn, follows_only, Batch, Context, Out, Pass, PassInfo};
 use crate::ir::{self, Axes, Axis, Distance, Op, Position, Stmt};
 use crate::source::Span;
 use std::collections::BTreeMap;
@@ -198,6 +197,21 @@ impl OffsetsPass {
         }
     }
 
+    /// An offset changed under G91 is an error: reported,
+    /// and the statement goes no further.
+    fn refused_under_incremental(&self, op: &Op, span: Span, out: &mut Out<'_>) -> bool {
+        let refused = self.distance == Distance::Incremental && Self::changes_offsets(op);
+        if refused {
+            out.report(LowerError::new(
+                LowerErrorKind::OffsetsUnderIncremental {
+                    since: self.incremental_since,
+                },
+                span,
+            ));
+        }
+        refused
+    }
+
     fn changes_offsets(op: &Op) -> bool {
         matches!(
             op,
@@ -234,13 +248,7 @@ impl Pass for OffsetsPass {
 
     fn feed(&mut self, stmt: &mut Stmt, out: &mut Out<'_>) -> bool {
         let (span, block_delete) = (stmt.span, stmt.block_delete);
-        if Self::changes_offsets(&stmt.op) && self.distance == Distance::Incremental {
-            out.report(LowerError::new(
-                LowerErrorKind::OffsetsUnderIncremental {
-                    since: self.incremental_since,
-                },
-                span,
-            ));
+        if self.refused_under_incremental(&stmt.op, span, out) {
             return false;
         }
         match &mut stmt.op {
@@ -252,22 +260,7 @@ impl Pass for OffsetsPass {
                 true
             }
             Op::Move(m) => {
-                self.place(&mut m.to);
-                if let Some(ir::Arc {
-                    geometry: ir::ArcGeometry::Center(center),
-                    ..
-                }) = &mut m.arc
-                {
-                    if self.centers == Distance::Absolute {
-                        // The centre's coordinates: in the frame of X/Y/Z,
-                        // whether those are given under G90 or G91.
-                        for (i, c) in center.iter_mut().enumerate() {
-                            if let Some(c) = c {
-                                *c += self.shift(i);
-                            }
-                        }
-                    }
-                }
+                self.place_move(m);
                 true
             }
             Op::ArcCenters(d) => {
@@ -276,21 +269,7 @@ impl Pass for OffsetsPass {
             }
             Op::InverseTime(_) => true,
             Op::Cycle(c) => {
-                if self.distance == Distance::Absolute {
-                    // R lies on the drilling axis: the plane's normal.
-                    let normal = self.plane.axes().2;
-                    c.r += self.shift(normal);
-                }
-                self.place(&mut c.at);
-                // Where a cycle leaves the tool is the cycles pass's
-                // business: the drilling axis, and the holes under G91,
-                // are not known here.
-                let (a, b, n) = self.plane.axes();
-                self.position[n] = None;
-                if self.distance == Distance::Incremental {
-                    self.position[a] = None;
-                    self.position[b] = None;
-                }
+                self.place_cycle(c);
                 true
             }
             Op::Plane(p) => {
@@ -342,16 +321,7 @@ impl Pass for OffsetsPass {
                 let (tool, negative) = (*tool, *negative);
                 self.tool_length_offset(tool, negative, stmt, out)
             }
-            Op::CancelToolLength => {
-                self.tool_length = 0.0;
-                // Only a length the machine applies needs cancelling there.
-                let passed = self.passed_length;
-                if passed {
-                    self.passed_length = false;
-                    self.position[2] = None;
-                }
-                passed
-            }
+            Op::CancelToolLength => self.cancel_tool_length(),
             Op::Feed(_)
             | Op::Speed(_)
             | Op::SelectTool(_)
@@ -375,6 +345,58 @@ impl Pass for OffsetsPass {
 }
 
 impl OffsetsPass {
+    /// A move's words, and an absolute arc centre's, to the output's
+    /// coordinates.
+    #[inline]
+    fn place_move(&mut self, m: &mut ir::Move) {
+        self.place(&mut m.to);
+        if let Some(ir::Arc {
+            geometry: ir::ArcGeometry::Center(center),
+            ..
+        }) = &mut m.arc
+        {
+            if self.centers == Distance::Absolute {
+                // The centre's coordinates: in the frame of X/Y/Z,
+                // whether those are given under G90 or G91.
+                for (i, c) in center.iter_mut().enumerate() {
+                    if let Some(c) = c {
+                        *c += self.shift(i);
+                    }
+                }
+            }
+        }
+    }
+
+    /// A canned cycle's holes and R plane to the output's coordinates.
+    fn place_cycle(&mut self, c: &mut ir::Cycle) {
+        if self.distance == Distance::Absolute {
+            // R lies on the drilling axis: the plane's normal.
+            let normal = self.plane.axes().2;
+            c.r += self.shift(normal);
+        }
+        self.place(&mut c.at);
+        // Where a cycle leaves the tool is the cycles pass's business: the
+        // drilling axis, and the holes under G91, are not known here.
+        let (a, b, n) = self.plane.axes();
+        self.position[n] = None;
+        if self.distance == Distance::Incremental {
+            self.position[a] = None;
+            self.position[b] = None;
+        }
+    }
+
+    /// G49: whether it goes on. Only a length the machine applies needs
+    /// cancelling there.
+    fn cancel_tool_length(&mut self) -> bool {
+        self.tool_length = 0.0;
+        let passed = self.passed_length;
+        if passed {
+            self.passed_length = false;
+            self.position[2] = None;
+        }
+        passed
+    }
+
     /// G54–G59.3: folded when its values are known, else passed through
     /// (with a warning the first time). Whether the statement goes on.
     fn select_work_offset(&mut self, index: u8, stmt: &Stmt, out: &mut Out<'_>) -> bool {

@@ -7,9 +7,8 @@
 //! polar move must give both. Canned-cycle hole positions are polar too.
 //! Changing offsets or the plane, or a machine move, under G16 is an error.
 
-use super::{
-    feed_in_turn, follows_only, Batch, Context, LowerError, LowerErrorKind, Out, Pass, PassInfo,
-};
+use super::error::{LowerError, LowerErrorKind};
+use super::pass::{feed_in_turn, follows_only, Batch, Context, Out, Pass, PassInfo};
 use crate::ir::{Axes, Axis, Op, Plane, Stmt};
 use crate::source::Span;
 

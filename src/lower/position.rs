@@ -3,7 +3,7 @@
 //! machine move (G28, G30, G53) or an offset passed through to the machine
 //! left it unknown. The cycles, absolute and comp passes keep one each.
 
-use super::{LowerError, LowerErrorKind};
+use super::error::{LowerError, LowerErrorKind};
 use crate::ir::{self, Axes, Axis, Distance, Op, Plane, Position, Stmt};
 use crate::source::Span;
 
@@ -125,10 +125,10 @@ impl Tracker {
 
     /// [`Tracker::follow`] of each statement of `stmts` in turn, when they
     /// are moves and statements that move nothing
-    /// ([`super::follows_only`]) under G90: each axis from the last move
+    /// ([`super::pass::follows_only`]) under G90: each axis from the last move
     /// that writes it. `false`, and nothing followed, for any other run.
     pub fn follow_run(&mut self, stmts: &[Stmt]) -> bool {
-        if self.distance != Distance::Absolute || !super::follows_only(stmts) {
+        if self.distance != Distance::Absolute || !super::pass::follows_only(stmts) {
             return false;
         }
         // The axes no later move writes, a bit each.
@@ -227,7 +227,8 @@ mod tests {
             }
             let mut at_once = start.clone();
             let followed = at_once.follow_run(&stmts);
-            let run = start.distance == Distance::Absolute && super::super::follows_only(&stmts);
+            let run =
+                start.distance == Distance::Absolute && super::super::pass::follows_only(&stmts);
             assert_eq!(followed, run, "{stmts:?}");
             let expected = if followed { &in_turn } else { &start };
             assert_eq!(format!("{at_once:?}"), format!("{expected:?}"), "{stmts:?}");

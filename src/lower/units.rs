@@ -11,9 +11,8 @@
 //! G21 stays where it is (the moves before it run in the machine's units)
 //! and fixes the output units from there on.
 
-use super::{
-    feed_in_turn, follows_only, Batch, Context, LowerError, LowerErrorKind, Out, Pass, PassInfo,
-};
+use super::error::{LowerError, LowerErrorKind};
+use super::pass::{feed_in_turn, follows_only, Batch, Context, Out, Pass, PassInfo};
 use crate::ir::{self, ArcGeometry, Axis, CompRadius, Op, Stmt, Units};
 
 pub const PASS: PassInfo = PassInfo {

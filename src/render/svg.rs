@@ -49,11 +49,45 @@ pub fn write(
     title: &dyn Fn(Span) -> String,
     out: &mut impl Write,
 ) -> std::io::Result<()> {
+    let scale = 1.0 / crate::ir::Units::mm_per(scene.units);
+    let s = &scene.stock;
+    let stroke = (s.max[0] - s.min[0]).max(s.max[1] - s.min[1]) / 400.0;
+    write_head(scene, stroke, out)?;
+    let palette = Palette::new(path, scene, options.color);
+    // The element being drawn: its source line, colour and path data.
+    let mut element: Option<(Span, String, String)> = None;
+    for (index, m) in path.moves.iter().enumerate() {
+        if matches!(m.kind, MoveKind::Rapid) && !options.rapids {
+            continue;
+        }
+        let c = palette.color(m);
+        // From an unknown place (the first move, or after G28/G53): the
+        // path starts where the move ends.
+        let (before, _) = super::unknown_ends(path, index);
+        if before[0] || before[1] {
+            write_element(element.take(), stroke, title, out)?;
+            continue;
+        }
+        let joins = matches!(&element, Some((span, color, _)) if *span == m.span && *color == c);
+        if !joins {
+            write_element(element.take(), stroke, title, out)?;
+            let d = format!("M{} {}", num(m.start[0] * scale), num(-m.start[1] * scale));
+            element = Some((m.span, c, d));
+        }
+        if let Some((_, _, d)) = &mut element {
+            trace(m, scale, d);
+        }
+    }
+    write_element(element.take(), stroke, title, out)?;
+    out.write_all(b"</g>\n</svg>\n")
+}
+
+/// The SVG element, sized in millimetres, the stock's outline, and the
+/// group the paths go in.
+fn write_head(scene: &Scene, stroke: f64, out: &mut impl Write) -> std::io::Result<()> {
     let mm = crate::ir::Units::mm_per(scene.units);
-    let scale = 1.0 / mm;
     let s = &scene.stock;
     let (w, h) = (s.max[0] - s.min[0], s.max[1] - s.min[1]);
-    let stroke = w.max(h) / 400.0;
     let mut text = String::new();
     let _ = writeln!(
         text,
@@ -79,23 +113,50 @@ pub fn write(
         r#"<g fill="none" stroke-width="{}" stroke-linecap="round" stroke-linejoin="round">"#,
         num(stroke)
     );
-    out.write_all(text.as_bytes())?;
-    let feeds = path
-        .moves
-        .iter()
-        .filter(|m| !matches!(m.kind, MoveKind::Rapid))
-        .map(|m| m.state.feed);
-    let (slow, fast) = feeds.fold((f64::INFINITY, 0.0f64), |(a, b), f| (a.min(f), b.max(f)));
-    let color = |m: &Move| -> String {
-        match (m.kind, options.color) {
+    out.write_all(text.as_bytes())
+}
+
+/// How a move is coloured: by its depth in the stock, its feed within the
+/// program's range of feeds, or its tool; rapids grey.
+struct Palette {
+    by: ColorBy,
+    /// From the path's units to the stock's (millimetres).
+    scale: f64,
+    top: f64,
+    bottom: f64,
+    /// The slowest and fastest feed of the path's feed moves.
+    slow: f64,
+    fast: f64,
+}
+
+impl Palette {
+    fn new(path: &ToolPath, scene: &Scene, by: ColorBy) -> Palette {
+        let feeds = path
+            .moves
+            .iter()
+            .filter(|m| !matches!(m.kind, MoveKind::Rapid))
+            .map(|m| m.state.feed);
+        let (slow, fast) = feeds.fold((f64::INFINITY, 0.0f64), |(a, b), f| (a.min(f), b.max(f)));
+        Palette {
+            by,
+            scale: 1.0 / crate::ir::Units::mm_per(scene.units),
+            top: scene.stock.top,
+            bottom: scene.stock.bottom,
+            slow,
+            fast,
+        }
+    }
+
+    fn color(&self, m: &Move) -> String {
+        match (m.kind, self.by) {
             (MoveKind::Rapid, _) => RAPID.to_string(),
             (_, ColorBy::Depth) => {
-                let z = m.start[2].min(m.end[2]) * scale;
-                hex(depth_color((s.top - z) / (s.top - s.bottom)))
+                let z = m.start[2].min(m.end[2]) * self.scale;
+                hex(depth_color((self.top - z) / (self.top - self.bottom)))
             }
             (_, ColorBy::Feed) => {
-                let t = if fast > slow {
-                    (m.state.feed - slow) / (fast - slow)
+                let t = if self.fast > self.slow {
+                    (m.state.feed - self.slow) / (self.fast - self.slow)
                 } else {
                     0.5
                 };
@@ -107,52 +168,33 @@ pub fn write(
                 TOOL_COLORS[m.state.tool as usize % TOOL_COLORS.len()].to_string()
             }
         }
-    };
-    let mut element: Option<(Span, String, String)> = None;
-    let flush = |element: &mut Option<(Span, String, String)>, out: &mut dyn Write| {
-        if let Some((span, color, d)) = element.take() {
-            let dash = if color == RAPID {
-                format!(
-                    r#" stroke-dasharray="{} {}""#,
-                    num(stroke * 4.0),
-                    num(stroke * 3.0)
-                )
-            } else {
-                String::new()
-            };
-            writeln!(
-                out,
-                r#"<path d="{d}" stroke="{color}"{dash}><title>{}</title></path>"#,
-                escape(&title(span))
-            )
-        } else {
-            Ok(())
-        }
-    };
-    for (index, m) in path.moves.iter().enumerate() {
-        if matches!(m.kind, MoveKind::Rapid) && !options.rapids {
-            continue;
-        }
-        let c = color(m);
-        // From an unknown place (the first move, or after G28/G53): the
-        // path starts where the move ends.
-        let (before, _) = super::unknown_ends(path, index);
-        if before[0] || before[1] {
-            flush(&mut element, out)?;
-            continue;
-        }
-        let joins = matches!(&element, Some((span, color, _)) if *span == m.span && *color == c);
-        if !joins {
-            flush(&mut element, out)?;
-            let d = format!("M{} {}", num(m.start[0] * scale), num(-m.start[1] * scale));
-            element = Some((m.span, c, d));
-        }
-        if let Some((_, _, d)) = &mut element {
-            trace(m, scale, d);
-        }
     }
-    flush(&mut element, out)?;
-    out.write_all(b"</g>\n</svg>\n")
+}
+
+/// One path element, titled with its source line; rapids dashed.
+fn write_element(
+    element: Option<(Span, String, String)>,
+    stroke: f64,
+    title: &dyn Fn(Span) -> String,
+    out: &mut dyn Write,
+) -> std::io::Result<()> {
+    let Some((span, color, d)) = element else {
+        return Ok(());
+    };
+    let dash = if color == RAPID {
+        format!(
+            r#" stroke-dasharray="{} {}""#,
+            num(stroke * 4.0),
+            num(stroke * 3.0)
+        )
+    } else {
+        String::new()
+    };
+    writeln!(
+        out,
+        r#"<path d="{d}" stroke="{color}"{dash}><title>{}</title></path>"#,
+        escape(&title(span))
+    )
 }
 
 /// Append the move's path (from its start) to `d`.
