@@ -8,6 +8,7 @@
 
 pub mod carve;
 pub mod cutter;
+pub mod described;
 pub mod image;
 pub mod stl;
 pub mod svg;
@@ -27,6 +28,9 @@ pub struct RenderOptions {
     pub max_cells: u64,
     /// `--stock X,Y,Z`: the stock's size, placed as `SetPart` places it.
     pub stock: Option<[f64; 3]>,
+    /// The cutters the program's comments describe
+    /// ([`described::described_tools`]), for tools the table lacks.
+    pub described: Vec<described::Described>,
 }
 
 impl Default for RenderOptions {
@@ -35,6 +39,7 @@ impl Default for RenderOptions {
             resolution: None,
             max_cells: 40_000_000,
             stock: None,
+            described: Vec::new(),
         }
     }
 }
@@ -100,7 +105,7 @@ impl Scene {
         // The tool path is in mm; the scene in the output units.
         let scale = 1.0 / Units::mm_per(units);
         let mut warnings = Vec::new();
-        let (cutters, cutter_of) = cutters(path, scale, &mut warnings);
+        let (cutters, cutter_of) = cutters(path, scale, &options.described, &mut warnings);
         let stock = stock(path, options, scale, &cutters, &cutter_of)?;
         let (cell, coarser) = resolution(units, options, &stock)?;
         let (nx, ny) = dimensions(&stock, cell);
@@ -200,10 +205,14 @@ fn dimensions(stock: &Stock, cell: f64) -> (usize, usize) {
     )
 }
 
-/// The cutters the program uses, and each move's cutter.
+/// The cutters the program uses, and each move's cutter: the tool table's
+/// (or `SetTool`'s), else the one a comment describes, else an assumed
+/// 1/4 in flat end mill, with a warning that names it. A move before any
+/// tool change has the tool a `T` word selected, else tool 1 (SPEC §3).
 fn cutters(
     path: &ToolPath,
     scale: f64,
+    described: &[described::Described],
     warnings: &mut Vec<RenderWarning>,
 ) -> (Vec<Cutter>, Vec<usize>) {
     let default = Cutter::of(&DEFAULT_TOOL, scale);
@@ -215,32 +224,106 @@ fn cutters(
             cutters.len() - 1
         }
     };
-    let mut missing: Vec<u32> = Vec::new();
+    let first_tool = first_named(path);
+    let named = |t: u32| {
+        path.moves
+            .iter()
+            .any(|m| m.state.tool == t || m.state.selected == t)
+    };
+    let descriptions = descriptions_by_tool(path, described, first_tool);
+    let mut told: Vec<u32> = Vec::new();
     let mut of_move = Vec::with_capacity(path.moves.len());
     for m in &path.moves {
-        // No tool loaded yet: tool 1 (SPEC §3).
-        let number = m.state.tool.max(1);
-        let cutter = match path.setup.tools.get(&number) {
+        let number = tool_of(m, first_tool);
+        let first = !told.contains(&number);
+        let cutter = if let Some(tool) = path.setup.tools.get(&number) {
             // The table is in the output units already, as the scene is.
-            Some(tool) => Cutter::of(tool, 1.0),
-            None => {
-                if m.state.tool != 0 && !missing.contains(&number) {
-                    missing.push(number);
-                    warnings.push(RenderWarning {
-                        kind: WarningKind::ToolNotInTable { tool: number },
-                        span: m.span,
-                        more: 0,
-                    });
-                }
-                default
+            Cutter::of(tool, 1.0)
+        } else if let Some(d) = descriptions.get(&number) {
+            if first {
+                let kind = WarningKind::DescribedCutter {
+                    tool: number,
+                    line: d.line,
+                    text: d.text.clone(),
+                };
+                warnings.push(RenderWarning {
+                    kind,
+                    span: m.span,
+                    more: 0,
+                });
             }
+            Cutter::of(&d.cutter, 1.0)
+        } else {
+            if first {
+                let kind = WarningKind::AssumedCutter {
+                    tool: number,
+                    named: named(number),
+                };
+                warnings.push(RenderWarning {
+                    kind,
+                    span: m.span,
+                    more: 0,
+                });
+            }
+            default
         };
+        if first {
+            told.push(number);
+        }
         of_move.push(index_of(cutter));
     }
     if cutters.is_empty() {
         cutters.push(default);
     }
     (cutters, of_move)
+}
+
+/// The tool a move cuts with: the one loaded (M6), else the one a `T`
+/// word selected, else (before any) the first the program names.
+fn tool_of(m: &crate::toolpath::Move, first_named: u32) -> u32 {
+    match (m.state.tool, m.state.selected) {
+        (0, 0) => first_named,
+        (0, selected) => selected,
+        (loaded, _) => loaded,
+    }
+}
+
+/// The first tool the program loads or selects; tool 1 if it names none
+/// (SPEC §3).
+fn first_named(path: &ToolPath) -> u32 {
+    path.moves
+        .iter()
+        .find_map(|m| {
+            [m.state.tool, m.state.selected]
+                .into_iter()
+                .find(|&t| t != 0)
+        })
+        .unwrap_or(1)
+}
+
+/// Each tool's described cutter: the first comment about it; one about
+/// no tool only when the program cuts with one tool.
+fn descriptions_by_tool(
+    path: &ToolPath,
+    described: &[described::Described],
+    first_named: u32,
+) -> std::collections::BTreeMap<u32, described::Described> {
+    let mut by_tool = std::collections::BTreeMap::new();
+    for d in described {
+        if let Some(tool) = d.tool {
+            by_tool.entry(tool).or_insert_with(|| d.clone());
+        }
+    }
+    let one_tool = path
+        .moves
+        .iter()
+        .all(|m| tool_of(m, first_named) == first_named);
+    if let Some(d) = described.iter().find(|d| d.tool.is_none()) {
+        if one_tool && by_tool.is_empty() {
+            by_tool.insert(first_named, d.clone());
+        }
+    }
+    by_tool
 }
 
 /// The stock: `--stock`, else `SetPart` (placed by `SetZero`), else the
@@ -505,9 +588,12 @@ fn repeated(spans: &[Span], kind: WarningKind) -> Vec<RenderWarning> {
 /// What the picture warns about, at a source line.
 #[derive(Clone, Debug, PartialEq)]
 pub enum WarningKind {
-    /// The program changes to a tool the table does not have: drawn as
-    /// the default tool.
-    ToolNotInTable { tool: u32 },
+    /// No table, `SetTool` or comment gives the tool's size: drawn as an
+    /// assumed 1/4 in flat end mill. `named`: the program names the tool
+    /// (a `T` word); else it names none.
+    AssumedCutter { tool: u32, named: bool },
+    /// The tool is drawn as a comment of the program describes it.
+    DescribedCutter { tool: u32, line: u32, text: String },
     /// A cutting move from or to an axis the program has not set.
     UnknownPosition,
     /// A move takes the tip below the stock's bottom.
@@ -527,14 +613,23 @@ pub struct RenderWarning {
 impl RenderWarning {
     pub fn to_diagnostic(&self) -> Diagnostic {
         let d = match &self.kind {
-            WarningKind::ToolNotInTable { tool } => warning(
-                format!("tool {tool} is not in the tool table"),
+            WarningKind::AssumedCutter { tool, named } => warning(
+                match named {
+                    true => format!("tool {tool}'s size is not known: drawn as an assumed 1/4 in (6.35 mm) flat end mill"),
+                    false => "the program names no tool: drawn with an assumed 1/4 in (6.35 mm) flat end mill".to_string(),
+                },
                 self.span,
-                "drawn as a 1/4 in flat end mill",
+                "the first cut with it",
             )
             .with_help(format!(
-                "give its size with `SetTool {tool} diameter` or --tool-table"
+                "give the real cutter with --tool-table FILE (LinuxCNC's format: `T{tool} P{tool} D3.175`) or `SetTool {tool} diameter` in .egc"
             )),
+            WarningKind::DescribedCutter { tool, line, text } => crate::diagnostic::note(
+                format!("tool {tool} is drawn as the program's comment on line {line} describes it: ({text})"),
+                self.span,
+                "the first cut with it",
+            )
+            .with_help("a --tool-table or SetTool entry takes its place"),
             WarningKind::UnknownPosition => warning(
                 "the tool position is not known here",
                 self.span,

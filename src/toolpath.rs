@@ -56,7 +56,10 @@ pub struct State {
     pub spindle: Option<ir::Spindle>,
     pub flood: bool,
     pub mist: bool,
+    /// The tool loaded (M6).
     pub tool: u32,
+    /// The tool the last `T` word selected (0: none).
+    pub selected: u32,
 }
 
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -201,7 +204,10 @@ impl Builder {
             } => self.home(via, *incremental, stmt),
             Op::Feed(f) => self.state.feed = f * k,
             Op::Speed(s) => self.state.rpm = *s,
-            Op::SelectTool(t) => self.selected = *t,
+            Op::SelectTool(t) => {
+                self.selected = *t;
+                self.state.selected = *t;
+            }
             // The comp pass has placed the moves after it.
             Op::ReadPosition(_) => {}
             Op::ChangeTool => {

@@ -668,3 +668,69 @@ fn the_picture_follows_the_tip_whatever_the_tool_length() {
     let (_, b) = carved_with(&with_length, 0.1, &options);
     assert_eq!(a.z, b.z);
 }
+
+/// The cutter of a program with no tool table: the one its CAM header
+/// describes (Fusion's `(T1 D=2.7 …)`, with `T1` and no `M6`), drawn at
+/// that size; else an assumed 1/4 in end mill, with a warning naming it —
+/// for `T1` alone, `T1 M6`, and no tool word at all.
+#[test]
+fn the_cutter_is_the_described_one_or_a_warning_names_the_assumed_one() {
+    let fusion = "(T1  D=2.7 CR=0 - ZMIN=-1 - flat end mill)\nG21 G90\nT1\nS10000 M3\n\
+                  G0 X0 Y10 Z5\nG1 Z-1 F300\nG1 X40\nG0 Z5\nM30\n";
+    let mut sources = Sources::new();
+    let file = sources.add("part.nc", fusion.to_string());
+    let (path, _) = ger::driver::tool_path(&sources, file, &CompileOptions::default(), None);
+    let path = path.unwrap();
+    let options = RenderOptions {
+        resolution: Some(0.05),
+        described: ger::render::described::described_tools(fusion, path.units),
+        ..Default::default()
+    };
+    let scene = Scene::new(&path, &options).unwrap();
+    let mut grid = scene.grid().unwrap();
+    scene.carve(&mut grid, &path, &|_, _| {});
+    // The slot is 2.7 wide: cut 1.2 off its centre line, not 1.5 (a
+    // 6.35 mm cutter would cut 3 off it).
+    assert!(sample(&grid, 20.0, 11.2).0 < -0.9);
+    assert!(sample(&grid, 20.0, 11.5).0 > -0.01);
+    assert!(sample(&grid, 20.0, 8.5).0 > -0.01);
+    let notes: Vec<String> = scene
+        .warnings
+        .iter()
+        .map(|w| w.to_diagnostic().message)
+        .collect();
+    assert_eq!(notes.len(), 1, "{notes:?}");
+    assert!(notes[0].contains("comment on line 1"), "{notes:?}");
+
+    let dir = scratch("assumed-cutter");
+    for (program, says) in [
+        (
+            "G21\nT1\nG0 X0 Y0 Z1\nG1 Z-1 F100\nX10\nM30\n",
+            "tool 1's size is not known",
+        ),
+        (
+            "G21\nT2 M6\nG0 X0 Y0 Z1\nG1 Z-1 F100\nX10\nM30\n",
+            "tool 2's size is not known",
+        ),
+        (
+            "G21\nG0 X0 Y0 Z1\nG1 Z-1 F100\nX10\nM30\n",
+            "the program names no tool",
+        ),
+    ] {
+        std::fs::write(dir.join("p.nc"), program).unwrap();
+        let out = ger(&[
+            "render",
+            dir.join("p.nc").to_str().unwrap(),
+            "-o",
+            dir.join("p.svg").to_str().unwrap(),
+        ]);
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        assert!(out.status.success(), "{stderr}");
+        assert!(stderr.contains(says), "{program}: {stderr}");
+        assert!(
+            stderr.contains("assumed 1/4 in (6.35 mm) flat end mill"),
+            "{stderr}"
+        );
+        assert!(stderr.contains("--tool-table"), "{stderr}");
+    }
+}

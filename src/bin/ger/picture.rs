@@ -28,7 +28,7 @@ pub fn render_part(
         eprintln!("error: the output file is the input file; refusing to overwrite it");
         return ExitCode::from(2);
     }
-    let (format, render_options) = match picture_request(output, picture) {
+    let (format, mut render_options) = match picture_request(output, picture) {
         Ok(request) => request,
         Err(message) => {
             eprintln!("error: {message}");
@@ -40,6 +40,9 @@ pub fn render_part(
         return ExitCode::from(1);
     };
     clock.lap("compile");
+    // The cutters the program's own comments describe (CAM headers).
+    let text = job.sources.text(job.file);
+    render_options.described = ger::render::described::described_tools(text, path.units);
     let scene = match Scene::new(&path, &render_options) {
         Ok(scene) => scene,
         Err(e) => {
@@ -118,6 +121,7 @@ fn picture_request(
         resolution: picture.resolution,
         max_cells: picture.max_cells,
         stock,
+        described: Vec::new(),
     };
     Ok((format, render_options))
 }
@@ -218,7 +222,12 @@ fn carve_other(
     render_options: &ger::render::RenderOptions,
 ) -> Option<ger::render::carve::Grid> {
     let (other_job, other_path) = compiled_path(other, options)?;
-    let other_scene = match ger::render::Scene::new(&other_path, render_options) {
+    let text = other_job.sources.text(other_job.file);
+    let render_options = ger::render::RenderOptions {
+        described: ger::render::described::described_tools(text, other_path.units),
+        ..render_options.clone()
+    };
+    let other_scene = match ger::render::Scene::new(&other_path, &render_options) {
         Ok(scene) => scene,
         Err(e) => {
             eprintln!("error: {other}: {e}");
