@@ -168,7 +168,7 @@ pub enum StmtKind {
     /// [`Line::statements`] for how it is cut.
     Line(Line),
     /// Lines of plain words in a row, as a part of a plain program (one
-    /// without `GOTO`) is parsed ([`crate::syntax::egc::chunk`]): each runs
+    /// without `GOTO`) is parsed ([`crate::syntax::chunk`]): each runs
     /// as a [`Line`].
     Lines(Box<Lines>),
     Assign(Box<Assignment>),

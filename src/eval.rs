@@ -215,7 +215,7 @@ pub struct Chunked {
 }
 
 /// Stage 0 for a program read a part at a time
-/// ([`crate::syntax::egc::chunk`]): `next` gives each part's statements and
+/// ([`crate::syntax::chunk`]): `next` gives each part's statements and
 /// subprograms in order (and is given back the statements of the part
 /// before, run), interning into the names it is handed (the
 /// program's, which the parts share; the last part's comments are dropped
@@ -1103,7 +1103,7 @@ impl<'a> Evaluator<'a> {
         while let Some(at) = rest.find('#') {
             out.push_str(&rest[..at]);
             let after = &rest[at + 1..];
-            match crate::syntax::egc::lexer::parameter_name(after) {
+            match crate::syntax::linuxcnc::parameter_name(after) {
                 Ok((name, used)) => {
                     // A numbered parameter the program never names has
                     // its first value (rs274: 0 for #1–#5000).
@@ -1258,7 +1258,7 @@ impl<'a> Evaluator<'a> {
         // rs274's value of a subroutine's return where ger does not know it
         // (after a definition that returns one): read, it is an error.
         if let ast::ExprKind::Var(v) = &value.kind {
-            if self.names.text(*v) == crate::syntax::egc::lexer::UNKNOWN_RETURN {
+            if self.names.text(*v) == crate::syntax::linuxcnc::UNKNOWN_RETURN {
                 return Some(Slot::Unset);
             }
         }
@@ -1528,7 +1528,7 @@ fn numbered_parameters(names: &Names, from: Flavour) -> Vec<Slot> {
 
 /// The value the variable named `text` starts with.
 fn first_slot(text: &str, from: Flavour) -> Slot {
-    use crate::syntax::egc::lexer::{RETURN_VALUE, VALUE_RETURNED};
+    use crate::syntax::linuxcnc::{RETURN_VALUE, VALUE_RETURNED};
     match parameter_number(text) {
         Some(n) => first_value(n, from),
         // LinuxCNC's: 0 until a subroutine returns.
@@ -1670,7 +1670,7 @@ impl Evaluator<'_> {
 mod tests {
     use crate::compile::{compile, CompileOptions};
     use crate::source::Sources;
-    use crate::syntax::egc::Language;
+    use crate::syntax::Language;
 
     #[test]
     fn debug_messages_in_a_loop_are_capped() {

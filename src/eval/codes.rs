@@ -849,7 +849,7 @@ impl Evaluator<'_> {
         // A LinuxCNC `o<name>` is numbered by its name's symbol.
         let name_of = |number: u32| {
             number
-                .checked_sub(crate::syntax::egc::lexer::NAMED_SUB_BASE)
+                .checked_sub(crate::syntax::linuxcnc::NAMED_SUB_BASE)
                 .filter(|&i| (i as usize) < names.len())
                 .map(|i| names.text(ast::Symbol(i)))
                 .filter(|text| text.starts_with("o<"))

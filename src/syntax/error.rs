@@ -3,7 +3,7 @@
 //! at. [`SyntaxError::to_diagnostic`] is the one place their wording
 //! lives; the code that finds a problem decides its kind, never its words.
 
-use super::lexer::Language;
+use super::language::Language;
 use crate::diagnostic::{error, warning, Diagnostic, DiagnosticExt, Located, Wording};
 use crate::source::Span;
 

@@ -5,7 +5,10 @@
 //! It must not evaluate anything.
 
 use super::error::{ParseHint, SyntaxError, SyntaxErrorKind};
-use super::lexer::{self, Language, Lexed, Tok};
+use super::language::Language;
+use super::lexer::{self, Lexed};
+use super::token::{Spanned, Tok};
+use super::words::LexedWord;
 use crate::ast::*;
 use crate::diagnostic::Diagnostic;
 use crate::source::{FileId, Locator, Span};
@@ -254,14 +257,14 @@ pub fn with_fast_path<T>(fast: bool, f: impl FnOnce() -> T) -> T {
 /// tokens for the grammar.
 enum Piece<'t> {
     Line(usize, (u32, u32), usize),
-    Grammar(&'t [lexer::Spanned]),
+    Grammar(&'t [Spanned]),
 }
 
 /// Cut the tokens at top-level statement ends. Most lines of a CAM program
 /// are one run of plain words: those are built directly, which is what the
 /// grammar's `Words` rule would build, without the parser's per-token
 /// work. Everything else goes to the grammar, in stretches.
-fn pieces(tokens: &[lexer::Spanned], fast: bool) -> Vec<Piece<'_>> {
+fn pieces(tokens: &[Spanned], fast: bool) -> Vec<Piece<'_>> {
     let mut out = Vec::new();
     let mut depth = 0usize;
     let mut stmt_start = 0;
@@ -290,7 +293,7 @@ fn pieces(tokens: &[lexer::Spanned], fast: bool) -> Vec<Piece<'_>> {
 }
 
 /// A stretch for the grammar, without the statement ends around it.
-fn push_stretch<'t>(out: &mut Vec<Piece<'t>>, mut stretch: &'t [lexer::Spanned]) {
+fn push_stretch<'t>(out: &mut Vec<Piece<'t>>, mut stretch: &'t [Spanned]) {
     while let [(_, Tok::Term, _), rest @ ..] = stretch {
         stretch = rest;
     }
@@ -307,8 +310,8 @@ struct ErrorContext<'a> {
     text: &'a str,
     names: &'a Names,
     call_groups: &'a [usize],
-    tokens: &'a [lexer::Spanned],
-    words: &'a [lexer::LexedWord],
+    tokens: &'a [Spanned],
+    words: &'a [LexedWord],
 }
 
 impl ErrorContext<'_> {
@@ -579,7 +582,7 @@ fn block_has_m99<'a>(mut rest: impl Iterator<Item = &'a Stmt>) -> bool {
 /// (`words[run]`, from `start` to `end` on line `number` of the file):
 /// what the grammar's `Words` rule builds.
 fn words_stmt(
-    words: &[lexer::LexedWord],
+    words: &[LexedWord],
     run: (u32, u32),
     (start, end): (usize, usize),
     number: u32,
@@ -600,12 +603,7 @@ fn words_stmt(
 }
 
 /// Append the words of a run token (`Tok::Words`) to a line.
-pub(crate) fn push_words(
-    line: &mut Vec<Word>,
-    words: &[lexer::LexedWord],
-    run: (u32, u32),
-    at: &Locator,
-) {
+pub(crate) fn push_words(line: &mut Vec<Word>, words: &[LexedWord], run: (u32, u32), at: &Locator) {
     let (first, len) = (run.0 as usize, run.1 as usize);
     let run = &words[first..first + len];
     // A run of words never crosses a line end: one line lookup for all.
@@ -616,7 +614,7 @@ pub(crate) fn push_words(
 }
 
 /// A lexed word on line `number` of the file.
-fn ast_word(w: &lexer::LexedWord, number: u32, at: &Locator) -> Word {
+fn ast_word(w: &LexedWord, number: u32, at: &Locator) -> Word {
     Word {
         letter: w.word.letter,
         value: WordValue::Number(Number {

@@ -9,8 +9,10 @@
 //! ([`chunkable`], [`chunks`]), and its lines of plain words are built
 //! straight from their bytes ([`parse_chunk`]).
 
-use super::lexer::{self, comment_end, Language, WordNumber};
+use super::gcode::comment_end;
+use super::language::Language;
 use super::parser::{fast_path, parse_program_from};
+use super::words::{plain_words, WordNumber};
 use crate::ast::{LineEnd, Lines, Names, PlainWord, Stmt, StmtKind, Subprogram, Word, WordValue};
 use crate::diagnostic::Diagnostic;
 use crate::source::Locator;
@@ -364,7 +366,7 @@ fn called(p: &crate::ast::Number, m98: bool) -> Option<u32> {
 /// gave) with spans in the whole text, interning into `names` (the
 /// program's): its statements and its diagnostics.
 /// A line of plain words (most of a CAM program) is built straight from
-/// its bytes ([`lexer::plain_words`]); the lines between go to the lexer
+/// its bytes ([`plain_words`]); the lines between go to the lexer
 /// and the parser together. A plain program means the same cut at any line
 /// end, so the two give what the parser alone gives.
 pub fn parse_chunk(
@@ -500,7 +502,7 @@ fn parse_lines(
             .next()
             .map_or(range.end, |&s| (s as usize - 1).min(range.end));
         let before = run.words.len();
-        if lexer::plain_words(text, (line, line_end), at, &mut run.words) {
+        if plain_words(text, (line, line_end), at, &mut run.words) {
             if check && run.words[before..].iter().any(may_call) {
                 spare.push(run);
                 return None;
@@ -560,7 +562,7 @@ mod tests {
         let at = Locator::new(0, text);
         let plain = text.lines().all(plain_line);
         for fast in [true, false] {
-            crate::syntax::egc::parser::with_fast_path(fast, || {
+            crate::syntax::parser::with_fast_path(fast, || {
                 let range = 0..text.len();
                 let mut names = Names::default();
                 let got = parse_plain_chunk(

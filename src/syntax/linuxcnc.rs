@@ -1,0 +1,654 @@
+//! LinuxCNC's language in plain G-code (SPEC §2.8), in the one lexer:
+//! `#1` and `#<name>` parameters, `[ ]` groups and symbolic words, word
+//! operators (`EQ`, `AND`, `MOD`, `**`), FIX/FUP/ATAN, and the o-words.
+//! It must not build syntax trees.
+
+use super::error::SyntaxErrorKind;
+use super::lexer::{expects_value, find_word, Lexer, PendingCall, PendingReturn, Raw, Shape};
+use super::token::Tok;
+use super::words::{parse_decimal, word};
+use crate::ast::{BinaryOp, Function};
+
+/// The name of a LinuxCNC subroutine as written between `o<` and `>`:
+/// without surrounding spaces, in lower case (its file is `name.ngc`).
+pub fn subroutine_name(written: &str) -> String {
+    written.trim().to_ascii_lowercase()
+}
+
+/// Why the text after a `#` is not a parameter ger reads.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum NotAParameter {
+    /// `#<` with no `>` on its line.
+    Unclosed,
+    /// No number or `<name>`: `#[…]`, `##1` (indirect), or nothing.
+    NoName,
+}
+
+/// A LinuxCNC parameter read from `rest`, the text after its `#`: the
+/// name of its symbol (`#<name>` without case or spaces, as LinuxCNC
+/// ignores them; `#12` without leading zeros) and the bytes of `rest` it
+/// takes.
+pub fn parameter_name(rest: &str) -> Result<(String, usize), NotAParameter> {
+    if let Some(inner) = rest.strip_prefix('<') {
+        let close = inner
+            .find(['>', '\n'])
+            .filter(|&i| inner[i..].starts_with('>'))
+            .ok_or(NotAParameter::Unclosed)?;
+        let name: String = inner[..close]
+            .chars()
+            .filter(|c| !c.is_whitespace())
+            .flat_map(char::to_lowercase)
+            .collect();
+        return Ok((format!("#<{name}>"), close + 2));
+    }
+    let digits = rest.len() - rest.trim_start_matches(|c: char| c.is_ascii_digit()).len();
+    if digits == 0 {
+        return Err(NotAParameter::NoName);
+    }
+    let number = rest[..digits].trim_start_matches('0');
+    let number = if number.is_empty() { "0" } else { number };
+    Ok((format!("#{number}"), digits))
+}
+
+/// The last numbered parameter, LinuxCNC's (#5601: rs274 has 5602 from
+/// #0, which is not one); a `#[…]` beyond it is an error.
+pub const LAST_PARAMETER: u32 = 5601;
+
+/// Arguments of an `o… call`: a subroutine reads them as `#1` to `#30`.
+pub const MAX_CALL_ARGUMENTS: u32 = 30;
+
+/// The program numbers given to LinuxCNC's named subroutines (`o<name>`).
+pub const NAMED_SUB_BASE: u32 = 90_000_000;
+
+/// LinuxCNC's value of the last subroutine's return, and whether it
+/// returned one: set by every `return` and `endsub` (0 without a value),
+/// read-only to the program.
+pub const RETURN_VALUE: &str = "#<_value>";
+pub const VALUE_RETURNED: &str = "#<_value_returned>";
+/// What [`RETURN_VALUE`] is set to where ger does not know its value: rs274
+/// also sets it while it reads a subroutine's definition, to the value of
+/// its `endsub [v]` worked out there (with the subroutine's own names read
+/// as 0), which ger does not reproduce. Reading it then is an error.
+pub const UNKNOWN_RETURN: &str = "#<_value:unknown>";
+
+/// The keywords of LinuxCNC's o-words.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum OWord {
+    Sub,
+    EndSub,
+    Call,
+    Return,
+    If,
+    ElseIf,
+    Else,
+    EndIf,
+    While,
+    EndWhile,
+    Do,
+    Repeat,
+    EndRepeat,
+    Break,
+    Continue,
+}
+
+impl OWord {
+    fn from_text(text: &str) -> Option<OWord> {
+        const KEYWORDS: [(&str, OWord); 15] = [
+            ("sub", OWord::Sub),
+            ("endsub", OWord::EndSub),
+            ("call", OWord::Call),
+            ("return", OWord::Return),
+            ("if", OWord::If),
+            ("elseif", OWord::ElseIf),
+            ("else", OWord::Else),
+            ("endif", OWord::EndIf),
+            ("while", OWord::While),
+            ("endwhile", OWord::EndWhile),
+            ("do", OWord::Do),
+            ("repeat", OWord::Repeat),
+            ("endrepeat", OWord::EndRepeat),
+            ("break", OWord::Break),
+            ("continue", OWord::Continue),
+        ];
+        find_word(&KEYWORDS, text)
+    }
+}
+
+impl Lexer<'_> {
+    /// LinuxCNC's parameters and expressions in plain G-code, read as the
+    /// `.egc` tokens they mean: `#<name>` and `#1` are names, `[ ]` groups
+    /// (`X[…]` and `X#1` are symbolic words, `sin[…]` a call), `EQ`…`LE`,
+    /// `AND`, `OR`, `MOD` and `**` operators; `O100 sub`/`endsub`/`call`
+    /// become `O100`/`M99`/`M98 P100`. Where it took the text, the offset
+    /// to go on from.
+    pub(super) fn linuxcnc(
+        &mut self,
+        raw: Result<Raw, ()>,
+        start: usize,
+        end: usize,
+    ) -> Option<usize> {
+        let rest = &self.text[start..];
+        match raw {
+            Err(()) if rest.starts_with('#') => {
+                if self.groups.is_empty() && self.syms.is_empty() {
+                    self.end_label(start);
+                }
+                Some(self.parameter(start))
+            }
+            Err(()) if rest.starts_with('[') => Some(self.open_bracket(start)),
+            Err(())
+                if rest.starts_with(']') && self.atan_groups.last() == Some(&self.groups.len()) =>
+            {
+                Some(self.atan_comma(start))
+            }
+            Err(()) if rest.starts_with(']') => Some(self.close_bracket(start)),
+            Ok(Raw::Star) if self.text[end..].starts_with('*') => {
+                self.push(start, Tok::PowLeft, end + 1);
+                Some(end + 1)
+            }
+            // A minus where a value starts, inside brackets: LinuxCNC's
+            // unary minus, which takes only the value right after it.
+            Ok(Raw::Minus)
+                if (!self.groups.is_empty() || !self.syms.is_empty())
+                    && self
+                        .out
+                        .last()
+                        .is_some_and(|&(_, tok, _)| expects_value(tok)) =>
+            {
+                self.push(start, Tok::NegTight, end);
+                Some(end)
+            }
+            Ok(Raw::Letter) => self.expression_word(start, end),
+            Ok(Raw::Ident) => self.linuxcnc_ident(start, end),
+            Ok(Raw::SymOpen) if rest.starts_with(['o', 'O']) && self.first_on_line(start) => {
+                self.named_o_word(start)
+            }
+            _ => None,
+        }
+    }
+
+    /// A `[` at `start`: a group, a function's arguments, or the next
+    /// argument of an `o… call`; where to go on.
+    pub(super) fn open_bracket(&mut self, start: usize) -> usize {
+        if self.groups.is_empty() && self.syms.is_empty() {
+            if let Some(pending) = &mut self.pending_call {
+                // The next argument of an `o… call`.
+                pending.args += 1;
+                let name = format!("#<call:{}>", pending.args);
+                if self.out.len() > self.stmt_start {
+                    self.pending_term = Some((start, start));
+                    self.shape = Shape::Empty;
+                }
+                let symbol = self.names.intern(&name);
+                self.push(start, Tok::Name(symbol), start);
+                self.push(start, Tok::Assign, start);
+            } else if let Some(pending) = self.pending_return.as_mut().filter(|r| !r.value) {
+                // The value of an `oN return [v]` or `oN endsub [v]`.
+                pending.value = true;
+                let symbol = self.names.intern(RETURN_VALUE);
+                self.push(start, Tok::Name(symbol), start);
+                self.push(start, Tok::Assign, start);
+            }
+        }
+        let call = matches!(self.out.last(), Some(&(_, Tok::Name(n), e))
+            if self.text[e..start].trim().is_empty()
+                && Function::from_name(self.names.text(n)).is_some());
+        if call {
+            if let Some((_, Tok::Name(n), e)) = self.out.last_mut() {
+                // LinuxCNC's `ATAN[y]/[x]` is atan2(y, x).
+                if self.names.text(*n).eq_ignore_ascii_case("atan") {
+                    *n = self.names.intern("atan2");
+                    self.atan_groups.push(self.groups.len() + 1);
+                }
+                *e = start;
+            }
+        }
+        self.groups.push((start, '['));
+        let tok = if call { Tok::CallOpen } else { Tok::LParen };
+        self.push(start, tok, start + 1);
+        start + 1
+    }
+
+    /// `ATAN[y]/[x]`: the `]/[` between its arguments, read as a comma;
+    /// where to go on.
+    pub(super) fn atan_comma(&mut self, start: usize) -> usize {
+        self.atan_groups.pop();
+        let after = self.text[start + 1..].trim_start();
+        let Some(second) = after
+            .strip_prefix('/')
+            .map(str::trim_start)
+            .filter(|a| a.starts_with('['))
+        else {
+            self.report(SyntaxErrorKind::AtanOneArgument, start, start + 1);
+            self.groups.pop();
+            self.push(start, Tok::RParen, start + 1);
+            return start + 1;
+        };
+        let open = self.text.len() - second.len();
+        self.push(start, Tok::Comma, open + 1);
+        open + 1
+    }
+
+    /// A `]` at `start`: the end of a symbolic word or of a group.
+    pub(super) fn close_bracket(&mut self, start: usize) -> usize {
+        match self.syms.last() {
+            Some(sym) if sym.depth == self.groups.len() => {
+                self.syms.pop();
+                self.push(start, Tok::SymClose, start + 1);
+            }
+            _ if self.groups.pop().is_some() => {
+                self.push(start, Tok::RParen, start + 1);
+                // `X#[…]`: the word ends with the group.
+                let depth = self.groups.len();
+                if self
+                    .syms
+                    .last()
+                    .is_some_and(|s| s.with_group && s.depth == depth)
+                {
+                    self.syms.pop();
+                    self.push(start + 1, Tok::SymClose, start + 1);
+                }
+            }
+            _ => self.report(SyntaxErrorKind::UnmatchedBracket, start, start + 1),
+        }
+        start + 1
+    }
+
+    /// `X[…]`, `X#1`, `Z-#2`: a word whose value is an expression. Where
+    /// it took the text, the offset to go on from.
+    pub(super) fn expression_word(&mut self, start: usize, end: usize) -> Option<usize> {
+        let after = self.text[end..].trim_start_matches([' ', '\t']);
+        let at = self.text.len() - after.len();
+        let letter = self.text.as_bytes()[start].to_ascii_uppercase();
+        if after.starts_with('[') {
+            self.open_sym(start, '[', false);
+            self.push(start, Tok::SymOpen(letter), at + 1);
+            Some(at + 1)
+        } else if after.starts_with('#') || after.starts_with("-#") {
+            // `Z-#2` is the parameter's negative, as rs274 reads it.
+            self.push(start, Tok::SymOpen(letter), end);
+            let minus = usize::from(after.starts_with('-'));
+            if minus == 1 {
+                self.push(at, Tok::NegTight, at + 1);
+            }
+            let name_end = self.parameter(at + minus);
+            let bracket = self.text[name_end..].starts_with('[');
+            if bracket && matches!(self.out.last(), Some((_, Tok::Hash, _))) {
+                // `X#[…]`: the word ends where the group does.
+                self.open_sym(start, '[', true);
+            } else {
+                self.push(name_end, Tok::SymClose, name_end);
+            }
+            Some(name_end)
+        } else {
+            None
+        }
+    }
+
+    /// A word of letters: an operator inside brackets, FIX or FUP, or an
+    /// o-word's keyword.
+    pub(super) fn linuxcnc_ident(&mut self, start: usize, end: usize) -> Option<usize> {
+        let text = &self.text[start..end];
+        if let Some(tok) = self.operator(text) {
+            self.push(start, tok, end);
+            return Some(end);
+        }
+        if let Some(taken) = self.operator_then_number(start, end) {
+            return Some(taken);
+        }
+        // LinuxCNC's FIX and FUP round down and up.
+        let rounding = [("fix", "floor"), ("fup", "ceil")]
+            .iter()
+            .find(|(k, _)| k.eq_ignore_ascii_case(text));
+        if let Some((_, name)) = rounding {
+            if self.text[end..].trim_start().starts_with('[') {
+                let symbol = self.names.intern(name);
+                self.push(start, Tok::Name(symbol), end);
+                return Some(end);
+            }
+        }
+        self.o_word(text, start, end)
+    }
+
+    /// An operator written against the number after it, inside brackets
+    /// (`[#1EQ1]`, `[#2GT0.5]`: rs274 and Fanuc read them so): the
+    /// operator, then the number; where they end.
+    pub(super) fn operator_then_number(&mut self, start: usize, end: usize) -> Option<usize> {
+        let text = &self.text[start..end];
+        let digits = text.find(|c: char| c.is_ascii_digit())?;
+        let tok = self.operator(&text[..digits])?;
+        if !text[digits..].bytes().all(|b| b.is_ascii_digit()) {
+            return None;
+        }
+        // The number may go on past what the lexer took: `1.5`.
+        let bytes = self.text.as_bytes();
+        let mut number_end = end;
+        if bytes.get(number_end) == Some(&b'.') {
+            number_end += 1;
+            while bytes.get(number_end).is_some_and(u8::is_ascii_digit) {
+                number_end += 1;
+            }
+        }
+        let number = parse_decimal(&self.text[start + digits..number_end]);
+        self.push(start, tok, start + digits);
+        self.push(start + digits, Tok::Number(number), number_end);
+        Some(number_end)
+    }
+
+    /// `o<name>`: a named subroutine, given a number of its own.
+    pub(super) fn named_o_word(&mut self, start: usize) -> Option<usize> {
+        let rest = &self.text[start..];
+        let close = rest
+            .find(['>', '\n'])
+            .filter(|&i| rest[i..].starts_with('>'))?;
+        // Numbered by its name's symbol: the same in every file read with
+        // the same names (a subroutine in a file of its own).
+        let name = subroutine_name(&rest[2..close]);
+        let symbol = self.names.intern(&format!("o<{name}>"));
+        let number = format!("O{}", NAMED_SUB_BASE + symbol.0);
+        self.push_word(word(&number), start, start + close + 1);
+        Some(start + close + 1)
+    }
+
+    /// `#<name>` or `#123` at `start`, pushed as a name; or the `#` of an
+    /// indirect parameter (`##1`, `#[…]`), pushed as [`Tok::Hash`] before
+    /// the parameter or the `[` it reads. Where it ends.
+    pub(super) fn parameter(&mut self, mut start: usize) -> usize {
+        loop {
+            match parameter_name(&self.text[start + 1..]) {
+                Ok((name, used)) => {
+                    let end = start + 1 + used;
+                    let symbol = self.names.intern(&name);
+                    self.push(start, Tok::Name(symbol), end);
+                    return end;
+                }
+                Err(NotAParameter::Unclosed) => {
+                    self.report(SyntaxErrorKind::UnclosedParameter, start, start + 2);
+                    return start + 2;
+                }
+                Err(NotAParameter::NoName) => {
+                    let after = self.text[start + 1..].trim_start_matches([' ', '\t']);
+                    let next = self.text.len() - after.len();
+                    // `# 1`: rs274 reads a line without its spaces.
+                    if let (true, Ok((name, used))) = (next > start + 1, parameter_name(after)) {
+                        let symbol = self.names.intern(&name);
+                        self.push(start, Tok::Name(symbol), next + used);
+                        return next + used;
+                    }
+                    if !after.starts_with(['#', '[']) {
+                        self.report(SyntaxErrorKind::NotAParameter, start, start + 1);
+                        return start + 1;
+                    }
+                    self.push(start, Tok::Hash, start + 1);
+                    self.name_every_parameter();
+                    if after.starts_with('[') {
+                        return next;
+                    }
+                    start = next;
+                }
+            }
+        }
+    }
+
+    /// Every numbered parameter a `#[…]` may reach gets its name (once):
+    /// the evaluator finds a computed parameter by its name.
+    pub(super) fn name_every_parameter(&mut self) {
+        if !self.every_parameter_named {
+            self.every_parameter_named = true;
+            for n in 0..=LAST_PARAMETER {
+                self.names.intern(&format!("#{n}"));
+            }
+        }
+    }
+
+    /// LinuxCNC's word operators, inside brackets.
+    pub(super) fn operator(&self, text: &str) -> Option<Tok> {
+        if self.groups.is_empty() && self.syms.is_empty() {
+            return None;
+        }
+        const OPERATORS: [(&str, Tok); 10] = [
+            ("EQ", Tok::Word(BinaryOp::NumEq)),
+            ("NE", Tok::Word(BinaryOp::NumNe)),
+            ("GT", Tok::Word(BinaryOp::NumGt)),
+            ("GE", Tok::Word(BinaryOp::NumGe)),
+            ("LT", Tok::Word(BinaryOp::NumLt)),
+            ("LE", Tok::Word(BinaryOp::NumLe)),
+            ("AND", Tok::Word(BinaryOp::NumAnd)),
+            ("OR", Tok::Word(BinaryOp::NumOr)),
+            ("XOR", Tok::Word(BinaryOp::NumXor)),
+            ("MOD", Tok::Mod),
+        ];
+        find_word(&OPERATORS, text)
+    }
+
+    /// The LinuxCNC o-word keyword after the O word of this line: `sub`,
+    /// `endsub` and `call` become `O100`, `M99` and `M98 P100`; `if`,
+    /// `elseif`, `else`, `endif`, `while`, `endwhile` become `.egc` blocks
+    /// (the O word is only their label).
+    pub(super) fn o_word(&mut self, text: &str, start: usize, end: usize) -> Option<usize> {
+        let keyword = OWord::from_text(text)?;
+        let line_start = self.text[..start].rfind('\n').map_or(0, |i| i + 1);
+        // The keyword must come right after its O word, the last token.
+        let count = self.words.len();
+        let right_after = matches!(self.out.last(), Some(&(_, Tok::Words(first, len), _))
+            if (first + len) as usize == count);
+        let last = self
+            .words
+            .last_mut()
+            .filter(|w| right_after && w.word.letter == b'O' && w.start as usize >= line_start)?;
+        let number = last.word.value;
+        // O numbers are whole and below 2^32 (named ones included).
+        let label = number as u32;
+        match keyword {
+            OWord::Sub => self.in_sub = true,
+            // `#<_value> = [v]`, `#<_value_returned> = 1` (or both 0),
+            // then `M99`: written at the line's end.
+            OWord::EndSub | OWord::Return => {
+                self.drop_label();
+                let top = keyword == OWord::Return && self.braces.is_empty();
+                if keyword == OWord::EndSub {
+                    self.in_sub = false;
+                } else if !self.in_sub {
+                    self.report(SyntaxErrorKind::ReturnOutsideSub, start, end);
+                    return Some(end);
+                }
+                self.pending_return = Some(PendingReturn {
+                    at: (start, end),
+                    value: false,
+                    top,
+                    end: keyword == OWord::EndSub,
+                });
+            }
+            OWord::Call => {
+                // `#<call:k> = [arg]` for each argument, `#<call> = count`,
+                // then `M98 P100`: written at the line's end.
+                self.drop_label();
+                self.pending_call = Some(PendingCall {
+                    number,
+                    args: 0,
+                    at: (start, end),
+                });
+            }
+            // `oN do … oN while [c]`: `do { … } while (c)`.
+            OWord::Do => {
+                self.drop_label();
+                self.push(start, Tok::Loop(label), end);
+                self.push(start, Tok::Do, end);
+                self.block_at_line_end = true;
+                self.do_labels.push(number);
+            }
+            OWord::Break | OWord::Continue => {
+                self.drop_label();
+                let tok = if keyword == OWord::Break {
+                    Tok::Break(label)
+                } else {
+                    Tok::Continue(label)
+                };
+                self.push(start, tok, end);
+            }
+            // `oN repeat [n] … oN endrepeat`: `#<repeat:N> = [n]; while
+            // (#<repeat:N> >= 1) { #<repeat:N> = #<repeat:N> - 1 … }`.
+            OWord::Repeat => {
+                self.drop_label();
+                let count = self.names.intern(&format!("#<repeat:{number}>"));
+                self.push(start, Tok::Name(count), end);
+                self.push(start, Tok::Assign, end);
+                self.pending_repeat = Some((count, start, end));
+            }
+            OWord::EndRepeat => {
+                self.drop_label();
+                if let Some(tok) = self.close_brace(start, end) {
+                    self.push(start, tok, end);
+                }
+            }
+            OWord::While if self.do_labels.last() == Some(&number) => {
+                self.drop_label();
+                self.do_labels.pop();
+                if let Some(tok) = self.close_brace(start, end) {
+                    self.push(start, tok, end);
+                }
+                self.push(start, Tok::While, end);
+            }
+            OWord::While => {
+                self.drop_label();
+                self.push(start, Tok::Loop(label), end);
+                self.push(start, Tok::While, end);
+                self.block_at_line_end = true;
+            }
+            OWord::If => {
+                self.drop_label();
+                self.push(start, Tok::If, end);
+                self.block_at_line_end = true;
+            }
+            OWord::ElseIf | OWord::Else => {
+                self.drop_label();
+                if let Some(tok) = self.close_brace(start, end) {
+                    self.push(start, tok, end);
+                }
+                self.push(start, Tok::Else, end);
+                if keyword == OWord::ElseIf {
+                    self.push(start, Tok::If, end);
+                    self.block_at_line_end = true;
+                } else if let Some(tok) = self.open_brace(start, end) {
+                    self.push(start, tok, end);
+                }
+            }
+            OWord::EndIf | OWord::EndWhile => {
+                self.drop_label();
+                if let Some(tok) = self.close_brace(start, end) {
+                    self.push(start, tok, end);
+                }
+            }
+        }
+        Some(end)
+    }
+
+    /// The end of an `o… call` line: the argument count, then the call.
+    pub(super) fn end_call(&mut self, call: PendingCall) {
+        let (start, end) = call.at;
+        if call.args > MAX_CALL_ARGUMENTS {
+            self.report(
+                SyntaxErrorKind::TooManyArguments(MAX_CALL_ARGUMENTS),
+                start,
+                end,
+            );
+        }
+        if self.out.len() > self.stmt_start {
+            self.pending_term = Some((start, start));
+            self.shape = Shape::Empty;
+        }
+        let marker = self.names.intern("#<call>");
+        self.push(start, Tok::Name(marker), end);
+        self.push(start, Tok::Assign, end);
+        self.push(start, Tok::Number(call.args as f64), end);
+        self.pending_term = Some((start, start));
+        self.shape = Shape::Empty;
+        self.push_word(word("M98"), start, end);
+        // With a point: `P90000000` would be Fanuc's count-and-number form.
+        let number = format!("P{}.", call.number);
+        self.push_word(word(&number), start, end);
+    }
+
+    /// The end of an `oN return` or `oN endsub` line: the value (0 if none
+    /// was given) and whether there was one, then `M99`; at the top of a
+    /// subroutine, in a block that always runs (`M99` there would end the
+    /// subroutine's text).
+    pub(super) fn end_return(&mut self, pending: PendingReturn) {
+        let (start, end) = pending.at;
+        // Each a statement of its own, after the value's if one was read.
+        let statement = |lexer: &mut Self, toks: &[Tok]| {
+            lexer.pending_term = Some((start, start));
+            lexer.shape = Shape::Empty;
+            for &tok in toks {
+                lexer.push(start, tok, end);
+            }
+        };
+        let value = self.names.intern(RETURN_VALUE);
+        let returned = self.names.intern(VALUE_RETURNED);
+        if !pending.value {
+            statement(self, &[Tok::Name(value), Tok::Assign, Tok::Number(0.0)]);
+        }
+        let given = f64::from(u8::from(pending.value));
+        statement(
+            self,
+            &[Tok::Name(returned), Tok::Assign, Tok::Number(given)],
+        );
+        if pending.top {
+            statement(self, &[Tok::If, Tok::LParen, Tok::Number(1.0), Tok::RParen]);
+            if let Some(tok) = self.open_brace(start, end) {
+                self.push(start, tok, end);
+            }
+        }
+        statement(self, &[]);
+        self.push_word(word("M99"), start, end);
+        if pending.top {
+            self.pending_term = Some((start, start));
+            if let Some(tok) = self.close_brace(start, end) {
+                self.push(start, tok, end);
+            }
+        }
+        // After the definition, in the program around it: rs274 sets both
+        // as it reads the `endsub` line (the value as [`UNKNOWN_RETURN`]
+        // says).
+        if pending.end {
+            let after = match pending.value {
+                true => Tok::Name(self.names.intern(UNKNOWN_RETURN)),
+                false => Tok::Number(0.0),
+            };
+            statement(self, &[Tok::Name(value), Tok::Assign, after]);
+            statement(
+                self,
+                &[Tok::Name(returned), Tok::Assign, Tok::Number(given)],
+            );
+        }
+    }
+
+    /// Drop the O word just read: it only labels a block.
+    pub(super) fn drop_label(&mut self) {
+        self.words.pop();
+        let index = self.words.len() as u32;
+        if let Some((_, Tok::Words(first, len), _)) = self.out.last_mut() {
+            if *first + *len == index + 1 {
+                *len -= 1;
+                if *len == 0 {
+                    self.out.pop();
+                }
+            }
+        }
+        if self.out.len() <= self.stmt_start {
+            self.shape = Shape::Empty;
+        }
+    }
+
+    /// An assignment to LinuxCNC's return value, which the program may
+    /// only read: the name just read is the statement's first token.
+    pub(super) fn read_only_target(&mut self) {
+        if let Some(&(at, Tok::Name(name), name_end)) = self.out.last() {
+            let text = self.names.text(name);
+            if text == RETURN_VALUE || text == VALUE_RETURNED {
+                let kind = SyntaxErrorKind::ReadOnlyParameter(text.to_string());
+                self.report(kind, at, name_end);
+            }
+        }
+    }
+}
