@@ -115,14 +115,47 @@ impl Names {
 pub struct Program {
     pub main: Vec<Stmt>,
     /// The `O` number written on the main program's first line, if any.
-    pub main_number: Option<u32>,
+    pub main_number: Option<OName>,
     pub subprograms: Vec<Subprogram>,
     pub names: Names,
 }
 
+/// What names a subprogram or labels an o-word: a number (Fanuc's `O100`,
+/// LinuxCNC's `o100`) or LinuxCNC's `o<name>` (its symbol's text is
+/// `o<name>`, lower case, without spaces).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum OName {
+    Number(u32),
+    Named(Symbol),
+}
+
+impl OName {
+    /// As messages name a subprogram: `O100`, `o<name>`.
+    pub fn describe(self, names: &Names) -> String {
+        match self {
+            OName::Number(n) => format!("O{n}"),
+            OName::Named(s) => names.text(s).to_string(),
+        }
+    }
+
+    /// As LinuxCNC writes it before its keyword: `o100`, `o<name>`.
+    pub fn written(self, names: &Names) -> String {
+        match self {
+            OName::Number(n) => format!("o{n}"),
+            OName::Named(s) => names.text(s).to_string(),
+        }
+    }
+}
+
+/// The number of a program or subprogram written `value` (`O100`,
+/// `o100 sub`): a whole number from 0 to 99,999,999.
+pub fn program_number(value: f64) -> Option<u32> {
+    ((0.0..=99_999_999.0).contains(&value) && value.fract() == 0.0).then_some(value as u32)
+}
+
 #[derive(Debug)]
 pub struct Subprogram {
-    pub number: u32,
+    pub name: OName,
     /// The `O` word that opens it.
     pub span: Span,
     pub body: Vec<Stmt>,
@@ -184,13 +217,20 @@ pub enum StmtKind {
     },
     If(Box<If>),
     While(Box<While>),
+    /// LinuxCNC's `oN sub` and `o<name> sub`: the subprogram starts here.
+    /// The parser moves it, to its `endsub`, into
+    /// [`Program::subprograms`]; only one not at the top level stays.
+    Sub(OName),
+    /// LinuxCNC's `oN call [a] [b] …`: run the subprogram with `#1`, `#2`,
+    /// … set to the arguments.
+    SubCall(Box<SubCall>),
     /// Fanuc's `GOTO n`: go on at the line labelled `Nn` of the same
     /// program or subprogram (the target may be an expression).
     Goto(Box<Expr>),
     /// LinuxCNC's `oN break` and `oN continue`: out of, or on to the next
     /// pass of, the `while` or `do` loop labelled N around it.
-    Break(u32),
-    Continue(u32),
+    Break(OName),
+    Continue(OName),
     /// A controller command line of plain G-code (grbl's `$H`), passed
     /// through as written.
     Command(Symbol),
@@ -218,6 +258,15 @@ pub enum Target {
     Indirect(Box<Expr>),
 }
 
+/// A LinuxCNC `o… call` ([`StmtKind::SubCall`]).
+#[derive(Debug, Clone)]
+pub struct SubCall {
+    pub name: OName,
+    pub args: Vec<Expr>,
+    /// The `call` keyword, where errors of the call point.
+    pub at: Span,
+}
+
 #[derive(Debug, Clone)]
 pub struct If {
     pub branches: Vec<(Expr, Vec<Stmt>)>,
@@ -229,7 +278,7 @@ pub struct While {
     pub cond: Expr,
     pub body: Vec<Stmt>,
     /// LinuxCNC's `oN` on the loop, which its `break` and `continue` name.
-    pub label: Option<u32>,
+    pub label: Option<OName>,
     /// LinuxCNC's `do … while`: the body runs once before the test.
     pub test_after: bool,
 }
@@ -537,6 +586,8 @@ impl Stmt {
             | StmtKind::Assign(_)
             | StmtKind::Assigns(_)
             | StmtKind::Call { .. }
+            | StmtKind::Sub(_)
+            | StmtKind::SubCall(_)
             | StmtKind::Goto(_)
             | StmtKind::Break(_)
             | StmtKind::Continue(_)
@@ -568,7 +619,9 @@ impl Stmt {
                 block(&mut w.body);
             }
             StmtKind::Goto(target) => target.map_functions(f),
-            StmtKind::Break(_)
+            StmtKind::SubCall(call) => call.args.iter_mut().for_each(|a| a.map_functions(f)),
+            StmtKind::Sub(_)
+            | StmtKind::Break(_)
             | StmtKind::Continue(_)
             | StmtKind::Command(_)
             | StmtKind::Comment(_)

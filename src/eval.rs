@@ -15,7 +15,7 @@ pub use cycle::{count_pecks, MAX_PECKS};
 mod setup;
 pub mod value;
 
-use crate::ast::{self, Names, StmtKind, Symbol};
+use crate::ast::{self, Names, OName, StmtKind, Symbol};
 use crate::diagnostic::Diagnostic;
 use crate::ir;
 use crate::source::Span;
@@ -287,8 +287,8 @@ enum Flow {
     /// Fanuc's `GOTO`: on at the line labelled N, from where it was.
     Goto(u32, Span),
     /// LinuxCNC's `oN break` and `oN continue`, from where they were.
-    Break(u32, Span),
-    Continue(u32, Span),
+    Break(OName, Span),
+    Continue(OName, Span),
     /// An error made it impossible to go on (a limit, a broken condition).
     Abort,
 }
@@ -383,7 +383,7 @@ struct Evaluator<'a> {
     /// LinuxCNC's subroutine scope (`o… call`).
     linuxcnc: LinuxCncNames,
     /// Subprograms being run, innermost last: (number, call span).
-    calls: Vec<(u32, Span)>,
+    calls: Vec<(OName, Span)>,
     setup: setup::SetupBuilder,
     /// Tool loaded by the last M6, and tool selected by the last T.
     tool: u32,
@@ -504,11 +504,11 @@ impl<'a> Evaluator<'a> {
         let (kind, from) = match flow {
             Flow::Goto(label, from) => (EvalErrorKind::NoLabel(label), from),
             Flow::Break(label, from) => {
-                let is_break = true;
+                let (label, is_break) = (label.written(&self.names), true);
                 (EvalErrorKind::NoLoop { label, is_break }, from)
             }
             Flow::Continue(label, from) => {
-                let is_break = false;
+                let (label, is_break) = (label.written(&self.names), false);
                 (EvalErrorKind::NoLoop { label, is_break }, from)
             }
             Flow::Next | Flow::Return | Flow::End | Flow::Abort => return flow,
@@ -1031,6 +1031,9 @@ impl<'a> Evaluator<'a> {
                 }
             }
             StmtKind::While(w) => self.exec_while(w, stmt.span),
+            StmtKind::SubCall(call) => self.sub_call(call),
+            // Left in a block by the parser: no subprogram starts there.
+            StmtKind::Sub(_) => self.misplaced_sub(stmt.span),
             StmtKind::Break(label) => Flow::Break(*label, stmt.span),
             StmtKind::Continue(label) => Flow::Continue(*label, stmt.span),
             StmtKind::Goto(target) => {
@@ -1255,28 +1258,34 @@ impl<'a> Evaluator<'a> {
             self.report(EvalError::new(kind, name_span));
             return None;
         }
+        Some(self.value_slot(value))
+    }
+
+    /// What a variable set to `value` holds: its value, or poisoned when
+    /// it cannot be worked out (reported).
+    fn value_slot(&mut self, value: &ast::Expr) -> Slot {
         // rs274's value of a subroutine's return where ger does not know it
         // (after a definition that returns one): read, it is an error.
         if let ast::ExprKind::Var(v) = &value.kind {
             if self.names.text(*v) == crate::syntax::linuxcnc::UNKNOWN_RETURN {
-                return Some(Slot::Unset);
+                return Slot::Unset;
             }
         }
         // A copy of a vacant variable is vacant (Fanuc).
         if value::vacant(value, &self.vars) {
-            return Some(Slot::Vacant);
+            return Slot::Vacant;
         }
         let result = match value::fast_number(value, &self.vars) {
             Some(n) => Ok(Value::Number(n)),
             None => value::eval(value, &self.vars),
         };
-        Some(match result {
+        match result {
             Ok(v) => Slot::Set(v),
             Err(e) => {
                 self.report_expr(e);
                 Slot::Poisoned
             }
-        })
+        }
     }
 
     fn store(&mut self, name: Symbol, slot: Slot) {
@@ -1563,14 +1572,9 @@ fn labelled(stmts: &[ast::Stmt], label: u32) -> Option<usize> {
 }
 
 /// The variables of a call's scope: LinuxCNC's `#1`–`#30` and named
-/// parameters that do not start with `_`, and the call's argument slots;
-/// Fanuc's locals `#1`–`#33`.
+/// parameters that do not start with `_`; Fanuc's locals `#1`–`#33`.
 #[derive(Debug)]
 struct LinuxCncNames {
-    /// `#<call>`: set by an `o… call` line to its number of arguments.
-    marker: Option<usize>,
-    /// `#<call:k>` for k = 1…30: the arguments, by k − 1.
-    args: [Option<usize>; 30],
     /// `#k` for k = 1…33, by k − 1: an `o… call` sets the first 30,
     /// Fanuc's `G65` all 33.
     numbered: [Option<usize>; 33],
@@ -1581,8 +1585,6 @@ struct LinuxCncNames {
 impl LinuxCncNames {
     fn of(names: &Names) -> LinuxCncNames {
         let mut found = LinuxCncNames {
-            marker: None,
-            args: [None; 30],
             numbered: [None; 33],
             named: Vec::new(),
         };
@@ -1594,17 +1596,7 @@ impl LinuxCncNames {
     fn add(&mut self, names: &Names, from: usize) {
         for (symbol, text) in names.iter().skip(from) {
             let i = symbol.0 as usize;
-            if text == "#<call>" {
-                self.marker = Some(i);
-            } else if let Some(k) = text
-                .strip_prefix("#<call:")
-                .and_then(|t| t.strip_suffix('>'))
-                .and_then(|k| k.parse::<usize>().ok())
-            {
-                if (1..=30).contains(&k) {
-                    self.args[k - 1] = Some(i);
-                }
-            } else if let Some(k) = parameter_number(text) {
+            if let Some(k) = parameter_number(text) {
                 if (1..=33).contains(&k) {
                     self.numbered[k as usize - 1] = Some(i);
                 }
@@ -1633,26 +1625,18 @@ impl Evaluator<'_> {
         saved
     }
 
-    /// Entering a subprogram from a LinuxCNC `o… call` (its marker set):
-    /// `#1`–`#30` take the call's arguments (0 where none is given) and the
-    /// local named parameters start unset, as on LinuxCNC. Returns the
-    /// caller's values, to be put back when the call returns; nothing for
-    /// an `M98` call.
-    fn linuxcnc_scope(&mut self) -> Vec<(usize, Slot)> {
+    /// Entering a subprogram from a LinuxCNC `o… call`: `#1`–`#30`
+    /// take the call's arguments (0 where none is given or it could not
+    /// be worked out) and the local named parameters start unset, as on
+    /// LinuxCNC. Returns the caller's values, to be put back when the call
+    /// returns.
+    fn linuxcnc_scope(&mut self, args: &[Slot]) -> Vec<(usize, Slot)> {
         let scope = &self.linuxcnc;
-        let Some(marker) = scope.marker else {
-            return Vec::new();
-        };
-        let count = match std::mem::replace(&mut self.vars[marker], Slot::Unset) {
-            Slot::Set(Value::Number(n)) => n as usize,
-            _ => return Vec::new(),
-        };
         let mut saved = Vec::new();
         for k in 0..30 {
-            let arg = scope.args[k].map(|a| std::mem::replace(&mut self.vars[a], Slot::Unset));
             if let Some(i) = scope.numbered[k] {
-                let value = match arg {
-                    Some(slot @ Slot::Set(_)) if k < count => slot,
+                let value = match args.get(k) {
+                    Some(slot @ Slot::Set(_)) => *slot,
                     _ => Slot::Set(Value::Number(0.0)),
                 };
                 saved.push((i, std::mem::replace(&mut self.vars[i], value)));

@@ -4,7 +4,7 @@
 //! (`M98`/`M99`) are run here too.
 
 use super::{Evaluator, Flow, WordValues};
-use crate::ast::{self, LineStmt, WordValue};
+use crate::ast::{self, LineStmt, OName, WordValue};
 use crate::diagnostic::Diagnostic;
 use crate::ir::{self, Arc, ArcGeometry, Axes, Axis, Motion, Op};
 use crate::source::Span;
@@ -808,8 +808,7 @@ impl Evaluator<'_> {
         }
         self.feed_speed_tool(w, span)?;
         self.leftover_move(w, span, Some((b'M', 980)))?;
-        // A LinuxCNC `o… call` has its own parameters (see `linuxcnc_scope`).
-        self.run_subprogram(number, count, pspan, at, |ev| ev.linuxcnc_scope())
+        self.run_subprogram(OName::Number(number), count, pspan, at, |_| Vec::new())
     }
 
     /// Fanuc's `G65 P… L… A… B…`: a macro call. Every other word is an
@@ -832,32 +831,47 @@ impl Evaluator<'_> {
             }
         }
         self.unused_words(w, Some((b'G', 650)))?;
-        self.run_subprogram(number, count, pspan, at, |ev| ev.fanuc_scope(&args))
+        self.run_subprogram(OName::Number(number), count, pspan, at, |ev| {
+            ev.fanuc_scope(&args)
+        })
     }
 
-    /// Run subprogram `number` `count` times, in the scope `enter` makes
+    /// LinuxCNC's `o… call [a] [b] …`: the subprogram runs once with `#1`,
+    /// `#2`, … set to the arguments, in a scope of its own
+    /// ([`Self::linuxcnc_scope`]). An argument that cannot be worked out
+    /// is reported and passed as 0.
+    pub(super) fn sub_call(&mut self, call: &ast::SubCall) -> Flow {
+        let args: Vec<super::Slot> = call.args.iter().map(|a| self.value_slot(a)).collect();
+        self.run_subprogram(call.name, 1, call.at, call.at, |ev| {
+            ev.linuxcnc_scope(&args)
+        })
+        .unwrap_or_else(|d| self.reported(d))
+    }
+
+    /// LinuxCNC's `oN sub` inside a block, where no subprogram starts: its
+    /// o-word is a word no code uses.
+    pub(super) fn misplaced_sub(&mut self, at: Span) -> Flow {
+        let kind = K::UnusedWord {
+            letter: 'O',
+            code: None,
+        };
+        self.reported(CodeError::new(kind, at).into())
+    }
+
+    /// Run subprogram `name` `count` times, in the scope `enter` makes
     /// (it returns the values to put back after).
     fn run_subprogram(
         &mut self,
-        number: u32,
+        name: OName,
         count: u32,
         pspan: Span,
         at: Span,
         enter: impl FnOnce(&mut Self) -> Vec<(usize, super::Slot)>,
     ) -> Result<Flow, Diagnostic> {
         let (program, names) = (self.program, Rc::clone(&self.names));
-        // A LinuxCNC `o<name>` is numbered by its name's symbol.
-        let name_of = |number: u32| {
-            number
-                .checked_sub(crate::syntax::linuxcnc::NAMED_SUB_BASE)
-                .filter(|&i| (i as usize) < names.len())
-                .map(|i| names.text(ast::Symbol(i)))
-                .filter(|text| text.starts_with("o<"))
-                .map_or_else(|| format!("O{number}"), str::to_string)
-        };
         // The program's, or one a part read before kept.
-        let kept = || self.kept.iter().find(|s| s.number == number).cloned();
-        let sub = match program.subprograms.iter().find(|s| s.number == number) {
+        let kept = || self.kept.iter().find(|s| s.name == name).cloned();
+        let sub = match program.subprograms.iter().find(|s| s.name == name) {
             Some(sub) => Sub::Program(sub),
             None => match kept() {
                 Some(sub) => Sub::Kept(sub),
@@ -867,14 +881,18 @@ impl Evaluator<'_> {
                     return Ok(Flow::Abort);
                 }
                 None => {
-                    let name = name_of(number);
-                    let file = name
-                        .strip_prefix("o<")
-                        .and_then(|n| n.strip_suffix('>'))
-                        .map(str::to_string);
-                    let numbers = program.subprograms.iter().map(|s| s.number);
-                    let kept = self.kept.iter().map(|s| s.number);
-                    let known = numbers.chain(kept).map(name_of).collect();
+                    let file = match name {
+                        OName::Named(s) => names
+                            .text(s)
+                            .strip_prefix("o<")
+                            .and_then(|n| n.strip_suffix('>'))
+                            .map(str::to_string),
+                        OName::Number(_) => None,
+                    };
+                    let numbers = program.subprograms.iter().map(|s| s.name);
+                    let kept = self.kept.iter().map(|s| s.name);
+                    let known = numbers.chain(kept).map(|n| n.describe(&names)).collect();
+                    let name = name.describe(&names);
                     let kind = K::NoSubprogram { name, file, known };
                     return Err(CodeError::new(kind, pspan).into());
                 }
@@ -889,8 +907,8 @@ impl Evaluator<'_> {
             let recursion = self
                 .calls
                 .iter()
-                .find(|(n, _)| *n == number)
-                .map(|&(_, first)| (number, first));
+                .find(|(n, _)| *n == name)
+                .map(|&(_, first)| (name.describe(&names), first));
             let kind = K::CallDepth {
                 limit: self.options.max_call_depth,
                 recursion,
@@ -900,7 +918,7 @@ impl Evaluator<'_> {
             self.report(CodeError::new(kind, at));
             return Ok(Flow::Abort);
         }
-        self.calls.push((number, at));
+        self.calls.push((name, at));
         let saved = enter(self);
         let mut flow = Flow::Next;
         for _ in 0..count {

@@ -9,7 +9,7 @@ use super::error::{SyntaxError, SyntaxErrorKind};
 use super::language::Language;
 use super::token::{Spanned, Tok};
 use super::words::{parse_decimal, word, LexedWord, WordTok};
-use crate::ast::{Names, Symbol};
+use crate::ast::{Names, OName, Symbol};
 use crate::source::{Locator, Span};
 use logos::Logos;
 
@@ -182,7 +182,7 @@ pub(super) struct Lexer<'a> {
     /// An `o… call` line being read.
     pub(super) pending_call: Option<PendingCall>,
     /// The labels of open `oN do` loops, innermost last.
-    pub(super) do_labels: Vec<f64>,
+    pub(super) do_labels: Vec<OName>,
     /// An `oN repeat` line: its counter, and where `repeat` is.
     pub(super) pending_repeat: Option<(Symbol, usize, usize)>,
     /// An `oN return` or `oN endsub` line being read.
@@ -239,10 +239,9 @@ pub(super) fn find_word<T: Copy>(table: &[(&str, T)], text: &str) -> Option<T> {
         .map(|&(_, t)| t)
 }
 
-/// An `o… call` line: its subroutine, the arguments so far, where `call` is.
+/// An `o… call` line: its arguments so far, and where `call` is.
 #[derive(Clone, Copy, Debug)]
 pub(super) struct PendingCall {
-    pub(super) number: f64,
     pub(super) args: u32,
     pub(super) at: (usize, usize),
 }

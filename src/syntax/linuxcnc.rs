@@ -7,7 +7,7 @@ use super::error::SyntaxErrorKind;
 use super::lexer::{expects_value, find_word, Lexer, PendingCall, PendingReturn, Raw, Shape};
 use super::token::Tok;
 use super::words::{parse_decimal, word};
-use crate::ast::{BinaryOp, Function};
+use crate::ast::{BinaryOp, Function, OName};
 
 /// The name of a LinuxCNC subroutine as written between `o<` and `>`:
 /// without surrounding spaces, in lower case (its file is `name.ngc`).
@@ -57,9 +57,6 @@ pub const LAST_PARAMETER: u32 = 5601;
 /// Arguments of an `o… call`: a subroutine reads them as `#1` to `#30`.
 pub const MAX_CALL_ARGUMENTS: u32 = 30;
 
-/// The program numbers given to LinuxCNC's named subroutines (`o<name>`).
-pub const NAMED_SUB_BASE: u32 = 90_000_000;
-
 /// LinuxCNC's value of the last subroutine's return, and whether it
 /// returned one: set by every `return` and `endsub` (0 without a value),
 /// read-only to the program.
@@ -89,6 +86,24 @@ enum OWord {
     EndRepeat,
     Break,
     Continue,
+}
+
+/// An o-word's label as read: the value of its `O` word (checked where
+/// it must name a program), or `o<name>`.
+#[derive(Clone, Copy, Debug)]
+enum Label {
+    Number(f64),
+    Named(OName),
+}
+
+impl Label {
+    /// As a loop's label (`o1.5 while` is loop 1, as the label was read).
+    fn as_loop(self) -> OName {
+        match self {
+            Label::Number(n) => OName::Number(n as u32),
+            Label::Named(name) => name,
+        }
+    }
 }
 
 impl OWord {
@@ -174,14 +189,6 @@ impl Lexer<'_> {
             if let Some(pending) = &mut self.pending_call {
                 // The next argument of an `o… call`.
                 pending.args += 1;
-                let name = format!("#<call:{}>", pending.args);
-                if self.out.len() > self.stmt_start {
-                    self.pending_term = Some((start, start));
-                    self.shape = Shape::Empty;
-                }
-                let symbol = self.names.intern(&name);
-                self.push(start, Tok::Name(symbol), start);
-                self.push(start, Tok::Assign, start);
             } else if let Some(pending) = self.pending_return.as_mut().filter(|r| !r.value) {
                 // The value of an `oN return [v]` or `oN endsub [v]`.
                 pending.value = true;
@@ -335,18 +342,16 @@ impl Lexer<'_> {
         Some(number_end)
     }
 
-    /// `o<name>`: a named subroutine, given a number of its own.
+    /// `o<name>`: a named subroutine or loop label, which the keyword
+    /// after it takes ([`Self::take_label`]).
     pub(super) fn named_o_word(&mut self, start: usize) -> Option<usize> {
         let rest = &self.text[start..];
         let close = rest
             .find(['>', '\n'])
             .filter(|&i| rest[i..].starts_with('>'))?;
-        // Numbered by its name's symbol: the same in every file read with
-        // the same names (a subroutine in a file of its own).
         let name = subroutine_name(&rest[2..close]);
         let symbol = self.names.intern(&format!("o<{name}>"));
-        let number = format!("O{}", NAMED_SUB_BASE + symbol.0);
-        self.push_word(word(&number), start, start + close + 1);
+        self.push(start, Tok::OName(OName::Named(symbol)), start + close + 1);
         Some(start + close + 1)
     }
 
@@ -421,30 +426,38 @@ impl Lexer<'_> {
         find_word(&OPERATORS, text)
     }
 
-    /// The LinuxCNC o-word keyword after the O word of this line: `sub`,
-    /// `endsub` and `call` become `O100`, `M99` and `M98 P100`; `if`,
-    /// `elseif`, `else`, `endif`, `while`, `endwhile` become `.egc` blocks
-    /// (the O word is only their label).
+    /// The LinuxCNC o-word keyword after the o-word of this line: `sub`
+    /// and `call` become [`Tok::Sub`] and [`Tok::SubCall`]; `if`,
+    /// `elseif`, `else`, `endif`, `while`, `endwhile`, `do`, `break` and
+    /// `continue` become `.egc` blocks and jumps (the o-word only labels
+    /// them); `return` and `endsub` set the return value and end the
+    /// subprogram with `M99`.
     pub(super) fn o_word(&mut self, text: &str, start: usize, end: usize) -> Option<usize> {
         let keyword = OWord::from_text(text)?;
-        let line_start = self.text[..start].rfind('\n').map_or(0, |i| i + 1);
-        // The keyword must come right after its O word, the last token.
-        let count = self.words.len();
-        let right_after = matches!(self.out.last(), Some(&(_, Tok::Words(first, len), _))
-            if (first + len) as usize == count);
-        let last = self
-            .words
-            .last_mut()
-            .filter(|w| right_after && w.word.letter == b'O' && w.start as usize >= line_start)?;
-        let number = last.word.value;
-        // O numbers are whole and below 2^32 (named ones included).
-        let label = number as u32;
+        let (label, (o_start, o_end)) = self.take_label(start)?;
+        // Sub and call name a program: a whole number in range.
+        let name = |lexer: &mut Self| match label {
+            Label::Named(name) => Some(name),
+            Label::Number(n) => {
+                let number = crate::ast::program_number(n);
+                if number.is_none() {
+                    let kind = SyntaxErrorKind::InvalidProgramNumber;
+                    lexer.report(kind, o_start, o_end);
+                }
+                number.map(OName::Number)
+            }
+        };
         match keyword {
-            OWord::Sub => self.in_sub = true,
+            OWord::Sub => {
+                self.in_sub = true;
+                if let Some(name) = name(self) {
+                    self.new_statement(o_start);
+                    self.push(o_start, Tok::Sub(name), o_end);
+                }
+            }
             // `#<_value> = [v]`, `#<_value_returned> = 1` (or both 0),
             // then `M99`: written at the line's end.
             OWord::EndSub | OWord::Return => {
-                self.drop_label();
                 let top = keyword == OWord::Return && self.braces.is_empty();
                 if keyword == OWord::EndSub {
                     self.in_sub = false;
@@ -460,49 +473,45 @@ impl Lexer<'_> {
                 });
             }
             OWord::Call => {
-                // `#<call:k> = [arg]` for each argument, `#<call> = count`,
-                // then `M98 P100`: written at the line's end.
-                self.drop_label();
+                if let Some(name) = name(self) {
+                    self.new_statement(start);
+                    self.push(start, Tok::SubCall(name), end);
+                }
                 self.pending_call = Some(PendingCall {
-                    number,
                     args: 0,
                     at: (start, end),
                 });
             }
+            _ => self.o_block(keyword, label.as_loop(), start, end),
+        }
+        Some(end)
+    }
+
+    /// The o-word keywords of blocks and jumps, with their loop's label.
+    fn o_block(&mut self, keyword: OWord, label: OName, start: usize, end: usize) {
+        match keyword {
             // `oN do … oN while [c]`: `do { … } while (c)`.
             OWord::Do => {
-                self.drop_label();
                 self.push(start, Tok::Loop(label), end);
                 self.push(start, Tok::Do, end);
                 self.block_at_line_end = true;
-                self.do_labels.push(number);
+                self.do_labels.push(label);
             }
-            OWord::Break | OWord::Continue => {
-                self.drop_label();
-                let tok = if keyword == OWord::Break {
-                    Tok::Break(label)
-                } else {
-                    Tok::Continue(label)
-                };
-                self.push(start, tok, end);
-            }
+            OWord::Break => self.push(start, Tok::Break(label), end),
+            OWord::Continue => self.push(start, Tok::Continue(label), end),
             // `oN repeat [n] … oN endrepeat`: `#<repeat:N> = [n]; while
             // (#<repeat:N> >= 1) { #<repeat:N> = #<repeat:N> - 1 … }`.
             OWord::Repeat => {
-                self.drop_label();
-                let count = self.names.intern(&format!("#<repeat:{number}>"));
+                let counter = match label {
+                    OName::Number(n) => format!("#<repeat:{n}>"),
+                    OName::Named(s) => format!("#<repeat:{}>", self.names.text(s)),
+                };
+                let count = self.names.intern(&counter);
                 self.push(start, Tok::Name(count), end);
                 self.push(start, Tok::Assign, end);
                 self.pending_repeat = Some((count, start, end));
             }
-            OWord::EndRepeat => {
-                self.drop_label();
-                if let Some(tok) = self.close_brace(start, end) {
-                    self.push(start, tok, end);
-                }
-            }
-            OWord::While if self.do_labels.last() == Some(&number) => {
-                self.drop_label();
+            OWord::While if self.do_labels.last() == Some(&label) => {
                 self.do_labels.pop();
                 if let Some(tok) = self.close_brace(start, end) {
                     self.push(start, tok, end);
@@ -510,18 +519,15 @@ impl Lexer<'_> {
                 self.push(start, Tok::While, end);
             }
             OWord::While => {
-                self.drop_label();
                 self.push(start, Tok::Loop(label), end);
                 self.push(start, Tok::While, end);
                 self.block_at_line_end = true;
             }
             OWord::If => {
-                self.drop_label();
                 self.push(start, Tok::If, end);
                 self.block_at_line_end = true;
             }
             OWord::ElseIf | OWord::Else => {
-                self.drop_label();
                 if let Some(tok) = self.close_brace(start, end) {
                     self.push(start, tok, end);
                 }
@@ -533,17 +539,54 @@ impl Lexer<'_> {
                     self.push(start, tok, end);
                 }
             }
-            OWord::EndIf | OWord::EndWhile => {
-                self.drop_label();
+            _ => {
+                // `endif`, `endwhile`, `endrepeat`.
                 if let Some(tok) = self.close_brace(start, end) {
                     self.push(start, tok, end);
                 }
             }
         }
-        Some(end)
     }
 
-    /// The end of an `o… call` line: the argument count, then the call.
+    /// The o-word before the keyword at `start`, taken out of the stream:
+    /// the `O` word right before it on its line, or the `o<name>` token;
+    /// with its span. `None` (nothing taken) if there is none.
+    fn take_label(&mut self, start: usize) -> Option<(Label, (usize, usize))> {
+        if let Some(&(o_start, Tok::OName(name), o_end)) = self.out.last() {
+            self.out.pop();
+            if self.out.len() <= self.stmt_start {
+                self.shape = Shape::Empty;
+            }
+            return Some((Label::Named(name), (o_start, o_end)));
+        }
+        let line_start = self.text[..start].rfind('\n').map_or(0, |i| i + 1);
+        // The keyword must come right after its O word, the last token.
+        let count = self.words.len();
+        let right_after = matches!(self.out.last(), Some(&(_, Tok::Words(first, len), _))
+            if (first + len) as usize == count);
+        let last = self
+            .words
+            .last()
+            .filter(|w| right_after && w.word.letter == b'O' && w.start as usize >= line_start)?;
+        let found = (
+            Label::Number(last.word.value),
+            (last.start as usize, last.end as usize),
+        );
+        self.drop_label();
+        Some(found)
+    }
+
+    /// A statement ends before the one that starts at `at`, unless none
+    /// has started.
+    fn new_statement(&mut self, at: usize) {
+        if self.out.len() > self.stmt_start {
+            self.pending_term = Some((at, at));
+            self.shape = Shape::Empty;
+        }
+    }
+
+    /// The end of an `o… call` line: no more arguments than a
+    /// subprogram reads.
     pub(super) fn end_call(&mut self, call: PendingCall) {
         let (start, end) = call.at;
         if call.args > MAX_CALL_ARGUMENTS {
@@ -553,20 +596,6 @@ impl Lexer<'_> {
                 end,
             );
         }
-        if self.out.len() > self.stmt_start {
-            self.pending_term = Some((start, start));
-            self.shape = Shape::Empty;
-        }
-        let marker = self.names.intern("#<call>");
-        self.push(start, Tok::Name(marker), end);
-        self.push(start, Tok::Assign, end);
-        self.push(start, Tok::Number(call.args as f64), end);
-        self.pending_term = Some((start, start));
-        self.shape = Shape::Empty;
-        self.push_word(word("M98"), start, end);
-        // With a point: `P90000000` would be Fanuc's count-and-number form.
-        let number = format!("P{}.", call.number);
-        self.push_word(word(&number), start, end);
     }
 
     /// The end of an `oN return` or `oN endsub` line: the value (0 if none

@@ -77,7 +77,7 @@ pub fn parse_program_files(
         let (part, more) = parse_program_from(text, 0, at, language, &mut names);
         diagnostics.extend(more);
         for sub in part.subprograms {
-            if !program.subprograms.iter().any(|s| s.number == sub.number) {
+            if !program.subprograms.iter().any(|s| s.name == sub.name) {
                 program.subprograms.push(sub);
             }
         }
@@ -168,7 +168,7 @@ pub fn parse_program_from(
         }
     }
     let mut structure = Vec::new();
-    let program = split_subprograms(top, &mut structure);
+    let program = split_subprograms(top, names, &mut structure);
     problems.extend(
         structure
             .into_iter()
@@ -456,18 +456,36 @@ fn expected_list(expected: &[String]) -> String {
     }
 }
 
-/// The `O` number of a line that holds only an `O` word.
-fn program_number(stmt: &Stmt) -> Option<(f64, Span)> {
+/// The subprogram a statement starts: a line that holds only an `O` word
+/// (its value, checked by [`program_number`] where it is used), or
+/// LinuxCNC's `oN sub`.
+fn program_start(stmt: &Stmt) -> Option<(Start, Span)> {
     match &stmt.kind {
         // (A sequence number may come first: `N1 O0003`.)
         StmtKind::Line(line) => match line.words.as_slice() {
             [w] | [Word { letter: b'N', .. }, w] if w.letter == b'O' => match w.value {
-                WordValue::Number(n) => Some((n.value, w.span)),
+                WordValue::Number(n) => Some((Start::Number(n.value), w.span)),
                 WordValue::Expr(_) => None,
             },
             _ => None,
         },
+        StmtKind::Sub(name) => Some((Start::Name(*name), stmt.span)),
         _ => None,
+    }
+}
+
+/// What starts a subprogram: an `O` word's value, or a checked name.
+enum Start {
+    Number(f64),
+    Name(OName),
+}
+
+impl Start {
+    fn name(self) -> Option<OName> {
+        match self {
+            Start::Number(n) => program_number(n).map(OName::Number),
+            Start::Name(name) => Some(name),
+        }
     }
 }
 
@@ -483,7 +501,7 @@ fn has_m99(stmt: &Stmt) -> bool {
 /// Split the top level into the main program and subprograms (SPEC §2.6):
 /// an `O` line opens a subprogram that ends with its `M99`; an `O` line at
 /// the very top whose block has no `M99` numbers the main program instead.
-fn split_subprograms(top: Vec<Stmt>, errors: &mut Vec<SyntaxError>) -> Program {
+fn split_subprograms(top: Vec<Stmt>, names: &Names, errors: &mut Vec<SyntaxError>) -> Program {
     let mut program = Program {
         main: Vec::with_capacity(top.len()),
         main_number: None,
@@ -495,23 +513,22 @@ fn split_subprograms(top: Vec<Stmt>, errors: &mut Vec<SyntaxError>) -> Program {
         .iter()
         .position(|s| !matches!(s.kind, StmtKind::Comment(_)))
         .unwrap_or(0);
-    let numbers_main = top.get(first).and_then(program_number).is_some()
-        && !block_has_m99(top[first + 1..].iter());
+    let numbers_main =
+        top.get(first).and_then(program_start).is_some() && !block_has_m99(top[first + 1..].iter());
     let mut open: Option<Subprogram> = None;
     for (index, stmt) in top.into_iter().enumerate() {
-        if let Some((value, span)) = program_number(&stmt) {
-            if value < 0.0 || value.fract() != 0.0 || value > 99_999_999.0 {
+        if let Some((start, span)) = program_start(&stmt) {
+            let Some(name) = start.name() else {
                 errors.push(SyntaxError::new(
                     SyntaxErrorKind::InvalidProgramNumber,
                     span,
                 ));
                 continue;
-            }
-            let number = value as u32;
+            };
             if let Some(sub) = open.take() {
                 errors.push(SyntaxError::new(
                     SyntaxErrorKind::SubprogramWithoutM99 {
-                        number: sub.number,
+                        name: sub.name.describe(names),
                         next: Some(span),
                     },
                     sub.span,
@@ -519,20 +536,20 @@ fn split_subprograms(top: Vec<Stmt>, errors: &mut Vec<SyntaxError>) -> Program {
                 program.subprograms.push(sub);
             }
             if index == first && numbers_main {
-                program.main_number = Some(number);
+                program.main_number = Some(name);
                 continue;
             }
-            if let Some(other) = program.subprograms.iter().find(|s| s.number == number) {
+            if let Some(other) = program.subprograms.iter().find(|s| s.name == name) {
                 errors.push(SyntaxError::new(
                     SyntaxErrorKind::SubprogramTwice {
-                        number,
+                        name: name.describe(names),
                         first: other.span,
                     },
                     span,
                 ));
             }
             open = Some(Subprogram {
-                number,
+                name,
                 span,
                 body: Vec::new(),
             });
@@ -552,7 +569,7 @@ fn split_subprograms(top: Vec<Stmt>, errors: &mut Vec<SyntaxError>) -> Program {
     if let Some(sub) = open {
         errors.push(SyntaxError::new(
             SyntaxErrorKind::SubprogramWithoutM99 {
-                number: sub.number,
+                name: sub.name.describe(names),
                 next: None,
             },
             sub.span,
@@ -565,7 +582,7 @@ fn split_subprograms(top: Vec<Stmt>, errors: &mut Vec<SyntaxError>) -> Program {
 /// Does the block that starts here (up to the next `O` line) contain `M99`?
 fn block_has_m99<'a>(mut rest: impl Iterator<Item = &'a Stmt>) -> bool {
     rest.try_fold(false, |_, s| {
-        if program_number(s).is_some() {
+        if program_start(s).is_some() {
             Err(false)
         } else if has_m99(s) {
             Err(true)

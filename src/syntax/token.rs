@@ -1,7 +1,7 @@
 //! The tokens the grammar reads, shared by every language's rules: what
 //! the lexer hands the parser. It must not know how they are found.
 
-use crate::ast::{BinaryOp, Names, Symbol};
+use crate::ast::{BinaryOp, Names, OName, Symbol};
 
 /// The tokens the parser sees. `Copy` and allocation-free: names and strings
 /// are interned, and a run of plain words is one token.
@@ -30,14 +30,21 @@ pub enum Tok {
     /// LinuxCNC's and Fanuc's `#` before `#1` or `[…]`: the parameter
     /// whose number is that value.
     Hash,
+    /// LinuxCNC's `o<name>`, read before its keyword takes it: left in
+    /// the stream only when no keyword follows (a syntax error).
+    OName(OName),
     /// LinuxCNC's `oN` before `while` or `do`: the loop's label, which a
     /// `break` or `continue` names.
-    Loop(u32),
+    Loop(OName),
     /// LinuxCNC's `oN do`: a loop tested at its end.
     Do,
     /// LinuxCNC's `oN break` and `oN continue`, with the loop's label.
-    Break(u32),
-    Continue(u32),
+    Break(OName),
+    Continue(OName),
+    /// LinuxCNC's `oN sub`: a subprogram starts.
+    Sub(OName),
+    /// LinuxCNC's `oN call`; its arguments follow, each in `[ ]`.
+    SubCall(OName),
     True,
     False,
     /// `(` that opens a group.
@@ -98,7 +105,9 @@ impl Tok {
             Tok::If => "if",
             Tok::Goto => "GOTO",
             Tok::Hash => "#",
-            Tok::Loop(_) => "o-word",
+            Tok::Loop(_) | Tok::OName(_) => "o-word",
+            Tok::Sub(_) => "sub",
+            Tok::SubCall(_) => "call",
             Tok::Do => "do",
             Tok::Break(_) => "break",
             Tok::Continue(_) => "continue",
