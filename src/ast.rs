@@ -224,6 +224,18 @@ pub enum StmtKind {
     /// LinuxCNC's `oN call [a] [b] …`: run the subprogram with `#1`, `#2`,
     /// … set to the arguments.
     SubCall(Box<SubCall>),
+    /// LinuxCNC's `oN return [v]` and `oN endsub [v]`: back to the caller
+    /// with the value (0 if none is given).
+    Return(Box<Return>),
+    /// Where an `endsub` closed a subprogram, in the program around it:
+    /// rs274 sets `#<_value>` and `#<_value_returned>` as it reads the
+    /// definition (the value to one ger does not know, when the `endsub`
+    /// returns one: reading it then is an error).
+    DefinitionRead {
+        returns_value: bool,
+    },
+    /// LinuxCNC's `oN repeat [n] … oN endrepeat`: the body, n times.
+    Repeat(Box<Repeat>),
     /// Fanuc's `GOTO n`: go on at the line labelled `Nn` of the same
     /// program or subprogram (the target may be an expression).
     Goto(Box<Expr>),
@@ -264,6 +276,24 @@ pub struct SubCall {
     pub name: OName,
     pub args: Vec<Expr>,
     /// The `call` keyword, where errors of the call point.
+    pub at: Span,
+}
+
+/// A LinuxCNC `return` or `endsub` ([`StmtKind::Return`]).
+#[derive(Debug, Clone)]
+pub struct Return {
+    pub value: Option<Expr>,
+    /// `endsub`, which also ends the subprogram's text.
+    pub ends_sub: bool,
+}
+
+/// A LinuxCNC `repeat` loop ([`StmtKind::Repeat`]).
+#[derive(Debug, Clone)]
+pub struct Repeat {
+    pub label: OName,
+    pub count: Expr,
+    pub body: Vec<Stmt>,
+    /// The `repeat` keyword, where errors about the whole loop point.
     pub at: Span,
 }
 
@@ -581,6 +611,7 @@ impl Stmt {
                 }
             }
             StmtKind::While(w) => block(&mut w.body),
+            StmtKind::Repeat(r) => block(&mut r.body),
             StmtKind::Line(_)
             | StmtKind::Lines(_)
             | StmtKind::Assign(_)
@@ -588,6 +619,8 @@ impl Stmt {
             | StmtKind::Call { .. }
             | StmtKind::Sub(_)
             | StmtKind::SubCall(_)
+            | StmtKind::Return(_)
+            | StmtKind::DefinitionRead { .. }
             | StmtKind::Goto(_)
             | StmtKind::Break(_)
             | StmtKind::Continue(_)
@@ -620,7 +653,13 @@ impl Stmt {
             }
             StmtKind::Goto(target) => target.map_functions(f),
             StmtKind::SubCall(call) => call.args.iter_mut().for_each(|a| a.map_functions(f)),
+            StmtKind::Return(r) => r.value.iter_mut().for_each(|v| v.map_functions(f)),
+            StmtKind::Repeat(r) => {
+                r.count.map_functions(f);
+                block(&mut r.body);
+            }
             StmtKind::Sub(_)
+            | StmtKind::DefinitionRead { .. }
             | StmtKind::Break(_)
             | StmtKind::Continue(_)
             | StmtKind::Command(_)

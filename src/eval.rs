@@ -1032,6 +1032,23 @@ impl<'a> Evaluator<'a> {
             }
             StmtKind::While(w) => self.exec_while(w, stmt.span),
             StmtKind::SubCall(call) => self.sub_call(call),
+            StmtKind::Return(r) => {
+                let value = match &r.value {
+                    Some(v) => self.value_slot(v),
+                    None => Slot::Set(Value::Number(0.0)),
+                };
+                self.set_return_value(value, r.value.is_some());
+                Flow::Return
+            }
+            StmtKind::DefinitionRead { returns_value } => {
+                let value = match returns_value {
+                    true => Slot::Unset,
+                    false => Slot::Set(Value::Number(0.0)),
+                };
+                self.set_return_value(value, *returns_value);
+                Flow::Next
+            }
+            StmtKind::Repeat(r) => self.exec_repeat(r),
             // Left in a block by the parser: no subprogram starts there.
             StmtKind::Sub(_) => self.misplaced_sub(stmt.span),
             StmtKind::Break(label) => Flow::Break(*label, stmt.span),
@@ -1210,6 +1227,57 @@ impl<'a> Evaluator<'a> {
         }
     }
 
+    /// LinuxCNC's `repeat`: the body as many times as the count is 1 or
+    /// more after each pass takes 1 from it. The count is worked out once.
+    fn exec_repeat(&mut self, r: &ast::Repeat) -> Flow {
+        let mut left = match value::number(&r.count, &self.vars, &|| "the `repeat` count".into()) {
+            Ok(n) => n,
+            Err(e) => {
+                self.report_expr(e);
+                return Flow::Abort;
+            }
+        };
+        // Errors about the whole loop point at its head.
+        let head = Span {
+            end: r.at.end + 1,
+            ..r.at
+        };
+        let mut count: u64 = 0;
+        while left >= 1.0 {
+            count += 1;
+            if count > self.options.max_iterations {
+                let kind = EvalErrorKind::LoopLimit(self.options.max_iterations);
+                self.report(EvalError::new(kind, head));
+                return Flow::Abort;
+            }
+            // Each pass changes the count: a loop around it goes on.
+            left -= 1.0;
+            self.changes += 1;
+            self.repeating += 1;
+            let flow = self.exec_block(&r.body);
+            self.repeating -= 1;
+            if flow != Flow::Next {
+                // A `break` or `continue` cannot name a `repeat` loop.
+                return flow;
+            }
+        }
+        Flow::Next
+    }
+
+    /// LinuxCNC's `#<_value>` and `#<_value_returned>`, as a `return` or
+    /// an `endsub` sets them.
+    fn set_return_value(&mut self, value: Slot, returned: bool) {
+        use crate::syntax::linuxcnc::{RETURN_VALUE, VALUE_RETURNED};
+        let names = Rc::clone(&self.names);
+        if let Some(name) = names.find(RETURN_VALUE) {
+            self.store(name, value);
+        }
+        if let Some(name) = names.find(VALUE_RETURNED) {
+            let returned = f64::from(u8::from(returned));
+            self.store(name, Slot::Set(Value::Number(returned)));
+        }
+    }
+
     /// The variable an assignment sets: its name, or the parameter an
     /// indirect target's value names (`None`: an error, reported).
     fn target(&mut self, target: &ast::Target, span: Span) -> Option<Symbol> {
@@ -1264,13 +1332,6 @@ impl<'a> Evaluator<'a> {
     /// What a variable set to `value` holds: its value, or poisoned when
     /// it cannot be worked out (reported).
     fn value_slot(&mut self, value: &ast::Expr) -> Slot {
-        // rs274's value of a subroutine's return where ger does not know it
-        // (after a definition that returns one): read, it is an error.
-        if let ast::ExprKind::Var(v) = &value.kind {
-            if self.names.text(*v) == crate::syntax::linuxcnc::UNKNOWN_RETURN {
-                return Slot::Unset;
-            }
-        }
         // A copy of a vacant variable is vacant (Fanuc).
         if value::vacant(value, &self.vars) {
             return Slot::Vacant;

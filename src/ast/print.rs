@@ -121,6 +121,25 @@ impl AstPrinter<'_> {
             StmtKind::Continue(label) => {
                 self.line(&format!("{} continue", label.written(self.names)))
             }
+            StmtKind::Return(r) => {
+                let keyword = if r.ends_sub { "endsub" } else { "return" };
+                let text = match &r.value {
+                    Some(v) => format!("{keyword} [{}]", self.expr(v)),
+                    None => keyword.to_string(),
+                };
+                self.line(&text)
+            }
+            StmtKind::DefinitionRead { .. } => {}
+            StmtKind::Repeat(r) => {
+                let head = format!(
+                    "{} repeat [{}] {{",
+                    r.label.written(self.names),
+                    self.expr(&r.count)
+                );
+                self.line(&head);
+                self.nested(&r.body);
+                self.line("}");
+            }
             StmtKind::Sub(name) => self.line(&format!("{} sub", name.written(self.names))),
             StmtKind::SubCall(call) => {
                 let mut text = format!("{} call", call.name.written(self.names));

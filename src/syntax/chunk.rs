@@ -331,6 +331,8 @@ fn needs_whole(stmt: &Stmt, known: &dyn Fn(OName) -> bool, in_sub: bool) -> bool
             .any(needs),
         StmtKind::While(w) => w.body.iter().any(needs),
         StmtKind::SubCall(call) => !known(call.name),
+        StmtKind::Return(_) => !in_sub,
+        StmtKind::Repeat(r) => r.body.iter().any(needs),
         // One the parser left in a block, where no subprogram starts.
         StmtKind::Sub(_) => true,
         StmtKind::Assign(_)
@@ -340,6 +342,7 @@ fn needs_whole(stmt: &Stmt, known: &dyn Fn(OName) -> bool, in_sub: bool) -> bool
         | StmtKind::Continue(_)
         | StmtKind::Command(_)
         | StmtKind::Comment(_)
+        | StmtKind::DefinitionRead { .. }
         | StmtKind::Error => false,
     }
 }

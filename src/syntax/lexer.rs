@@ -183,10 +183,6 @@ pub(super) struct Lexer<'a> {
     pub(super) pending_call: Option<PendingCall>,
     /// The labels of open `oN do` loops, innermost last.
     pub(super) do_labels: Vec<OName>,
-    /// An `oN repeat` line: its counter, and where `repeat` is.
-    pub(super) pending_repeat: Option<(Symbol, usize, usize)>,
-    /// An `oN return` or `oN endsub` line being read.
-    pub(super) pending_return: Option<PendingReturn>,
     /// Inside a LinuxCNC `oN sub` … `oN endsub` (a part holds its
     /// subroutines whole: [`super::chunk::cut_part`]).
     pub(super) in_sub: bool,
@@ -246,18 +242,6 @@ pub(super) struct PendingCall {
     pub(super) at: (usize, usize),
 }
 
-/// An `oN return` or `oN endsub` line: where its keyword is, whether a
-/// value (`[…]`) was read, and whether the return is at the top of its
-/// subroutine (an `M99` there would end the subroutine's text).
-#[derive(Clone, Copy, Debug)]
-pub(super) struct PendingReturn {
-    pub(super) at: (usize, usize),
-    pub(super) value: bool,
-    pub(super) top: bool,
-    /// `endsub`, which also ends the definition.
-    pub(super) end: bool,
-}
-
 impl<'a> Lexer<'a> {
     pub(super) fn new(
         text: &'a str,
@@ -292,8 +276,6 @@ impl<'a> Lexer<'a> {
             atan_groups: Vec::new(),
             pending_call: None,
             do_labels: Vec::new(),
-            pending_repeat: None,
-            pending_return: None,
             in_sub: false,
             close_at_line_end: false,
             fanuc_loops: Vec::new(),
@@ -527,36 +509,6 @@ impl<'a> Lexer<'a> {
         self.assignments_after_words(start);
         if let Some(call) = self.pending_call.take() {
             self.end_call(call);
-        }
-        if let Some(pending) = self.pending_return.take() {
-            self.end_return(pending);
-        }
-        if let Some((count, at, at_end)) = self.pending_repeat.take() {
-            self.pending_term = Some((at, at));
-            self.shape = Shape::Empty;
-            for tok in [
-                Tok::While,
-                Tok::LParen,
-                Tok::Name(count),
-                Tok::Ge,
-                Tok::Number(1.0),
-                Tok::RParen,
-            ] {
-                self.push(at, tok, at_end);
-            }
-            if let Some(tok) = self.open_brace(at, at_end) {
-                self.push(at, tok, at_end);
-            }
-            self.pending_term = Some((at, at));
-            for tok in [
-                Tok::Name(count),
-                Tok::Assign,
-                Tok::Name(count),
-                Tok::Minus,
-                Tok::Number(1.0),
-            ] {
-                self.push(at, tok, at_end);
-            }
         }
         if std::mem::take(&mut self.block_at_line_end) {
             if let Some(tok) = self.open_brace(start, end) {

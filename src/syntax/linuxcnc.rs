@@ -4,9 +4,9 @@
 //! It must not build syntax trees.
 
 use super::error::SyntaxErrorKind;
-use super::lexer::{expects_value, find_word, Lexer, PendingCall, PendingReturn, Raw, Shape};
+use super::lexer::{expects_value, find_word, Lexer, PendingCall, Raw, Shape};
 use super::token::Tok;
-use super::words::{parse_decimal, word};
+use super::words::parse_decimal;
 use crate::ast::{BinaryOp, Function, OName};
 
 /// The name of a LinuxCNC subroutine as written between `o<` and `>`:
@@ -62,11 +62,6 @@ pub const MAX_CALL_ARGUMENTS: u32 = 30;
 /// read-only to the program.
 pub const RETURN_VALUE: &str = "#<_value>";
 pub const VALUE_RETURNED: &str = "#<_value_returned>";
-/// What [`RETURN_VALUE`] is set to where ger does not know its value: rs274
-/// also sets it while it reads a subroutine's definition, to the value of
-/// its `endsub [v]` worked out there (with the subroutine's own names read
-/// as 0), which ger does not reproduce. Reading it then is an error.
-pub const UNKNOWN_RETURN: &str = "#<_value:unknown>";
 
 /// The keywords of LinuxCNC's o-words.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -189,12 +184,6 @@ impl Lexer<'_> {
             if let Some(pending) = &mut self.pending_call {
                 // The next argument of an `o… call`.
                 pending.args += 1;
-            } else if let Some(pending) = self.pending_return.as_mut().filter(|r| !r.value) {
-                // The value of an `oN return [v]` or `oN endsub [v]`.
-                pending.value = true;
-                let symbol = self.names.intern(RETURN_VALUE);
-                self.push(start, Tok::Name(symbol), start);
-                self.push(start, Tok::Assign, start);
             }
         }
         let call = matches!(self.out.last(), Some(&(_, Tok::Name(n), e))
@@ -426,12 +415,11 @@ impl Lexer<'_> {
         find_word(&OPERATORS, text)
     }
 
-    /// The LinuxCNC o-word keyword after the o-word of this line: `sub`
-    /// and `call` become [`Tok::Sub`] and [`Tok::SubCall`]; `if`,
-    /// `elseif`, `else`, `endif`, `while`, `endwhile`, `do`, `break` and
-    /// `continue` become `.egc` blocks and jumps (the o-word only labels
-    /// them); `return` and `endsub` set the return value and end the
-    /// subprogram with `M99`.
+    /// The LinuxCNC o-word keyword after the o-word of this line: `sub`,
+    /// `call`, `return`, `endsub` and `repeat` become their own tokens;
+    /// `if`, `elseif`, `else`, `endif`, `while`, `endwhile`, `do`, `break`
+    /// and `continue` become `.egc` blocks and jumps (the o-word only
+    /// labels them).
     pub(super) fn o_word(&mut self, text: &str, start: usize, end: usize) -> Option<usize> {
         let keyword = OWord::from_text(text)?;
         let (label, (o_start, o_end)) = self.take_label(start)?;
@@ -455,22 +443,20 @@ impl Lexer<'_> {
                     self.push(o_start, Tok::Sub(name), o_end);
                 }
             }
-            // `#<_value> = [v]`, `#<_value_returned> = 1` (or both 0),
-            // then `M99`: written at the line's end.
             OWord::EndSub | OWord::Return => {
-                let top = keyword == OWord::Return && self.braces.is_empty();
-                if keyword == OWord::EndSub {
+                let ends_sub = keyword == OWord::EndSub;
+                if ends_sub {
                     self.in_sub = false;
                 } else if !self.in_sub {
                     self.report(SyntaxErrorKind::ReturnOutsideSub, start, end);
                     return Some(end);
                 }
-                self.pending_return = Some(PendingReturn {
-                    at: (start, end),
-                    value: false,
-                    top,
-                    end: keyword == OWord::EndSub,
-                });
+                // The evaluator sets them by name: named whether or not the
+                // program reads them.
+                self.names.intern(RETURN_VALUE);
+                self.names.intern(VALUE_RETURNED);
+                self.new_statement(start);
+                self.push(start, Tok::Return(ends_sub), end);
             }
             OWord::Call => {
                 if let Some(name) = name(self) {
@@ -499,17 +485,11 @@ impl Lexer<'_> {
             }
             OWord::Break => self.push(start, Tok::Break(label), end),
             OWord::Continue => self.push(start, Tok::Continue(label), end),
-            // `oN repeat [n] … oN endrepeat`: `#<repeat:N> = [n]; while
-            // (#<repeat:N> >= 1) { #<repeat:N> = #<repeat:N> - 1 … }`.
+            // `oN repeat [n] … oN endrepeat`: its block opens at the
+            // line's end and closes at `endrepeat`.
             OWord::Repeat => {
-                let counter = match label {
-                    OName::Number(n) => format!("#<repeat:{n}>"),
-                    OName::Named(s) => format!("#<repeat:{}>", self.names.text(s)),
-                };
-                let count = self.names.intern(&counter);
-                self.push(start, Tok::Name(count), end);
-                self.push(start, Tok::Assign, end);
-                self.pending_repeat = Some((count, start, end));
+                self.push(start, Tok::Repeat(label), end);
+                self.block_at_line_end = true;
             }
             OWord::While if self.do_labels.last() == Some(&label) => {
                 self.do_labels.pop();
@@ -594,60 +574,6 @@ impl Lexer<'_> {
                 SyntaxErrorKind::TooManyArguments(MAX_CALL_ARGUMENTS),
                 start,
                 end,
-            );
-        }
-    }
-
-    /// The end of an `oN return` or `oN endsub` line: the value (0 if none
-    /// was given) and whether there was one, then `M99`; at the top of a
-    /// subroutine, in a block that always runs (`M99` there would end the
-    /// subroutine's text).
-    pub(super) fn end_return(&mut self, pending: PendingReturn) {
-        let (start, end) = pending.at;
-        // Each a statement of its own, after the value's if one was read.
-        let statement = |lexer: &mut Self, toks: &[Tok]| {
-            lexer.pending_term = Some((start, start));
-            lexer.shape = Shape::Empty;
-            for &tok in toks {
-                lexer.push(start, tok, end);
-            }
-        };
-        let value = self.names.intern(RETURN_VALUE);
-        let returned = self.names.intern(VALUE_RETURNED);
-        if !pending.value {
-            statement(self, &[Tok::Name(value), Tok::Assign, Tok::Number(0.0)]);
-        }
-        let given = f64::from(u8::from(pending.value));
-        statement(
-            self,
-            &[Tok::Name(returned), Tok::Assign, Tok::Number(given)],
-        );
-        if pending.top {
-            statement(self, &[Tok::If, Tok::LParen, Tok::Number(1.0), Tok::RParen]);
-            if let Some(tok) = self.open_brace(start, end) {
-                self.push(start, tok, end);
-            }
-        }
-        statement(self, &[]);
-        self.push_word(word("M99"), start, end);
-        if pending.top {
-            self.pending_term = Some((start, start));
-            if let Some(tok) = self.close_brace(start, end) {
-                self.push(start, tok, end);
-            }
-        }
-        // After the definition, in the program around it: rs274 sets both
-        // as it reads the `endsub` line (the value as [`UNKNOWN_RETURN`]
-        // says).
-        if pending.end {
-            let after = match pending.value {
-                true => Tok::Name(self.names.intern(UNKNOWN_RETURN)),
-                false => Tok::Number(0.0),
-            };
-            statement(self, &[Tok::Name(value), Tok::Assign, after]);
-            statement(
-                self,
-                &[Tok::Name(returned), Tok::Assign, Tok::Number(given)],
             );
         }
     }

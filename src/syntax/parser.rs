@@ -489,8 +489,11 @@ impl Start {
     }
 }
 
+/// Whether `stmt` ends the subprogram's text: an `M99` line, or an
+/// `endsub`.
 fn has_m99(stmt: &Stmt) -> bool {
     match &stmt.kind {
+        StmtKind::Return(r) => r.ends_sub,
         StmtKind::Line(line) => line.words.iter().any(|w| {
             w.letter == b'M' && matches!(w.value, WordValue::Number(n) if n.value == 99.0)
         }),
@@ -558,10 +561,20 @@ fn split_subprograms(top: Vec<Stmt>, names: &Names, errors: &mut Vec<SyntaxError
         match open.as_mut() {
             Some(sub) => {
                 let ends = has_m99(&stmt);
+                let read = match &stmt.kind {
+                    StmtKind::Return(r) if r.ends_sub => Some(Stmt {
+                        kind: StmtKind::DefinitionRead {
+                            returns_value: r.value.is_some(),
+                        },
+                        span: stmt.span,
+                    }),
+                    _ => None,
+                };
                 sub.body.push(stmt);
                 if ends {
                     program.subprograms.extend(open.take());
                 }
+                program.main.extend(read);
             }
             None => program.main.push(stmt),
         }

@@ -45,6 +45,11 @@ pub enum Tok {
     Sub(OName),
     /// LinuxCNC's `oN call`; its arguments follow, each in `[ ]`.
     SubCall(OName),
+    /// LinuxCNC's `oN return` (false) and `oN endsub` (true); a value in
+    /// `[ ]` may follow.
+    Return(bool),
+    /// LinuxCNC's `oN repeat`: its count in `[ ]`, then its block.
+    Repeat(OName),
     True,
     False,
     /// `(` that opens a group.
@@ -108,6 +113,9 @@ impl Tok {
             Tok::Loop(_) | Tok::OName(_) => "o-word",
             Tok::Sub(_) => "sub",
             Tok::SubCall(_) => "call",
+            Tok::Return(false) => "return",
+            Tok::Return(true) => "endsub",
+            Tok::Repeat(_) => "repeat",
             Tok::Do => "do",
             Tok::Break(_) => "break",
             Tok::Continue(_) => "continue",
