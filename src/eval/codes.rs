@@ -156,7 +156,7 @@ impl Evaluator<'_> {
     #[cold]
     fn reported(&mut self, d: Diagnostic) -> Flow {
         self.report(d);
-        match self.over_limit {
+        match self.run.over_limit {
             true => Flow::Abort,
             false => Flow::Next,
         }
@@ -870,14 +870,14 @@ impl Evaluator<'_> {
     ) -> Result<Flow, Diagnostic> {
         let (program, names) = (self.program, Rc::clone(&self.names));
         // The program's, or one a part read before kept.
-        let kept = || self.kept.iter().find(|s| s.name == name).cloned();
+        let kept = || self.macros.kept.iter().find(|s| s.name == name).cloned();
         let sub = match program.subprograms.iter().find(|s| s.name == name) {
             Some(sub) => Sub::Program(sub),
             None => match kept() {
                 Some(sub) => Sub::Kept(sub),
                 // It may be written further on, in a part not read yet.
-                None if self.in_parts => {
-                    self.needs_whole = true;
+                None if self.macros.in_parts => {
+                    self.macros.needs_whole = true;
                     return Ok(Flow::Abort);
                 }
                 None => {
@@ -890,7 +890,7 @@ impl Evaluator<'_> {
                         OName::Number(_) => None,
                     };
                     let numbers = program.subprograms.iter().map(|s| s.name);
-                    let kept = self.kept.iter().map(|s| s.name);
+                    let kept = self.macros.kept.iter().map(|s| s.name);
                     let known = numbers.chain(kept).map(|n| n.describe(&names)).collect();
                     let name = name.describe(&names);
                     let kind = K::NoSubprogram { name, file, known };
@@ -902,9 +902,10 @@ impl Evaluator<'_> {
             Sub::Program(sub) => &sub.body,
             Sub::Kept(sub) => &sub.body,
         };
-        if self.calls.len() >= self.options.max_call_depth {
+        if self.macros.calls.len() >= self.options.max_call_depth {
             // Runaway recursion is the usual cause: say where it started.
             let recursion = self
+                .macros
                 .calls
                 .iter()
                 .find(|(n, _)| *n == name)
@@ -918,13 +919,13 @@ impl Evaluator<'_> {
             self.report(CodeError::new(kind, at));
             return Ok(Flow::Abort);
         }
-        self.calls.push((name, at));
+        self.macros.calls.push((name, at));
         let saved = enter(self);
         let mut flow = Flow::Next;
         for _ in 0..count {
-            self.repeating += 1;
+            self.run.repeating += 1;
             let ran = self.exec_block(body);
-            self.repeating -= 1;
+            self.run.repeating -= 1;
             flow = match ran {
                 Flow::Return | Flow::Next => Flow::Next,
                 other => self.no_label(other),
@@ -934,12 +935,12 @@ impl Evaluator<'_> {
             }
         }
         if !saved.is_empty() {
-            self.changes += 1;
+            self.run.changes += 1;
         }
         for (i, slot) in saved {
             self.vars[i] = slot;
         }
-        self.calls.pop();
+        self.macros.calls.pop();
         Ok(flow)
     }
 }
@@ -1072,9 +1073,9 @@ pub(super) fn run_wizard_line(
             }
             w.span = span;
         }
-        let before = ev.errors;
+        let before = ev.reports.errors;
         ev.exec_line(&line);
-        if ev.errors > before {
+        if ev.reports.errors > before {
             return Err(Vec::new());
         }
     }
