@@ -311,8 +311,9 @@ fn starts_a_statement(line: &str) -> bool {
 }
 
 /// Whether `stmt` needs the whole program to run: a `GOTO`, an `O` word,
-/// a call of a subprogram not `known`, an `M99` outside a subprogram
-/// (`in_sub`), or a code or program number given by an expression.
+/// a call of a subprogram not `known`, an `M99` or a LinuxCNC `return`
+/// outside a subprogram (`in_sub`), or a code or program number given by
+/// an expression.
 fn needs_whole(stmt: &Stmt, known: &dyn Fn(OName) -> bool, in_sub: bool) -> bool {
     let needs = |s: &Stmt| needs_whole(s, known, in_sub);
     match &stmt.kind {

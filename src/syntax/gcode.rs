@@ -9,7 +9,7 @@ use super::error::SyntaxErrorKind;
 use super::language::Language;
 use super::lexer::{Lexer, Raw};
 use super::token::{Spanned, Tok};
-use super::words::{word, WordNumber};
+use super::words::{word_of, WordNumber};
 
 impl Lexer<'_> {
     /// The rules of plain G-code that differ from `.egc`, for the raw token
@@ -76,8 +76,8 @@ impl Lexer<'_> {
                 if digits == start + 1 {
                     return None;
                 }
-                let number = format!("O{}", &self.text[start + 1..digits]);
-                self.push_word(word(&number), start, digits);
+                let number = word_of(b'O', &self.text[start + 1..digits]);
+                self.push_word(number, start, digits);
                 Some(digits)
             }
             // `G0Z  0.1`: spaces between a letter and its number.
@@ -86,8 +86,9 @@ impl Lexer<'_> {
                 if !number.is_decimal() {
                     return None;
                 }
-                let compact = format!("{}{}", &self.text[start..end], &self.text[number.range()]);
-                self.push_word(word(&compact), start, number.end);
+                let letter = self.text.as_bytes()[start];
+                let word = word_of(letter, &self.text[number.range()]);
+                self.push_word(word, start, number.end);
                 Some(number.end)
             }
             _ => None,

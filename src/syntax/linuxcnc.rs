@@ -128,9 +128,8 @@ impl Lexer<'_> {
     /// LinuxCNC's parameters and expressions in plain G-code, read as the
     /// `.egc` tokens they mean: `#<name>` and `#1` are names, `[ ]` groups
     /// (`X[…]` and `X#1` are symbolic words, `sin[…]` a call), `EQ`…`LE`,
-    /// `AND`, `OR`, `MOD` and `**` operators; `O100 sub`/`endsub`/`call`
-    /// become `O100`/`M99`/`M98 P100`. Where it took the text, the offset
-    /// to go on from.
+    /// `AND`, `OR`, `MOD` and `**` operators; the o-words are read by
+    /// [`Self::o_word`]. Where it took the text, the offset to go on from.
     pub(super) fn linuxcnc(
         &mut self,
         raw: Result<Raw, ()>,

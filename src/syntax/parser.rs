@@ -502,8 +502,10 @@ fn has_m99(stmt: &Stmt) -> bool {
 }
 
 /// Split the top level into the main program and subprograms (SPEC §2.6):
-/// an `O` line opens a subprogram that ends with its `M99`; an `O` line at
-/// the very top whose block has no `M99` numbers the main program instead.
+/// an `O` line (or LinuxCNC's `oN sub`) opens a subprogram that ends with
+/// its `M99` (or `endsub`, which leaves a [`StmtKind::DefinitionRead`] in
+/// the program around it); an `O` line at the very top whose block has no
+/// `M99` numbers the main program instead.
 fn split_subprograms(top: Vec<Stmt>, names: &Names, errors: &mut Vec<SyntaxError>) -> Program {
     let mut program = Program {
         main: Vec::with_capacity(top.len()),

@@ -189,10 +189,17 @@ impl WordNumber<'_> {
     }
 }
 
+/// The word written `text`: a letter, then its number.
 pub(super) fn word(text: &str) -> WordTok {
-    let (value, int_digits, has_point) = scan_decimal(&text[1..]);
+    word_of(text.as_bytes()[0], &text[1..])
+}
+
+/// The word of `letter` and the number written `number` (a letter and a
+/// number written apart: `G0Z  0.1`, Fanuc's `:0097`).
+pub(super) fn word_of(letter: u8, number: &str) -> WordTok {
+    let (value, int_digits, has_point) = scan_decimal(number);
     WordTok {
-        letter: text.as_bytes()[0].to_ascii_uppercase(),
+        letter: letter.to_ascii_uppercase(),
         value,
         int_digits,
         has_point,
