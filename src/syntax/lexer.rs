@@ -352,6 +352,7 @@ impl<'a> Lexer<'a> {
     pub(super) fn finish(mut self) -> Lexed {
         let eof = self.text.len();
         self.assignments_after_words(eof);
+        self.lone_o_name();
         if !self.line_comments.is_empty() {
             self.flush_comments((eof, eof));
         }
@@ -507,6 +508,7 @@ impl<'a> Lexer<'a> {
             self.unclosed_sym(start, bracket);
         }
         self.assignments_after_words(start);
+        self.lone_o_name();
         if let Some(call) = self.pending_call.take() {
             self.end_call(call);
         }

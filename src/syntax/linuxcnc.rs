@@ -555,6 +555,19 @@ impl Lexer<'_> {
         Some(found)
     }
 
+    /// A line that is only `o<name>` names a program, as a line that is
+    /// only `O100` does: a subprogram starts there (and is reported if no
+    /// `M99` or `endsub` ends it).
+    pub(super) fn lone_o_name(&mut self) {
+        if self.pending_term.is_none() && self.out.len() == self.stmt_start + 1 {
+            if let Some((_, tok, _)) = self.out.last_mut() {
+                if let Tok::OName(name) = *tok {
+                    *tok = Tok::Sub(name);
+                }
+            }
+        }
+    }
+
     /// A statement ends before the one that starts at `at`, unless none
     /// has started.
     fn new_statement(&mut self, at: usize) {
