@@ -139,6 +139,10 @@ pub fn parse_program_from(
                 let number = at.span(start, end).line;
                 top.push(words_stmt(&words, run, (start, end), number, at));
             }
+            Piece::Sub(start, name, end) => top.push(Stmt {
+                kind: StmtKind::Sub(name),
+                span: at.span(start, end),
+            }),
             Piece::Grammar(slice) => {
                 let mut recovered = Vec::new();
                 let result = grammar::ProgramParser::new().parse(
@@ -257,6 +261,10 @@ pub fn with_fast_path<T>(fast: bool, f: impl FnOnce() -> T) -> T {
 /// tokens for the grammar.
 enum Piece<'t> {
     Line(usize, (u32, u32), usize),
+    /// LinuxCNC's `oN sub` alone: what the grammar builds, kept out of the
+    /// stretches around it as an `O` line is (a broken block after it
+    /// does not take it along).
+    Sub(usize, OName, usize),
     Grammar(&'t [Spanned]),
 }
 
@@ -282,9 +290,14 @@ fn pieces(tokens: &[Spanned], fast: bool) -> Vec<Piece<'_>> {
             }
             continue;
         }
-        if let (true, true, Tok::Words(first, len)) = (fast, stmt_start == i, tok) {
+        let piece = match tok {
+            Tok::Words(first, len) => Piece::Line(start, (first, len), end),
+            Tok::Sub(name) => Piece::Sub(start, name, end),
+            _ => continue,
+        };
+        if fast && stmt_start == i {
             push_stretch(&mut out, &tokens[stretch_start..i]);
-            out.push(Piece::Line(start, (first, len), end));
+            out.push(piece);
             stretch_start = i + 1;
         }
     }
