@@ -115,14 +115,113 @@ impl Names {
 pub struct Program {
     pub main: Vec<Stmt>,
     /// The `O` number written on the main program's first line, if any.
-    pub main_number: Option<u32>,
+    pub main_number: Option<OName>,
     pub subprograms: Vec<Subprogram>,
     pub names: Names,
 }
 
+impl Program {
+    /// The LinuxCNC `o<name>` subroutines the program calls and those it
+    /// defines, by name (between `o<` and `>`): what the driver looks for
+    /// in `name.ngc` files.
+    pub fn named_subroutines(&self) -> (Vec<String>, Vec<String>) {
+        let text = |name: OName| match name {
+            OName::Named(s) => self
+                .names
+                .text(s)
+                .strip_prefix("o<")
+                .and_then(|n| n.strip_suffix('>'))
+                .map(str::to_string),
+            OName::Number(_) => None,
+        };
+        let mut calls = Vec::new();
+        let bodies = std::iter::once(&self.main).chain(self.subprograms.iter().map(|s| &s.body));
+        for body in bodies {
+            each_stmt(body, &mut |stmt| {
+                if let StmtKind::SubCall(call) = &stmt.kind {
+                    calls.extend(text(call.name));
+                }
+            });
+        }
+        let subs = self
+            .subprograms
+            .iter()
+            .filter_map(|s| text(s.name))
+            .collect();
+        (calls, subs)
+    }
+}
+
+/// Every statement of `stmts` and of the blocks in them, in order.
+fn each_stmt(stmts: &[Stmt], f: &mut impl FnMut(&Stmt)) {
+    for stmt in stmts {
+        f(stmt);
+        match &stmt.kind {
+            StmtKind::If(if_) => {
+                for (_, body) in &if_.branches {
+                    each_stmt(body, f);
+                }
+                if let Some(body) = &if_.otherwise {
+                    each_stmt(body, f);
+                }
+            }
+            StmtKind::While(w) => each_stmt(&w.body, f),
+            StmtKind::Repeat(r) => each_stmt(&r.body, f),
+            StmtKind::Line(_)
+            | StmtKind::Lines(_)
+            | StmtKind::Assign(_)
+            | StmtKind::Assigns(_)
+            | StmtKind::Call { .. }
+            | StmtKind::Command(_)
+            | StmtKind::Comment(_)
+            | StmtKind::Sub(_)
+            | StmtKind::SubCall(_)
+            | StmtKind::Return(_)
+            | StmtKind::DefinitionRead { .. }
+            | StmtKind::Goto(_)
+            | StmtKind::Break(_)
+            | StmtKind::Continue(_)
+            | StmtKind::Error => {}
+        }
+    }
+}
+
+/// What names a subprogram or labels an o-word: a number (Fanuc's `O100`,
+/// LinuxCNC's `o100`) or LinuxCNC's `o<name>` (its symbol's text is
+/// `o<name>`, lower case, without spaces).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum OName {
+    Number(u32),
+    Named(Symbol),
+}
+
+impl OName {
+    /// As messages name a subprogram: `O100`, `o<name>`.
+    pub fn describe(self, names: &Names) -> String {
+        match self {
+            OName::Number(n) => format!("O{n}"),
+            OName::Named(s) => names.text(s).to_string(),
+        }
+    }
+
+    /// As LinuxCNC writes it before its keyword: `o100`, `o<name>`.
+    pub fn written(self, names: &Names) -> String {
+        match self {
+            OName::Number(n) => format!("o{n}"),
+            OName::Named(s) => names.text(s).to_string(),
+        }
+    }
+}
+
+/// The number of a program or subprogram written `value` (`O100`,
+/// `o100 sub`): a whole number from 0 to 99,999,999.
+pub fn program_number(value: f64) -> Option<u32> {
+    ((0.0..=99_999_999.0).contains(&value) && value.fract() == 0.0).then_some(value as u32)
+}
+
 #[derive(Debug)]
 pub struct Subprogram {
-    pub number: u32,
+    pub name: OName,
     /// The `O` word that opens it.
     pub span: Span,
     pub body: Vec<Stmt>,
@@ -168,7 +267,7 @@ pub enum StmtKind {
     /// [`Line::statements`] for how it is cut.
     Line(Line),
     /// Lines of plain words in a row, as a part of a plain program (one
-    /// without `GOTO`) is parsed ([`crate::syntax::egc::chunk`]): each runs
+    /// without `GOTO`) is parsed ([`crate::syntax::chunk`]): each runs
     /// as a [`Line`].
     Lines(Box<Lines>),
     Assign(Box<Assignment>),
@@ -184,13 +283,32 @@ pub enum StmtKind {
     },
     If(Box<If>),
     While(Box<While>),
+    /// LinuxCNC's `oN sub` and `o<name> sub`: the subprogram starts here.
+    /// The parser moves it, to its `endsub`, into
+    /// [`Program::subprograms`]; only one not at the top level stays.
+    Sub(OName),
+    /// LinuxCNC's `oN call [a] [b] …`: run the subprogram with `#1`, `#2`,
+    /// … set to the arguments.
+    SubCall(Box<SubCall>),
+    /// LinuxCNC's `oN return [v]` and `oN endsub [v]`: back to the caller
+    /// with the value (0 if none is given).
+    Return(Box<Return>),
+    /// Where an `endsub` closed a subprogram, in the program around it:
+    /// rs274 sets `#<_value>` and `#<_value_returned>` as it reads the
+    /// definition (the value to one ger does not know, when the `endsub`
+    /// returns one: reading it then is an error).
+    DefinitionRead {
+        returns_value: bool,
+    },
+    /// LinuxCNC's `oN repeat [n] … oN endrepeat`: the body, n times.
+    Repeat(Box<Repeat>),
     /// Fanuc's `GOTO n`: go on at the line labelled `Nn` of the same
     /// program or subprogram (the target may be an expression).
     Goto(Box<Expr>),
     /// LinuxCNC's `oN break` and `oN continue`: out of, or on to the next
     /// pass of, the `while` or `do` loop labelled N around it.
-    Break(u32),
-    Continue(u32),
+    Break(OName),
+    Continue(OName),
     /// A controller command line of plain G-code (grbl's `$H`), passed
     /// through as written.
     Command(Symbol),
@@ -218,6 +336,33 @@ pub enum Target {
     Indirect(Box<Expr>),
 }
 
+/// A LinuxCNC `o… call` ([`StmtKind::SubCall`]).
+#[derive(Debug, Clone)]
+pub struct SubCall {
+    pub name: OName,
+    pub args: Vec<Expr>,
+    /// The `call` keyword, where errors of the call point.
+    pub at: Span,
+}
+
+/// A LinuxCNC `return` or `endsub` ([`StmtKind::Return`]).
+#[derive(Debug, Clone)]
+pub struct Return {
+    pub value: Option<Expr>,
+    /// `endsub`, which also ends the subprogram's text.
+    pub ends_sub: bool,
+}
+
+/// A LinuxCNC `repeat` loop ([`StmtKind::Repeat`]).
+#[derive(Debug, Clone)]
+pub struct Repeat {
+    pub label: OName,
+    pub count: Expr,
+    pub body: Vec<Stmt>,
+    /// The `repeat` keyword, where errors about the whole loop point.
+    pub at: Span,
+}
+
 #[derive(Debug, Clone)]
 pub struct If {
     pub branches: Vec<(Expr, Vec<Stmt>)>,
@@ -229,7 +374,7 @@ pub struct While {
     pub cond: Expr,
     pub body: Vec<Stmt>,
     /// LinuxCNC's `oN` on the loop, which its `break` and `continue` name.
-    pub label: Option<u32>,
+    pub label: Option<OName>,
     /// LinuxCNC's `do … while`: the body runs once before the test.
     pub test_after: bool,
 }
@@ -532,11 +677,16 @@ impl Stmt {
                 }
             }
             StmtKind::While(w) => block(&mut w.body),
+            StmtKind::Repeat(r) => block(&mut r.body),
             StmtKind::Line(_)
             | StmtKind::Lines(_)
             | StmtKind::Assign(_)
             | StmtKind::Assigns(_)
             | StmtKind::Call { .. }
+            | StmtKind::Sub(_)
+            | StmtKind::SubCall(_)
+            | StmtKind::Return(_)
+            | StmtKind::DefinitionRead { .. }
             | StmtKind::Goto(_)
             | StmtKind::Break(_)
             | StmtKind::Continue(_)
@@ -568,7 +718,15 @@ impl Stmt {
                 block(&mut w.body);
             }
             StmtKind::Goto(target) => target.map_functions(f),
-            StmtKind::Break(_)
+            StmtKind::SubCall(call) => call.args.iter_mut().for_each(|a| a.map_functions(f)),
+            StmtKind::Return(r) => r.value.iter_mut().for_each(|v| v.map_functions(f)),
+            StmtKind::Repeat(r) => {
+                r.count.map_functions(f);
+                block(&mut r.body);
+            }
+            StmtKind::Sub(_)
+            | StmtKind::DefinitionRead { .. }
+            | StmtKind::Break(_)
             | StmtKind::Continue(_)
             | StmtKind::Command(_)
             | StmtKind::Comment(_)

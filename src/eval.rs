@@ -13,12 +13,15 @@ mod degrees;
 mod error;
 pub use cycle::{count_pecks, MAX_PECKS};
 mod setup;
+mod state;
 pub mod value;
 
-use crate::ast::{self, Names, StmtKind, Symbol};
+use crate::ast::{self, Names, OName, StmtKind, Symbol};
 use crate::diagnostic::Diagnostic;
 use crate::ir;
 use crate::source::Span;
+pub(crate) use state::parameter_number;
+use state::{JumpLimit, Macros, OutputStart, Reports, RunCounts};
 use std::rc::Rc;
 use value::{ExprError, Slot, Value, Vars};
 
@@ -196,7 +199,7 @@ pub fn eval_program<'a>(
     let mut ev = Evaluator::new(program, options, wizards, sink);
     ev.run();
     ev.finish();
-    ev.diagnostics
+    ev.reports.diagnostics
 }
 
 /// A part of a program read in parts: its statements and subprograms.
@@ -215,7 +218,7 @@ pub struct Chunked {
 }
 
 /// Stage 0 for a program read a part at a time
-/// ([`crate::syntax::egc::chunk`]): `next` gives each part's statements and
+/// ([`crate::syntax::chunk`]): `next` gives each part's statements and
 /// subprograms in order (and is given back the statements of the part
 /// before, run), interning into the names it is handed (the
 /// program's, which the parts share; the last part's comments are dropped
@@ -238,7 +241,7 @@ pub fn eval_chunks(
     };
     let wizards = wizards.map(|w| w as &mut dyn WizardHost);
     let mut ev = Evaluator::new(&empty, options, wizards, sink);
-    ev.in_parts = true;
+    ev.macros.in_parts = true;
     // The statements of the part that ran last, handed back with the call
     // for the next (their vectors can be used again).
     let mut ran = Vec::new();
@@ -256,7 +259,7 @@ pub fn eval_chunks(
             for stmt in &mut sub.body {
                 stmt.map_notes(&mut |s| names.keep_note(s));
             }
-            ev.kept.push(Rc::new(sub));
+            ev.macros.kept.push(Rc::new(sub));
         }
         let flow = ev.exec_block(&stmts);
         ran = stmts;
@@ -266,9 +269,9 @@ pub fn eval_chunks(
     }
     ev.finish();
     Chunked {
-        diagnostics: ev.diagnostics,
+        diagnostics: ev.reports.diagnostics,
         names: Rc::try_unwrap(ev.names).unwrap_or_else(|shared| (*shared).clone()),
-        needs_whole: ev.needs_whole,
+        needs_whole: ev.macros.needs_whole,
     }
 }
 
@@ -287,8 +290,8 @@ enum Flow {
     /// Fanuc's `GOTO`: on at the line labelled N, from where it was.
     Goto(u32, Span),
     /// LinuxCNC's `oN break` and `oN continue`, from where they were.
-    Break(u32, Span),
-    Continue(u32, Span),
+    Break(OName, Span),
+    Continue(OName, Span),
     /// An error made it impossible to go on (a limit, a broken condition).
     Abort,
 }
@@ -298,12 +301,6 @@ struct Evaluator<'a> {
     /// The program's names; those of a program read in parts grow with
     /// each part ([`Evaluator::names_added`]).
     names: Rc<Names>,
-    /// The subprograms of the parts read so far (a program read in parts).
-    kept: Vec<Rc<ast::Subprogram>>,
-    /// The program is read in parts ([`eval_chunks`]); a call found no
-    /// subprogram among those read, so it must be read whole.
-    in_parts: bool,
-    needs_whole: bool,
     /// The word table of the statement run last, for the next
     /// ([`WordValues`]).
     word_table: Option<Box<WordTable>>,
@@ -311,47 +308,18 @@ struct Evaluator<'a> {
     /// [`Evaluator::plain_line`] does not run itself.
     line_words: Vec<ast::Word>,
     options: &'a EvalOptions,
+    /// What the runaway limits count.
+    run: RunCounts,
+    /// Diagnostics, errors and notes reported so far.
+    reports: Reports,
+    /// The sink, and what it is told at the start.
+    output: OutputStart<'a>,
+    /// Subprograms, calls and scopes of the macro languages.
+    macros: Macros,
     wizards: Option<&'a mut dyn WizardHost>,
     vars: Vars,
-    /// `(DEBUG, …)` and `(PRINT, …)` notes given so far.
-    messages: usize,
-    /// How many times a variable changed value (or a call's scope was
-    /// entered or left): a loop pass that leaves it as it was changed
-    /// nothing its condition can read, so it would run forever.
-    changes: u64,
-    /// Backward `GOTO`s taken, and `changes` at the last one from each
-    /// place (by file and offset).
-    gotos: u64,
-    goto_changes: std::collections::HashMap<(u32, u32), u64>,
-    /// Where each label a `GOTO` looked for is, by block (its address)
-    /// and label: found once, not at every jump.
-    labels: std::collections::HashMap<(usize, u32), Option<usize>>,
-    sink: &'a mut dyn ir::Sink,
     /// Statements not yet sent to the sink.
     out: Vec<ir::Stmt>,
-    /// Statements made by loops, subprogram calls and jumps back so far
-    /// ([`EvalOptions::max_statements`]).
-    made: usize,
-    /// Loop passes and subprogram calls under way: their statements are
-    /// counted.
-    repeating: u32,
-    /// A `GOTO` went back: every statement from then on is counted.
-    jumped_back: bool,
-    /// The statement limit was reached: the program stops.
-    over_limit: bool,
-    /// The first move: setup directives must come before it, and the sink
-    /// gets nothing until it (so the setup is complete).
-    first_move: Option<Span>,
-    /// The first G20/G21, which gives the output units without `SetUnits`.
-    first_units: Option<ir::Units>,
-    /// An F came before the first G20/G21: it is in the machine's units,
-    /// so that G20/G21 cannot be moved up to the output's header.
-    feed_before_units: bool,
-    /// The sink has been told the start ([`ir::Sink::start`]).
-    started: bool,
-    /// The warnings said once per program, by what they are about: a
-    /// code (letter and number in tenths), `$` for controller commands.
-    warned_once: std::collections::BTreeSet<(u8, u32)>,
     /// The line being run was written after a block-delete `/`.
     block_delete: bool,
     /// G53 in the current line: its motion is in machine coordinates.
@@ -361,8 +329,6 @@ struct Evaluator<'a> {
     diameter_mode: bool,
     /// The program has said G98 or G99.
     return_level_stated: bool,
-    diagnostics: Vec<Diagnostic>,
-    errors: usize,
     /// Current motion mode, for words written without a G code.
     motion: Option<ir::Motion>,
     /// The canned cycle axis words repeat (it stands before `motion`).
@@ -380,10 +346,6 @@ struct Evaluator<'a> {
     /// G40 turned compensation off in this plane and no move has been made
     /// since: a tool change then reads the point back ([`ir::Op::ReadPosition`]).
     comp_off: Option<ir::Plane>,
-    /// LinuxCNC's subroutine scope (`o… call`).
-    linuxcnc: LinuxCncNames,
-    /// Subprograms being run, innermost last: (number, call span).
-    calls: Vec<(u32, Span)>,
     setup: setup::SetupBuilder,
     /// Tool loaded by the last M6, and tool selected by the last T.
     tool: u32,
@@ -404,8 +366,6 @@ struct Evaluator<'a> {
     feed_set: bool,
 }
 
-const MAX_REPORTED_ERRORS: usize = 50;
-
 impl<'a> Evaluator<'a> {
     fn new(
         program: &'a ast::Program,
@@ -419,12 +379,13 @@ impl<'a> Evaluator<'a> {
         }
         Evaluator {
             program,
-            kept: Vec::new(),
-            in_parts: false,
-            needs_whole: false,
             word_table: None,
             line_words: Vec::new(),
             options,
+            run: RunCounts::default(),
+            reports: Reports::default(),
+            output: OutputStart::new(sink),
+            macros: Macros::new(&names),
             wizards,
             vars: Vars::new(
                 numbered_parameters(&names, options.from),
@@ -432,30 +393,12 @@ impl<'a> Evaluator<'a> {
                 options.from == Flavour::Fanuc,
                 options.rs274(),
             ),
-            messages: 0,
-            changes: 0,
-            gotos: 0,
-            goto_changes: Default::default(),
-            labels: Default::default(),
-            linuxcnc: LinuxCncNames::of(&names),
             names: Rc::new(names),
-            sink,
             out: Vec::with_capacity(options.batch.clamp(1, 1 << 16)),
-            made: 0,
-            repeating: 0,
-            jumped_back: false,
-            over_limit: false,
-            first_move: None,
-            first_units: None,
-            feed_before_units: false,
-            started: false,
-            warned_once: Default::default(),
             machine_coordinates: false,
             diameter_mode: false,
             return_level_stated: false,
             block_delete: false,
-            diagnostics: Vec::new(),
-            errors: 0,
             motion: None,
             cycle: None,
             cycle_run: false,
@@ -465,7 +408,6 @@ impl<'a> Evaluator<'a> {
             spindle: ir::Spindle::Off,
             comp: None,
             comp_off: None,
-            calls: Vec::new(),
             setup: setup::SetupBuilder::with_tools(&options.tools),
             tool: 1,
             selected: None,
@@ -488,7 +430,7 @@ impl<'a> Evaluator<'a> {
         if names.len() > known {
             let from = self.options.from;
             self.vars.grow(&names, known, |text| first_slot(text, from));
-            self.linuxcnc.add(&names, known);
+            self.macros.scope.add(&names, known);
         }
     }
 
@@ -504,11 +446,11 @@ impl<'a> Evaluator<'a> {
         let (kind, from) = match flow {
             Flow::Goto(label, from) => (EvalErrorKind::NoLabel(label), from),
             Flow::Break(label, from) => {
-                let is_break = true;
+                let (label, is_break) = (label.written(&self.names), true);
                 (EvalErrorKind::NoLoop { label, is_break }, from)
             }
             Flow::Continue(label, from) => {
-                let is_break = false;
+                let (label, is_break) = (label.written(&self.names), false);
                 (EvalErrorKind::NoLoop { label, is_break }, from)
             }
             Flow::Next | Flow::Return | Flow::End | Flow::Abort => return flow,
@@ -517,20 +459,10 @@ impl<'a> Evaluator<'a> {
         Flow::Abort
     }
 
+    /// A statement in a loop or a repeated subprogram fails every time:
+    /// it is said once ([`Reports::add`]).
     fn report(&mut self, d: impl Into<Diagnostic>) {
-        let d = d.into();
-        // A statement in a loop or a repeated subprogram fails every time;
-        // say it once.
-        let same = |e: &Diagnostic| e.message == d.message && e.labels == d.labels;
-        if self.diagnostics.iter().rev().take(8).any(same) {
-            return;
-        }
-        if crate::diagnostic::is_error(&d) {
-            self.errors += 1;
-        }
-        if self.errors <= MAX_REPORTED_ERRORS {
-            self.diagnostics.push(d);
-        }
+        self.reports.add(d.into());
     }
 
     fn report_expr(&mut self, e: ExprError) {
@@ -544,7 +476,7 @@ impl<'a> Evaluator<'a> {
                     .any(|l| l.file_id == span.file_id() && l.range == span.range())
             })
         };
-        if self.diagnostics.iter().rev().take(8).any(said) {
+        if self.reports.said_recently(said) {
             return;
         }
         if let Some(d) = e.to_diagnostic(&self.names, &self.vars, self.options.from) {
@@ -553,7 +485,7 @@ impl<'a> Evaluator<'a> {
     }
 
     fn too_many_errors(&self) -> bool {
-        self.errors >= MAX_REPORTED_ERRORS
+        self.reports.too_many_errors()
     }
 
     fn emit(&mut self, op: ir::Op, span: Span) -> Result<(), Diagnostic> {
@@ -570,8 +502,7 @@ impl<'a> Evaluator<'a> {
     /// The checks and the state of [`Self::emit`] for `op`, before it is
     /// kept.
     fn admit(&mut self, op: &ir::Op, span: Span) -> Result<(), Diagnostic> {
-        if self.made >= self.options.max_statements {
-            self.over_limit = true;
+        if self.run.reached(self.options.max_statements) {
             let kind = EvalErrorKind::TooManyStatements(self.options.max_statements);
             return Err(EvalError::new(kind, span).into());
         }
@@ -586,7 +517,7 @@ impl<'a> Evaluator<'a> {
             ir::Op::Feed(_) => {
                 self.feed_set = true;
                 self.inverse_time_ended = false;
-                self.feed_before_units |= self.first_units.is_none();
+                self.output.feed_before_units |= self.output.first_units.is_none();
                 self.inverse_feed = self.inverse_time;
             }
             ir::Op::Move(m) if m.motion != ir::Motion::Rapid && !self.feed_set => {
@@ -618,12 +549,8 @@ impl<'a> Evaluator<'a> {
             _ => {}
         }
         self.track(op);
-        match op {
-            ir::Op::Move(_) if self.first_move.is_none() => self.first_move = Some(span),
-            ir::Op::Units(u) if self.first_units.is_none() => self.first_units = Some(*u),
-            _ => {}
-        }
-        if !self.started && self.first_move.is_some() {
+        self.output.note(op, span);
+        if !self.output.started && self.output.first_move.is_some() {
             self.start(span);
         }
         Ok(())
@@ -632,7 +559,7 @@ impl<'a> Evaluator<'a> {
     /// A statement was kept: counted, and the batch sent once full.
     #[inline]
     fn kept(&mut self) {
-        self.made += usize::from(self.repeating > 0 || self.jumped_back);
+        self.run.count_made();
         if self.out.len() >= self.options.batch {
             self.send();
         }
@@ -653,7 +580,7 @@ impl<'a> Evaluator<'a> {
     /// Report the warning `make` builds, unless one about `key` was
     /// already given.
     fn warn_once<D: Into<Diagnostic>>(&mut self, key: (u8, u32), make: impl FnOnce() -> D) {
-        if self.warned_once.insert(key) {
+        if self.reports.warned_once.insert(key) {
             self.report(make());
         }
     }
@@ -665,15 +592,16 @@ impl<'a> Evaluator<'a> {
     /// G20/G21 stays where it is, after it), else `--units`; else the
     /// machine's own, with a warning (SPEC §3).
     fn start(&mut self, at: Span) {
-        self.started = true;
+        self.output.started = true;
         let setup = self.setup.get().clone();
         // With `--units` the F is in those units, and the G20/G21 may fix
         // the output's as usual.
         let first_units = self
+            .output
             .first_units
-            .filter(|_| !self.feed_before_units || self.options.units.is_some());
+            .filter(|_| !self.output.feed_before_units || self.options.units.is_some());
         let output_units = setup.units.or(first_units).or(self.options.units);
-        if output_units.is_none() && self.first_units.is_none() && at != Span::default() {
+        if output_units.is_none() && self.output.first_units.is_none() && at != Span::default() {
             self.report(EvalError::new(EvalErrorKind::UnitsUnstated, at));
         }
         let start = ir::Start {
@@ -682,31 +610,31 @@ impl<'a> Evaluator<'a> {
             setup,
             return_level: self.options.from.power_up_return_level(),
         };
-        self.sink.start(&start);
+        self.output.sink.start(&start);
     }
 
     /// Send the statements made so far to the sink, once it has started
     /// (after the first move: the setup is complete). Until then they wait
     /// here. After an error nothing is sent: there will be no output.
     fn send(&mut self) {
-        if self.errors > 0 {
+        if self.reports.errors > 0 {
             self.out.clear();
             return;
         }
-        if self.started {
-            self.sink.batch(&mut self.out);
+        if self.output.started {
+            self.output.sink.batch(&mut self.out);
         }
     }
 
     /// The end of the program: send what is left.
     fn finish(&mut self) {
-        if self.errors > 0 {
+        if self.reports.errors > 0 {
             return;
         }
-        if !self.started {
+        if !self.output.started {
             self.start(Span::default());
         }
-        self.sink.batch(&mut self.out);
+        self.output.sink.batch(&mut self.out);
     }
 
     /// Keep the little state wizards can read (SPEC §5).
@@ -803,6 +731,7 @@ impl<'a> Evaluator<'a> {
     /// Where the line labelled `N<label>` is in the block `stmts`.
     fn label_in(&mut self, stmts: &[ast::Stmt], label: u32) -> Option<usize> {
         *self
+            .macros
             .labels
             .entry((stmts.as_ptr() as usize, label))
             .or_insert_with(|| labelled(stmts, label))
@@ -870,23 +799,15 @@ impl<'a> Evaluator<'a> {
         if !backward {
             return true;
         }
-        self.jumped_back = true;
-        self.gotos += 1;
-        if self.gotos > self.options.max_iterations {
-            let kind = EvalErrorKind::LoopLimit(self.options.max_iterations);
-            self.report(EvalError::new(kind, from));
-            return false;
-        }
-        // Between two jumps back from one place nothing changed: the
-        // program goes round for ever.
-        let last = self
-            .goto_changes
-            .insert((from.file, from.start), self.changes);
-        if last == Some(self.changes) {
-            self.report(EvalError::new(EvalErrorKind::LoopNeverEnds, from));
-            return false;
-        }
-        true
+        let kind = match self.run.jump_back(from, self.options.max_iterations) {
+            Ok(()) => return true,
+            Err(JumpLimit::TooMany) => EvalErrorKind::LoopLimit(self.options.max_iterations),
+            // Between two jumps back from one place nothing changed: the
+            // program goes round for ever.
+            Err(JumpLimit::NoChange) => EvalErrorKind::LoopNeverEnds,
+        };
+        self.report(EvalError::new(kind, from));
+        false
     }
 
     /// One line, in rs274's order of execution when it has several codes.
@@ -1031,6 +952,26 @@ impl<'a> Evaluator<'a> {
                 }
             }
             StmtKind::While(w) => self.exec_while(w, stmt.span),
+            StmtKind::SubCall(call) => self.sub_call(call),
+            StmtKind::Return(r) => {
+                let value = match &r.value {
+                    Some(v) => self.value_slot(v),
+                    None => Slot::Set(Value::Number(0.0)),
+                };
+                self.set_return_value(value, r.value.is_some());
+                Flow::Return
+            }
+            StmtKind::DefinitionRead { returns_value } => {
+                let value = match returns_value {
+                    true => Slot::Unset,
+                    false => Slot::Set(Value::Number(0.0)),
+                };
+                self.set_return_value(value, *returns_value);
+                Flow::Next
+            }
+            StmtKind::Repeat(r) => self.exec_repeat(r),
+            // Left in a block by the parser: no subprogram starts there.
+            StmtKind::Sub(_) => self.misplaced_sub(stmt.span),
             StmtKind::Break(label) => Flow::Break(*label, stmt.span),
             StmtKind::Continue(label) => Flow::Continue(*label, stmt.span),
             StmtKind::Goto(target) => {
@@ -1090,9 +1031,9 @@ impl<'a> Evaluator<'a> {
             return;
         }
         // A message in a loop must not fill the memory with notes.
-        self.messages += 1;
-        if self.messages > MAX_MESSAGES {
-            if self.messages == MAX_MESSAGES + 1 {
+        self.reports.messages += 1;
+        if self.reports.messages > MAX_MESSAGES {
+            if self.reports.messages == MAX_MESSAGES + 1 {
                 let kind = EvalErrorKind::MessagesCut(MAX_MESSAGES);
                 self.report(EvalError::new(kind, span));
             }
@@ -1103,7 +1044,7 @@ impl<'a> Evaluator<'a> {
         while let Some(at) = rest.find('#') {
             out.push_str(&rest[..at]);
             let after = &rest[at + 1..];
-            match crate::syntax::egc::lexer::parameter_name(after) {
+            match crate::syntax::linuxcnc::parameter_name(after) {
                 Ok((name, used)) => {
                     // A numbered parameter the program never names has
                     // its first value (rs274: 0 for #1–#5000).
@@ -1187,10 +1128,10 @@ impl<'a> Evaluator<'a> {
                 self.report(EvalError::new(kind, head));
                 return Flow::Abort;
             }
-            let changes = self.changes;
-            self.repeating += 1;
+            let changes = self.run.changes;
+            self.run.repeating += 1;
             let flow = self.exec_block(&w.body);
-            self.repeating -= 1;
+            self.run.repeating -= 1;
             match flow {
                 Flow::Next => {}
                 Flow::Break(label, _) if w.label == Some(label) => return Flow::Next,
@@ -1199,11 +1140,62 @@ impl<'a> Evaluator<'a> {
             }
             // The condition reads only variables: if a pass after it held
             // changed none, every pass after it does the same, for ever.
-            if tested && self.changes == changes {
+            if tested && self.run.changes == changes {
                 self.report(EvalError::new(EvalErrorKind::LoopNeverEnds, head));
                 return Flow::Abort;
             }
             tested = true;
+        }
+    }
+
+    /// LinuxCNC's `repeat`: the body as many times as the count is 1 or
+    /// more after each pass takes 1 from it. The count is worked out once.
+    fn exec_repeat(&mut self, r: &ast::Repeat) -> Flow {
+        let mut left = match value::number(&r.count, &self.vars, &|| "the `repeat` count".into()) {
+            Ok(n) => n,
+            Err(e) => {
+                self.report_expr(e);
+                return Flow::Abort;
+            }
+        };
+        // Errors about the whole loop point at its head.
+        let head = Span {
+            end: r.at.end + 1,
+            ..r.at
+        };
+        let mut count: u64 = 0;
+        while left >= 1.0 {
+            count += 1;
+            if count > self.options.max_iterations {
+                let kind = EvalErrorKind::LoopLimit(self.options.max_iterations);
+                self.report(EvalError::new(kind, head));
+                return Flow::Abort;
+            }
+            // Each pass changes the count: a loop around it goes on.
+            left -= 1.0;
+            self.run.changes += 1;
+            self.run.repeating += 1;
+            let flow = self.exec_block(&r.body);
+            self.run.repeating -= 1;
+            if flow != Flow::Next {
+                // A `break` or `continue` cannot name a `repeat` loop.
+                return flow;
+            }
+        }
+        Flow::Next
+    }
+
+    /// LinuxCNC's `#<_value>` and `#<_value_returned>`, as a `return` or
+    /// an `endsub` sets them.
+    fn set_return_value(&mut self, value: Slot, returned: bool) {
+        use crate::syntax::linuxcnc::{RETURN_VALUE, VALUE_RETURNED};
+        let names = Rc::clone(&self.names);
+        if let Some(name) = names.find(RETURN_VALUE) {
+            self.store(name, value);
+        }
+        if let Some(name) = names.find(VALUE_RETURNED) {
+            let returned = f64::from(u8::from(returned));
+            self.store(name, Slot::Set(Value::Number(returned)));
         }
     }
 
@@ -1255,34 +1247,33 @@ impl<'a> Evaluator<'a> {
             self.report(EvalError::new(kind, name_span));
             return None;
         }
-        // rs274's value of a subroutine's return where ger does not know it
-        // (after a definition that returns one): read, it is an error.
-        if let ast::ExprKind::Var(v) = &value.kind {
-            if self.names.text(*v) == crate::syntax::egc::lexer::UNKNOWN_RETURN {
-                return Some(Slot::Unset);
-            }
-        }
+        Some(self.value_slot(value))
+    }
+
+    /// What a variable set to `value` holds: its value, or poisoned when
+    /// it cannot be worked out (reported).
+    fn value_slot(&mut self, value: &ast::Expr) -> Slot {
         // A copy of a vacant variable is vacant (Fanuc).
         if value::vacant(value, &self.vars) {
-            return Some(Slot::Vacant);
+            return Slot::Vacant;
         }
         let result = match value::fast_number(value, &self.vars) {
             Some(n) => Ok(Value::Number(n)),
             None => value::eval(value, &self.vars),
         };
-        Some(match result {
+        match result {
             Ok(v) => Slot::Set(v),
             Err(e) => {
                 self.report_expr(e);
                 Slot::Poisoned
             }
-        })
+        }
     }
 
     fn store(&mut self, name: Symbol, slot: Slot) {
         let var = &mut self.vars[name.0 as usize];
         if *var != slot {
-            self.changes += 1;
+            self.run.changes += 1;
         }
         *var = slot;
     }
@@ -1308,7 +1299,7 @@ impl<'a> Evaluator<'a> {
         }
         let arg_spans: Vec<Span> = args.iter().map(|a| a.span).collect();
         if let Some(directive) = directive {
-            if let Some(first) = self.first_move {
+            if let Some(first) = self.output.first_move {
                 let directive = setup::Directive::NAMES[directive as usize];
                 let kind = EvalErrorKind::SetupAfterFirstMove { directive, first };
                 self.report(EvalError::new(kind, name_span));
@@ -1503,11 +1494,6 @@ impl<'w> WordValues<'w> {
     }
 }
 
-/// The number of a LinuxCNC numbered parameter's name (`#12` → 12).
-pub(crate) fn parameter_number(name: &str) -> Option<u32> {
-    name.strip_prefix('#')?.parse().ok()
-}
-
 /// The last of LinuxCNC's user parameters; those above hold machine state.
 pub(crate) const LAST_USER_PARAMETER: u32 = 5000;
 
@@ -1528,7 +1514,7 @@ fn numbered_parameters(names: &Names, from: Flavour) -> Vec<Slot> {
 
 /// The value the variable named `text` starts with.
 fn first_slot(text: &str, from: Flavour) -> Slot {
-    use crate::syntax::egc::lexer::{RETURN_VALUE, VALUE_RETURNED};
+    use crate::syntax::linuxcnc::{RETURN_VALUE, VALUE_RETURNED};
     match parameter_number(text) {
         Some(n) => first_value(n, from),
         // LinuxCNC's: 0 until a subroutine returns.
@@ -1562,65 +1548,12 @@ fn labelled(stmts: &[ast::Stmt], label: u32) -> Option<usize> {
     })
 }
 
-/// The variables of a call's scope: LinuxCNC's `#1`–`#30` and named
-/// parameters that do not start with `_`, and the call's argument slots;
-/// Fanuc's locals `#1`–`#33`.
-#[derive(Debug)]
-struct LinuxCncNames {
-    /// `#<call>`: set by an `o… call` line to its number of arguments.
-    marker: Option<usize>,
-    /// `#<call:k>` for k = 1…30: the arguments, by k − 1.
-    args: [Option<usize>; 30],
-    /// `#k` for k = 1…33, by k − 1: an `o… call` sets the first 30,
-    /// Fanuc's `G65` all 33.
-    numbered: [Option<usize>; 33],
-    /// Local named parameters.
-    named: Vec<usize>,
-}
-
-impl LinuxCncNames {
-    fn of(names: &Names) -> LinuxCncNames {
-        let mut found = LinuxCncNames {
-            marker: None,
-            args: [None; 30],
-            numbered: [None; 33],
-            named: Vec::new(),
-        };
-        found.add(names, 0);
-        found
-    }
-
-    /// The names from the symbol `from` on.
-    fn add(&mut self, names: &Names, from: usize) {
-        for (symbol, text) in names.iter().skip(from) {
-            let i = symbol.0 as usize;
-            if text == "#<call>" {
-                self.marker = Some(i);
-            } else if let Some(k) = text
-                .strip_prefix("#<call:")
-                .and_then(|t| t.strip_suffix('>'))
-                .and_then(|k| k.parse::<usize>().ok())
-            {
-                if (1..=30).contains(&k) {
-                    self.args[k - 1] = Some(i);
-                }
-            } else if let Some(k) = parameter_number(text) {
-                if (1..=33).contains(&k) {
-                    self.numbered[k as usize - 1] = Some(i);
-                }
-            } else if text.starts_with("#<") && !text.starts_with("#<_") {
-                self.named.push(i);
-            }
-        }
-    }
-}
-
 impl Evaluator<'_> {
     /// Entering a Fanuc `G65` macro: a new level of locals `#1`–`#33`,
     /// the arguments set and the rest vacant. Returns the caller's values.
     fn fanuc_scope(&mut self, args: &[(u32, f64)]) -> Vec<(usize, Slot)> {
         let mut saved = Vec::new();
-        for (k, local) in self.linuxcnc.numbered.iter().enumerate() {
+        for (k, local) in self.macros.scope.numbered.iter().enumerate() {
             if let Some(i) = *local {
                 let value = args
                     .iter()
@@ -1629,30 +1562,22 @@ impl Evaluator<'_> {
                 saved.push((i, std::mem::replace(&mut self.vars[i], value)));
             }
         }
-        self.changes += 1;
+        self.run.changes += 1;
         saved
     }
 
-    /// Entering a subprogram from a LinuxCNC `o… call` (its marker set):
-    /// `#1`–`#30` take the call's arguments (0 where none is given) and the
-    /// local named parameters start unset, as on LinuxCNC. Returns the
-    /// caller's values, to be put back when the call returns; nothing for
-    /// an `M98` call.
-    fn linuxcnc_scope(&mut self) -> Vec<(usize, Slot)> {
-        let scope = &self.linuxcnc;
-        let Some(marker) = scope.marker else {
-            return Vec::new();
-        };
-        let count = match std::mem::replace(&mut self.vars[marker], Slot::Unset) {
-            Slot::Set(Value::Number(n)) => n as usize,
-            _ => return Vec::new(),
-        };
+    /// Entering a subprogram from a LinuxCNC `o… call`: `#1`–`#30`
+    /// take the call's arguments (0 where none is given or it could not
+    /// be worked out) and the local named parameters start unset, as on
+    /// LinuxCNC. Returns the caller's values, to be put back when the call
+    /// returns.
+    fn linuxcnc_scope(&mut self, args: &[Slot]) -> Vec<(usize, Slot)> {
+        let scope = &self.macros.scope;
         let mut saved = Vec::new();
         for k in 0..30 {
-            let arg = scope.args[k].map(|a| std::mem::replace(&mut self.vars[a], Slot::Unset));
             if let Some(i) = scope.numbered[k] {
-                let value = match arg {
-                    Some(slot @ Slot::Set(_)) if k < count => slot,
+                let value = match args.get(k) {
+                    Some(slot @ Slot::Set(_)) => *slot,
                     _ => Slot::Set(Value::Number(0.0)),
                 };
                 saved.push((i, std::mem::replace(&mut self.vars[i], value)));
@@ -1661,7 +1586,7 @@ impl Evaluator<'_> {
         for &i in &scope.named {
             saved.push((i, std::mem::replace(&mut self.vars[i], Slot::Unset)));
         }
-        self.changes += 1;
+        self.run.changes += 1;
         saved
     }
 }
@@ -1670,7 +1595,7 @@ impl Evaluator<'_> {
 mod tests {
     use crate::driver::{compile, CompileOptions};
     use crate::source::Sources;
-    use crate::syntax::egc::Language;
+    use crate::syntax::Language;
 
     #[test]
     fn debug_messages_in_a_loop_are_capped() {

@@ -372,7 +372,7 @@ fn register_settings(engine: &mut Engine, session: &Rc<RefCell<Session>>) {
             return fail("gcode() takes one line");
         }
         // A line that does not parse is the script's error, at its line.
-        let (line, problems) = crate::syntax::egc::parse_program(text, 0);
+        let (line, problems) = crate::syntax::parse_program(text, 0);
         if let Some(first) = problems.first() {
             return fail(format!("gcode(\"{text}\"): {}", first.message));
         }

@@ -4,7 +4,7 @@
 // Test code: a failed unwrap is a failed test.
 #![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
 
-use ger::syntax::egc::parse_program_with_fast_path;
+use ger::syntax::parse_program_with_fast_path;
 use std::path::Path;
 
 mod support;
@@ -57,9 +57,9 @@ fn fast_path_builds_the_grammars_tree() {
 #[test]
 fn plain_word_lines_are_what_the_parser_builds() {
     use ger::source::{Locator, Sources};
-    use ger::syntax::egc::chunk::{chunks, parse_chunk, with_part_size};
-    use ger::syntax::egc::parser::with_fast_path;
-    use ger::syntax::egc::Language;
+    use ger::syntax::chunk::{chunks, parse_chunk, with_part_size};
+    use ger::syntax::parser::with_fast_path;
+    use ger::syntax::Language;
     let (mut checked, mut lines) = (0, 0);
     // Lines near the edge of the fast path, one program read in parts.
     let edges = "G 1 X - 1\nx+.5y-.5 f 100\nG1X1.5.3\nN10G1X1\n  \t\x0c\r\nG1 X1e5\nGX1\nX.\n\

@@ -47,7 +47,7 @@ fn found_round_trips_keep_the_tool_path() {
 #[test]
 fn found_inputs_give_their_diagnostic_at_once() {
     use ger::eval::{EvalOptions, Flavour};
-    use ger::syntax::egc::Language;
+    use ger::syntax::Language;
     use ger::wizard::{standard_library, Library, WizardEngine};
     // (file, how it is read, the error it must give): each once ran for
     // more than the fuzzer's 10 s. The first case's fix is checked here (it

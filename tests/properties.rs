@@ -306,7 +306,7 @@ fn plain_line() -> impl Strategy<Value = String> {
 
 /// Output and diagnostics, as text.
 fn outcome(text: &str, fast: bool) -> String {
-    let compiled = ger::syntax::egc::with_fast_path(fast, || run(text));
+    let compiled = ger::syntax::with_fast_path(fast, || run(text));
     format!("{:?}\n{:?}", compiled.output, compiled.diagnostics)
 }
 

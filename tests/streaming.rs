@@ -158,8 +158,8 @@ fn a_long_program_streams_like_a_short_one() {
 fn any_program_read_in_parts_is_read_as_a_whole() {
     use ger::eval::Flavour;
     use ger::source::Locator;
-    use ger::syntax::egc::chunk::{cuts, with_part_size};
-    use ger::syntax::egc::Language;
+    use ger::syntax::chunk::{cuts, with_part_size};
+    use ger::syntax::Language;
     let (mut cut, mut whole_only, mut read_in_parts) = (0, 0, 0);
     for (path, text) in &support::programs() {
         // The thresholds count the repository's own programs only.
@@ -270,7 +270,7 @@ fn any_program_read_in_parts_is_read_as_a_whole() {
 }
 
 /// Plain programs of words, comments and commands only are read a part at
-/// a time (`syntax::egc::chunk`). Every plain program of the repository,
+/// a time (`syntax::chunk`). Every plain program of the repository,
 /// and of `../shared/real` where it is present, gives the same output and
 /// diagnostics read whole and read in parts of about 1, 40 and 4096 bytes
 /// (a part ends at a line end), as LinuxCNC's G-code and as Fanuc's; and
@@ -278,8 +278,8 @@ fn any_program_read_in_parts_is_read_as_a_whole() {
 #[test]
 fn a_plain_program_read_in_parts_is_read_as_a_whole() {
     use ger::eval::Flavour;
-    use ger::syntax::egc::chunk::with_part_size;
-    use ger::syntax::egc::Language;
+    use ger::syntax::chunk::with_part_size;
+    use ger::syntax::Language;
     let (mut in_parts, mut from_readers) = (0, 0);
     // Any other program is read whole either way: nothing to compare.
     for (path, text) in &support::plain_programs() {
@@ -343,7 +343,7 @@ fn a_plain_program_read_in_parts_is_read_as_a_whole() {
 #[test]
 fn a_wizard_calling_a_subprogram_written_later_reads_the_program_whole() {
     use ger::eval::Flavour;
-    use ger::syntax::egc::chunk::with_part_size;
+    use ger::syntax::chunk::with_part_size;
     let text = "O0001\nG21 G90\nG0 X0 Y0 Z5\nCallSub()\nG1 X1 Y0 F100\nM30\nO1000\nG0 X5 Y5\nM99\n";
     let compile_in = |part: Option<usize>| {
         with_part_size(part, || {
@@ -376,7 +376,7 @@ fn a_wizard_calling_a_subprogram_written_later_reads_the_program_whole() {
 /// is the first's number, and the error is the whole read's.
 #[test]
 fn a_subroutine_written_twice_after_the_end_is_an_error_in_parts() {
-    use ger::syntax::egc::chunk::with_part_size;
+    use ger::syntax::chunk::with_part_size;
     // The second: a subroutine's number, in its error, is the whole
     // read's (`o<name>`s are numbered after the names a program starts
     // with, in both).
@@ -413,7 +413,7 @@ fn from_reader(
     wizards: bool,
 ) -> Read {
     use ger::driver::{compile_file, scan_file};
-    use ger::syntax::egc::chunk::with_part_size;
+    use ger::syntax::chunk::with_part_size;
     let raw = std::fs::read(path).unwrap();
     let Some(scan) = scan_file(&mut raw.as_slice()).unwrap() else {
         return Read::Refused;
@@ -622,7 +622,7 @@ proptest::proptest! {
         };
         let streamed = |scan| {
             let mut out = Vec::new();
-            let compiled = ger::syntax::egc::chunk::with_part_size(Some(part), || {
+            let compiled = ger::syntax::chunk::with_part_size(Some(part), || {
                 compile_file(&mut &bytes[..], "p.ngc", file, scan, &CompileOptions::default(), None, &mut out)
             });
             (compiled.unwrap(), out)
@@ -671,7 +671,7 @@ fn a_file_with_a_bom_and_latin1_lines_reads_in_parts_as_whole() {
     let facts = scan_file(&mut &bytes[..]).unwrap().expect("a plain file");
     for part in [1, 8, 40, 4096] {
         let mut out = Vec::new();
-        let report = ger::syntax::egc::chunk::with_part_size(Some(part), || {
+        let report = ger::syntax::chunk::with_part_size(Some(part), || {
             compile_file(
                 &mut &bytes[..],
                 "p.ngc",

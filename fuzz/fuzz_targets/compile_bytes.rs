@@ -6,7 +6,7 @@
 use ger::driver::{compile, CompileOptions};
 use ger::eval::{EvalOptions, Flavour};
 use ger::source::{decode, Sources};
-use ger::syntax::egc::Language;
+use ger::syntax::Language;
 use ger::wizard::{standard_library, Library, WizardEngine};
 use libfuzzer_sys::fuzz_target;
 

@@ -14,11 +14,11 @@ impl Program {
             depth: 0,
         };
         if let Some(n) = self.main_number {
-            p.line(&format!("O{n} (main)"));
+            p.line(&format!("{} (main)", n.describe(p.names)));
         }
         p.block(&self.main);
         for sub in &self.subprograms {
-            p.line(&format!("O{}", sub.number));
+            p.line(&sub.name.describe(p.names));
             p.depth += 1;
             p.block(&sub.body);
             p.depth -= 1;
@@ -105,7 +105,7 @@ impl AstPrinter<'_> {
                     label,
                     test_after,
                 } = &**w;
-                let label = label.map_or(String::new(), |n| format!("o{n} "));
+                let label = label.map_or(String::new(), |n| format!("{} ", n.written(self.names)));
                 let cond = self.expr(cond);
                 if *test_after {
                     self.line(&format!("{label}do {{"));
@@ -117,8 +117,37 @@ impl AstPrinter<'_> {
                     self.line("}");
                 }
             }
-            StmtKind::Break(label) => self.line(&format!("o{label} break")),
-            StmtKind::Continue(label) => self.line(&format!("o{label} continue")),
+            StmtKind::Break(label) => self.line(&format!("{} break", label.written(self.names))),
+            StmtKind::Continue(label) => {
+                self.line(&format!("{} continue", label.written(self.names)))
+            }
+            StmtKind::Return(r) => {
+                let keyword = if r.ends_sub { "endsub" } else { "return" };
+                let text = match &r.value {
+                    Some(v) => format!("{keyword} [{}]", self.expr(v)),
+                    None => keyword.to_string(),
+                };
+                self.line(&text)
+            }
+            StmtKind::DefinitionRead { .. } => {}
+            StmtKind::Repeat(r) => {
+                let head = format!(
+                    "{} repeat [{}] {{",
+                    r.label.written(self.names),
+                    self.expr(&r.count)
+                );
+                self.line(&head);
+                self.nested(&r.body);
+                self.line("}");
+            }
+            StmtKind::Sub(name) => self.line(&format!("{} sub", name.written(self.names))),
+            StmtKind::SubCall(call) => {
+                let mut text = format!("{} call", call.name.written(self.names));
+                for arg in &call.args {
+                    text.push_str(&format!(" [{}]", self.expr(arg)));
+                }
+                self.line(&text)
+            }
             StmtKind::Goto(target) => {
                 let text = format!("GOTO {}", self.expr(target));
                 self.line(&text)

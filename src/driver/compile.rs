@@ -11,7 +11,7 @@ use super::threads::on_two_threads;
 use crate::diagnostic::{is_error, Diagnostic};
 use crate::eval::{self, EvalOptions, WizardHost};
 use crate::source::{FileId, Locator, Sources};
-use crate::syntax::egc::{chunk, Language};
+use crate::syntax::{chunk, Language};
 use crate::toolpath::ToolPath;
 use std::io::Write;
 use std::time::Duration;
@@ -328,7 +328,7 @@ fn run<'a>(
         };
     }
     let (mut program, parse_diagnostics) =
-        crate::syntax::egc::parse_program_files((text, &locator), &library, language);
+        crate::syntax::parse_program_files((text, &locator), &library, language);
     if fanuc_functions {
         map_fanuc_functions(&mut program.main);
         for sub in &mut program.subprograms {

@@ -7,7 +7,7 @@ use crate::emit::{EmitOptions, Target};
 use crate::eval::{self, EvalOptions};
 use crate::lower;
 use crate::source::FileId;
-use crate::syntax::egc::Language;
+use crate::syntax::Language;
 
 /// The stages of SPEC §4, in order; `--stage NAME` stops after one.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord)]
@@ -40,7 +40,7 @@ impl Stage {
 pub struct CompileOptions {
     pub eval: EvalOptions,
     /// The source language (`--input`); `None`: from the file name.
-    pub input: Option<crate::syntax::egc::Language>,
+    pub input: Option<crate::syntax::Language>,
     /// `--from`; `None`: from the file name (`.ngc` is LinuxCNC's).
     pub from: Option<eval::Flavour>,
     pub emit: EmitOptions,

@@ -8,7 +8,7 @@ use crate::ast::Names;
 use crate::diagnostic::{is_error, Diagnostic};
 use crate::eval;
 use crate::source::{self, FileId, Locator};
-use crate::syntax::egc::{chunk, Language};
+use crate::syntax::{chunk, Language};
 use std::time::{Duration, Instant};
 
 /// Where the parts of a program come from.

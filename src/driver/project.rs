@@ -13,7 +13,7 @@ use crate::emit::{ArcFormat, Numbering, Target};
 use crate::eval::Flavour;
 use crate::ir::Units;
 use crate::source::{FileId, Sources};
-use crate::syntax::egc::Language;
+use crate::syntax::Language;
 use serde::Deserialize;
 use std::path::{Path, PathBuf};
 

@@ -7,7 +7,7 @@ use super::fs::FileSystem;
 use crate::diagnostic::Diagnostic;
 use crate::ir;
 use crate::source::{self, FileId, BLOCK};
-use crate::syntax::egc::chunk;
+use crate::syntax::chunk;
 use std::io::Seek;
 use std::path::Path;
 

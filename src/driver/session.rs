@@ -19,7 +19,7 @@ use super::scan::{self, FileScan};
 use crate::diagnostic::Diagnostic;
 use crate::eval::WizardHost;
 use crate::source::{self, FileId, Sources, Span};
-use crate::syntax::egc::Language;
+use crate::syntax::Language;
 use crate::toolpath::ToolPath;
 use crate::wizard::{Library, WizardEngine};
 use std::io::{Seek, Write};

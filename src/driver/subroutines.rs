@@ -50,33 +50,12 @@ pub fn subroutine_library(
     Ok(library)
 }
 
-/// The `o<name>` subroutines a text calls and those it defines (`sub`),
-/// named as the lexer names them (trimmed, in lower case).
+/// The `o<name>` subroutines a text calls and those it defines, as the
+/// front end reads them (a text with no `o<` has none, and is not parsed).
 fn named_subroutines(text: &str) -> (Vec<String>, Vec<String>) {
-    let (mut calls, mut subs) = (Vec::new(), Vec::new());
-    for line in text.lines() {
-        let line = line.trim_start();
-        let Some(rest) = line
-            .strip_prefix(['o', 'O'])
-            .and_then(|r| r.strip_prefix('<'))
-        else {
-            continue;
-        };
-        let Some(close) = rest.find('>') else {
-            continue;
-        };
-        let name = crate::syntax::egc::lexer::subroutine_name(&rest[..close]);
-        let keyword = rest[close + 1..]
-            .trim_start()
-            .split(|c: char| !c.is_ascii_alphabetic())
-            .next()
-            .unwrap_or("")
-            .to_ascii_lowercase();
-        match keyword.as_str() {
-            "call" => calls.push(name),
-            "sub" => subs.push(name),
-            _ => {}
-        }
+    if !text.contains("o<") && !text.contains("O<") {
+        return (Vec::new(), Vec::new());
     }
-    (calls, subs)
+    let (program, _) = crate::syntax::parse_program_as(text, 0, crate::syntax::Language::Gcode);
+    program.named_subroutines()
 }

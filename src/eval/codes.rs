@@ -4,7 +4,7 @@
 //! (`M98`/`M99`) are run here too.
 
 use super::{Evaluator, Flow, WordValues};
-use crate::ast::{self, LineStmt, WordValue};
+use crate::ast::{self, LineStmt, OName, WordValue};
 use crate::diagnostic::Diagnostic;
 use crate::ir::{self, Arc, ArcGeometry, Axes, Axis, Motion, Op};
 use crate::source::Span;
@@ -156,7 +156,7 @@ impl Evaluator<'_> {
     #[cold]
     fn reported(&mut self, d: Diagnostic) -> Flow {
         self.report(d);
-        match self.over_limit {
+        match self.run.over_limit {
             true => Flow::Abort,
             false => Flow::Next,
         }
@@ -833,8 +833,7 @@ impl Evaluator<'_> {
         }
         self.feed_speed_tool(w, span)?;
         self.leftover_move(w, span, Some((b'M', 980)))?;
-        // A LinuxCNC `o… call` has its own parameters (see `linuxcnc_scope`).
-        self.run_subprogram(number, count, pspan, at, |ev| ev.linuxcnc_scope())
+        self.run_subprogram(OName::Number(number), count, pspan, at, |_| Vec::new())
     }
 
     /// Fanuc's `G65 P… L… A… B…`: a macro call. Every other word is an
@@ -857,14 +856,38 @@ impl Evaluator<'_> {
             }
         }
         self.unused_words(w, Some((b'G', 650)))?;
-        self.run_subprogram(number, count, pspan, at, |ev| ev.fanuc_scope(&args))
+        self.run_subprogram(OName::Number(number), count, pspan, at, |ev| {
+            ev.fanuc_scope(&args)
+        })
     }
 
-    /// Run subprogram `number` `count` times, in the scope `enter` makes
+    /// LinuxCNC's `o… call [a] [b] …`: the subprogram runs once with `#1`,
+    /// `#2`, … set to the arguments, in a scope of its own
+    /// ([`Self::linuxcnc_scope`]). An argument that cannot be worked out
+    /// is reported and passed as 0.
+    pub(super) fn sub_call(&mut self, call: &ast::SubCall) -> Flow {
+        let args: Vec<super::Slot> = call.args.iter().map(|a| self.value_slot(a)).collect();
+        self.run_subprogram(call.name, 1, call.at, call.at, |ev| {
+            ev.linuxcnc_scope(&args)
+        })
+        .unwrap_or_else(|d| self.reported(d))
+    }
+
+    /// LinuxCNC's `oN sub` inside a block, where no subprogram starts: its
+    /// o-word is a word no code uses.
+    pub(super) fn misplaced_sub(&mut self, at: Span) -> Flow {
+        let kind = K::UnusedWord {
+            letter: 'O',
+            code: None,
+        };
+        self.reported(CodeError::new(kind, at).into())
+    }
+
+    /// Run subprogram `name` `count` times, in the scope `enter` makes
     /// (it returns the values to put back after).
     fn run_subprogram(
         &mut self,
-        number: u32,
+        name: OName,
         count: u32,
         pspan: Span,
         at: Span,
@@ -872,36 +895,36 @@ impl Evaluator<'_> {
     ) -> Result<Flow, Diagnostic> {
         let program = self.program;
         // The program's, or one a part read before kept.
-        let kept = || self.kept.iter().find(|s| s.number == number).cloned();
-        let sub = match program.subprograms.iter().find(|s| s.number == number) {
+        let kept = || self.macros.kept.iter().find(|s| s.name == name).cloned();
+        let sub = match program.subprograms.iter().find(|s| s.name == name) {
             Some(sub) => Sub::Program(sub),
             None => match kept() {
                 Some(sub) => Sub::Kept(sub),
                 // It may be written further on, in a part not read yet.
-                None if self.in_parts => {
-                    self.needs_whole = true;
+                None if self.macros.in_parts => {
+                    self.macros.needs_whole = true;
                     return Ok(Flow::Abort);
                 }
-                None => return Err(self.no_subprogram(number, pspan)),
+                None => return Err(self.no_subprogram(name, pspan)),
             },
         };
         let body: &[ast::Stmt] = match &sub {
             Sub::Program(sub) => &sub.body,
             Sub::Kept(sub) => &sub.body,
         };
-        if self.calls.len() >= self.options.max_call_depth {
+        if self.macros.calls.len() >= self.options.max_call_depth {
             // It stops the program: going on, each level would run the
             // rest of its body and its repeats (`L3` at 64 levels: 3^64).
-            self.report_call_depth(number, at);
+            self.report_call_depth(name, at);
             return Ok(Flow::Abort);
         }
-        self.calls.push((number, at));
+        self.macros.calls.push((name, at));
         let saved = enter(self);
         let mut flow = Flow::Next;
         for _ in 0..count {
-            self.repeating += 1;
+            self.run.repeating += 1;
             let ran = self.exec_block(body);
-            self.repeating -= 1;
+            self.run.repeating -= 1;
             flow = match ran {
                 Flow::Return | Flow::Next => Flow::Next,
                 other => self.no_label(other),
@@ -911,59 +934,50 @@ impl Evaluator<'_> {
             }
         }
         if !saved.is_empty() {
-            self.changes += 1;
+            self.run.changes += 1;
         }
         for (i, slot) in saved {
             self.vars[i] = slot;
         }
-        self.calls.pop();
+        self.macros.calls.pop();
         Ok(flow)
     }
 
     /// A call of a subprogram neither the program nor a part read before
     /// has; the error names those it has.
-    fn no_subprogram(&self, number: u32, pspan: Span) -> Diagnostic {
+    fn no_subprogram(&self, name: OName, pspan: Span) -> Diagnostic {
         let names = &self.names;
-        let name = subprogram_name(names, number);
-        let file = name
-            .strip_prefix("o<")
-            .and_then(|n| n.strip_suffix('>'))
-            .map(str::to_string);
-        let numbers = self.program.subprograms.iter().map(|s| s.number);
-        let kept = self.kept.iter().map(|s| s.number);
-        let known = numbers
-            .chain(kept)
-            .map(|n| subprogram_name(names, n))
-            .collect();
+        let file = match name {
+            OName::Named(s) => names
+                .text(s)
+                .strip_prefix("o<")
+                .and_then(|n| n.strip_suffix('>'))
+                .map(str::to_string),
+            OName::Number(_) => None,
+        };
+        let numbers = self.program.subprograms.iter().map(|s| s.name);
+        let kept = self.macros.kept.iter().map(|s| s.name);
+        let known = numbers.chain(kept).map(|n| n.describe(names)).collect();
+        let name = name.describe(names);
         let kind = K::NoSubprogram { name, file, known };
         CodeError::new(kind, pspan).into()
     }
 
     /// Calls nested deeper than the limit. Runaway recursion is the usual
     /// cause: the error says where it started.
-    fn report_call_depth(&mut self, number: u32, at: Span) {
+    fn report_call_depth(&mut self, name: OName, at: Span) {
         let recursion = self
+            .macros
             .calls
             .iter()
-            .find(|(n, _)| *n == number)
-            .map(|&(_, first)| (number, first));
+            .find(|(n, _)| *n == name)
+            .map(|&(_, first)| (name.describe(&self.names), first));
         let kind = K::CallDepth {
             limit: self.options.max_call_depth,
             recursion,
         };
         self.report(CodeError::new(kind, at));
     }
-}
-
-/// A subprogram's name for messages: `O1000`, or a LinuxCNC `o<name>`,
-/// which is numbered by its name's symbol.
-fn subprogram_name(names: &ast::Names, number: u32) -> String {
-    number
-        .checked_sub(crate::syntax::egc::lexer::NAMED_SUB_BASE)
-        .filter(|&i| (i as usize) < names.len())
-        .map(|i| names.text(ast::Symbol(i)))
-        .filter(|text| text.starts_with("o<"))
-        .map_or_else(|| format!("O{number}"), str::to_string)
 }
 
 /// A subprogram found for a call: the program's, or one kept from a part
@@ -1094,9 +1108,9 @@ pub(super) fn run_wizard_line(
             }
             w.span = span;
         }
-        let before = ev.errors;
+        let before = ev.reports.errors;
         ev.exec_line(&line);
-        if ev.errors > before {
+        if ev.reports.errors > before {
             return Err(Vec::new());
         }
     }

@@ -45,7 +45,8 @@ pub enum EvalErrorKind {
     /// A `break` (true) or `continue` (false) with no `while` or `do` loop
     /// of its label around it.
     NoLoop {
-        label: u32,
+        /// The o-word as written: `o100`, `o<name>`.
+        label: String,
         is_break: bool,
     },
     /// A `GOTO` target that is no label number.
@@ -151,7 +152,7 @@ impl Wording for EvalErrorKind {
                     "no `while` or `do` loop with this o-word is around it",
                 )
                 .with_note(format!(
-                    "LinuxCNC's `o{label} {keyword}` needs `o{label} while` or `o{label} do` \
+                    "LinuxCNC's `{label} {keyword}` needs `{label} while` or `{label} do` \
                      around it in the same subroutine (a `repeat` loop cannot be left this way)"
                 ))
             }

@@ -7,7 +7,7 @@ use super::degrees;
 use crate::ast::{BinaryOp, Expr, ExprKind, Function, Names, Symbol, UnaryOp};
 use crate::diagnostic::{error, Diagnostic, DiagnosticExt};
 use crate::source::Span;
-use crate::syntax::egc::lexer::{LAST_PARAMETER, RETURN_VALUE};
+use crate::syntax::linuxcnc::{LAST_PARAMETER, RETURN_VALUE};
 
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Value {

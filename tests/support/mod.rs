@@ -36,7 +36,7 @@ pub fn egc_files(dir: &Path) -> Vec<PathBuf> {
 pub fn plain_programs() -> Vec<(PathBuf, String)> {
     programs()
         .into_iter()
-        .filter(|(_, t)| ger::syntax::egc::chunk::chunkable(t))
+        .filter(|(_, t)| ger::syntax::chunk::chunkable(t))
         .collect()
 }
 

@@ -335,8 +335,8 @@ impl Options {
                 FromArg::Mach3 => ger::eval::Flavour::Mach3,
             }),
             input: self.language.map(|i| match i {
-                InputArg::Egc => ger::syntax::egc::Language::Egc,
-                InputArg::Gcode => ger::syntax::egc::Language::Gcode,
+                InputArg::Egc => ger::syntax::Language::Egc,
+                InputArg::Gcode => ger::syntax::Language::Gcode,
             }),
             lower: ger::lower::LowerOptions {
                 keep_cycles: self.cycles == CyclesArg::Keep,

@@ -72,7 +72,7 @@ pub enum CodeErrorKind {
     /// where it was first called, when that is the cause.
     CallDepth {
         limit: usize,
-        recursion: Option<(u32, Span)>,
+        recursion: Option<(String, Span)>,
     },
     /// A word that must be a whole number from 0, and what it counts.
     NotWhole(&'static str),
@@ -238,10 +238,10 @@ impl Wording for CodeErrorKind {
                     "this call is too deep",
                 );
                 match recursion {
-                    Some((number, first)) => d
-                        .with_secondary(*first, format!("O{number} was first called here"))
+                    Some((name, first)) => d
+                        .with_secondary(*first, format!("{name} was first called here"))
                         .with_help(format!(
-                            "O{number} calls itself; make sure a condition stops the recursion"
+                            "{name} calls itself; make sure a condition stops the recursion"
                         )),
                     None => d,
                 }

@@ -5,7 +5,10 @@
 //! It must not evaluate anything.
 
 use super::error::{ParseHint, SyntaxError, SyntaxErrorKind};
-use super::lexer::{self, Language, Lexed, Tok};
+use super::language::Language;
+use super::lexer::{self, Lexed};
+use super::token::{Spanned, Tok};
+use super::words::LexedWord;
 use crate::ast::*;
 use crate::diagnostic::Diagnostic;
 use crate::source::{FileId, Locator, Span};
@@ -74,7 +77,7 @@ pub fn parse_program_files(
         let (part, more) = parse_program_from(text, 0, at, language, &mut names);
         diagnostics.extend(more);
         for sub in part.subprograms {
-            if !program.subprograms.iter().any(|s| s.number == sub.number) {
+            if !program.subprograms.iter().any(|s| s.name == sub.name) {
                 program.subprograms.push(sub);
             }
         }
@@ -136,6 +139,10 @@ pub fn parse_program_from(
                 let number = at.span(start, end).line;
                 top.push(words_stmt(&words, run, (start, end), number, at));
             }
+            Piece::Sub(start, name, end) => top.push(Stmt {
+                kind: StmtKind::Sub(name),
+                span: at.span(start, end),
+            }),
             Piece::Grammar(slice) => {
                 let mut recovered = Vec::new();
                 let result = grammar::ProgramParser::new().parse(
@@ -165,7 +172,7 @@ pub fn parse_program_from(
         }
     }
     let mut structure = Vec::new();
-    let program = split_subprograms(top, &mut structure);
+    let program = split_subprograms(top, names, &mut structure);
     problems.extend(
         structure
             .into_iter()
@@ -254,14 +261,18 @@ pub fn with_fast_path<T>(fast: bool, f: impl FnOnce() -> T) -> T {
 /// tokens for the grammar.
 enum Piece<'t> {
     Line(usize, (u32, u32), usize),
-    Grammar(&'t [lexer::Spanned]),
+    /// LinuxCNC's `oN sub` alone: what the grammar builds, kept out of the
+    /// stretches around it as an `O` line is (a broken block after it
+    /// does not take it along).
+    Sub(usize, OName, usize),
+    Grammar(&'t [Spanned]),
 }
 
 /// Cut the tokens at top-level statement ends. Most lines of a CAM program
 /// are one run of plain words: those are built directly, which is what the
 /// grammar's `Words` rule would build, without the parser's per-token
 /// work. Everything else goes to the grammar, in stretches.
-fn pieces(tokens: &[lexer::Spanned], fast: bool) -> Vec<Piece<'_>> {
+fn pieces(tokens: &[Spanned], fast: bool) -> Vec<Piece<'_>> {
     let mut out = Vec::new();
     let mut depth = 0usize;
     let mut stmt_start = 0;
@@ -279,9 +290,14 @@ fn pieces(tokens: &[lexer::Spanned], fast: bool) -> Vec<Piece<'_>> {
             }
             continue;
         }
-        if let (true, true, Tok::Words(first, len)) = (fast, stmt_start == i, tok) {
+        let piece = match tok {
+            Tok::Words(first, len) => Piece::Line(start, (first, len), end),
+            Tok::Sub(name) => Piece::Sub(start, name, end),
+            _ => continue,
+        };
+        if fast && stmt_start == i {
             push_stretch(&mut out, &tokens[stretch_start..i]);
-            out.push(Piece::Line(start, (first, len), end));
+            out.push(piece);
             stretch_start = i + 1;
         }
     }
@@ -290,7 +306,7 @@ fn pieces(tokens: &[lexer::Spanned], fast: bool) -> Vec<Piece<'_>> {
 }
 
 /// A stretch for the grammar, without the statement ends around it.
-fn push_stretch<'t>(out: &mut Vec<Piece<'t>>, mut stretch: &'t [lexer::Spanned]) {
+fn push_stretch<'t>(out: &mut Vec<Piece<'t>>, mut stretch: &'t [Spanned]) {
     while let [(_, Tok::Term, _), rest @ ..] = stretch {
         stretch = rest;
     }
@@ -307,8 +323,8 @@ struct ErrorContext<'a> {
     text: &'a str,
     names: &'a Names,
     call_groups: &'a [usize],
-    tokens: &'a [lexer::Spanned],
-    words: &'a [lexer::LexedWord],
+    tokens: &'a [Spanned],
+    words: &'a [LexedWord],
 }
 
 impl ErrorContext<'_> {
@@ -453,23 +469,44 @@ fn expected_list(expected: &[String]) -> String {
     }
 }
 
-/// The `O` number of a line that holds only an `O` word.
-fn program_number(stmt: &Stmt) -> Option<(f64, Span)> {
+/// The subprogram a statement starts: a line that holds only an `O` word
+/// (its value, checked by [`program_number`] where it is used), or
+/// LinuxCNC's `oN sub`.
+fn program_start(stmt: &Stmt) -> Option<(Start, Span)> {
     match &stmt.kind {
         // (A sequence number may come first: `N1 O0003`.)
         StmtKind::Line(line) => match line.words.as_slice() {
             [w] | [Word { letter: b'N', .. }, w] if w.letter == b'O' => match w.value {
-                WordValue::Number(n) => Some((n.value, w.span)),
+                WordValue::Number(n) => Some((Start::Number(n.value), w.span)),
                 WordValue::Expr(_) => None,
             },
             _ => None,
         },
+        StmtKind::Sub(name) => Some((Start::Name(*name), stmt.span)),
         _ => None,
     }
 }
 
+/// What starts a subprogram: an `O` word's value, or a checked name.
+enum Start {
+    Number(f64),
+    Name(OName),
+}
+
+impl Start {
+    fn name(self) -> Option<OName> {
+        match self {
+            Start::Number(n) => program_number(n).map(OName::Number),
+            Start::Name(name) => Some(name),
+        }
+    }
+}
+
+/// Whether `stmt` ends the subprogram's text: an `M99` line, or an
+/// `endsub`.
 fn has_m99(stmt: &Stmt) -> bool {
     match &stmt.kind {
+        StmtKind::Return(r) => r.ends_sub,
         StmtKind::Line(line) => line.words.iter().any(|w| {
             w.letter == b'M' && matches!(w.value, WordValue::Number(n) if n.value == 99.0)
         }),
@@ -478,9 +515,11 @@ fn has_m99(stmt: &Stmt) -> bool {
 }
 
 /// Split the top level into the main program and subprograms (SPEC §2.6):
-/// an `O` line opens a subprogram that ends with its `M99`; an `O` line at
-/// the very top whose block has no `M99` numbers the main program instead.
-fn split_subprograms(top: Vec<Stmt>, errors: &mut Vec<SyntaxError>) -> Program {
+/// an `O` line (or LinuxCNC's `oN sub`) opens a subprogram that ends with
+/// its `M99` (or `endsub`, which leaves a [`StmtKind::DefinitionRead`] in
+/// the program around it); an `O` line at the very top whose block has no
+/// `M99` numbers the main program instead.
+fn split_subprograms(top: Vec<Stmt>, names: &Names, errors: &mut Vec<SyntaxError>) -> Program {
     let mut program = Program {
         main: Vec::with_capacity(top.len()),
         main_number: None,
@@ -492,23 +531,22 @@ fn split_subprograms(top: Vec<Stmt>, errors: &mut Vec<SyntaxError>) -> Program {
         .iter()
         .position(|s| !matches!(s.kind, StmtKind::Comment(_)))
         .unwrap_or(0);
-    let numbers_main = top.get(first).and_then(program_number).is_some()
-        && !block_has_m99(top[first + 1..].iter());
+    let numbers_main =
+        top.get(first).and_then(program_start).is_some() && !block_has_m99(top[first + 1..].iter());
     let mut open: Option<Subprogram> = None;
     for (index, stmt) in top.into_iter().enumerate() {
-        if let Some((value, span)) = program_number(&stmt) {
-            if value < 0.0 || value.fract() != 0.0 || value > 99_999_999.0 {
+        if let Some((start, span)) = program_start(&stmt) {
+            let Some(name) = start.name() else {
                 errors.push(SyntaxError::new(
                     SyntaxErrorKind::InvalidProgramNumber,
                     span,
                 ));
                 continue;
-            }
-            let number = value as u32;
+            };
             if let Some(sub) = open.take() {
                 errors.push(SyntaxError::new(
                     SyntaxErrorKind::SubprogramWithoutM99 {
-                        number: sub.number,
+                        name: sub.name.describe(names),
                         next: Some(span),
                     },
                     sub.span,
@@ -516,20 +554,20 @@ fn split_subprograms(top: Vec<Stmt>, errors: &mut Vec<SyntaxError>) -> Program {
                 program.subprograms.push(sub);
             }
             if index == first && numbers_main {
-                program.main_number = Some(number);
+                program.main_number = Some(name);
                 continue;
             }
-            if let Some(other) = program.subprograms.iter().find(|s| s.number == number) {
+            if let Some(other) = program.subprograms.iter().find(|s| s.name == name) {
                 errors.push(SyntaxError::new(
                     SyntaxErrorKind::SubprogramTwice {
-                        number,
+                        name: name.describe(names),
                         first: other.span,
                     },
                     span,
                 ));
             }
             open = Some(Subprogram {
-                number,
+                name,
                 span,
                 body: Vec::new(),
             });
@@ -538,10 +576,20 @@ fn split_subprograms(top: Vec<Stmt>, errors: &mut Vec<SyntaxError>) -> Program {
         match open.as_mut() {
             Some(sub) => {
                 let ends = has_m99(&stmt);
+                let read = match &stmt.kind {
+                    StmtKind::Return(r) if r.ends_sub => Some(Stmt {
+                        kind: StmtKind::DefinitionRead {
+                            returns_value: r.value.is_some(),
+                        },
+                        span: stmt.span,
+                    }),
+                    _ => None,
+                };
                 sub.body.push(stmt);
                 if ends {
                     program.subprograms.extend(open.take());
                 }
+                program.main.extend(read);
             }
             None => program.main.push(stmt),
         }
@@ -549,7 +597,7 @@ fn split_subprograms(top: Vec<Stmt>, errors: &mut Vec<SyntaxError>) -> Program {
     if let Some(sub) = open {
         errors.push(SyntaxError::new(
             SyntaxErrorKind::SubprogramWithoutM99 {
-                number: sub.number,
+                name: sub.name.describe(names),
                 next: None,
             },
             sub.span,
@@ -562,7 +610,7 @@ fn split_subprograms(top: Vec<Stmt>, errors: &mut Vec<SyntaxError>) -> Program {
 /// Does the block that starts here (up to the next `O` line) contain `M99`?
 fn block_has_m99<'a>(mut rest: impl Iterator<Item = &'a Stmt>) -> bool {
     rest.try_fold(false, |_, s| {
-        if program_number(s).is_some() {
+        if program_start(s).is_some() {
             Err(false)
         } else if has_m99(s) {
             Err(true)
@@ -579,7 +627,7 @@ fn block_has_m99<'a>(mut rest: impl Iterator<Item = &'a Stmt>) -> bool {
 /// (`words[run]`, from `start` to `end` on line `number` of the file):
 /// what the grammar's `Words` rule builds.
 fn words_stmt(
-    words: &[lexer::LexedWord],
+    words: &[LexedWord],
     run: (u32, u32),
     (start, end): (usize, usize),
     number: u32,
@@ -600,12 +648,7 @@ fn words_stmt(
 }
 
 /// Append the words of a run token (`Tok::Words`) to a line.
-pub(crate) fn push_words(
-    line: &mut Vec<Word>,
-    words: &[lexer::LexedWord],
-    run: (u32, u32),
-    at: &Locator,
-) {
+pub(crate) fn push_words(line: &mut Vec<Word>, words: &[LexedWord], run: (u32, u32), at: &Locator) {
     let (first, len) = (run.0 as usize, run.1 as usize);
     let run = &words[first..first + len];
     // A run of words never crosses a line end: one line lookup for all.
@@ -616,7 +659,7 @@ pub(crate) fn push_words(
 }
 
 /// A lexed word on line `number` of the file.
-fn ast_word(w: &lexer::LexedWord, number: u32, at: &Locator) -> Word {
+fn ast_word(w: &LexedWord, number: u32, at: &Locator) -> Word {
     Word {
         letter: w.word.letter,
         value: WordValue::Number(Number {

@@ -9,8 +9,9 @@
 //! so they are read in any plain program; `--from fanuc` gives them
 //! Fanuc's vacant variables and macro calls in the evaluator.
 
-use super::{Lexer, Raw, Shape, Tok};
-use crate::syntax::egc::error::SyntaxErrorKind;
+use super::error::SyntaxErrorKind;
+use super::lexer::{Lexer, Raw, Shape};
+use super::token::Tok;
 
 impl Lexer<'_> {
     /// A Macro B word at `start..end`: where the text goes on, if it was

@@ -9,9 +9,13 @@
 //! ([`chunkable`], [`chunks`]), and its lines of plain words are built
 //! straight from their bytes ([`parse_chunk`]).
 
-use super::lexer::{self, comment_end, Language, WordNumber};
+use super::gcode::comment_end;
+use super::language::Language;
 use super::parser::{fast_path, parse_program_from};
-use crate::ast::{LineEnd, Lines, Names, PlainWord, Stmt, StmtKind, Subprogram, Word, WordValue};
+use super::words::{plain_words, WordNumber};
+use crate::ast::{
+    LineEnd, Lines, Names, OName, PlainWord, Stmt, StmtKind, Subprogram, Word, WordValue,
+};
 use crate::diagnostic::Diagnostic;
 use crate::source::Locator;
 
@@ -238,21 +242,32 @@ pub fn cut_part(
     if program.main_number.is_some() && !first && (end < text.len() || !complete) {
         return Cut::Grow;
     }
-    let own = |n: u32| program.subprograms.iter().any(|s| s.number == n);
-    let known = |n: u32| own(n) || defined.contains(&n);
+    let own = |n: OName| program.subprograms.iter().any(|s| s.name == n);
+    let known = |n: OName| own(n) || defined.contains(&defined_key(n));
     let in_subs = program.subprograms.iter().flat_map(|s| &s.body);
     if (program.main_number.is_some() && !first)
         || program
             .subprograms
             .iter()
-            .any(|s| defined.contains(&s.number))
+            .any(|s| defined.contains(&defined_key(s.name)))
         || program.main.iter().any(|s| needs_whole(s, &known, false))
         || in_subs.clone().any(|s| needs_whole(s, &known, true))
     {
         return Cut::Whole;
     }
-    defined.extend(program.subprograms.iter().map(|s| s.number));
+    defined.extend(program.subprograms.iter().map(|s| defined_key(s.name)));
     Cut::Part(end, program.main, program.subprograms, diagnostics)
+}
+
+/// A subprogram as `defined` (the caller's list of the parts'
+/// subprograms, a `Vec<u32>` in the driver) holds it: its number, or its
+/// name's symbol with the top bit set (numbers are below 10^8). To go
+/// when the driver keeps a `Vec<OName>`.
+fn defined_key(name: OName) -> u32 {
+    match name {
+        OName::Number(n) => n,
+        OName::Named(s) => 1 << 31 | s.0,
+    }
 }
 
 /// The first line end at or after `want` that is followed by a whole line
@@ -296,9 +311,10 @@ fn starts_a_statement(line: &str) -> bool {
 }
 
 /// Whether `stmt` needs the whole program to run: a `GOTO`, an `O` word,
-/// a call of a subprogram not `known`, an `M99` outside a subprogram
-/// (`in_sub`), or a code or program number given by an expression.
-fn needs_whole(stmt: &Stmt, known: &dyn Fn(u32) -> bool, in_sub: bool) -> bool {
+/// a call of a subprogram not `known`, an `M99` or a LinuxCNC `return`
+/// outside a subprogram (`in_sub`), or a code or program number given by
+/// an expression.
+fn needs_whole(stmt: &Stmt, known: &dyn Fn(OName) -> bool, in_sub: bool) -> bool {
     let needs = |s: &Stmt| needs_whole(s, known, in_sub);
     match &stmt.kind {
         StmtKind::Goto(_) => true,
@@ -315,6 +331,11 @@ fn needs_whole(stmt: &Stmt, known: &dyn Fn(u32) -> bool, in_sub: bool) -> bool {
             .chain(f.otherwise.iter().flatten())
             .any(needs),
         StmtKind::While(w) => w.body.iter().any(needs),
+        StmtKind::SubCall(call) => !known(call.name),
+        StmtKind::Return(_) => !in_sub,
+        StmtKind::Repeat(r) => r.body.iter().any(needs),
+        // One the parser left in a block, where no subprogram starts.
+        StmtKind::Sub(_) => true,
         StmtKind::Assign(_)
         | StmtKind::Assigns(_)
         | StmtKind::Call { .. }
@@ -322,12 +343,13 @@ fn needs_whole(stmt: &Stmt, known: &dyn Fn(u32) -> bool, in_sub: bool) -> bool {
         | StmtKind::Continue(_)
         | StmtKind::Command(_)
         | StmtKind::Comment(_)
+        | StmtKind::DefinitionRead { .. }
         | StmtKind::Error => false,
     }
 }
 
 /// [`needs_whole`] of a line's words.
-fn line_needs_whole(words: &[Word], known: &dyn Fn(u32) -> bool, in_sub: bool) -> bool {
+fn line_needs_whole(words: &[Word], known: &dyn Fn(OName) -> bool, in_sub: bool) -> bool {
     let odd = |w: &crate::ast::Word| {
         w.letter == b'O' || (w.is_code() && matches!(w.value, WordValue::Expr(_)))
     };
@@ -346,7 +368,7 @@ fn line_needs_whole(words: &[Word], known: &dyn Fn(u32) -> bool, in_sub: bool) -
                         Some(WordValue::Number(p)) => called(p, m98),
                         _ => None,
                     };
-                    !target.is_some_and(known)
+                    !target.map(OName::Number).is_some_and(known)
                 }
                 _ => false,
             }
@@ -364,7 +386,7 @@ fn called(p: &crate::ast::Number, m98: bool) -> Option<u32> {
 /// gave) with spans in the whole text, interning into `names` (the
 /// program's): its statements and its diagnostics.
 /// A line of plain words (most of a CAM program) is built straight from
-/// its bytes ([`lexer::plain_words`]); the lines between go to the lexer
+/// its bytes ([`plain_words`]); the lines between go to the lexer
 /// and the parser together. A plain program means the same cut at any line
 /// end, so the two give what the parser alone gives.
 pub fn parse_chunk(
@@ -500,7 +522,7 @@ fn parse_lines(
             .next()
             .map_or(range.end, |&s| (s as usize - 1).min(range.end));
         let before = run.words.len();
-        if lexer::plain_words(text, (line, line_end), at, &mut run.words) {
+        if plain_words(text, (line, line_end), at, &mut run.words) {
             if check && run.words[before..].iter().any(may_call) {
                 spare.push(run);
                 return None;
@@ -560,7 +582,7 @@ mod tests {
         let at = Locator::new(0, text);
         let plain = text.lines().all(plain_line);
         for fast in [true, false] {
-            crate::syntax::egc::parser::with_fast_path(fast, || {
+            crate::syntax::parser::with_fast_path(fast, || {
                 let range = 0..text.len();
                 let mut names = Names::default();
                 let got = parse_plain_chunk(

@@ -3,7 +3,7 @@
 //! at. [`SyntaxError::to_diagnostic`] is the one place their wording
 //! lives; the code that finds a problem decides its kind, never its words.
 
-use super::lexer::Language;
+use super::language::Language;
 use crate::diagnostic::{error, warning, Diagnostic, DiagnosticExt, Located, Wording};
 use crate::source::Span;
 
@@ -87,15 +87,15 @@ pub enum SyntaxErrorKind {
     InvalidToken,
     /// An O number that is not a whole number from 0 to 99999999.
     InvalidProgramNumber,
-    /// Subprogram `number` has no M99 before the next program (`next`)
-    /// or the end of the file.
+    /// Subprogram `name` (`O100`, `o<name>`) has no M99 before the next
+    /// program (`next`) or the end of the file.
     SubprogramWithoutM99 {
-        number: u32,
+        name: String,
         next: Option<Span>,
     },
-    /// Subprogram `number` again; where it was first.
+    /// Subprogram `name` again; where it was first.
     SubprogramTwice {
-        number: u32,
+        name: String,
         first: Span,
     },
 }
@@ -299,20 +299,20 @@ impl Wording for SyntaxErrorKind {
                 at,
                 "an O number is a whole number from 0 to 99999999",
             ),
-            SubprogramWithoutM99 { number, next } => {
+            SubprogramWithoutM99 { name, next } => {
                 let label = match next {
                     Some(_) => "this subprogram is not closed",
                     None => "this subprogram is never closed",
                 };
-                let d = error(format!("subprogram O{number} has no M99"), at, label);
+                let d = error(format!("subprogram {name} has no M99"), at, label);
                 match next {
                     Some(next) => d.with_secondary(*next, "the next program starts here"),
                     None => d,
                 }
                 .with_help("end every subprogram with `M99`")
             }
-            SubprogramTwice { number, first } => error(
-                format!("O{number} is defined twice"),
+            SubprogramTwice { name, first } => error(
+                format!("{name} is defined twice"),
                 at,
                 "second definition",
             )

@@ -1,0 +1,234 @@
+//! The evaluator's state that is not the machine's: the counts the
+//! runaway limits read ([`RunCounts`]), what the program reported
+//! ([`Reports`]), the start of the output ([`OutputStart`]), and the
+//! subprograms and scopes of LinuxCNC's and Fanuc's macro languages
+//! ([`Macros`]). Each part keeps its own invariants; none of them knows
+//! G-code, the IR's meaning or the other parts.
+
+use crate::ast::{Names, OName, Subprogram};
+use crate::diagnostic::Diagnostic;
+use crate::ir;
+use crate::source::Span;
+use std::collections::{BTreeSet, HashMap};
+use std::rc::Rc;
+
+/// What the runaway limits count (SPEC §2.5): statements made by loops,
+/// calls and jumps back, the jumps back, and the changes a loop pass must
+/// make for the loop to end some day.
+#[derive(Default)]
+pub(super) struct RunCounts {
+    /// Statements made by loops, subprogram calls and jumps back so far
+    /// (`EvalOptions::max_statements`).
+    pub(super) made: usize,
+    /// Loop passes and subprogram calls under way: their statements are
+    /// counted.
+    pub(super) repeating: u32,
+    /// A `GOTO` went back: every statement from then on is counted.
+    pub(super) jumped_back: bool,
+    /// The statement limit was reached: the program stops.
+    pub(super) over_limit: bool,
+    /// How many times a variable changed value (or a call's scope was
+    /// entered or left): a loop pass that leaves it as it was changed
+    /// nothing its condition can read, so it would run forever.
+    pub(super) changes: u64,
+    /// Backward `GOTO`s taken, and `changes` at the last one from each
+    /// place (by file and offset).
+    gotos: u64,
+    goto_changes: HashMap<(u32, u32), u64>,
+}
+
+/// Why a jump back stops the program.
+pub(super) enum JumpLimit {
+    /// More jumps back than a loop may make passes.
+    TooMany,
+    /// Nothing changed since the last jump back from the same place.
+    NoChange,
+}
+
+impl RunCounts {
+    /// A statement was kept: counted if a loop, a call or a jump back
+    /// made it.
+    #[inline]
+    pub(super) fn count_made(&mut self) {
+        self.made += usize::from(self.repeating > 0 || self.jumped_back);
+    }
+
+    /// Whether `max` statements have been made: the program is then over
+    /// its limit.
+    #[inline]
+    pub(super) fn reached(&mut self, max: usize) -> bool {
+        if self.made >= max {
+            self.over_limit = true;
+        }
+        self.made >= max
+    }
+
+    /// A `GOTO` went back from `from`: counted as a loop's pass.
+    pub(super) fn jump_back(&mut self, from: Span, max_passes: u64) -> Result<(), JumpLimit> {
+        self.jumped_back = true;
+        self.gotos += 1;
+        if self.gotos > max_passes {
+            return Err(JumpLimit::TooMany);
+        }
+        let last = self
+            .goto_changes
+            .insert((from.file, from.start), self.changes);
+        match last == Some(self.changes) {
+            true => Err(JumpLimit::NoChange),
+            false => Ok(()),
+        }
+    }
+}
+
+/// What the program reported: the diagnostics kept (a repeated one once),
+/// the errors counted, the DEBUG and PRINT notes given, the warnings said
+/// once per program.
+#[derive(Default)]
+pub(super) struct Reports {
+    pub(super) diagnostics: Vec<Diagnostic>,
+    pub(super) errors: usize,
+    /// `(DEBUG, …)` and `(PRINT, …)` notes given so far.
+    pub(super) messages: usize,
+    /// The warnings said once per program, by what they are about: a
+    /// code (letter and number in tenths), `$` for controller commands.
+    pub(super) warned_once: BTreeSet<(u8, u32)>,
+}
+
+/// Errors kept; more are counted, not kept.
+pub(super) const MAX_REPORTED_ERRORS: usize = 50;
+
+impl Reports {
+    /// Keep `d`, unless the same was said just before (a statement in a
+    /// loop or a repeated subprogram fails every time) or too many errors
+    /// were.
+    pub(super) fn add(&mut self, d: Diagnostic) {
+        let same = |e: &Diagnostic| e.message == d.message && e.labels == d.labels;
+        if self.diagnostics.iter().rev().take(8).any(same) {
+            return;
+        }
+        if crate::diagnostic::is_error(&d) {
+            self.errors += 1;
+        }
+        if self.errors <= MAX_REPORTED_ERRORS {
+            self.diagnostics.push(d);
+        }
+    }
+
+    /// Whether a recent diagnostic has a label that `said` matches.
+    pub(super) fn said_recently(&self, said: impl Fn(&Diagnostic) -> bool) -> bool {
+        self.diagnostics.iter().rev().take(8).any(said)
+    }
+
+    pub(super) fn too_many_errors(&self) -> bool {
+        self.errors >= MAX_REPORTED_ERRORS
+    }
+}
+
+/// The start of the output: the sink gets nothing until the first move
+/// (so the setup is complete), then the start and the statements.
+pub(super) struct OutputStart<'a> {
+    pub(super) sink: &'a mut dyn ir::Sink,
+    /// The sink has been told the start ([`ir::Sink::start`]).
+    pub(super) started: bool,
+    /// The first move: setup directives must come before it.
+    pub(super) first_move: Option<Span>,
+    /// The first G20/G21, which gives the output units without `SetUnits`.
+    pub(super) first_units: Option<ir::Units>,
+    /// An F came before the first G20/G21: it is in the machine's units,
+    /// so that G20/G21 cannot be moved up to the output's header.
+    pub(super) feed_before_units: bool,
+}
+
+impl<'a> OutputStart<'a> {
+    pub(super) fn new(sink: &'a mut dyn ir::Sink) -> OutputStart<'a> {
+        OutputStart {
+            sink,
+            started: false,
+            first_move: None,
+            first_units: None,
+            feed_before_units: false,
+        }
+    }
+
+    /// `op` is kept at `span`: the first move and units are noted.
+    pub(super) fn note(&mut self, op: &ir::Op, span: Span) {
+        match op {
+            ir::Op::Move(_) if self.first_move.is_none() => self.first_move = Some(span),
+            ir::Op::Units(u) if self.first_units.is_none() => self.first_units = Some(*u),
+            _ => {}
+        }
+    }
+}
+
+/// LinuxCNC's and Fanuc's macro state: subprograms kept from the parts
+/// read before, the calls under way and their scopes, and where `GOTO`
+/// labels are.
+pub(super) struct Macros {
+    /// The subprograms of the parts read so far (a program read in parts).
+    pub(super) kept: Vec<Rc<Subprogram>>,
+    /// The program is read in parts (`eval_chunks`); a call found no
+    /// subprogram among those read, so it must be read whole.
+    pub(super) in_parts: bool,
+    pub(super) needs_whole: bool,
+    /// The variables a call's scope sets and saves.
+    pub(super) scope: CallScope,
+    /// Subprograms being run, innermost last: (name, call span).
+    pub(super) calls: Vec<(OName, Span)>,
+    /// Where each label a `GOTO` looked for is, by block (its address)
+    /// and label: found once, not at every jump.
+    pub(super) labels: HashMap<(usize, u32), Option<usize>>,
+}
+
+impl Macros {
+    pub(super) fn new(names: &Names) -> Macros {
+        Macros {
+            kept: Vec::new(),
+            in_parts: false,
+            needs_whole: false,
+            scope: CallScope::of(names),
+            calls: Vec::new(),
+            labels: HashMap::new(),
+        }
+    }
+}
+
+/// The variables of a call's scope: LinuxCNC's `#1`–`#30` and named
+/// parameters that do not start with `_`; Fanuc's locals `#1`–`#33`.
+#[derive(Debug)]
+pub(super) struct CallScope {
+    /// `#k` for k = 1…33, by k − 1: an `o… call` sets the first 30,
+    /// Fanuc's `G65` all 33.
+    pub(super) numbered: [Option<usize>; 33],
+    /// Local named parameters.
+    pub(super) named: Vec<usize>,
+}
+
+impl CallScope {
+    fn of(names: &Names) -> CallScope {
+        let mut found = CallScope {
+            numbered: [None; 33],
+            named: Vec::new(),
+        };
+        found.add(names, 0);
+        found
+    }
+
+    /// The names from the symbol `from` on.
+    pub(super) fn add(&mut self, names: &Names, from: usize) {
+        for (symbol, text) in names.iter().skip(from) {
+            let i = symbol.0 as usize;
+            if let Some(k) = parameter_number(text) {
+                if (1..=33).contains(&k) {
+                    self.numbered[k as usize - 1] = Some(i);
+                }
+            } else if text.starts_with("#<") && !text.starts_with("#<_") {
+                self.named.push(i);
+            }
+        }
+    }
+}
+
+/// The number of a LinuxCNC numbered parameter's name (`#12` → 12).
+pub(crate) fn parameter_number(name: &str) -> Option<u32> {
+    name.strip_prefix('#')?.parse().ok()
+}
