@@ -111,7 +111,7 @@ impl Run<'_> {
         let points = &self.exact[i..=j];
         let off_budget = self.tolerance * CANDIDATE_SHARE;
         // What is left after the rounding of the centre and of the ends.
-        let budget = (self.tolerance - 2.0 / self.scale).max(off_budget);
+        let budget = (self.tolerance - 1.0 / self.scale).max(self.tolerance * 0.6);
         let (p, m, q) = (
             points[0],
             points[points.len() / 2],
@@ -189,7 +189,9 @@ impl PrintedArc {
         let radius = [vs[0].hypot(vs[1]), ve[0].hypot(ve[1])];
         // Two radii that differ by more than the grid's rounding is a
         // spiral some controllers refuse.
-        if (radius[0] - radius[1]).abs() > 2.0 / run.scale || radius[0] <= 0.0 {
+        // And an arc smaller than the tolerance is lost in the rounding
+        // (rs274 refuses a radius near zero).
+        if (radius[0] - radius[1]).abs() > 2.0 / run.scale || radius[0] < 2.0 * run.tolerance {
             return None;
         }
         let start_angle = vs[1].atan2(vs[0]);
