@@ -125,24 +125,43 @@ impl Run<'_> {
             return None;
         }
         let clockwise = cross(sub(m, xy(p)), sub(q, xy(m))) < 0.0;
-        let angles = unwrapped_angles(points, center, clockwise)?;
-        let sweep = *angles.last()?;
-        if sweep <= 0.0 || sweep >= TAU - 1e-6 {
-            return None;
-        }
+        // One pass without trigonometry (the cheap test runs on every
+        // stretch tried): each step turns the arc's way by less than a
+        // quarter, each vertex lies near the circle, each chord's bulge
+        // (from its length) fits, and the angle (chord over radius, a
+        // little under the true one) stays under a turn.
         let (z0, z1) = (p[2], q[2]);
+        let mut along = 0.0;
         for (k, point) in points.iter().enumerate() {
             let off_circle = ((point[0] - center[0]).hypot(point[1] - center[1]) - radius).abs();
-            let off_helix = (point[2] - (z0 + (z1 - z0) * angles[k] / sweep)).abs();
-            let bulge = if k == 0 {
-                0.0
-            } else {
-                // How far the arc bows away from the chord before it.
-                let half = 0.5 * (angles[k] - angles[k - 1]);
-                radius * (1.0 - half.min(std::f64::consts::FRAC_PI_2).cos())
-            };
-            if off_circle > off_budget || off_circle + bulge > budget || off_helix > off_budget {
+            let mut bulge = 0.0;
+            if k > 0 {
+                let (u, v) = (sub(points[k - 1], center), sub(*point, center));
+                let turn = cross(u, v);
+                if (if clockwise { -turn } else { turn }) < 0.0 || u[0] * v[0] + u[1] * v[1] <= 0.0
+                {
+                    return None;
+                }
+                let chord = (v[0] - u[0]).hypot(v[1] - u[1]);
+                along += chord;
+                bulge = radius - (radius * radius - 0.25 * chord * chord).max(0.0).sqrt();
+            }
+            let off_level = if z0 == z1 { (point[2] - z0).abs() } else { 0.0 };
+            if off_circle > off_budget || off_circle + bulge > budget || off_level > off_budget {
                 return None;
+            }
+        }
+        if along <= 0.0 || along / radius >= TAU - 0.05 {
+            return None;
+        }
+        // A helix: the normal axis in step with the way along.
+        if z0 != z1 {
+            let mut so_far = 0.0;
+            for w in points.windows(2) {
+                so_far += (w[1][0] - w[0][0]).hypot(w[1][1] - w[0][1]);
+                if (w[1][2] - (z0 + (z1 - z0) * so_far / along)).abs() > off_budget {
+                    return None;
+                }
             }
         }
         Some((center, clockwise))

@@ -36,6 +36,8 @@ pub(super) struct Fitting {
     /// Lines written as arcs, the arcs, and the first arc's line.
     lines_fitted: usize,
     arcs: usize,
+    /// How much shorter the arcs are than the lines they replace.
+    bytes_saved: usize,
     first: Option<Span>,
 }
 
@@ -161,22 +163,57 @@ impl ProgramPrinter {
         };
         // The position is the run's end already; lines are printed as
         // `final_move` prints them, which reads only the printed state.
+        if pieces.iter().any(|p| matches!(p, Piece::Arc { .. })) {
+            // The lines first, to count what the arcs save; then the run
+            // again, from the same state, with its arcs.
+            let from = self.p.out.len();
+            let state = (
+                self.printed,
+                self.pending_feed,
+                self.printed_feed,
+                self.p.seq,
+            );
+            self.print_pieces(&moves, &printed, &[]);
+            let lines = self.p.out.len() - from;
+            self.p.out.truncate(from);
+            (
+                self.printed,
+                self.pending_feed,
+                self.printed_feed,
+                self.p.seq,
+            ) = state;
+            self.print_pieces(&moves, &printed, &pieces);
+            let arcs = self.p.out.len() - from;
+            if let Some(fitting) = self.fitting.as_deref_mut() {
+                fitting.bytes_saved += lines - arcs.min(lines);
+            }
+        } else {
+            self.print_pieces(&moves, &printed, &[]);
+        }
+        if let Some(fitting) = self.fitting.as_deref_mut() {
+            // The vectors' room is kept for the next run.
+            fitting.moves = moves;
+            fitting.moves.clear();
+            fitting.exact = exact;
+            fitting.exact.clear();
+            fitting.printed = printed;
+            fitting.printed.clear();
+        }
+    }
+
+    /// The held `moves` as `pieces` say (lines where they say nothing).
+    fn print_pieces(&mut self, moves: &[ir::Stmt], printed: &[[i64; 3]], pieces: &[Piece]) {
         let mut k = 0;
-        let mut pieces = pieces.into_iter();
+        let mut pieces = pieces.iter();
         while k < moves.len() {
             match pieces.next() {
-                Some(Piece::Arc {
+                Some(&Piece::Arc {
                     segments,
                     center,
                     clockwise,
                 }) => {
-                    self.fitted_arc(
-                        moves[k].span,
-                        printed[k],
-                        printed[k + segments],
-                        center,
-                        clockwise,
-                    );
+                    let (start, end) = (printed[k], printed[k + segments]);
+                    self.fitted_arc(moves[k].span, start, end, center, clockwise);
                     if let Some(fitting) = self.fitting.as_deref_mut() {
                         fitting.lines_fitted += segments;
                         fitting.arcs += 1;
@@ -191,15 +228,6 @@ impl ProgramPrinter {
                     k += 1;
                 }
             }
-        }
-        if let Some(fitting) = self.fitting.as_deref_mut() {
-            // The vectors' room is kept for the next run.
-            fitting.moves = moves;
-            fitting.moves.clear();
-            fitting.exact = exact;
-            fitting.exact.clear();
-            fitting.printed = printed;
-            fitting.printed.clear();
         }
     }
 
@@ -239,8 +267,8 @@ impl ProgramPrinter {
         let first = fitting.first?;
         Some(note(
             format!(
-                "{} lines written as {} arcs (`--arcs fit`, within {})",
-                fitting.lines_fitted, fitting.arcs, fitting.tolerance
+                "{} lines written as {} arcs, {} bytes shorter (`--arcs fit`, within {})",
+                fitting.lines_fitted, fitting.arcs, fitting.bytes_saved, fitting.tolerance
             ),
             first,
             "the first of them",
