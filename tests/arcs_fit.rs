@@ -27,10 +27,12 @@ fn oracle() -> bool {
     false
 }
 
-fn scratch(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("ger-arcs-fit-{}", std::process::id()));
+/// A folder of its own for `test`, emptied of an earlier run's files.
+fn scratch(test: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("ger-arcs-fit-{}-{test}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
     std::fs::create_dir_all(&dir).unwrap();
-    dir.join(name)
+    dir
 }
 
 /// The moves (G0–G3 lines) of a program's text.
@@ -95,9 +97,10 @@ fn chains_of_chords_become_arcs_that_move_as_rs274_moves_the_lines() {
         ));
     }
     text.push_str("G1 X40 Y10\nG1 X40 Y20\n/G1 X30 Y20\nG1 X30 Y30\nG0 Z5\nM30\n");
-    let input = scratch("chords.ngc");
+    let dir = scratch("chords");
+    let input = dir.join("chords.ngc");
     std::fs::write(&input, &text).unwrap();
-    let out = scratch("chords.fit.ngc");
+    let out = dir.join("chords.fit.ngc");
     let note = support::compile_with(&input, &out, &["--arcs", "fit"]).unwrap();
     assert!(note.contains("lines written as"), "{note}");
     let printed = std::fs::read_to_string(&out).unwrap();
@@ -106,6 +109,7 @@ fn chains_of_chords_become_arcs_that_move_as_rs274_moves_the_lines() {
     assert!(moves(&out) < 20, "{printed}");
     assert!(printed.contains("/N"), "{printed}");
     same_within_tolerance(&input, &out);
+    let _ = std::fs::remove_dir_all(dir);
 }
 
 /// `--arcs lines` output of the shipped examples, fitted back: the same
@@ -115,12 +119,13 @@ fn examples_written_as_lines_fit_back() {
     if !oracle() {
         return;
     }
+    let dir = scratch("examples");
     let examples = support::egc_files(&support::manifest().join("examples"));
     for example in examples {
         let stem = example.file_stem().unwrap().to_string_lossy().into_owned();
-        let lines = scratch(&format!("{stem}.lines.ngc"));
+        let lines = dir.join(format!("{stem}.lines.ngc"));
         support::compile_with(&example, &lines, &["--arcs", "lines"]).unwrap();
-        let fit = scratch(&format!("{stem}.fit.ngc"));
+        let fit = dir.join(format!("{stem}.fit.ngc"));
         support::compile_with(&lines, &fit, &["--arcs", "fit"]).unwrap();
         same_within_tolerance(&lines, &fit);
         if stem == "bolt_flange" {
@@ -128,4 +133,5 @@ fn examples_written_as_lines_fit_back() {
             assert!(after * 10 <= before * 3, "{before} moves as {after}");
         }
     }
+    let _ = std::fs::remove_dir_all(dir);
 }
