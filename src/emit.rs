@@ -8,6 +8,7 @@
 //! spelling, except the final rounding, which it makes consistent (arc
 //! centres are printed relative to the start as printed).
 
+mod fit;
 pub mod number;
 mod printer;
 mod program;
@@ -34,6 +35,8 @@ pub enum ArcFormat {
     Ij,
     R,
     Lines,
+    /// Chains of lines that lie on an arc written as that arc (I/J).
+    Fit,
 }
 
 #[derive(Clone, Debug)]
@@ -44,8 +47,9 @@ pub struct EmitOptions {
     pub arcs: ArcFormat,
     /// Decimals; `None`: 3 for mm, 4 for inch.
     pub decimals: Option<usize>,
-    /// Chord tolerance for `--arcs lines`, in output units.
-    pub tolerance: f64,
+    /// Chord tolerance for `--arcs lines` and `--arcs fit`, in output
+    /// units; `None`: 0.001 for lines, 0.005 mm or 0.0002 in to fit.
+    pub tolerance: Option<f64>,
     /// Program number for targets that want one.
     pub program_number: u32,
 }
@@ -57,7 +61,7 @@ impl Default for EmitOptions {
             target: Target::Generic,
             arcs: ArcFormat::Ij,
             decimals: None,
-            tolerance: 0.001,
+            tolerance: None,
             program_number: 1,
         }
     }

@@ -89,8 +89,7 @@ impl CompileOptions {
     /// Whether a compile can run with these options.
     pub fn validate(&self) -> Result<(), OptionError> {
         let emit = &self.emit;
-        if !emit.tolerance.is_finite()
-            || emit.tolerance <= 0.0
+        if emit.tolerance.is_some_and(|t| !t.is_finite() || t <= 0.0)
             || emit.decimals.is_some_and(|d| d > 9)
         {
             return Err(OptionError::ToleranceOrDecimals);

@@ -21,7 +21,8 @@ pub(super) struct Printer {
     /// 10^decimals.
     scale: f64,
     main_file: u32,
-    seq: u64,
+    /// The last `--numbers seq` number (`--arcs fit` rewinds it).
+    pub seq: u64,
     /// The arc plane as printed so far.
     pub plane: ir::Plane,
     /// The tool of the last T word, for targets that name it at M6.

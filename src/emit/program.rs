@@ -9,6 +9,8 @@ use crate::geometry::{self, Point};
 use crate::ir::{self, ArcGeometry, Axis, Motion, Op, Units};
 use crate::source::Span;
 
+mod fitting;
+
 /// Prints the final program: absolute, one unit, only the codes of SPEC §6
 /// and what the passes passed through.
 pub struct ProgramPrinter {
@@ -29,6 +31,8 @@ pub struct ProgramPrinter {
     /// A feed waiting for the next cutting move, and the last feed written.
     pending_feed: Option<f64>,
     printed_feed: Option<i64>,
+    /// `--arcs fit`: the run of lines held back.
+    fitting: Option<Box<fitting::Fitting>>,
 }
 
 impl ProgramPrinter {
@@ -59,7 +63,7 @@ impl ProgramPrinter {
         ProgramPrinter {
             p,
             arcs: options.arcs,
-            tolerance: options.tolerance,
+            tolerance: options.tolerance.unwrap_or(0.001),
             micron: match units {
                 Some(Units::Mm) => 0.001,
                 Some(Units::Inch) | None => 0.001 / 25.4,
@@ -69,6 +73,8 @@ impl ProgramPrinter {
             printed: [None; 9],
             pending_feed: None,
             printed_feed: None,
+            fitting: (options.arcs == ArcFormat::Fit)
+                .then(|| fitting::Fitting::new(options.tolerance, units)),
         }
     }
 
@@ -76,6 +82,9 @@ impl ProgramPrinter {
     /// yet taken (the caller may take it).
     pub fn print(&mut self, stmts: &[ir::Stmt]) -> &mut Vec<u8> {
         for stmt in stmts {
+            if self.held(stmt) {
+                continue;
+            }
             match &stmt.op {
                 Op::Move(m) => {
                     self.final_move(stmt, m);
@@ -167,6 +176,7 @@ impl ProgramPrinter {
     }
 
     pub fn finish(mut self) -> Vec<u8> {
+        self.print_held();
         if let Some(epilogue) = self.p.target.epilogue() {
             self.p.raw(epilogue);
         }

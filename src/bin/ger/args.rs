@@ -129,9 +129,10 @@ pub struct Options {
     /// How arcs are written.
     #[arg(long, value_enum, default_value_t = ArcsArg::Ij)]
     pub arcs: ArcsArg,
-    /// Chord tolerance for `--arcs lines`, in output units.
-    #[arg(long, default_value_t = 0.001)]
-    pub tolerance: f64,
+    /// Chord tolerance for `--arcs lines` (default 0.001) and `--arcs fit`
+    /// (default 0.005 mm, 0.0002 in), in output units.
+    #[arg(long)]
+    pub tolerance: Option<f64>,
     /// Decimals in the output (default 3 for mm, 4 for inch).
     #[arg(long)]
     pub decimals: Option<usize>,
@@ -312,6 +313,7 @@ pub enum ArcsArg {
     Ij,
     R,
     Lines,
+    Fit,
 }
 
 impl Options {
@@ -360,6 +362,7 @@ impl Options {
                     ArcsArg::Ij => ArcFormat::Ij,
                     ArcsArg::R => ArcFormat::R,
                     ArcsArg::Lines => ArcFormat::Lines,
+                    ArcsArg::Fit => ArcFormat::Fit,
                 },
                 decimals: self.decimals,
                 tolerance: self.tolerance,
