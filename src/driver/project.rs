@@ -73,7 +73,7 @@ keys!(TargetKey { Generic = "generic", Fanuc = "fanuc", Grbl = "grbl", LinuxCnc 
 keys!(FromKey { Generic = "generic", LinuxCnc = "linuxcnc", Fanuc = "fanuc", Grbl = "grbl", Mach3 = "mach3" });
 keys!(InputKey { Egc = "egc", Gcode = "gcode" });
 keys!(UnitsKey { Mm = "mm", Inch = "inch" });
-keys!(ArcsKey { Ij = "ij", R = "r", Lines = "lines" });
+keys!(ArcsKey { Ij = "ij", R = "r", Lines = "lines", Fit = "fit" });
 keys!(CyclesKey { Expand = "expand", Keep = "keep" });
 keys!(CompKey { Resolve = "resolve", Keep = "keep" });
 keys!(CompEntryKey { Rs274 = "rs274", Lookahead = "lookahead" });
@@ -246,10 +246,11 @@ impl CompileTable {
                 ArcsKey::Ij => ArcFormat::Ij,
                 ArcsKey::R => ArcFormat::R,
                 ArcsKey::Lines => ArcFormat::Lines,
+                ArcsKey::Fit => ArcFormat::Fit,
             };
         }
         if let Some(v) = self.tolerance.filter(|_| take("tolerance")) {
-            options.emit.tolerance = v;
+            options.emit.tolerance = Some(v);
         }
         if let Some(v) = self.decimals.filter(|_| take("decimals")) {
             options.emit.decimals = Some(v);
