@@ -22,7 +22,7 @@ use lsp_types::notification::{
     DidChangeTextDocument, DidCloseTextDocument, DidOpenTextDocument, Notification as _,
     PublishDiagnostics,
 };
-use lsp_types::request::{HoverRequest, InlayHintRequest, Request as _};
+use lsp_types::request::{DocumentSymbolRequest, HoverRequest, InlayHintRequest, Request as _};
 use lsp_types::{
     Diagnostic, DiagnosticRelatedInformation, DiagnosticSeverity, InlayHint, InlayHintLabel,
     InlayHintParams, Location, OneOf, Position, PublishDiagnosticsParams, Range,
@@ -55,6 +55,7 @@ pub fn serve(connection: &Connection) -> Result<(), Error> {
         text_document_sync: Some(TextDocumentSyncCapability::Kind(TextDocumentSyncKind::FULL)),
         inlay_hint_provider: Some(OneOf::Left(true)),
         hover_provider: Some(lsp_types::HoverProviderCapability::Simple(true)),
+        document_symbol_provider: Some(OneOf::Left(true)),
         ..ServerCapabilities::default()
     };
     connection.initialize(serde_json::to_value(capabilities)?)?;
@@ -176,6 +177,14 @@ impl Server {
                     .unwrap_or_default();
                 Response::new_ok(request.id, hints)
             }
+            DocumentSymbolRequest::METHOD => {
+                let symbols =
+                    serde_json::from_value::<lsp_types::DocumentSymbolParams>(request.params)
+                        .ok()
+                        .map(|p| self.symbols(&p.text_document.uri))
+                        .unwrap_or_default();
+                Response::new_ok(request.id, symbols)
+            }
             HoverRequest::METHOD => {
                 let hover = serde_json::from_value::<lsp_types::HoverParams>(request.params)
                     .ok()
@@ -188,6 +197,37 @@ impl Server {
                 format!("ger lsp does not answer {}", request.method),
             ),
         }
+    }
+
+    /// The document's outline: subprograms, calls, loops, tool changes.
+    #[allow(deprecated)] // `DocumentSymbol::deprecated`, which LSP keeps
+    fn symbols(&self, uri: &Uri) -> Vec<lsp_types::DocumentSymbol> {
+        use analysis::OutlineKind;
+        let Some(analysis) = self.documents.get(uri).and_then(|d| d.analysis.as_ref()) else {
+            return Vec::new();
+        };
+        analysis
+            .outline
+            .iter()
+            .map(|o| {
+                let range = Range::new(position(o.from), position(o.to));
+                lsp_types::DocumentSymbol {
+                    name: o.name.clone(),
+                    detail: None,
+                    kind: match o.kind {
+                        OutlineKind::Subprogram => lsp_types::SymbolKind::FUNCTION,
+                        OutlineKind::Call => lsp_types::SymbolKind::METHOD,
+                        OutlineKind::Loop => lsp_types::SymbolKind::NAMESPACE,
+                        OutlineKind::ToolChange => lsp_types::SymbolKind::EVENT,
+                    },
+                    tags: None,
+                    deprecated: None,
+                    range,
+                    selection_range: range,
+                    children: None,
+                }
+            })
+            .collect()
     }
 
     /// The meaning of the code under the cursor.

@@ -169,6 +169,45 @@ fn diagnostics_come_on_open_go_when_fixed_and_hints_say_where_the_tool_is() {
             "4: → X12 Y0 Z-1 · 0:02"
         ]
     );
+    // The outline of a program with a subprogram and a tool change.
+    let fanuc = uri("/nowhere/sub.nc");
+    client.notify(
+        DidOpenTextDocument::METHOD,
+        DidOpenTextDocumentParams {
+            text_document: TextDocumentItem::new(
+                fanuc.clone(),
+                "gcode".into(),
+                1,
+                "G21 G90\nT2 M6\nM98 P100\nM30\nO100\nG0 X1\nM99\n".into(),
+            ),
+        },
+    );
+    let mut published = client.diagnostics();
+    while published.uri != fanuc {
+        published = client.diagnostics();
+    }
+    let symbols = client.request(
+        lsp_types::request::DocumentSymbolRequest::METHOD,
+        serde_json::json!({ "textDocument": { "uri": fanuc.as_str() } }),
+    );
+    let names: Vec<_> = symbols
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|s| {
+            (
+                s["name"].as_str().unwrap().to_string(),
+                s["range"]["start"]["line"].clone(),
+            )
+        })
+        .collect();
+    assert_eq!(
+        names,
+        [
+            ("T2 (tool change)".to_string(), serde_json::json!(1)),
+            ("O100".to_string(), serde_json::json!(4))
+        ]
+    );
     // Hovering G1 on line 3 (`G1 Z-1 F600`, after the line added above).
     let hover = client.request(
         lsp_types::request::HoverRequest::METHOD,

@@ -40,11 +40,31 @@ pub struct ToolAt {
     pub label: String,
 }
 
+/// An entry of the document's outline.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Outlined {
+    pub kind: OutlineKind,
+    pub name: String,
+    pub from: At,
+    pub to: At,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum OutlineKind {
+    Subprogram,
+    /// A wizard or directive call.
+    Call,
+    /// A loop: `while`, `do`, `repeat`.
+    Loop,
+    ToolChange,
+}
+
 /// One document analysed.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct Analysis {
     pub diagnostics: Vec<Found>,
     pub tool_at: Vec<ToolAt>,
+    pub outline: Vec<Outlined>,
 }
 
 /// Analyse the document `path` whose text is `text`, with the options of
@@ -88,10 +108,86 @@ pub fn analyse(fs: &dyn FileSystem, path: &Path, text: &str) -> Analysis {
         Some(path) => tool_positions(&job, &lines, path, limits.as_ref()),
         None => Vec::new(),
     };
+    let language = session.options().language(&name);
+    let mut outline = outline(text, &lines, language);
+    if let Some(path) = &outcome.tool_path {
+        for event in &path.events {
+            if let crate::toolpath::EventKind::ToolChange(t) = event.kind {
+                if event.span.file_id() == job.file {
+                    let (from, to) = (event.span.start as usize, event.span.end as usize);
+                    outline.push(Outlined {
+                        kind: OutlineKind::ToolChange,
+                        name: format!("T{t} (tool change)"),
+                        from: lines.at(text, from),
+                        to: lines.at(text, to),
+                    });
+                }
+            }
+        }
+    }
+    outline.sort_by_key(|o| o.from);
     Analysis {
         diagnostics,
         tool_at,
+        outline,
     }
+}
+
+/// The outline of `text` as its front end reads it: subprograms, wizard
+/// and directive calls, loops.
+fn outline(text: &str, lines: &LineStarts, language: crate::syntax::Language) -> Vec<Outlined> {
+    use crate::ast::{Stmt, StmtKind};
+    let (program, _) = crate::syntax::parse_program_as(text, 0, language);
+    let names = &program.names;
+    let mut out = Vec::new();
+    let place = |from: u32, to: u32| (lines.at(text, from as usize), lines.at(text, to as usize));
+    for sub in &program.subprograms {
+        let end = sub.body.last().map_or(sub.span.end, |s| s.span.end);
+        let (from, to) = place(sub.span.start, end);
+        let name = sub.name.describe(names);
+        out.push(Outlined {
+            kind: OutlineKind::Subprogram,
+            name,
+            from,
+            to,
+        });
+    }
+    fn walk(stmts: &[Stmt], f: &mut dyn FnMut(&Stmt)) {
+        for stmt in stmts {
+            f(stmt);
+            match &stmt.kind {
+                StmtKind::If(if_) => {
+                    if_.branches.iter().for_each(|(_, body)| walk(body, f));
+                    if let Some(body) = &if_.otherwise {
+                        walk(body, f);
+                    }
+                }
+                StmtKind::While(w) => walk(&w.body, f),
+                StmtKind::Repeat(r) => walk(&r.body, f),
+                _ => {}
+            }
+        }
+    }
+    let bodies = std::iter::once(&program.main).chain(program.subprograms.iter().map(|s| &s.body));
+    for body in bodies {
+        walk(body, &mut |stmt| {
+            let (kind, name) = match &stmt.kind {
+                StmtKind::Call { name, .. } => (OutlineKind::Call, names.text(*name).to_string()),
+                StmtKind::While(w) if w.test_after => (OutlineKind::Loop, "do … while".into()),
+                StmtKind::While(_) => (OutlineKind::Loop, "while".into()),
+                StmtKind::Repeat(_) => (OutlineKind::Loop, "repeat".into()),
+                _ => return,
+            };
+            let (from, to) = place(stmt.span.start, stmt.span.end);
+            out.push(Outlined {
+                kind,
+                name,
+                from,
+                to,
+            });
+        });
+    }
+    out
 }
 
 /// What to show on hovering the place `at` of `text`: the meaning of the
@@ -150,6 +246,7 @@ fn at_top(text: &str, messages: Vec<String>) -> Analysis {
     Analysis {
         diagnostics,
         tool_at: Vec::new(),
+        outline: Vec::new(),
     }
 }
 
@@ -363,6 +460,30 @@ mod tests {
             .contains("spindle on, clockwise"));
         assert!(hover(text, at(4, 5)).is_none(), "a name's letters");
         assert!(hover(text, at(1, 9)).is_none(), "an axis word");
+    }
+
+    #[test]
+    fn the_outline_has_subprograms_calls_loops_and_tool_changes() {
+        let fs = Memory::new();
+        let text = "G21 G90\nT1 M6\nG0 X0 Y0 Z5 F300\nCount = 0\nwhile (Count < 2) {\n  Count = Count + 1\n}\n\
+                    Pocket 20 10 2\nM98 P100\nM30\nO100\nG0 X1\nM99\n";
+        let a = analyse(&fs, Path::new("/p/part.egc"), text);
+        let outline: Vec<_> = a
+            .outline
+            .iter()
+            .map(|o| (o.kind, o.name.as_str(), o.from.line))
+            .collect();
+        assert_eq!(
+            outline,
+            [
+                (OutlineKind::ToolChange, "T1 (tool change)", 1),
+                (OutlineKind::Loop, "while", 4),
+                (OutlineKind::Call, "Pocket", 7),
+                (OutlineKind::Subprogram, "O100", 10),
+            ],
+            "{:?}",
+            a.diagnostics
+        );
     }
 
     #[test]
