@@ -322,6 +322,7 @@ fn tool_positions(
         _ => 1.0,
     };
     let mut out: Vec<ToolAt> = Vec::new();
+    let mut seen = std::collections::HashMap::new();
     for (m, t) in path.moves.iter().zip(&clock) {
         if m.span.file_id() != job.file || m.span.line == 0 {
             continue;
@@ -340,9 +341,12 @@ fn tool_positions(
             label,
         };
         // A line's hint is its last move's; lines in the order first met.
-        match out.iter_mut().find(|h| h.at.line == line) {
-            Some(h) => *h = hint,
-            None => out.push(hint),
+        match seen.entry(line) {
+            std::collections::hash_map::Entry::Occupied(at) => out[*at.get()] = hint,
+            std::collections::hash_map::Entry::Vacant(at) => {
+                at.insert(out.len());
+                out.push(hint);
+            }
         }
     }
     out
