@@ -3,7 +3,10 @@
 //! words it takes, what is modal, what is refused. Subprogram calls
 //! (`M98`/`M99`) are run here too.
 
-use super::{Evaluator, Flow, WordValues};
+use super::evaluator::{Evaluator, Flow};
+use super::options::Flavour;
+use super::value::Slot;
+use super::words::WordValues;
 use crate::ast::{self, LineStmt, OName, WordValue};
 use crate::diagnostic::Diagnostic;
 use crate::ir::{self, Arc, ArcGeometry, Axes, Axis, Motion, Op};
@@ -287,7 +290,7 @@ impl Evaluator<'_> {
             b'X' | b'Y' | b'Z' | b'I' | b'J' | b'K' | b'R' | b'F' | b'S'
         );
         if length && !ir::is_length(value) {
-            self.report(super::out_of_range(
+            self.report(super::error::out_of_range(
                 format!("`{}` is out of range", w.letter as char),
                 "lengths, feeds and speeds",
                 value,
@@ -475,7 +478,7 @@ impl Evaluator<'_> {
     ) -> Result<Flow, Diagnostic> {
         let code = Some((b'G', t));
         // Its F, S and T are arguments.
-        if t == 650 && self.options.from == super::Flavour::Fanuc {
+        if t == 650 && self.options.from == Flavour::Fanuc {
             return self.macro_call(w, at);
         }
         self.feed_speed_tool(w, span)?;
@@ -740,7 +743,6 @@ impl Evaluator<'_> {
         pspan: Span,
         n: ast::Number,
     ) -> Result<f64, Diagnostic> {
-        use super::Flavour;
         let seconds = match self.options.from {
             Flavour::LinuxCnc | Flavour::Grbl | Flavour::Mach3 => p,
             Flavour::Fanuc => p / 1000.0,
@@ -866,7 +868,7 @@ impl Evaluator<'_> {
     /// ([`Self::linuxcnc_scope`]). An argument that cannot be worked out
     /// is reported and passed as 0.
     pub(super) fn sub_call(&mut self, call: &ast::SubCall) -> Flow {
-        let args: Vec<super::Slot> = call.args.iter().map(|a| self.value_slot(a)).collect();
+        let args: Vec<Slot> = call.args.iter().map(|a| self.value_slot(a)).collect();
         self.run_subprogram(call.name, 1, call.at, call.at, |ev| {
             ev.linuxcnc_scope(&args)
         })
@@ -891,7 +893,7 @@ impl Evaluator<'_> {
         count: u32,
         pspan: Span,
         at: Span,
-        enter: impl FnOnce(&mut Self) -> Vec<(usize, super::Slot)>,
+        enter: impl FnOnce(&mut Self) -> Vec<(usize, Slot)>,
     ) -> Result<Flow, Diagnostic> {
         let program = self.program;
         // The program's, or one a part read before kept.

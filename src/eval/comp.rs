@@ -2,7 +2,8 @@
 //! radius they name and what may not happen while compensation is on
 //! (rs274's rules). The geometry is the comp pass's (`lower/comp.rs`).
 
-use super::{Evaluator, WordValues};
+use super::evaluator::Evaluator;
+use super::words::WordValues;
 use crate::diagnostic::{error, Diagnostic, DiagnosticExt, Located, Wording};
 use crate::ir::{self, CompRadius, Op, Side};
 use crate::source::Span;

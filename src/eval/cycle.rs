@@ -12,24 +12,15 @@
 //! run of cycles starts at the first cycle block after any other motion
 //! code or G80; where the tool is then is the G98 level of the run.
 
-use super::{Evaluator, WordValues};
+use super::evaluator::Evaluator;
+use super::state::Sticky;
+use super::words::WordValues;
 use crate::diagnostic::{error, warning, Diagnostic, DiagnosticExt, Located, Wording};
 use crate::ir::{self, Axis, CycleKind, Op};
 use crate::source::Span;
 
 /// More pecks than this in one hole is a mistake (a tiny Q).
 pub const MAX_PECKS: u32 = 10_000;
-
-/// What rs274 remembers between cycle blocks (`cycle_r`, `cycle_cc`, …),
-/// in the numbers the program wrote.
-#[derive(Clone, Copy, Debug, Default)]
-pub(super) struct Sticky {
-    r: f64,
-    depth: f64,
-    q: f64,
-    p: f64,
-    ijk: [f64; 3],
-}
 
 /// The cycle a G code in tenths names.
 pub(super) fn kind_of(t: u32) -> Option<CycleKind> {

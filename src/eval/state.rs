@@ -232,3 +232,14 @@ impl CallScope {
 pub(crate) fn parameter_number(name: &str) -> Option<u32> {
     name.strip_prefix('#')?.parse().ok()
 }
+
+/// What rs274 remembers between cycle blocks (`cycle_r`, `cycle_cc`, …),
+/// in the numbers the program wrote.
+#[derive(Clone, Copy, Debug, Default)]
+pub(super) struct Sticky {
+    pub(super) r: f64,
+    pub(super) depth: f64,
+    pub(super) q: f64,
+    pub(super) p: f64,
+    pub(super) ijk: [f64; 3],
+}

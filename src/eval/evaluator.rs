@@ -1,0 +1,102 @@
+//! The evaluator itself: how a block finished ([`Flow`]) and the
+//! [`Evaluator`] struct whose `impl` blocks live in the modules above it
+//! (`eval.rs` and its children). The struct and its parts only: it must
+//! not hold code that runs statements.
+
+use super::options::EvalOptions;
+use super::setup::SetupBuilder;
+use super::state::{Macros, OutputStart, Reports, RunCounts, Sticky};
+use super::value::Vars;
+use super::wizard_api::WizardHost;
+use super::words::WordTable;
+use crate::ast::{self, Names, OName};
+use crate::ir;
+use crate::source::Span;
+use std::rc::Rc;
+
+/// How a block finished.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(super) enum Flow {
+    Next,
+    /// M99: back to the caller.
+    Return,
+    /// M2/M30: the program is over.
+    End,
+    /// Fanuc's `GOTO`: on at the line labelled N, from where it was.
+    Goto(u32, Span),
+    /// LinuxCNC's `oN break` and `oN continue`, from where they were.
+    Break(OName, Span),
+    Continue(OName, Span),
+    /// An error made it impossible to go on (a limit, a broken condition).
+    Abort,
+}
+
+pub(super) struct Evaluator<'a> {
+    pub(super) program: &'a ast::Program,
+    /// The program's names; those of a program read in parts grow with
+    /// each part ([`Evaluator::names_added`]).
+    pub(super) names: Rc<Names>,
+    /// The word table of the statement run last, for the next
+    /// ([`WordValues`]).
+    pub(super) word_table: Option<Box<WordTable>>,
+    /// A line of [`ast::Lines`] made [`ast::Word`]s, for the statements
+    /// [`Evaluator::plain_line`] does not run itself.
+    pub(super) line_words: Vec<ast::Word>,
+    pub(super) options: &'a EvalOptions,
+    /// What the runaway limits count.
+    pub(super) run: RunCounts,
+    /// Diagnostics, errors and notes reported so far.
+    pub(super) reports: Reports,
+    /// The sink, and what it is told at the start.
+    pub(super) output: OutputStart<'a>,
+    /// Subprograms, calls and scopes of the macro languages.
+    pub(super) macros: Macros,
+    pub(super) wizards: Option<&'a mut dyn WizardHost>,
+    pub(super) vars: Vars,
+    /// Statements not yet sent to the sink.
+    pub(super) out: Vec<ir::Stmt>,
+    /// The line being run was written after a block-delete `/`.
+    pub(super) block_delete: bool,
+    /// G53 in the current line: its motion is in machine coordinates.
+    pub(super) machine_coordinates: bool,
+    /// G7 (LinuxCNC's lathe diameter mode): X words are diameters, halved
+    /// as they are read (G8 ends it).
+    pub(super) diameter_mode: bool,
+    /// The program has said G98 or G99.
+    pub(super) return_level_stated: bool,
+    /// Current motion mode, for words written without a G code.
+    pub(super) motion: Option<ir::Motion>,
+    /// The canned cycle axis words repeat (it stands before `motion`).
+    pub(super) cycle: Option<ir::CycleKind>,
+    /// A run of cycles is open (its first block set the G98 level).
+    pub(super) cycle_run: bool,
+    /// Where G20/G21 changed the units inside the open run of cycles.
+    pub(super) units_in_cycles: Option<Span>,
+    /// The cycle words a repeat may leave out.
+    pub(super) sticky: Sticky,
+    pub(super) plane: ir::Plane,
+    pub(super) spindle: ir::Spindle,
+    /// Cutter compensation is on: its side and where it was turned on.
+    pub(super) comp: Option<(ir::Side, Span)>,
+    /// G40 turned compensation off in this plane and no move has been made
+    /// since: a tool change then reads the point back ([`ir::Op::ReadPosition`]).
+    pub(super) comp_off: Option<ir::Plane>,
+    pub(super) setup: SetupBuilder,
+    /// Tool loaded by the last M6, and tool selected by the last T.
+    pub(super) tool: u32,
+    pub(super) selected: Option<u32>,
+    pub(super) units: Option<ir::Units>,
+    pub(super) position: [Option<f64>; 3],
+    pub(super) distance: ir::Distance,
+    /// G90.1 (absolute arc centres) or G91.1.
+    pub(super) arc_centers: ir::Distance,
+    /// G93 is on, and an F under it on the line being run (a feed move
+    /// needs one on its own line).
+    pub(super) inverse_time: bool,
+    pub(super) inverse_feed: bool,
+    /// G94 after G93, and no F since.
+    pub(super) inverse_time_ended: bool,
+    pub(super) polar: bool,
+    /// An F word has been given: a feed move without one is an error.
+    pub(super) feed_set: bool,
+}
