@@ -30,7 +30,7 @@ use crate::ir;
 use crate::source::Span;
 use evaluator::{Evaluator, Flow};
 pub(crate) use state::parameter_number;
-use state::{JumpLimit, Macros, OutputStart, Reports, RunCounts, Sticky};
+use state::{CycleState, JumpLimit, Macros, Modal, OutputStart, Reports, RunCounts};
 use std::rc::Rc;
 use value::{ExprError, Slot, Value, Vars};
 
@@ -153,30 +153,14 @@ impl<'a> Evaluator<'a> {
             names: Rc::new(names),
             out: Vec::with_capacity(options.batch.clamp(1, 1 << 16)),
             machine_coordinates: false,
-            diameter_mode: false,
-            return_level_stated: false,
             block_delete: false,
-            motion: None,
-            cycle: None,
-            cycle_run: false,
-            units_in_cycles: None,
-            sticky: Sticky::default(),
-            plane: ir::Plane::XY,
-            spindle: ir::Spindle::Off,
-            comp: None,
-            comp_off: None,
             setup: setup::SetupBuilder::with_tools(&options.tools),
-            tool: 1,
-            selected: None,
-            units: None,
             position: [None; 3],
-            distance: ir::Distance::Absolute,
-            arc_centers: ir::Distance::Incremental,
-            inverse_time: false,
             inverse_feed: false,
             inverse_time_ended: false,
-            polar: false,
             feed_set: false,
+            modal: Modal::default(),
+            cycles: CycleState::default(),
         }
     }
 
@@ -265,17 +249,17 @@ impl<'a> Evaluator<'a> {
         }
         self.check_under_comp(op, span)?;
         match op {
-            ir::Op::Comp { side, .. } => self.comp = Some((*side, span)),
-            ir::Op::CompOff if self.comp.is_some() => {
-                self.comp = None;
-                self.comp_off = Some(self.plane);
+            ir::Op::Comp { side, .. } => self.modal.comp = Some((*side, span)),
+            ir::Op::CompOff if self.modal.comp.is_some() => {
+                self.modal.comp = None;
+                self.modal.comp_off = Some(self.modal.plane);
             }
-            ir::Op::End => self.comp = None,
+            ir::Op::End => self.modal.comp = None,
             ir::Op::Feed(_) => {
                 self.feed_set = true;
                 self.inverse_time_ended = false;
                 self.output.feed_before_units |= self.output.first_units.is_none();
-                self.inverse_feed = self.inverse_time;
+                self.inverse_feed = self.modal.inverse_time;
             }
             ir::Op::Move(m) if m.motion != ir::Motion::Rapid && !self.feed_set => {
                 let kind = if self.inverse_time_ended {
@@ -285,12 +269,12 @@ impl<'a> Evaluator<'a> {
                 };
                 return Err(EvalError::new(kind, span).into());
             }
-            ir::Op::Move(m) if m.motion != ir::Motion::Rapid && self.inverse_time => {
+            ir::Op::Move(m) if m.motion != ir::Motion::Rapid && self.modal.inverse_time => {
                 // rs274: each G1/G2/G3 under G93 has its own F.
                 if !std::mem::take(&mut self.inverse_feed) {
                     return Err(EvalError::new(EvalErrorKind::InverseTimeWithoutF, span).into());
                 }
-                if m.arc.is_some() && self.comp.is_some() {
+                if m.arc.is_some() && self.modal.comp.is_some() {
                     let kind = EvalErrorKind::InverseTimeArcUnderComp;
                     return Err(EvalError::new(kind, span).into());
                 }
@@ -300,8 +284,8 @@ impl<'a> Evaluator<'a> {
                 self.feed_set = false;
                 self.inverse_time_ended = true;
             }
-            ir::Op::Units(u) if self.cycle_run && self.units != Some(*u) => {
-                self.units_in_cycles = Some(span);
+            ir::Op::Units(u) if self.cycles.run_open && self.modal.units != Some(*u) => {
+                self.cycles.units_changed_at = Some(span);
             }
             _ => {}
         }
@@ -398,25 +382,25 @@ impl<'a> Evaluator<'a> {
     fn track(&mut self, op: &ir::Op) {
         match op {
             ir::Op::Move(m) => {
-                self.comp_off = None;
-                self.motion = Some(m.motion);
+                self.modal.comp_off = None;
+                self.modal.motion = Some(m.motion);
                 for axis in [ir::Axis::X, ir::Axis::Y, ir::Axis::Z] {
                     if let Some(v) = m.to.get(axis) {
                         let axis = axis.index();
-                        self.position[axis] = match self.distance {
+                        self.position[axis] = match self.modal.distance {
                             ir::Distance::Absolute => Some(v),
                             ir::Distance::Incremental => self.position[axis].map(|p| p + v),
                         };
                     }
                 }
             }
-            ir::Op::Units(u) => self.units = Some(*u),
-            ir::Op::Plane(p) => self.plane = *p,
-            ir::Op::Spindle(s) => self.spindle = *s,
-            ir::Op::Distance(d) => self.distance = *d,
-            ir::Op::ArcCenters(d) => self.arc_centers = *d,
-            ir::Op::InverseTime(on) => self.inverse_time = *on,
-            ir::Op::Polar(on) => self.polar = *on,
+            ir::Op::Units(u) => self.modal.units = Some(*u),
+            ir::Op::Plane(p) => self.modal.plane = *p,
+            ir::Op::Spindle(s) => self.modal.spindle = *s,
+            ir::Op::Distance(d) => self.modal.distance = *d,
+            ir::Op::ArcCenters(d) => self.modal.arc_centers = *d,
+            ir::Op::InverseTime(on) => self.modal.inverse_time = *on,
+            ir::Op::Polar(on) => self.modal.polar = *on,
             ir::Op::SetPosition(a) => {
                 for axis in [ir::Axis::X, ir::Axis::Y, ir::Axis::Z] {
                     if let Some(v) = a.get(axis) {
@@ -424,7 +408,7 @@ impl<'a> Evaluator<'a> {
                     }
                 }
             }
-            ir::Op::Cycle(_) => self.comp_off = None,
+            ir::Op::Cycle(_) => self.modal.comp_off = None,
             ir::Op::ReadPosition(plane) => {
                 // The tool's offset point: not known here.
                 let (u, v, _) = plane.axes();
@@ -1139,16 +1123,16 @@ impl WizardContext for Context<'_, '_> {
     }
 
     fn state(&self) -> MachineState {
-        let tool = self.ev.tool;
+        let tool = self.ev.modal.tool;
         MachineState {
             position: self.ev.position,
-            incremental: self.ev.distance == ir::Distance::Incremental,
-            absolute_centers: self.ev.arc_centers == ir::Distance::Absolute,
-            inverse_time: self.ev.inverse_time,
-            polar: self.ev.polar,
-            units: self.ev.units,
+            incremental: self.ev.modal.distance == ir::Distance::Incremental,
+            absolute_centers: self.ev.modal.arc_centers == ir::Distance::Absolute,
+            inverse_time: self.ev.modal.inverse_time,
+            polar: self.ev.modal.polar,
+            units: self.ev.modal.units,
             tool,
-            tool_diameter: self.ev.setup.tool_diameter(tool, self.ev.units),
+            tool_diameter: self.ev.setup.tool_diameter(tool, self.ev.modal.units),
         }
     }
 }

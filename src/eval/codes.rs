@@ -103,7 +103,7 @@ impl Evaluator<'_> {
         if let Some(code) = stmt.code.filter(|c| c.letter == b'G') {
             if let WordValue::Number(n) = &code.value {
                 if n.value == 7.0 || n.value == 8.0 {
-                    self.diameter_mode = n.value == 7.0;
+                    self.modal.diameter_mode = n.value == 7.0;
                 }
             }
         }
@@ -124,7 +124,7 @@ impl Evaluator<'_> {
             let Some(mut value) = self.word_value(w) else {
                 return Flow::Next;
             };
-            if w.letter == b'X' && self.diameter_mode {
+            if w.letter == b'X' && self.modal.diameter_mode {
                 value /= 2.0;
             }
             if let Some(first) = words.given(w.letter) {
@@ -185,11 +185,11 @@ impl Evaluator<'_> {
         if GENERAL_PATH_ONLY.with(std::cell::Cell::get) {
             return None;
         }
-        if self.cycle.is_some() || self.diameter_mode || self.machine_coordinates {
+        if self.cycles.kind.is_some() || self.modal.diameter_mode || self.machine_coordinates {
             return None;
         }
         let motion = match code {
-            None => self.motion?,
+            None => self.modal.motion?,
             Some(code) => match (code.letter(), code.number()) {
                 (b'G', Some(0.0)) => Motion::Rapid,
                 (b'G', Some(1.0)) => Motion::Linear,
@@ -232,8 +232,8 @@ impl Evaluator<'_> {
         }
         if made.is_ok() {
             if code.is_some() {
-                self.motion = Some(motion);
-                self.cycle_run = false;
+                self.modal.motion = Some(motion);
+                self.cycles.run_open = false;
             }
             #[cfg(test)]
             PLAIN_MOVES.with(|n| n.set(n.get() + 1));
@@ -320,7 +320,7 @@ impl Evaluator<'_> {
         }
         if let Some((t, tspan)) = w.take(b'T') {
             let tool = whole(t, tspan, "a tool number")?;
-            self.selected = Some(tool);
+            self.modal.selected = Some(tool);
             self.emit(Op::SelectTool(tool), span)?;
         }
         Ok(())
@@ -343,13 +343,17 @@ impl Evaluator<'_> {
         code: Code,
     ) -> Result<(), Diagnostic> {
         let has_axes = w.has_any(b"XYZABCUVW");
-        if let Some(kind) = self.cycle.filter(|_| has_axes && !self.machine_coordinates) {
+        if let Some(kind) = self
+            .cycles
+            .kind
+            .filter(|_| has_axes && !self.machine_coordinates)
+        {
             self.cycle_block(kind, None, w, span)?;
             return self.unused_words(w, code);
         }
         let arc_words = w.has_any(b"IJKR");
-        if has_axes || (arc_words && self.motion.is_some_and(Motion::is_arc)) {
-            let Some(motion) = self.motion else {
+        if has_axes || (arc_words && self.modal.motion.is_some_and(Motion::is_arc)) {
+            let Some(motion) = self.modal.motion else {
                 let (_, at) = w.remaining().next().unwrap_or((b'X', span));
                 return Err(CodeError::new(K::MoveWithoutMotion, at).into());
             };
@@ -502,14 +506,14 @@ impl Evaluator<'_> {
     /// ends a canned cycle's run.
     #[inline]
     fn select_motion(&mut self, t: u32) {
-        self.motion = Some(match t {
+        self.modal.motion = Some(match t {
             0 => Motion::Rapid,
             10 => Motion::Linear,
             20 => Motion::ArcCw,
             _ => Motion::ArcCcw,
         });
-        self.cycle = None;
-        self.cycle_run = false;
+        self.cycles.kind = None;
+        self.cycles.run_open = false;
     }
 
     /// A G code other than the motion codes that sets a mode of the
@@ -548,7 +552,7 @@ impl Evaluator<'_> {
                 } else {
                     ir::Distance::Incremental
                 };
-                if mode != self.arc_centers {
+                if mode != self.modal.arc_centers {
                     self.emit(Op::ArcCenters(mode), span)?;
                 }
             }
@@ -556,7 +560,7 @@ impl Evaluator<'_> {
             // a post's header).
             930 | 940 => {
                 let on = t == 930;
-                if on != self.inverse_time {
+                if on != self.modal.inverse_time {
                     self.emit(Op::InverseTime(on), span)?;
                 }
             }
@@ -599,7 +603,7 @@ impl Evaluator<'_> {
             430 | 440 => {
                 let tool = match w.take(b'H') {
                     Some((h, hspan)) => whole(h, hspan, "a tool number")?,
-                    None => self.tool,
+                    None => self.modal.tool,
                 };
                 Op::ToolLength {
                     tool: Some(tool),
@@ -613,8 +617,8 @@ impl Evaluator<'_> {
             591..=593 => Op::SelectWorkOffset((t - 584) as u8),
             760 => return Err(CodeError::new(K::G76, at).into()),
             800 => {
-                self.cycle = None;
-                self.cycle_run = false;
+                self.cycles.kind = None;
+                self.cycles.run_open = false;
                 Op::CycleOff
             }
             900 => Op::Distance(ir::Distance::Absolute),
@@ -629,7 +633,7 @@ impl Evaluator<'_> {
             }
             921 | 922 => Op::CancelPosition,
             980 | 990 => {
-                self.return_level_stated = true;
+                self.cycles.return_level_stated = true;
                 Op::ReturnLevel(if t == 980 {
                     ir::ReturnLevel::Initial
                 } else {
@@ -665,8 +669,8 @@ impl Evaluator<'_> {
             40 => (Op::Spindle(ir::Spindle::CounterClockwise), Flow::Next),
             50 => (Op::Spindle(ir::Spindle::Off), Flow::Next),
             60 => {
-                if let Some(tool) = self.selected {
-                    self.tool = tool;
+                if let Some(tool) = self.modal.selected {
+                    self.modal.tool = tool;
                 }
                 (Op::ChangeTool, Flow::Next)
             }
@@ -713,7 +717,7 @@ impl Evaluator<'_> {
         // LinuxCNC reads the point back at a tool change (M6, M61): after
         // G40 with no move since, it is the tool's last offset point.
         if t == 60 || t == 610 {
-            if let Some(plane) = self.comp_off.take() {
+            if let Some(plane) = self.modal.comp_off.take() {
                 self.emit(Op::ReadPosition(plane), span)?;
             }
         }

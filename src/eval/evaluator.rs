@@ -5,7 +5,7 @@
 
 use super::options::EvalOptions;
 use super::setup::SetupBuilder;
-use super::state::{Macros, OutputStart, Reports, RunCounts, Sticky};
+use super::state::{CycleState, Macros, Modal, OutputStart, Reports, RunCounts};
 use super::value::Vars;
 use super::wizard_api::WizardHost;
 use super::words::WordTable;
@@ -59,44 +59,19 @@ pub(super) struct Evaluator<'a> {
     pub(super) block_delete: bool,
     /// G53 in the current line: its motion is in machine coordinates.
     pub(super) machine_coordinates: bool,
-    /// G7 (LinuxCNC's lathe diameter mode): X words are diameters, halved
-    /// as they are read (G8 ends it).
-    pub(super) diameter_mode: bool,
-    /// The program has said G98 or G99.
-    pub(super) return_level_stated: bool,
-    /// Current motion mode, for words written without a G code.
-    pub(super) motion: Option<ir::Motion>,
-    /// The canned cycle axis words repeat (it stands before `motion`).
-    pub(super) cycle: Option<ir::CycleKind>,
-    /// A run of cycles is open (its first block set the G98 level).
-    pub(super) cycle_run: bool,
-    /// Where G20/G21 changed the units inside the open run of cycles.
-    pub(super) units_in_cycles: Option<Span>,
-    /// The cycle words a repeat may leave out.
-    pub(super) sticky: Sticky,
-    pub(super) plane: ir::Plane,
-    pub(super) spindle: ir::Spindle,
-    /// Cutter compensation is on: its side and where it was turned on.
-    pub(super) comp: Option<(ir::Side, Span)>,
-    /// G40 turned compensation off in this plane and no move has been made
-    /// since: a tool change then reads the point back ([`ir::Op::ReadPosition`]).
-    pub(super) comp_off: Option<ir::Plane>,
     pub(super) setup: SetupBuilder,
-    /// Tool loaded by the last M6, and tool selected by the last T.
-    pub(super) tool: u32,
-    pub(super) selected: Option<u32>,
-    pub(super) units: Option<ir::Units>,
+    /// Last commanded position in program coordinates (`None` before the
+    /// first move that sets the axis).
     pub(super) position: [Option<f64>; 3],
-    pub(super) distance: ir::Distance,
-    /// G90.1 (absolute arc centres) or G91.1.
-    pub(super) arc_centers: ir::Distance,
-    /// G93 is on, and an F under it on the line being run (a feed move
-    /// needs one on its own line).
-    pub(super) inverse_time: bool,
+    /// An F under G93 on the line being run (a feed move needs one on its
+    /// own line).
     pub(super) inverse_feed: bool,
     /// G94 after G93, and no F since.
     pub(super) inverse_time_ended: bool,
-    pub(super) polar: bool,
     /// An F word has been given: a feed move without one is an error.
     pub(super) feed_set: bool,
+    /// The machine's modal state: what the codes of a line set.
+    pub(super) modal: Modal,
+    /// What a run of canned cycles remembers between blocks.
+    pub(super) cycles: CycleState,
 }

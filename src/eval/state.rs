@@ -1,9 +1,11 @@
-//! The evaluator's state that is not the machine's: the counts the
-//! runaway limits read ([`RunCounts`]), what the program reported
-//! ([`Reports`]), the start of the output ([`OutputStart`]), and the
-//! subprograms and scopes of LinuxCNC's and Fanuc's macro languages
-//! ([`Macros`]). Each part keeps its own invariants; none of them knows
-//! G-code, the IR's meaning or the other parts.
+//! The evaluator's state in named parts: the machine's modal state
+//! ([`Modal`]) and what a run of canned cycles keeps ([`CycleState`],
+//! [`Sticky`]); the counts the runaway limits read ([`RunCounts`]), what
+//! the program reported ([`Reports`]), the start of the output
+//! ([`OutputStart`]), and the subprograms and scopes of LinuxCNC's and
+//! Fanuc's macro languages ([`Macros`]). Each part keeps its own
+//! invariants; none of them runs G-code or knows the IR's meaning or the
+//! other parts.
 
 use crate::ast::{Names, OName, Subprogram};
 use crate::diagnostic::Diagnostic;
@@ -242,4 +244,69 @@ pub(super) struct Sticky {
     pub(super) q: f64,
     pub(super) p: f64,
     pub(super) ijk: [f64; 3],
+}
+
+/// The machine's modal state as the program has set it: what the codes of
+/// a line change and the lines after read (SPEC §2.3). Plain data: the
+/// evaluator sets it as statements are admitted.
+pub(super) struct Modal {
+    /// Current motion mode, for words written without a G code.
+    pub(super) motion: Option<ir::Motion>,
+    pub(super) plane: ir::Plane,
+    pub(super) units: Option<ir::Units>,
+    pub(super) distance: ir::Distance,
+    /// G90.1 (absolute arc centres) or G91.1.
+    pub(super) arc_centers: ir::Distance,
+    pub(super) polar: bool,
+    /// G93 is on.
+    pub(super) inverse_time: bool,
+    /// G7 (LinuxCNC's lathe diameter mode): X words are diameters, halved
+    /// as they are read (G8 ends it).
+    pub(super) diameter_mode: bool,
+    pub(super) spindle: ir::Spindle,
+    /// Cutter compensation is on: its side and where it was turned on.
+    pub(super) comp: Option<(ir::Side, Span)>,
+    /// G40 turned compensation off in this plane and no move has been made
+    /// since: a tool change then reads the point back ([`ir::Op::ReadPosition`]).
+    pub(super) comp_off: Option<ir::Plane>,
+    /// Tool loaded by the last M6, and tool selected by the last T.
+    pub(super) tool: u32,
+    pub(super) selected: Option<u32>,
+}
+
+impl Default for Modal {
+    /// The state at power-up, as rs274 starts.
+    fn default() -> Self {
+        Modal {
+            motion: None,
+            plane: ir::Plane::XY,
+            units: None,
+            distance: ir::Distance::Absolute,
+            arc_centers: ir::Distance::Incremental,
+            polar: false,
+            inverse_time: false,
+            diameter_mode: false,
+            spindle: ir::Spindle::Off,
+            comp: None,
+            comp_off: None,
+            tool: 1,
+            selected: None,
+        }
+    }
+}
+
+/// What a run of canned cycles keeps between its blocks.
+#[derive(Default)]
+pub(super) struct CycleState {
+    /// The canned cycle axis words repeat (it stands before the motion
+    /// mode).
+    pub(super) kind: Option<ir::CycleKind>,
+    /// A run of cycles is open (its first block set the G98 level).
+    pub(super) run_open: bool,
+    /// Where G20/G21 changed the units inside the open run of cycles.
+    pub(super) units_changed_at: Option<Span>,
+    /// The cycle words a repeat may leave out.
+    pub(super) sticky: Sticky,
+    /// The program has said G98 or G99.
+    pub(super) return_level_stated: bool,
 }
