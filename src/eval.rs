@@ -30,7 +30,7 @@ use crate::ir;
 use crate::source::Span;
 use evaluator::{Evaluator, Flow};
 pub(crate) use state::parameter_number;
-use state::{CycleState, JumpLimit, Macros, Modal, OutputStart, Reports, RunCounts};
+use state::{CycleState, JumpLimit, LineState, Macros, Modal, OutputStart, Reports, RunCounts};
 use std::rc::Rc;
 use value::{ExprError, Slot, Value, Vars};
 
@@ -152,14 +152,9 @@ impl<'a> Evaluator<'a> {
             ),
             names: Rc::new(names),
             out: Vec::with_capacity(options.batch.clamp(1, 1 << 16)),
-            machine_coordinates: false,
-            block_delete: false,
             setup: setup::SetupBuilder::with_tools(&options.tools),
-            position: [None; 3],
-            inverse_feed: false,
-            inverse_time_ended: false,
-            feed_set: false,
             modal: Modal::default(),
+            this_line: LineState::default(),
             cycles: CycleState::default(),
         }
     }
@@ -234,7 +229,7 @@ impl<'a> Evaluator<'a> {
         self.out.push(ir::Stmt {
             op,
             span,
-            block_delete: self.block_delete,
+            block_delete: self.this_line.block_delete,
         });
         self.kept();
         Ok(())
@@ -256,13 +251,13 @@ impl<'a> Evaluator<'a> {
             }
             ir::Op::End => self.modal.comp = None,
             ir::Op::Feed(_) => {
-                self.feed_set = true;
-                self.inverse_time_ended = false;
+                self.modal.feed_set = true;
+                self.modal.inverse_time_ended = false;
                 self.output.feed_before_units |= self.output.first_units.is_none();
-                self.inverse_feed = self.modal.inverse_time;
+                self.this_line.inverse_feed = self.modal.inverse_time;
             }
-            ir::Op::Move(m) if m.motion != ir::Motion::Rapid && !self.feed_set => {
-                let kind = if self.inverse_time_ended {
+            ir::Op::Move(m) if m.motion != ir::Motion::Rapid && !self.modal.feed_set => {
+                let kind = if self.modal.inverse_time_ended {
                     EvalErrorKind::FeedAfterInverseTime
                 } else {
                     EvalErrorKind::FeedBeforeRate
@@ -271,7 +266,7 @@ impl<'a> Evaluator<'a> {
             }
             ir::Op::Move(m) if m.motion != ir::Motion::Rapid && self.modal.inverse_time => {
                 // rs274: each G1/G2/G3 under G93 has its own F.
-                if !std::mem::take(&mut self.inverse_feed) {
+                if !std::mem::take(&mut self.this_line.inverse_feed) {
                     return Err(EvalError::new(EvalErrorKind::InverseTimeWithoutF, span).into());
                 }
                 if m.arc.is_some() && self.modal.comp.is_some() {
@@ -281,8 +276,8 @@ impl<'a> Evaluator<'a> {
             }
             // G94 after G93: rs274 sets the feed to 0.
             ir::Op::InverseTime(false) => {
-                self.feed_set = false;
-                self.inverse_time_ended = true;
+                self.modal.feed_set = false;
+                self.modal.inverse_time_ended = true;
             }
             ir::Op::Units(u) if self.cycles.run_open && self.modal.units != Some(*u) => {
                 self.cycles.units_changed_at = Some(span);
@@ -387,9 +382,9 @@ impl<'a> Evaluator<'a> {
                 for axis in [ir::Axis::X, ir::Axis::Y, ir::Axis::Z] {
                     if let Some(v) = m.to.get(axis) {
                         let axis = axis.index();
-                        self.position[axis] = match self.modal.distance {
+                        self.modal.position[axis] = match self.modal.distance {
                             ir::Distance::Absolute => Some(v),
-                            ir::Distance::Incremental => self.position[axis].map(|p| p + v),
+                            ir::Distance::Incremental => self.modal.position[axis].map(|p| p + v),
                         };
                     }
                 }
@@ -404,7 +399,7 @@ impl<'a> Evaluator<'a> {
             ir::Op::SetPosition(a) => {
                 for axis in [ir::Axis::X, ir::Axis::Y, ir::Axis::Z] {
                     if let Some(v) = a.get(axis) {
-                        self.position[axis.index()] = Some(v);
+                        self.modal.position[axis.index()] = Some(v);
                     }
                 }
             }
@@ -412,8 +407,8 @@ impl<'a> Evaluator<'a> {
             ir::Op::ReadPosition(plane) => {
                 // The tool's offset point: not known here.
                 let (u, v, _) = plane.axes();
-                self.position[u] = None;
-                self.position[v] = None;
+                self.modal.position[u] = None;
+                self.modal.position[v] = None;
             }
             _ => {}
         }
@@ -579,8 +574,8 @@ impl<'a> Evaluator<'a> {
         let (first, more) = (codes.next(), codes.next().is_some());
         let before = &words[..first.map_or(words.len(), |(at, _)| at)];
         let uncoded = !before.iter().all(|w| w.letter == b'N');
-        self.machine_coordinates = false;
-        self.inverse_feed = false;
+        self.this_line.machine_coordinates = false;
+        self.this_line.inverse_feed = false;
         let stmt = match first {
             _ if more => None,
             Some(_) if uncoded => None,
@@ -602,11 +597,11 @@ impl<'a> Evaluator<'a> {
 
     /// Run a line of `words`, written after a `/` if `block_delete`.
     fn exec_words(&mut self, words: &[ast::Word], block_delete: bool) -> Flow {
-        self.machine_coordinates = false;
-        self.inverse_feed = false;
-        self.block_delete = block_delete;
+        self.this_line.machine_coordinates = false;
+        self.this_line.inverse_feed = false;
+        self.this_line.block_delete = block_delete;
         let flow = self.exec_line_in_order(words);
-        self.block_delete = false;
+        self.this_line.block_delete = false;
         flow
     }
 
@@ -1125,7 +1120,7 @@ impl WizardContext for Context<'_, '_> {
     fn state(&self) -> MachineState {
         let tool = self.ev.modal.tool;
         MachineState {
-            position: self.ev.position,
+            position: self.ev.modal.position,
             incremental: self.ev.modal.distance == ir::Distance::Incremental,
             absolute_centers: self.ev.modal.arc_centers == ir::Distance::Absolute,
             inverse_time: self.ev.modal.inverse_time,

@@ -185,7 +185,10 @@ impl Evaluator<'_> {
         if GENERAL_PATH_ONLY.with(std::cell::Cell::get) {
             return None;
         }
-        if self.cycles.kind.is_some() || self.modal.diameter_mode || self.machine_coordinates {
+        if self.cycles.kind.is_some()
+            || self.modal.diameter_mode
+            || self.this_line.machine_coordinates
+        {
             return None;
         }
         let motion = match code {
@@ -346,7 +349,7 @@ impl Evaluator<'_> {
         if let Some(kind) = self
             .cycles
             .kind
-            .filter(|_| has_axes && !self.machine_coordinates)
+            .filter(|_| has_axes && !self.this_line.machine_coordinates)
         {
             self.cycle_block(kind, None, w, span)?;
             return self.unused_words(w, code);
@@ -357,7 +360,7 @@ impl Evaluator<'_> {
                 let (_, at) = w.remaining().next().unwrap_or((b'X', span));
                 return Err(CodeError::new(K::MoveWithoutMotion, at).into());
             };
-            if self.machine_coordinates {
+            if self.this_line.machine_coordinates {
                 let m = self.motion_move(motion, w, span)?;
                 if m.motion.is_arc() {
                     return Err(CodeError::new(K::ArcInMachineCoordinates, span).into());
@@ -449,7 +452,7 @@ impl Evaluator<'_> {
         let mut filled = Ok(());
         if let Some(stmt) = out.last_mut() {
             stmt.span = span;
-            stmt.block_delete = self.block_delete;
+            stmt.block_delete = self.this_line.block_delete;
             if let Op::Move(m) = &mut stmt.op {
                 m.motion = motion;
                 filled = fill(m);
@@ -535,7 +538,7 @@ impl Evaluator<'_> {
             }
             530 => {
                 // The motion of this line is in machine coordinates.
-                self.machine_coordinates = true;
+                self.this_line.machine_coordinates = true;
             }
             610 | 611 | 640 => {
                 w.take(b'P');

@@ -5,7 +5,7 @@
 
 use super::options::EvalOptions;
 use super::setup::SetupBuilder;
-use super::state::{CycleState, Macros, Modal, OutputStart, Reports, RunCounts};
+use super::state::{CycleState, LineState, Macros, Modal, OutputStart, Reports, RunCounts};
 use super::value::Vars;
 use super::wizard_api::WizardHost;
 use super::words::WordTable;
@@ -55,21 +55,9 @@ pub(super) struct Evaluator<'a> {
     pub(super) vars: Vars,
     /// Statements not yet sent to the sink.
     pub(super) out: Vec<ir::Stmt>,
-    /// The line being run was written after a block-delete `/`.
-    pub(super) block_delete: bool,
-    /// G53 in the current line: its motion is in machine coordinates.
-    pub(super) machine_coordinates: bool,
     pub(super) setup: SetupBuilder,
-    /// Last commanded position in program coordinates (`None` before the
-    /// first move that sets the axis).
-    pub(super) position: [Option<f64>; 3],
-    /// An F under G93 on the line being run (a feed move needs one on its
-    /// own line).
-    pub(super) inverse_feed: bool,
-    /// G94 after G93, and no F since.
-    pub(super) inverse_time_ended: bool,
-    /// An F word has been given: a feed move without one is an error.
-    pub(super) feed_set: bool,
+    /// What holds for the line being run only.
+    pub(super) this_line: LineState,
     /// The machine's modal state: what the codes of a line set.
     pub(super) modal: Modal,
     /// What a run of canned cycles remembers between blocks.

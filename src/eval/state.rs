@@ -1,5 +1,6 @@
 //! The evaluator's state in named parts: the machine's modal state
-//! ([`Modal`]) and what a run of canned cycles keeps ([`CycleState`],
+//! ([`Modal`]), what holds for the line being run ([`LineState`]), and
+//! what a run of canned cycles keeps ([`CycleState`],
 //! [`Sticky`]); the counts the runaway limits read ([`RunCounts`]), what
 //! the program reported ([`Reports`]), the start of the output
 //! ([`OutputStart`]), and the subprograms and scopes of LinuxCNC's and
@@ -246,8 +247,8 @@ pub(super) struct Sticky {
     pub(super) ijk: [f64; 3],
 }
 
-/// The machine's modal state as the program has set it: what the codes of
-/// a line change and the lines after read (SPEC §2.3). Plain data: the
+/// The machine's modal state as the program has set it: what the codes
+/// and moves of a line change and the lines after read. Plain data: the
 /// evaluator sets it as statements are admitted.
 pub(super) struct Modal {
     /// Current motion mode, for words written without a G code.
@@ -272,6 +273,13 @@ pub(super) struct Modal {
     /// Tool loaded by the last M6, and tool selected by the last T.
     pub(super) tool: u32,
     pub(super) selected: Option<u32>,
+    /// Last commanded position in program coordinates (`None` before the
+    /// first move that sets the axis).
+    pub(super) position: [Option<f64>; 3],
+    /// An F word has been given: a feed move without one is an error.
+    pub(super) feed_set: bool,
+    /// G94 after G93, and no F since.
+    pub(super) inverse_time_ended: bool,
 }
 
 impl Default for Modal {
@@ -291,6 +299,9 @@ impl Default for Modal {
             comp_off: None,
             tool: 1,
             selected: None,
+            position: [None; 3],
+            feed_set: false,
+            inverse_time_ended: false,
         }
     }
 }
@@ -309,4 +320,15 @@ pub(super) struct CycleState {
     pub(super) sticky: Sticky,
     /// The program has said G98 or G99.
     pub(super) return_level_stated: bool,
+}
+
+/// What holds for the line being run only, set as it starts.
+#[derive(Default)]
+pub(super) struct LineState {
+    /// The line was written after a block-delete `/`.
+    pub(super) block_delete: bool,
+    /// G53 in the line: its motion is in machine coordinates.
+    pub(super) machine_coordinates: bool,
+    /// An F under G93 in the line (a feed move needs one on its own line).
+    pub(super) inverse_feed: bool,
 }
