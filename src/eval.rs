@@ -11,182 +11,28 @@ mod comp;
 mod cycle;
 mod degrees;
 mod error;
-pub use cycle::{count_pecks, MAX_PECKS};
+mod evaluator;
+mod options;
 mod setup;
 mod state;
 pub mod value;
+mod wizard_api;
+mod words;
 
-use crate::ast::{self, Names, OName, StmtKind, Symbol};
+pub use cycle::{count_pecks, MAX_PECKS};
+pub(crate) use options::LAST_USER_PARAMETER;
+pub use options::{EvalOptions, Flavour};
+pub use wizard_api::{MachineState, WizardCall, WizardContext, WizardHost};
+
+use crate::ast::{self, Names, StmtKind, Symbol};
 use crate::diagnostic::Diagnostic;
 use crate::ir;
 use crate::source::Span;
+use evaluator::{Evaluator, Flow};
 pub(crate) use state::parameter_number;
-use state::{JumpLimit, Macros, OutputStart, Reports, RunCounts};
+use state::{CycleState, JumpLimit, LineState, Macros, Modal, OutputStart, Reports, RunCounts};
 use std::rc::Rc;
 use value::{ExprError, Slot, Value, Vars};
-
-/// Limits that keep evaluation bounded whatever the input.
-#[derive(Clone, Debug)]
-pub struct EvalOptions {
-    /// A `while` that runs more often is an error naming the loop.
-    pub max_iterations: u64,
-    /// More IR statements than this made by loops, subprogram calls and
-    /// jumps back is an error (the program would run on and on). The
-    /// program's own lines, run once each, are not counted: their number
-    /// is the file's.
-    pub max_statements: usize,
-    /// Subprogram nesting depth.
-    pub max_call_depth: usize,
-    /// Statements per batch sent to the back end. The output does not
-    /// depend on it (`tests/streaming.rs` checks); it trades cache for
-    /// call overhead.
-    pub batch: usize,
-    /// `--units`: the units of a program that states none.
-    pub units: Option<ir::Units>,
-    /// `--from`: whose meaning holds where controllers disagree. The
-    /// driver fills it from `CompileOptions::from` (or the file's name):
-    /// set that one.
-    pub from: Flavour,
-    /// `--tool-table`: tools known before the program's `SetTool`s.
-    pub tools: std::collections::BTreeMap<u32, ir::Tool>,
-    /// `--comments keep` (the default): a plain program's comments go to
-    /// the output in their place.
-    pub keep_comments: bool,
-    /// The program is plain G-code (not `.egc`, whose rules are ger's own
-    /// and need no warning where controllers disagree).
-    pub plain: bool,
-}
-
-impl EvalOptions {
-    /// LinuxCNC's macro language read as rs274 reads it: plain G-code not
-    /// read as Fanuc's (its trigonometry, its named parameters).
-    fn rs274(&self) -> bool {
-        self.plain && self.from != Flavour::Fanuc
-    }
-}
-
-/// The controller family a program was written for (`--from`, SPEC §1):
-/// it settles the codes controllers read differently.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
-pub enum Flavour {
-    /// `G4 P` without a decimal point in milliseconds, with one in seconds
-    /// (a warning says which was taken).
-    #[default]
-    Generic,
-    /// `G4 P` in seconds.
-    LinuxCnc,
-    /// `G4 P` in milliseconds, `G4 X` in seconds.
-    Fanuc,
-    /// `G4 P` in seconds.
-    Grbl,
-    /// `G4 P` in seconds (Mach3's default setting).
-    Mach3,
-}
-
-impl Flavour {
-    /// Where canned cycles return when the program has not said G98 or
-    /// G99: LinuxCNC (rs274) starts in G99; Fanuc, Haas, Mach3 and the
-    /// generic flavour take G98, the higher and safer of the two.
-    pub fn power_up_return_level(self) -> ir::ReturnLevel {
-        match self {
-            Flavour::LinuxCnc => ir::ReturnLevel::R,
-            Flavour::Generic | Flavour::Fanuc | Flavour::Grbl | Flavour::Mach3 => {
-                ir::ReturnLevel::Initial
-            }
-        }
-    }
-
-    /// A numbered parameter whose value only the machine knows: on Fanuc
-    /// `#500`–`#999` (kept between programs) and the system variables
-    /// from `#1000`; on LinuxCNC `#5001` and up (positions, offsets).
-    pub fn machine_parameter(self, n: u32) -> bool {
-        match self {
-            Flavour::Fanuc => n >= 500,
-            Flavour::Generic | Flavour::LinuxCnc | Flavour::Grbl | Flavour::Mach3 => {
-                n > LAST_USER_PARAMETER
-            }
-        }
-    }
-
-    /// The default for a file: `.ngc` is LinuxCNC's.
-    pub fn of_file(name: &str) -> Flavour {
-        if name.to_ascii_lowercase().ends_with(".ngc") {
-            Flavour::LinuxCnc
-        } else {
-            Flavour::Generic
-        }
-    }
-}
-
-impl Default for EvalOptions {
-    fn default() -> Self {
-        EvalOptions {
-            max_iterations: 10_000_000,
-            max_statements: 5_000_000,
-            max_call_depth: 64,
-            batch: 1024,
-            units: None,
-            from: Flavour::Generic,
-            plain: false,
-            keep_comments: true,
-            tools: Default::default(),
-        }
-    }
-}
-
-/// What a wizard call is handed to; implemented by the wizard engine. The
-/// evaluator only knows this interface.
-pub trait WizardHost {
-    /// Run wizard `name` (already known not to be a directive). Returns
-    /// `None` if no wizard has that name.
-    fn call(
-        &mut self,
-        name: &str,
-        args: &[Value],
-        call: &WizardCall<'_>,
-        ctx: &mut dyn WizardContext,
-    ) -> Option<Result<(), Vec<Diagnostic>>>;
-
-    /// Is there a wizard of this name (matched case-insensitively)?
-    fn has(&self, name: &str) -> bool;
-
-    /// Names of every wizard known, for "did you mean".
-    fn names(&self) -> Vec<String>;
-}
-
-/// Where a wizard was called, for its diagnostics.
-pub struct WizardCall<'a> {
-    pub span: Span,
-    pub arg_spans: &'a [Span],
-    pub names: &'a Names,
-}
-
-/// What a wizard may do to the program being built.
-pub trait WizardContext {
-    /// Run one parsed line of extended G-code as if written at the call.
-    fn run_line(&mut self, line: &ast::Program) -> Result<(), Vec<Diagnostic>>;
-    fn emit(&mut self, op: ir::Op) -> Result<(), Diagnostic>;
-    fn state(&self) -> MachineState;
-}
-
-/// The machine state a wizard can read.
-#[derive(Clone, Copy, Debug)]
-pub struct MachineState {
-    /// Last commanded position in program coordinates (`None` before the
-    /// first move that sets the axis).
-    pub position: [Option<f64>; 3],
-    /// G91 is on at the call.
-    pub incremental: bool,
-    /// G16 is on at the call.
-    pub polar: bool,
-    /// G90.1 is on at the call.
-    pub absolute_centers: bool,
-    /// G93 is on at the call.
-    pub inverse_time: bool,
-    pub units: Option<ir::Units>,
-    pub tool: u32,
-    pub tool_diameter: f64,
-}
 
 /// Stage 0: evaluate a parsed program into IR, which goes to `sink` as it
 /// is made. Returns the diagnostics; after an error nothing more is sent.
@@ -275,96 +121,7 @@ pub fn eval_chunks(
     }
 }
 
-/// `value`, given at `span`, is beyond ±[`ir::MAX_LENGTH`]; `what` names
-/// the kind of number for the note.
-use error::{out_of_range, EvalError, EvalErrorKind};
-
-/// How a block finished.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-enum Flow {
-    Next,
-    /// M99: back to the caller.
-    Return,
-    /// M2/M30: the program is over.
-    End,
-    /// Fanuc's `GOTO`: on at the line labelled N, from where it was.
-    Goto(u32, Span),
-    /// LinuxCNC's `oN break` and `oN continue`, from where they were.
-    Break(OName, Span),
-    Continue(OName, Span),
-    /// An error made it impossible to go on (a limit, a broken condition).
-    Abort,
-}
-
-struct Evaluator<'a> {
-    program: &'a ast::Program,
-    /// The program's names; those of a program read in parts grow with
-    /// each part ([`Evaluator::names_added`]).
-    names: Rc<Names>,
-    /// The word table of the statement run last, for the next
-    /// ([`WordValues`]).
-    word_table: Option<Box<WordTable>>,
-    /// A line of [`ast::Lines`] made [`ast::Word`]s, for the statements
-    /// [`Evaluator::plain_line`] does not run itself.
-    line_words: Vec<ast::Word>,
-    options: &'a EvalOptions,
-    /// What the runaway limits count.
-    run: RunCounts,
-    /// Diagnostics, errors and notes reported so far.
-    reports: Reports,
-    /// The sink, and what it is told at the start.
-    output: OutputStart<'a>,
-    /// Subprograms, calls and scopes of the macro languages.
-    macros: Macros,
-    wizards: Option<&'a mut dyn WizardHost>,
-    vars: Vars,
-    /// Statements not yet sent to the sink.
-    out: Vec<ir::Stmt>,
-    /// The line being run was written after a block-delete `/`.
-    block_delete: bool,
-    /// G53 in the current line: its motion is in machine coordinates.
-    machine_coordinates: bool,
-    /// G7 (LinuxCNC's lathe diameter mode): X words are diameters, halved
-    /// as they are read (G8 ends it).
-    diameter_mode: bool,
-    /// The program has said G98 or G99.
-    return_level_stated: bool,
-    /// Current motion mode, for words written without a G code.
-    motion: Option<ir::Motion>,
-    /// The canned cycle axis words repeat (it stands before `motion`).
-    cycle: Option<ir::CycleKind>,
-    /// A run of cycles is open (its first block set the G98 level).
-    cycle_run: bool,
-    /// Where G20/G21 changed the units inside the open run of cycles.
-    units_in_cycles: Option<Span>,
-    /// The cycle words a repeat may leave out.
-    sticky: cycle::Sticky,
-    plane: ir::Plane,
-    spindle: ir::Spindle,
-    /// Cutter compensation is on: its side and where it was turned on.
-    comp: Option<(ir::Side, Span)>,
-    /// G40 turned compensation off in this plane and no move has been made
-    /// since: a tool change then reads the point back ([`ir::Op::ReadPosition`]).
-    comp_off: Option<ir::Plane>,
-    setup: setup::SetupBuilder,
-    /// Tool loaded by the last M6, and tool selected by the last T.
-    tool: u32,
-    selected: Option<u32>,
-    units: Option<ir::Units>,
-    position: [Option<f64>; 3],
-    distance: ir::Distance,
-    /// G90.1 (absolute arc centres) or G91.1.
-    arc_centers: ir::Distance,
-    /// G93 is on, and an F under it on the line being run (a feed move
-    /// needs one on its own line).
-    inverse_time: bool,
-    inverse_feed: bool,
-    /// G94 after G93, and no F since.
-    inverse_time_ended: bool,
-    polar: bool,
-    /// An F word has been given: a feed move without one is an error.
-    feed_set: bool,
-}
+use error::{EvalError, EvalErrorKind};
 
 impl<'a> Evaluator<'a> {
     fn new(
@@ -395,31 +152,10 @@ impl<'a> Evaluator<'a> {
             ),
             names: Rc::new(names),
             out: Vec::with_capacity(options.batch.clamp(1, 1 << 16)),
-            machine_coordinates: false,
-            diameter_mode: false,
-            return_level_stated: false,
-            block_delete: false,
-            motion: None,
-            cycle: None,
-            cycle_run: false,
-            units_in_cycles: None,
-            sticky: cycle::Sticky::default(),
-            plane: ir::Plane::XY,
-            spindle: ir::Spindle::Off,
-            comp: None,
-            comp_off: None,
             setup: setup::SetupBuilder::with_tools(&options.tools),
-            tool: 1,
-            selected: None,
-            units: None,
-            position: [None; 3],
-            distance: ir::Distance::Absolute,
-            arc_centers: ir::Distance::Incremental,
-            inverse_time: false,
-            inverse_feed: false,
-            inverse_time_ended: false,
-            polar: false,
-            feed_set: false,
+            modal: Modal::default(),
+            this_line: LineState::default(),
+            cycles: CycleState::default(),
         }
     }
 
@@ -493,7 +229,7 @@ impl<'a> Evaluator<'a> {
         self.out.push(ir::Stmt {
             op,
             span,
-            block_delete: self.block_delete,
+            block_delete: self.this_line.block_delete,
         });
         self.kept();
         Ok(())
@@ -508,43 +244,43 @@ impl<'a> Evaluator<'a> {
         }
         self.check_under_comp(op, span)?;
         match op {
-            ir::Op::Comp { side, .. } => self.comp = Some((*side, span)),
-            ir::Op::CompOff if self.comp.is_some() => {
-                self.comp = None;
-                self.comp_off = Some(self.plane);
+            ir::Op::Comp { side, .. } => self.modal.comp = Some((*side, span)),
+            ir::Op::CompOff if self.modal.comp.is_some() => {
+                self.modal.comp = None;
+                self.modal.comp_off = Some(self.modal.plane);
             }
-            ir::Op::End => self.comp = None,
+            ir::Op::End => self.modal.comp = None,
             ir::Op::Feed(_) => {
-                self.feed_set = true;
-                self.inverse_time_ended = false;
+                self.modal.feed_set = true;
+                self.modal.inverse_time_ended = false;
                 self.output.feed_before_units |= self.output.first_units.is_none();
-                self.inverse_feed = self.inverse_time;
+                self.this_line.inverse_feed = self.modal.inverse_time;
             }
-            ir::Op::Move(m) if m.motion != ir::Motion::Rapid && !self.feed_set => {
-                let kind = if self.inverse_time_ended {
+            ir::Op::Move(m) if m.motion != ir::Motion::Rapid && !self.modal.feed_set => {
+                let kind = if self.modal.inverse_time_ended {
                     EvalErrorKind::FeedAfterInverseTime
                 } else {
                     EvalErrorKind::FeedBeforeRate
                 };
                 return Err(EvalError::new(kind, span).into());
             }
-            ir::Op::Move(m) if m.motion != ir::Motion::Rapid && self.inverse_time => {
+            ir::Op::Move(m) if m.motion != ir::Motion::Rapid && self.modal.inverse_time => {
                 // rs274: each G1/G2/G3 under G93 has its own F.
-                if !std::mem::take(&mut self.inverse_feed) {
+                if !std::mem::take(&mut self.this_line.inverse_feed) {
                     return Err(EvalError::new(EvalErrorKind::InverseTimeWithoutF, span).into());
                 }
-                if m.arc.is_some() && self.comp.is_some() {
+                if m.arc.is_some() && self.modal.comp.is_some() {
                     let kind = EvalErrorKind::InverseTimeArcUnderComp;
                     return Err(EvalError::new(kind, span).into());
                 }
             }
             // G94 after G93: rs274 sets the feed to 0.
             ir::Op::InverseTime(false) => {
-                self.feed_set = false;
-                self.inverse_time_ended = true;
+                self.modal.feed_set = false;
+                self.modal.inverse_time_ended = true;
             }
-            ir::Op::Units(u) if self.cycle_run && self.units != Some(*u) => {
-                self.units_in_cycles = Some(span);
+            ir::Op::Units(u) if self.cycles.run_open && self.modal.units != Some(*u) => {
+                self.cycles.units_changed_at = Some(span);
             }
             _ => {}
         }
@@ -641,38 +377,38 @@ impl<'a> Evaluator<'a> {
     fn track(&mut self, op: &ir::Op) {
         match op {
             ir::Op::Move(m) => {
-                self.comp_off = None;
-                self.motion = Some(m.motion);
+                self.modal.comp_off = None;
+                self.modal.motion = Some(m.motion);
                 for axis in [ir::Axis::X, ir::Axis::Y, ir::Axis::Z] {
                     if let Some(v) = m.to.get(axis) {
                         let axis = axis.index();
-                        self.position[axis] = match self.distance {
+                        self.modal.position[axis] = match self.modal.distance {
                             ir::Distance::Absolute => Some(v),
-                            ir::Distance::Incremental => self.position[axis].map(|p| p + v),
+                            ir::Distance::Incremental => self.modal.position[axis].map(|p| p + v),
                         };
                     }
                 }
             }
-            ir::Op::Units(u) => self.units = Some(*u),
-            ir::Op::Plane(p) => self.plane = *p,
-            ir::Op::Spindle(s) => self.spindle = *s,
-            ir::Op::Distance(d) => self.distance = *d,
-            ir::Op::ArcCenters(d) => self.arc_centers = *d,
-            ir::Op::InverseTime(on) => self.inverse_time = *on,
-            ir::Op::Polar(on) => self.polar = *on,
+            ir::Op::Units(u) => self.modal.units = Some(*u),
+            ir::Op::Plane(p) => self.modal.plane = *p,
+            ir::Op::Spindle(s) => self.modal.spindle = *s,
+            ir::Op::Distance(d) => self.modal.distance = *d,
+            ir::Op::ArcCenters(d) => self.modal.arc_centers = *d,
+            ir::Op::InverseTime(on) => self.modal.inverse_time = *on,
+            ir::Op::Polar(on) => self.modal.polar = *on,
             ir::Op::SetPosition(a) => {
                 for axis in [ir::Axis::X, ir::Axis::Y, ir::Axis::Z] {
                     if let Some(v) = a.get(axis) {
-                        self.position[axis.index()] = Some(v);
+                        self.modal.position[axis.index()] = Some(v);
                     }
                 }
             }
-            ir::Op::Cycle(_) => self.comp_off = None,
+            ir::Op::Cycle(_) => self.modal.comp_off = None,
             ir::Op::ReadPosition(plane) => {
                 // The tool's offset point: not known here.
                 let (u, v, _) = plane.axes();
-                self.position[u] = None;
-                self.position[v] = None;
+                self.modal.position[u] = None;
+                self.modal.position[v] = None;
             }
             _ => {}
         }
@@ -838,8 +574,8 @@ impl<'a> Evaluator<'a> {
         let (first, more) = (codes.next(), codes.next().is_some());
         let before = &words[..first.map_or(words.len(), |(at, _)| at)];
         let uncoded = !before.iter().all(|w| w.letter == b'N');
-        self.machine_coordinates = false;
-        self.inverse_feed = false;
+        self.this_line.machine_coordinates = false;
+        self.this_line.inverse_feed = false;
         let stmt = match first {
             _ if more => None,
             Some(_) if uncoded => None,
@@ -861,11 +597,11 @@ impl<'a> Evaluator<'a> {
 
     /// Run a line of `words`, written after a `/` if `block_delete`.
     fn exec_words(&mut self, words: &[ast::Word], block_delete: bool) -> Flow {
-        self.machine_coordinates = false;
-        self.inverse_feed = false;
-        self.block_delete = block_delete;
+        self.this_line.machine_coordinates = false;
+        self.this_line.inverse_feed = false;
+        self.this_line.block_delete = block_delete;
         let flow = self.exec_line_in_order(words);
-        self.block_delete = false;
+        self.this_line.block_delete = false;
         flow
     }
 
@@ -1382,120 +1118,19 @@ impl WizardContext for Context<'_, '_> {
     }
 
     fn state(&self) -> MachineState {
-        let tool = self.ev.tool;
+        let tool = self.ev.modal.tool;
         MachineState {
-            position: self.ev.position,
-            incremental: self.ev.distance == ir::Distance::Incremental,
-            absolute_centers: self.ev.arc_centers == ir::Distance::Absolute,
-            inverse_time: self.ev.inverse_time,
-            polar: self.ev.polar,
-            units: self.ev.units,
+            position: self.ev.modal.position,
+            incremental: self.ev.modal.distance == ir::Distance::Incremental,
+            absolute_centers: self.ev.modal.arc_centers == ir::Distance::Absolute,
+            inverse_time: self.ev.modal.inverse_time,
+            polar: self.ev.modal.polar,
+            units: self.ev.modal.units,
             tool,
-            tool_diameter: self.ev.setup.tool_diameter(tool, self.ev.units),
+            tool_diameter: self.ev.setup.tool_diameter(tool, self.ev.modal.units),
         }
     }
 }
-
-/// Values of the words of one statement, by letter: a presence mask and
-/// the values, with the index of each word for its span and spelling.
-/// Cheap to start empty: the table is the last statement's (only the
-/// letters present in the mask are ever read), not made and cleared anew.
-struct WordValues<'w> {
-    present: u32,
-    table: Box<WordTable>,
-    words: &'w [ast::Word],
-}
-
-/// A value and a word index for every letter.
-#[derive(Default)]
-struct WordTable {
-    values: [f64; 26],
-    index: [u16; 26],
-}
-
-impl<'w> WordValues<'w> {
-    fn new(words: &'w [ast::Word], table: Box<WordTable>) -> Self {
-        WordValues {
-            present: 0,
-            table,
-            words,
-        }
-    }
-
-    fn bit(letter: u8) -> u32 {
-        1 << (letter - b'A')
-    }
-
-    /// The span of the word already given for `letter`, if any.
-    fn given(&self, letter: u8) -> Option<Span> {
-        self.has(letter)
-            .then(|| self.words[self.table.index[(letter - b'A') as usize] as usize].span)
-    }
-
-    fn set(&mut self, letter: u8, value: f64, word_index: usize) {
-        let i = (letter - b'A') as usize;
-        self.present |= Self::bit(letter);
-        self.table.values[i] = value;
-        self.table.index[i] = word_index.min(u16::MAX as usize) as u16;
-    }
-
-    fn take(&mut self, letter: u8) -> Option<(f64, Span)> {
-        self.take_number(letter).map(|(v, s, _)| (v, s))
-    }
-
-    /// The value, its span, and how it was written (`P31000`, `P0.5`).
-    fn take_number(&mut self, letter: u8) -> Option<(f64, Span, ast::Number)> {
-        if !self.has(letter) {
-            return None;
-        }
-        self.present &= !Self::bit(letter);
-        let i = (letter - b'A') as usize;
-        let word = &self.words[self.table.index[i] as usize];
-        let written = match &word.value {
-            ast::WordValue::Number(n) => *n,
-            ast::WordValue::Expr(_) => ast::Number {
-                value: self.table.values[i],
-                int_digits: 0,
-                has_point: true,
-            },
-        };
-        Some((self.table.values[i], word.span, written))
-    }
-
-    /// The value alone, taken (no span or spelling to look up).
-    fn take_value(&mut self, letter: u8) -> Option<f64> {
-        if !self.has(letter) {
-            return None;
-        }
-        self.present &= !Self::bit(letter);
-        Some(self.table.values[(letter - b'A') as usize])
-    }
-
-    fn has(&self, letter: u8) -> bool {
-        self.present & Self::bit(letter) != 0
-    }
-
-    /// Any of `letters` given (a constant list: its mask folds away).
-    fn has_any(&self, letters: &[u8]) -> bool {
-        let mask = letters.iter().fold(0, |mask, &l| mask | Self::bit(l));
-        self.present & mask != 0
-    }
-
-    fn remaining(&self) -> impl Iterator<Item = (u8, Span)> + '_ {
-        let mut left = self.present;
-        std::iter::from_fn(move || {
-            if left == 0 {
-                return None;
-            }
-            let letter = b'A' + left.trailing_zeros() as u8;
-            left &= left - 1;
-            self.given(letter).map(|s| (letter, s))
-        })
-    }
-}
-
-/// The last of LinuxCNC's user parameters; those above hold machine state.
-pub(crate) const LAST_USER_PARAMETER: u32 = 5000;
 
 /// The variables' first values: LinuxCNC's numbered parameters `#1`–`#5000`
 /// start at 0 (a fresh parameter file); every other name is unset.

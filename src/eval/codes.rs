@@ -3,7 +3,10 @@
 //! words it takes, what is modal, what is refused. Subprogram calls
 //! (`M98`/`M99`) are run here too.
 
-use super::{Evaluator, Flow, WordValues};
+use super::evaluator::{Evaluator, Flow};
+use super::options::Flavour;
+use super::value::Slot;
+use super::words::WordValues;
 use crate::ast::{self, LineStmt, OName, WordValue};
 use crate::diagnostic::Diagnostic;
 use crate::ir::{self, Arc, ArcGeometry, Axes, Axis, Motion, Op};
@@ -100,7 +103,7 @@ impl Evaluator<'_> {
         if let Some(code) = stmt.code.filter(|c| c.letter == b'G') {
             if let WordValue::Number(n) = &code.value {
                 if n.value == 7.0 || n.value == 8.0 {
-                    self.diameter_mode = n.value == 7.0;
+                    self.modal.diameter_mode = n.value == 7.0;
                 }
             }
         }
@@ -121,7 +124,7 @@ impl Evaluator<'_> {
             let Some(mut value) = self.word_value(w) else {
                 return Flow::Next;
             };
-            if w.letter == b'X' && self.diameter_mode {
+            if w.letter == b'X' && self.modal.diameter_mode {
                 value /= 2.0;
             }
             if let Some(first) = words.given(w.letter) {
@@ -182,11 +185,14 @@ impl Evaluator<'_> {
         if GENERAL_PATH_ONLY.with(std::cell::Cell::get) {
             return None;
         }
-        if self.cycle.is_some() || self.diameter_mode || self.machine_coordinates {
+        if self.cycles.kind.is_some()
+            || self.modal.diameter_mode
+            || self.this_line.machine_coordinates
+        {
             return None;
         }
         let motion = match code {
-            None => self.motion?,
+            None => self.modal.motion?,
             Some(code) => match (code.letter(), code.number()) {
                 (b'G', Some(0.0)) => Motion::Rapid,
                 (b'G', Some(1.0)) => Motion::Linear,
@@ -229,8 +235,8 @@ impl Evaluator<'_> {
         }
         if made.is_ok() {
             if code.is_some() {
-                self.motion = Some(motion);
-                self.cycle_run = false;
+                self.modal.motion = Some(motion);
+                self.cycles.run_open = false;
             }
             #[cfg(test)]
             PLAIN_MOVES.with(|n| n.set(n.get() + 1));
@@ -287,7 +293,7 @@ impl Evaluator<'_> {
             b'X' | b'Y' | b'Z' | b'I' | b'J' | b'K' | b'R' | b'F' | b'S'
         );
         if length && !ir::is_length(value) {
-            self.report(super::out_of_range(
+            self.report(super::error::out_of_range(
                 format!("`{}` is out of range", w.letter as char),
                 "lengths, feeds and speeds",
                 value,
@@ -317,7 +323,7 @@ impl Evaluator<'_> {
         }
         if let Some((t, tspan)) = w.take(b'T') {
             let tool = whole(t, tspan, "a tool number")?;
-            self.selected = Some(tool);
+            self.modal.selected = Some(tool);
             self.emit(Op::SelectTool(tool), span)?;
         }
         Ok(())
@@ -340,17 +346,21 @@ impl Evaluator<'_> {
         code: Code,
     ) -> Result<(), Diagnostic> {
         let has_axes = w.has_any(b"XYZABCUVW");
-        if let Some(kind) = self.cycle.filter(|_| has_axes && !self.machine_coordinates) {
+        if let Some(kind) = self
+            .cycles
+            .kind
+            .filter(|_| has_axes && !self.this_line.machine_coordinates)
+        {
             self.cycle_block(kind, None, w, span)?;
             return self.unused_words(w, code);
         }
         let arc_words = w.has_any(b"IJKR");
-        if has_axes || (arc_words && self.motion.is_some_and(Motion::is_arc)) {
-            let Some(motion) = self.motion else {
+        if has_axes || (arc_words && self.modal.motion.is_some_and(Motion::is_arc)) {
+            let Some(motion) = self.modal.motion else {
                 let (_, at) = w.remaining().next().unwrap_or((b'X', span));
                 return Err(CodeError::new(K::MoveWithoutMotion, at).into());
             };
-            if self.machine_coordinates {
+            if self.this_line.machine_coordinates {
                 let m = self.motion_move(motion, w, span)?;
                 if m.motion.is_arc() {
                     return Err(CodeError::new(K::ArcInMachineCoordinates, span).into());
@@ -442,7 +452,7 @@ impl Evaluator<'_> {
         let mut filled = Ok(());
         if let Some(stmt) = out.last_mut() {
             stmt.span = span;
-            stmt.block_delete = self.block_delete;
+            stmt.block_delete = self.this_line.block_delete;
             if let Op::Move(m) = &mut stmt.op {
                 m.motion = motion;
                 filled = fill(m);
@@ -475,7 +485,7 @@ impl Evaluator<'_> {
     ) -> Result<Flow, Diagnostic> {
         let code = Some((b'G', t));
         // Its F, S and T are arguments.
-        if t == 650 && self.options.from == super::Flavour::Fanuc {
+        if t == 650 && self.options.from == Flavour::Fanuc {
             return self.macro_call(w, at);
         }
         self.feed_speed_tool(w, span)?;
@@ -499,14 +509,14 @@ impl Evaluator<'_> {
     /// ends a canned cycle's run.
     #[inline]
     fn select_motion(&mut self, t: u32) {
-        self.motion = Some(match t {
+        self.modal.motion = Some(match t {
             0 => Motion::Rapid,
             10 => Motion::Linear,
             20 => Motion::ArcCw,
             _ => Motion::ArcCcw,
         });
-        self.cycle = None;
-        self.cycle_run = false;
+        self.cycles.kind = None;
+        self.cycles.run_open = false;
     }
 
     /// A G code other than the motion codes that sets a mode of the
@@ -528,7 +538,7 @@ impl Evaluator<'_> {
             }
             530 => {
                 // The motion of this line is in machine coordinates.
-                self.machine_coordinates = true;
+                self.this_line.machine_coordinates = true;
             }
             610 | 611 | 640 => {
                 w.take(b'P');
@@ -545,7 +555,7 @@ impl Evaluator<'_> {
                 } else {
                     ir::Distance::Incremental
                 };
-                if mode != self.arc_centers {
+                if mode != self.modal.arc_centers {
                     self.emit(Op::ArcCenters(mode), span)?;
                 }
             }
@@ -553,7 +563,7 @@ impl Evaluator<'_> {
             // a post's header).
             930 | 940 => {
                 let on = t == 930;
-                if on != self.inverse_time {
+                if on != self.modal.inverse_time {
                     self.emit(Op::InverseTime(on), span)?;
                 }
             }
@@ -596,7 +606,7 @@ impl Evaluator<'_> {
             430 | 440 => {
                 let tool = match w.take(b'H') {
                     Some((h, hspan)) => whole(h, hspan, "a tool number")?,
-                    None => self.tool,
+                    None => self.modal.tool,
                 };
                 Op::ToolLength {
                     tool: Some(tool),
@@ -610,8 +620,8 @@ impl Evaluator<'_> {
             591..=593 => Op::SelectWorkOffset((t - 584) as u8),
             760 => return Err(CodeError::new(K::G76, at).into()),
             800 => {
-                self.cycle = None;
-                self.cycle_run = false;
+                self.cycles.kind = None;
+                self.cycles.run_open = false;
                 Op::CycleOff
             }
             900 => Op::Distance(ir::Distance::Absolute),
@@ -626,7 +636,7 @@ impl Evaluator<'_> {
             }
             921 | 922 => Op::CancelPosition,
             980 | 990 => {
-                self.return_level_stated = true;
+                self.cycles.return_level_stated = true;
                 Op::ReturnLevel(if t == 980 {
                     ir::ReturnLevel::Initial
                 } else {
@@ -662,8 +672,8 @@ impl Evaluator<'_> {
             40 => (Op::Spindle(ir::Spindle::CounterClockwise), Flow::Next),
             50 => (Op::Spindle(ir::Spindle::Off), Flow::Next),
             60 => {
-                if let Some(tool) = self.selected {
-                    self.tool = tool;
+                if let Some(tool) = self.modal.selected {
+                    self.modal.tool = tool;
                 }
                 (Op::ChangeTool, Flow::Next)
             }
@@ -710,7 +720,7 @@ impl Evaluator<'_> {
         // LinuxCNC reads the point back at a tool change (M6, M61): after
         // G40 with no move since, it is the tool's last offset point.
         if t == 60 || t == 610 {
-            if let Some(plane) = self.comp_off.take() {
+            if let Some(plane) = self.modal.comp_off.take() {
                 self.emit(Op::ReadPosition(plane), span)?;
             }
         }
@@ -740,7 +750,6 @@ impl Evaluator<'_> {
         pspan: Span,
         n: ast::Number,
     ) -> Result<f64, Diagnostic> {
-        use super::Flavour;
         let seconds = match self.options.from {
             Flavour::LinuxCnc | Flavour::Grbl | Flavour::Mach3 => p,
             Flavour::Fanuc => p / 1000.0,
@@ -866,7 +875,7 @@ impl Evaluator<'_> {
     /// ([`Self::linuxcnc_scope`]). An argument that cannot be worked out
     /// is reported and passed as 0.
     pub(super) fn sub_call(&mut self, call: &ast::SubCall) -> Flow {
-        let args: Vec<super::Slot> = call.args.iter().map(|a| self.value_slot(a)).collect();
+        let args: Vec<Slot> = call.args.iter().map(|a| self.value_slot(a)).collect();
         self.run_subprogram(call.name, 1, call.at, call.at, |ev| {
             ev.linuxcnc_scope(&args)
         })
@@ -891,7 +900,7 @@ impl Evaluator<'_> {
         count: u32,
         pspan: Span,
         at: Span,
-        enter: impl FnOnce(&mut Self) -> Vec<(usize, super::Slot)>,
+        enter: impl FnOnce(&mut Self) -> Vec<(usize, Slot)>,
     ) -> Result<Flow, Diagnostic> {
         let program = self.program;
         // The program's, or one a part read before kept.

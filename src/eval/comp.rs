@@ -2,7 +2,8 @@
 //! radius they name and what may not happen while compensation is on
 //! (rs274's rules). The geometry is the comp pass's (`lower/comp.rs`).
 
-use super::{Evaluator, WordValues};
+use super::evaluator::Evaluator;
+use super::words::WordValues;
 use crate::diagnostic::{error, Diagnostic, DiagnosticExt, Located, Wording};
 use crate::ir::{self, CompRadius, Op, Side};
 use crate::source::Span;
@@ -21,13 +22,13 @@ impl Evaluator<'_> {
             411 => "G41.1",
             _ => "G42.1",
         };
-        if let Some((_, since)) = self.comp {
+        if let Some((_, since)) = self.modal.comp {
             return Err(CompBlockError::new(
                 CompBlockErrorKind::AlreadyOn { code: name, since },
                 at,
             ));
         }
-        if self.plane == ir::Plane::YZ {
+        if self.modal.plane == ir::Plane::YZ {
             return Err(CompBlockError::new(
                 CompBlockErrorKind::PlaneYz { code: name },
                 at,
@@ -66,7 +67,7 @@ impl Evaluator<'_> {
     /// What may not happen under compensation: an error naming it, with
     /// the line that turned compensation on.
     pub(super) fn check_under_comp(&self, op: &Op, span: Span) -> Result<(), CompBlockError> {
-        let Some((_, since)) = self.comp else {
+        let Some((_, since)) = self.modal.comp else {
             return Ok(());
         };
         let what = match op {
@@ -81,7 +82,7 @@ impl Evaluator<'_> {
             | Op::SetPosition(_)
             | Op::CancelPosition => "a change of work offset",
             Op::ToolLength { .. } | Op::CancelToolLength => "a change of tool length offset",
-            Op::Plane(p) if *p != self.plane => "a change of plane",
+            Op::Plane(p) if *p != self.modal.plane => "a change of plane",
             Op::Polar(true) => "polar coordinates (G16)",
             _ => return Ok(()),
         };

@@ -12,24 +12,15 @@
 //! run of cycles starts at the first cycle block after any other motion
 //! code or G80; where the tool is then is the G98 level of the run.
 
-use super::{Evaluator, WordValues};
+use super::evaluator::Evaluator;
+use super::state::Sticky;
+use super::words::WordValues;
 use crate::diagnostic::{error, warning, Diagnostic, DiagnosticExt, Located, Wording};
 use crate::ir::{self, Axis, CycleKind, Op};
 use crate::source::Span;
 
 /// More pecks than this in one hole is a mistake (a tiny Q).
 pub const MAX_PECKS: u32 = 10_000;
-
-/// What rs274 remembers between cycle blocks (`cycle_r`, `cycle_cc`, …),
-/// in the numbers the program wrote.
-#[derive(Clone, Copy, Debug, Default)]
-pub(super) struct Sticky {
-    r: f64,
-    depth: f64,
-    q: f64,
-    p: f64,
-    ijk: [f64; 3],
-}
 
 /// The cycle a G code in tenths names.
 pub(super) fn kind_of(t: u32) -> Option<CycleKind> {
@@ -150,12 +141,12 @@ impl Evaluator<'_> {
         self.warn_return_level(at_code);
         self.check_units_in_run(at_code)?;
         // A block of the same cycle may leave out what the last one gave.
-        let repeat = self.cycle == Some(kind);
-        let mut at = hole_words(kind, w, self.plane, at_code)?;
-        let n = Axis::ALL[self.plane.axes().2];
+        let repeat = self.cycles.kind == Some(kind);
+        let mut at = hole_words(kind, w, self.modal.plane, at_code)?;
+        let n = Axis::ALL[self.modal.plane.axes().2];
         // A word as given, else the last block's (a repeat may leave it
         // out), else missing.
-        let sticky = self.sticky;
+        let sticky = self.cycles.sticky;
         let last = |v: f64| repeat.then_some(v);
         let r = w
             .take(b'R')
@@ -175,14 +166,14 @@ impl Evaluator<'_> {
         let (ijk, repeats) = self.offsets_and_repeats(kind, w, repeat, at_code)?;
         self.check_machine_for_cycle(kind, r, depth, n, at_code)?;
         let pecks = match q {
-            Some(q) if self.distance == ir::Distance::Absolute => {
+            Some(q) if self.modal.distance == ir::Distance::Absolute => {
                 Some(count_pecks(r, depth, q).ok_or_else(|| -> Diagnostic {
                     CycleBlockError::new(CycleBlockErrorKind::TooManyPecks, at_code).into()
                 })?)
             }
             _ => None,
         };
-        self.sticky = Sticky {
+        self.cycles.sticky = Sticky {
             r,
             depth,
             q: q.unwrap_or(sticky.q),
@@ -193,8 +184,8 @@ impl Evaluator<'_> {
                 sticky.ijk
             },
         };
-        let starts_run = !self.cycle_run;
-        self.cycle_run = true;
+        let starts_run = !self.cycles.run_open;
+        self.cycles.run_open = true;
         let cycle = ir::Cycle {
             kind,
             at,
@@ -207,7 +198,7 @@ impl Evaluator<'_> {
             pecks,
             kept: None,
         };
-        self.cycle = Some(kind);
+        self.cycles.kind = Some(kind);
         self.emit(Op::Cycle(Box::new(cycle)), span)
     }
 
@@ -215,13 +206,13 @@ impl Evaluator<'_> {
     /// under G91 what R is measured from) as a number, in the units it was
     /// set in: after G20/G21 within a run it means another height.
     fn check_units_in_run(&mut self, at_code: Span) -> Result<(), Diagnostic> {
-        match self.units_in_cycles {
-            Some(units) if self.cycle_run => {
+        match self.cycles.units_changed_at {
+            Some(units) if self.cycles.run_open => {
                 let kind = CycleBlockErrorKind::UnitsChangedInRun { units };
                 Err(CycleBlockError::new(kind, at_code).into())
             }
             _ => {
-                self.units_in_cycles = None;
+                self.cycles.units_changed_at = None;
                 Ok(())
             }
         }
@@ -241,10 +232,10 @@ impl Evaluator<'_> {
         if let Some(needed) = spindle_needed(kind) {
             self.check_spindle(kind, needed, at_code)?;
         }
-        if !self.feed_set {
+        if !self.modal.feed_set {
             return Err(CycleBlockError::new(CycleBlockErrorKind::NoFeed, at_code).into());
         }
-        if self.inverse_time {
+        if self.modal.inverse_time {
             let kind = CycleBlockErrorKind::InverseTime;
             return Err(CycleBlockError::new(kind, at_code).into());
         }
@@ -272,7 +263,7 @@ impl Evaluator<'_> {
             given => given.map(|(q, _)| q),
         };
         let help = "Q is the depth of each peck: `G83 X10 Z-12 R1 Q3`";
-        let q = q.or(repeat.then_some(self.sticky.q));
+        let q = q.or(repeat.then_some(self.cycles.sticky.q));
         q.map(Some).ok_or_else(|| missing(kind, 'Q', help, at_code))
     }
 
@@ -290,7 +281,7 @@ impl Evaluator<'_> {
         }
         let p = match w.take_number(b'P') {
             Some((p, pspan, written)) => Some(self.seconds(p, pspan, written)?),
-            None => (repeat || !needs_dwell(kind)).then_some(self.sticky.p),
+            None => (repeat || !needs_dwell(kind)).then_some(self.cycles.sticky.p),
         };
         let help = "P is the dwell at the bottom in seconds: `G82 X10 Z-3 R1 P0.5`";
         p.map(Some).ok_or_else(|| missing(kind, 'P', help, at_code))
@@ -299,7 +290,7 @@ impl Evaluator<'_> {
     /// A warning, once, when a cycle comes before any G98/G99: where it
     /// returns is the machine's power-up state.
     fn warn_return_level(&mut self, at_code: Span) {
-        if self.return_level_stated {
+        if self.cycles.return_level_stated {
             return;
         }
         let from = self.options.from;
@@ -334,7 +325,7 @@ impl Evaluator<'_> {
                 let given = w.take(letter).map(|(v, _)| v);
                 let help =
                     "G87 needs I, J (the offset to pass the bar) and K (the back-bore level)";
-                let v = given.or(repeat.then_some(self.sticky.ijk[i]));
+                let v = given.or(repeat.then_some(self.cycles.sticky.ijk[i]));
                 ijk[i] = Some(v.ok_or_else(|| missing(kind, letter as char, help, at_code))?);
             }
         } else {
@@ -360,14 +351,14 @@ impl Evaluator<'_> {
     /// R above the hole's bottom (under G91 the depth goes down from R).
     fn check_levels(&self, r: f64, depth: f64, n: Axis, at_code: Span) -> Result<(), Diagnostic> {
         let axis = n.letter() as char;
-        if r < depth && self.distance == ir::Distance::Absolute {
+        if r < depth && self.modal.distance == ir::Distance::Absolute {
             return Err(CycleBlockError::new(
                 CycleBlockErrorKind::RBelowBottom { r, axis, depth },
                 at_code,
             )
             .into());
         }
-        if self.distance == ir::Distance::Incremental && depth > 0.0 {
+        if self.modal.distance == ir::Distance::Incremental && depth > 0.0 {
             return Err(CycleBlockError::new(
                 CycleBlockErrorKind::BottomAboveR { axis, depth },
                 at_code,
@@ -383,10 +374,10 @@ impl Evaluator<'_> {
         needed: Option<ir::Spindle>,
         at: Span,
     ) -> Result<(), Diagnostic> {
-        let turning = self.spindle != ir::Spindle::Off;
+        let turning = self.modal.spindle != ir::Spindle::Off;
         let label = match needed {
             _ if !turning => "the spindle is not turning here",
-            Some(dir) if dir != self.spindle => match dir {
+            Some(dir) if dir != self.modal.spindle => match dir {
                 ir::Spindle::Clockwise => "the spindle turns counter-clockwise (M4) here",
                 _ => "the spindle turns clockwise (M3) here",
             },

@@ -374,7 +374,7 @@ impl Wording for SetupErrorKind {
             )
             .with_note(usage(directive)),
             SetupErrorKind::OutOfRange(n) => {
-                super::out_of_range("out of range".into(), "numbers here", *n, at)
+                super::error::out_of_range("out of range".into(), "numbers here", *n, at)
             }
             SetupErrorKind::WrongType {
                 directive,

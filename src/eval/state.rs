@@ -1,9 +1,12 @@
-//! The evaluator's state that is not the machine's: the counts the
-//! runaway limits read ([`RunCounts`]), what the program reported
-//! ([`Reports`]), the start of the output ([`OutputStart`]), and the
-//! subprograms and scopes of LinuxCNC's and Fanuc's macro languages
-//! ([`Macros`]). Each part keeps its own invariants; none of them knows
-//! G-code, the IR's meaning or the other parts.
+//! The evaluator's state in named parts: the machine's modal state
+//! ([`Modal`]), what holds for the line being run ([`LineState`]), and
+//! what a run of canned cycles keeps ([`CycleState`],
+//! [`Sticky`]); the counts the runaway limits read ([`RunCounts`]), what
+//! the program reported ([`Reports`]), the start of the output
+//! ([`OutputStart`]), and the subprograms and scopes of LinuxCNC's and
+//! Fanuc's macro languages ([`Macros`]). Each part keeps its own
+//! invariants; none of them runs G-code or knows the IR's meaning or the
+//! other parts.
 
 use crate::ast::{Names, OName, Subprogram};
 use crate::diagnostic::Diagnostic;
@@ -231,4 +234,101 @@ impl CallScope {
 /// The number of a LinuxCNC numbered parameter's name (`#12` → 12).
 pub(crate) fn parameter_number(name: &str) -> Option<u32> {
     name.strip_prefix('#')?.parse().ok()
+}
+
+/// What rs274 remembers between cycle blocks (`cycle_r`, `cycle_cc`, …),
+/// in the numbers the program wrote.
+#[derive(Clone, Copy, Debug, Default)]
+pub(super) struct Sticky {
+    pub(super) r: f64,
+    pub(super) depth: f64,
+    pub(super) q: f64,
+    pub(super) p: f64,
+    pub(super) ijk: [f64; 3],
+}
+
+/// The machine's modal state as the program has set it: what the codes
+/// and moves of a line change and the lines after read. Plain data: the
+/// evaluator sets it as statements are admitted.
+pub(super) struct Modal {
+    /// Current motion mode, for words written without a G code.
+    pub(super) motion: Option<ir::Motion>,
+    pub(super) plane: ir::Plane,
+    pub(super) units: Option<ir::Units>,
+    pub(super) distance: ir::Distance,
+    /// G90.1 (absolute arc centres) or G91.1.
+    pub(super) arc_centers: ir::Distance,
+    pub(super) polar: bool,
+    /// G93 is on.
+    pub(super) inverse_time: bool,
+    /// G7 (LinuxCNC's lathe diameter mode): X words are diameters, halved
+    /// as they are read (G8 ends it).
+    pub(super) diameter_mode: bool,
+    pub(super) spindle: ir::Spindle,
+    /// Cutter compensation is on: its side and where it was turned on.
+    pub(super) comp: Option<(ir::Side, Span)>,
+    /// G40 turned compensation off in this plane and no move has been made
+    /// since: a tool change then reads the point back ([`ir::Op::ReadPosition`]).
+    pub(super) comp_off: Option<ir::Plane>,
+    /// Tool loaded by the last M6, and tool selected by the last T.
+    pub(super) tool: u32,
+    pub(super) selected: Option<u32>,
+    /// Last commanded position in program coordinates (`None` before the
+    /// first move that sets the axis).
+    pub(super) position: [Option<f64>; 3],
+    /// An F word has been given: a feed move without one is an error.
+    pub(super) feed_set: bool,
+    /// G94 after G93, and no F since.
+    pub(super) inverse_time_ended: bool,
+}
+
+impl Default for Modal {
+    /// The state at power-up, as rs274 starts.
+    fn default() -> Self {
+        Modal {
+            motion: None,
+            plane: ir::Plane::XY,
+            units: None,
+            distance: ir::Distance::Absolute,
+            arc_centers: ir::Distance::Incremental,
+            polar: false,
+            inverse_time: false,
+            diameter_mode: false,
+            spindle: ir::Spindle::Off,
+            comp: None,
+            comp_off: None,
+            tool: 1,
+            selected: None,
+            position: [None; 3],
+            feed_set: false,
+            inverse_time_ended: false,
+        }
+    }
+}
+
+/// What a run of canned cycles keeps between its blocks.
+#[derive(Default)]
+pub(super) struct CycleState {
+    /// The canned cycle axis words repeat (it stands before the motion
+    /// mode).
+    pub(super) kind: Option<ir::CycleKind>,
+    /// A run of cycles is open (its first block set the G98 level).
+    pub(super) run_open: bool,
+    /// Where G20/G21 changed the units inside the open run of cycles.
+    pub(super) units_changed_at: Option<Span>,
+    /// The cycle words a repeat may leave out.
+    pub(super) sticky: Sticky,
+    /// The program has said G98 or G99.
+    pub(super) return_level_stated: bool,
+}
+
+/// What holds for the line being run only, set as it starts.
+#[derive(Default)]
+pub(super) struct LineState {
+    /// The line was written after a block-delete `/`.
+    pub(super) block_delete: bool,
+    /// G53 in the line: its motion is in machine coordinates.
+    pub(super) machine_coordinates: bool,
+    /// An F under G93 in the line (a feed move needs one on its own line).
+    pub(super) inverse_feed: bool,
 }

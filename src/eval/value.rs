@@ -87,7 +87,7 @@ impl Vars {
             from = 0;
         }
         for (symbol, text) in names.iter().skip(from) {
-            if let Some(n) = super::parameter_number(text).filter(|&n| n <= LAST_PARAMETER) {
+            if let Some(n) = super::state::parameter_number(text).filter(|&n| n <= LAST_PARAMETER) {
                 self.numbered[n as usize] = Some(symbol);
             }
         }
@@ -182,7 +182,7 @@ impl ExprError {
         &self,
         names: &Names,
         vars: &[Slot],
-        from: super::Flavour,
+        from: super::options::Flavour,
     ) -> Option<Diagnostic> {
         Some(match self {
             ExprError::Undefined { name, span } => {
@@ -236,7 +236,7 @@ impl ExprError {
                 .with_note(format!("the functions are: {}", known.join(" ")))
             }
             ExprError::NoSuchParameter { value, span } => {
-                let lowest = u32::from(from != super::Flavour::Fanuc);
+                let lowest = u32::from(from != super::options::Flavour::Fanuc);
                 error(
                     format!("`#[{value}]` names no parameter"),
                     *span,
@@ -257,10 +257,10 @@ fn undefined_diagnostic(
     span: Span,
     names: &Names,
     vars: &[Slot],
-    from: super::Flavour,
+    from: super::options::Flavour,
 ) -> Diagnostic {
-    let machine = super::parameter_number(text).is_some_and(|n| from.machine_parameter(n));
-    if machine && from == super::Flavour::Fanuc {
+    let machine = super::state::parameter_number(text).is_some_and(|n| from.machine_parameter(n));
+    if machine && from == super::options::Flavour::Fanuc {
         return error(
             format!("`{text}` is a variable of the machine"),
             span,
