@@ -81,42 +81,8 @@ impl AstPrinter<'_> {
                 let text = format!("{}({})", self.names.text(*name), args.join(", "));
                 self.line(&text);
             }
-            StmtKind::If(if_) => {
-                let If {
-                    branches,
-                    otherwise,
-                } = &**if_;
-                for (i, (cond, body)) in branches.iter().enumerate() {
-                    let head = if i == 0 { "if" } else { "} else if" };
-                    let text = format!("{head} {} {{", self.expr(cond));
-                    self.line(&text);
-                    self.nested(body);
-                }
-                if let Some(body) = otherwise {
-                    self.line("} else {");
-                    self.nested(body);
-                }
-                self.line("}");
-            }
-            StmtKind::While(w) => {
-                let While {
-                    cond,
-                    body,
-                    label,
-                    test_after,
-                } = &**w;
-                let label = label.map_or(String::new(), |n| format!("{} ", n.written(self.names)));
-                let cond = self.expr(cond);
-                if *test_after {
-                    self.line(&format!("{label}do {{"));
-                    self.nested(body);
-                    self.line(&format!("}} while {cond}"));
-                } else {
-                    self.line(&format!("{label}while {cond} {{"));
-                    self.nested(body);
-                    self.line("}");
-                }
-            }
+            StmtKind::If(if_) => self.if_block(if_),
+            StmtKind::While(w) => self.while_block(w),
             StmtKind::Break(label) => self.line(&format!("{} break", label.written(self.names))),
             StmtKind::Continue(label) => {
                 self.line(&format!("{} continue", label.written(self.names)))
@@ -161,6 +127,46 @@ impl AstPrinter<'_> {
                 let text = self.names.text(*c).to_string();
                 self.line(&text)
             }
+        }
+    }
+
+    /// `if … { } else if … { } else { }`.
+    fn if_block(&mut self, if_: &If) {
+        let If {
+            branches,
+            otherwise,
+        } = if_;
+        for (i, (cond, body)) in branches.iter().enumerate() {
+            let head = if i == 0 { "if" } else { "} else if" };
+            let text = format!("{head} {} {{", self.expr(cond));
+            self.line(&text);
+            self.nested(body);
+        }
+        if let Some(body) = otherwise {
+            self.line("} else {");
+            self.nested(body);
+        }
+        self.line("}");
+    }
+
+    /// `while … { }`, or LinuxCNC's `do { } while …`, with its label.
+    fn while_block(&mut self, w: &While) {
+        let While {
+            cond,
+            body,
+            label,
+            test_after,
+        } = w;
+        let label = label.map_or(String::new(), |n| format!("{} ", n.written(self.names)));
+        let cond = self.expr(cond);
+        if *test_after {
+            self.line(&format!("{label}do {{"));
+            self.nested(body);
+            self.line(&format!("}} while {cond}"));
+        } else {
+            self.line(&format!("{label}while {cond} {{"));
+            self.nested(body);
+            self.line("}");
         }
     }
 
