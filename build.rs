@@ -1,6 +1,8 @@
 //! Build script: generates the LALRPOP parser from `grammar/*.lalrpop`, and
 //! the list of standard-library wizards (`stdlib/*.rhai`, embedded with
-//! `include_str!`) into `$OUT_DIR`. Nothing else.
+//! `include_str!`) into `$OUT_DIR`; and sets `cfg(shared_real)` when the
+//! third-party programs of `../shared/real` are beside the repository, so
+//! the tests over them are reported ignored, by name, in a clone alone.
 
 use std::path::Path;
 
@@ -11,6 +13,13 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         .set_out_dir(&out)
         .emit_rerun_directives(true)
         .process()?;
+
+    let shared_real = Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared/real");
+    println!("cargo::rustc-check-cfg=cfg(shared_real)");
+    println!("cargo:rerun-if-changed={}", shared_real.display());
+    if shared_real.is_dir() {
+        println!("cargo:rustc-cfg=shared_real");
+    }
 
     println!("cargo:rerun-if-changed=stdlib");
     let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("stdlib");

@@ -53,21 +53,44 @@ fn fast_path_builds_the_grammars_tree() {
 /// A plain program read in parts builds its lines of plain words straight
 /// from their bytes (`lexer::plain_words`); the parts must be what the
 /// lexer and parser build, spans and all, on every plain program of the
-/// repository and of `../shared/real`.
+/// repository (and, in a test of its own, of `../shared/real`).
 #[test]
 fn plain_word_lines_are_what_the_parser_builds() {
+    let (checked, lines) = plain_word_lines(support::Corpus::Own, true);
+    assert!(checked > 30, "only {checked} plain programs found");
+    assert!(lines > 1_000, "only {lines} lines");
+}
+
+/// [`plain_word_lines_are_what_the_parser_builds`] on `../shared/real`.
+#[test]
+#[cfg_attr(not(shared_real), ignore = "../shared/real absent")]
+fn plain_word_lines_are_what_the_parser_builds_on_shared_real() {
+    let (checked, lines) = plain_word_lines(support::Corpus::SharedReal, false);
+    assert!(
+        checked > 10 && lines > 10_000,
+        "{checked} programs, {lines} lines"
+    );
+}
+
+/// The fast path against the parser on the plain programs of `corpus`
+/// (and on lines near its edge, with `edges`): how many programs and
+/// lines were compared.
+fn plain_word_lines(corpus: support::Corpus, edges: bool) -> (usize, usize) {
     use ger::source::{Locator, Sources};
     use ger::syntax::chunk::{chunks, parse_chunk, with_part_size};
     use ger::syntax::parser::with_fast_path;
     use ger::syntax::Language;
     let (mut checked, mut lines) = (0, 0);
     // Lines near the edge of the fast path, one program read in parts.
-    let edges = "G 1 X - 1\nx+.5y-.5 f 100\nG1X1.5.3\nN10G1X1\n  \t\x0c\r\nG1 X1e5\nGX1\nX.\n\
+    let edge_lines = "G 1 X - 1\nx+.5y-.5 f 100\nG1X1.5.3\nN10G1X1\n  \t\x0c\r\nG1 X1e5\nGX1\nX.\n\
                  G1 X1 (c)\nX1-2\nD01\nDO1\ng0z  0.1\r\nX12345678901234567.5\n/G1 X2\n$H\n\
                  % tape\nM3S1000\nG1 X1;c\nX1 Y\n";
-    let mut plain = vec![("edges".to_string(), edges.to_string())];
+    let mut plain = match edges {
+        true => vec![("edges".to_string(), edge_lines.to_string())],
+        false => Vec::new(),
+    };
     plain.extend(
-        support::plain_programs()
+        support::plain_programs(corpus)
             .into_iter()
             .map(|(path, text)| (path.display().to_string(), text)),
     );
@@ -91,12 +114,8 @@ fn plain_word_lines_are_what_the_parser_builds() {
             let (fast, slow) = (parse(true), parse(false));
             assert_eq!(fast, slow, "{name} at {range:?}");
         }
-        // The thresholds count the repository's own programs only.
-        if !support::is_shared(Path::new(&name)) {
-            lines += text.lines().count();
-            checked += 1;
-        }
+        lines += text.lines().count();
+        checked += 1;
     }
-    assert!(checked > 30, "only {checked} plain programs found");
-    assert!(lines > 1_000, "only {lines} lines");
+    (checked, lines)
 }

@@ -21,6 +21,8 @@ use std::path::{Path, PathBuf};
 
 mod support;
 
+use support::Corpus;
+
 /// The options of these tests: `from`, `stage`, batches of `batch`.
 fn options(from: Option<ger::eval::Flavour>, stage: Option<Stage>, batch: usize) -> CompileOptions {
     CompileOptions {
@@ -149,29 +151,52 @@ fn a_long_program_streams_like_a_short_one() {
 
 /// Any program is read a part at a time, its parts cut outside every
 /// block (`chunk::cuts`), unless it needs the whole program (subprograms,
-/// calls, `GOTO`). Every program of the repository, and of `../shared/real`
-/// where it is present, gives the same output and diagnostics read whole
+/// calls, `GOTO`). Every program of the repository (and, in a test of its
+/// own, of `../shared/real`) gives the same output and diagnostics read whole
 /// and read in parts of about 1, 40 and 4096 bytes, in its own language
 /// and flavour and as Fanuc's; with the wizards, whose calls can fall in
 /// any part.
 #[test]
 fn any_program_read_in_parts_is_read_as_a_whole() {
+    let (cut, whole_only, read_in_parts) = any_program_in_parts(Corpus::Own);
+    // The corpus has both kinds: cut, and read whole.
+    assert!(cut > 150, "only {cut} programs are cut in parts");
+    assert!(
+        whole_only > 10,
+        "only {whole_only} programs need to be read whole"
+    );
+    assert!(
+        read_in_parts > 1000,
+        "only {read_in_parts} compiles from a reader"
+    );
+}
+
+/// [`any_program_read_in_parts_is_read_as_a_whole`] on `../shared/real`.
+#[test]
+#[cfg_attr(not(shared_real), ignore = "../shared/real absent")]
+fn any_program_read_in_parts_is_read_as_a_whole_on_shared_real() {
+    let (cut, whole_only, _) = any_program_in_parts(Corpus::SharedReal);
+    assert!(cut + whole_only > 30, "only {} programs", cut + whole_only);
+}
+
+/// The checks of [`any_program_read_in_parts_is_read_as_a_whole`] on
+/// `corpus`: how many programs were cut in parts, how many need a whole
+/// read, and how many compiles from a reader were compared.
+fn any_program_in_parts(corpus: Corpus) -> (usize, usize, usize) {
     use ger::eval::Flavour;
     use ger::source::Locator;
     use ger::syntax::chunk::{cuts, with_part_size};
     use ger::syntax::Language;
     let (mut cut, mut whole_only, mut read_in_parts) = (0, 0, 0);
-    for (path, text) in &support::programs() {
-        // The thresholds count the repository's own programs only.
-        let own = usize::from(!support::is_shared(path));
+    for (path, text) in &support::programs(corpus) {
         let language = Language::of_file(&path.to_string_lossy());
         let parts = with_part_size(Some(40), || {
             cuts(text, &Locator::new(0, text), language).map(|c| c.len())
         });
         match parts {
-            Some(n) if n > 1 => cut += own,
+            Some(n) if n > 1 => cut += 1,
             Some(_) => {}
-            None => whole_only += own,
+            None => whole_only += 1,
         }
         for from in [None, Some(Flavour::Fanuc)] {
             // `checked`: through `compile_to`, which reads in parts only a
@@ -227,7 +252,7 @@ fn any_program_read_in_parts_is_read_as_a_whole() {
             for part in [1, 4096] {
                 match from_reader(path, text, &options, part, true) {
                     Read::Compiled(read) => {
-                        read_in_parts += own;
+                        read_in_parts += 1;
                         assert!(
                             read == whole,
                             "{} ({from:?}) read in parts of {part}:\n{read}\nwhole:\n{whole}",
@@ -257,34 +282,44 @@ fn any_program_read_in_parts_is_read_as_a_whole() {
             }
         }
     }
-    // The corpus has both kinds: cut, and read whole.
-    assert!(cut > 150, "only {cut} programs are cut in parts");
-    assert!(
-        whole_only > 10,
-        "only {whole_only} programs need to be read whole"
-    );
-    assert!(
-        read_in_parts > 1000,
-        "only {read_in_parts} compiles from a reader"
-    );
+    (cut, whole_only, read_in_parts)
 }
 
 /// Plain programs of words, comments and commands only are read a part at
-/// a time (`syntax::chunk`). Every plain program of the repository,
-/// and of `../shared/real` where it is present, gives the same output and
+/// a time (`syntax::chunk`). Every plain program of the repository (and,
+/// in a test of its own, of `../shared/real`) gives the same output and
 /// diagnostics read whole and read in parts of about 1, 40 and 4096 bytes
 /// (a part ends at a line end), as LinuxCNC's G-code and as Fanuc's; and
 /// compiled from a reader without its text (`driver::compile_file`).
 #[test]
 fn a_plain_program_read_in_parts_is_read_as_a_whole() {
+    let (in_parts, from_readers) = plain_programs_in_parts(Corpus::Own);
+    assert!(in_parts > 20, "only {in_parts} programs are read in parts");
+    assert!(
+        from_readers > 40,
+        "only {from_readers} compiles from a reader"
+    );
+}
+
+/// [`a_plain_program_read_in_parts_is_read_as_a_whole`] on `../shared/real`.
+#[test]
+#[cfg_attr(not(shared_real), ignore = "../shared/real absent")]
+fn a_plain_program_read_in_parts_is_read_as_a_whole_on_shared_real() {
+    let (in_parts, _) = plain_programs_in_parts(Corpus::SharedReal);
+    assert!(in_parts > 10, "only {in_parts} programs are read in parts");
+}
+
+/// The checks of [`a_plain_program_read_in_parts_is_read_as_a_whole`] on
+/// `corpus`: how many programs were read in parts, and how many compiles
+/// from a reader were compared.
+fn plain_programs_in_parts(corpus: Corpus) -> (usize, usize) {
     use ger::eval::Flavour;
     use ger::syntax::chunk::with_part_size;
     use ger::syntax::Language;
     let (mut in_parts, mut from_readers) = (0, 0);
     // Any other program is read whole either way: nothing to compare.
-    for (path, text) in &support::plain_programs() {
-        let own = usize::from(!support::is_shared(path));
-        in_parts += own;
+    for (path, text) in &support::plain_programs(corpus) {
+        in_parts += 1;
         for from in [Flavour::LinuxCnc, Flavour::Fanuc] {
             let compile_with = |part: Option<usize>| {
                 with_part_size(part, || {
@@ -326,14 +361,10 @@ fn a_plain_program_read_in_parts_is_read_as_a_whole() {
                     path.display()
                 );
             }
-            from_readers += own;
+            from_readers += 1;
         }
     }
-    assert!(in_parts > 20, "only {in_parts} programs are read in parts");
-    assert!(
-        from_readers > 40,
-        "only {from_readers} compiles from a reader"
-    );
+    (in_parts, from_readers)
 }
 
 /// A wizard's `gcode("M98 P1000")` line calls a subprogram that only

@@ -18,46 +18,48 @@ pub fn shared_real() -> Option<PathBuf> {
     Some(manifest().join("../shared/real")).filter(|d| d.is_dir())
 }
 
-/// Whether `path` is one of `../shared`'s, not the repository's: the
-/// suite's thresholds count only the repository's own programs.
-pub fn is_shared(path: &Path) -> bool {
-    path.starts_with(manifest().join("../shared"))
-}
-
 /// The `.egc` files directly in `dir`, sorted.
 pub fn egc_files(dir: &Path) -> Vec<PathBuf> {
     files_with(dir, "egc")
 }
 
-/// The programs of every case folder of `tests/oracle` and `tests/cases`
-/// and of `../shared/real` (where it is present) that are read a part at a
-/// time as plain programs (`chunk::chunkable`), with their decoded text.
-#[allow(dead_code)]
-pub fn plain_programs() -> Vec<(PathBuf, String)> {
-    programs()
+/// Where the programs of a corpus test come from.
+#[derive(Clone, Copy, PartialEq, Eq)]
+pub enum Corpus {
+    /// `examples` and every case folder of `tests/oracle` and `tests/cases`.
+    Own,
+    /// `../shared/real` (empty where it is absent: such tests are ignored
+    /// then, `cfg(shared_real)`).
+    SharedReal,
+}
+
+/// The plain programs of `corpus` (read a part at a time as plain,
+/// `chunk::chunkable`), with their decoded text.
+pub fn plain_programs(corpus: Corpus) -> Vec<(PathBuf, String)> {
+    programs(corpus)
         .into_iter()
         .filter(|(_, t)| ger::syntax::chunk::chunkable(t))
         .collect()
 }
 
-/// The programs of `examples`, of every case folder of `tests/oracle` and
-/// `tests/cases` and of `../shared/real` (where it is present), with their
-/// decoded text.
-pub fn programs() -> Vec<(PathBuf, String)> {
+/// The programs of `corpus`, with their decoded text, sorted.
+pub fn programs(corpus: Corpus) -> Vec<(PathBuf, String)> {
     let root = manifest();
-    let mut dirs: Vec<PathBuf> = ["tests/oracle", "tests/cases"]
-        .iter()
-        .flat_map(|d| {
-            std::fs::read_dir(root.join(d))
-                .into_iter()
-                .flatten()
-                .flatten()
-        })
-        .map(|e| e.path())
-        .filter(|p| p.is_dir())
-        .collect();
-    dirs.push(root.join("../shared/real"));
-    dirs.push(root.join("examples"));
+    let dirs: Vec<PathBuf> = match corpus {
+        Corpus::SharedReal => vec![root.join("../shared/real")],
+        Corpus::Own => ["tests/oracle", "tests/cases"]
+            .iter()
+            .flat_map(|d| {
+                std::fs::read_dir(root.join(d))
+                    .into_iter()
+                    .flatten()
+                    .flatten()
+            })
+            .map(|e| e.path())
+            .filter(|p| p.is_dir())
+            .chain([root.join("examples")])
+            .collect(),
+    };
     let mut found = Vec::new();
     for dir in dirs {
         for entry in std::fs::read_dir(&dir).into_iter().flatten().flatten() {
