@@ -194,7 +194,7 @@ impl<'fs> Session<'fs> {
                     .fs
                     .read(path)
                     .map_err(|e| LoadError::Unread(format!("cannot read `{shown}`: {e}")))?;
-                let text = decoded(bytes, &shown)?;
+                let text = program_text(bytes, &shown)?;
                 self.load_text(&shown, Some(path), text)
             }
             Program::Text { name, path, text } => self.load_text(name, path, text),
@@ -429,8 +429,9 @@ impl<'fs> Session<'fs> {
     }
 }
 
-/// The program's bytes as text, or why they are not.
-fn decoded(bytes: Vec<u8>, shown: &str) -> Result<String, LoadError> {
+/// A program's bytes (named `shown`) as text, or why they are not: for
+/// a file read through the view, and for standard input the caller read.
+pub fn program_text(bytes: Vec<u8>, shown: &str) -> Result<String, LoadError> {
     source::decode(bytes).map_err(|why| {
         let (what, at) = match why {
             source::NotText::Nul(at) => ("a NUL byte", at),

@@ -177,11 +177,8 @@ fn session_and_machine(
 fn load_failed(error: LoadError) -> ExitCode {
     let status = error.exit_status();
     match error {
-        LoadError::Unread(why) | LoadError::NotText(why) => eprintln!("error: {why}"),
-        LoadError::ToolTable {
-            sources,
-            diagnostics,
-        } => eprint!("{}", render(&sources, &diagnostics)),
+        LoadError::ToolTable { .. } => eprint!("{error}"),
+        LoadError::Unread(_) | LoadError::NotText(_) => eprintln!("error: {error}"),
     }
     ExitCode::from(status)
 }
@@ -193,16 +190,7 @@ fn read_stdin() -> Result<String, ExitCode> {
         eprintln!("error: cannot read `-`: {e}");
         return Err(ExitCode::from(2));
     }
-    ger::source::decode(bytes).map_err(|why| {
-        let (what, at) = match why {
-            ger::source::NotText::Nul(at) => ("a NUL byte", at),
-            ger::source::NotText::Control(at) => ("a control character", at),
-        };
-        eprintln!(
-            "error: `-` is not a text file: {what} at byte {at}\n  = note: ger reads G-code programs as text (UTF-8 or Latin-1)"
-        );
-        ExitCode::from(1)
-    })
+    ger::driver::session::program_text(bytes, "-").map_err(load_failed)
 }
 
 /// `input` loaded as a whole job (for the picture); the problem printed.
