@@ -494,7 +494,9 @@ impl ProgramPrinter {
     }
 
     /// Whether a move may join a run: a straight feed in the plane's axes
-    /// from a known point, on a line of its own.
+    /// from a known point, on a line of its own. Where only the machine
+    /// knows the normal axis (a program that never sets Z), a move that
+    /// leaves it alone joins too: its arc is flat, and written without it.
     fn joins(&self, stmt: &ir::Stmt, m: &ir::Move) -> bool {
         let Some(fitting) = self.fitting.as_deref() else {
             return false;
@@ -507,7 +509,8 @@ impl ProgramPrinter {
             && !fitting.inverse_time
             && !fitting.compensating
             && m.to.bits() & !plane_axes == 0
-            && [a, b, n].iter().all(|&i| self.position[i].is_some())
+            && [a, b].iter().all(|&i| self.position[i].is_some())
+            && (self.position[n].is_some() || m.to.get(Axis::ALL[n]).is_none())
     }
 
     fn hold(&mut self, stmt: &ir::Stmt, m: &ir::Move) {
@@ -658,7 +661,10 @@ impl ProgramPrinter {
             let q = match i {
                 _ if i == a => end[0],
                 _ if i == b => end[1],
-                _ if i == n && self.printed[n] != Some(end[2]) => end[2],
+                // (Not written where only the machine knows it.)
+                _ if i == n && self.position[n].is_some() && self.printed[n] != Some(end[2]) => {
+                    end[2]
+                }
                 _ => continue,
             };
             self.p.word_q(axis.letter(), q);
