@@ -99,7 +99,7 @@ const STOCK: [u8; 3] = [214, 206, 190];
 /// from the north-west, with a legend of depths on the right.
 pub fn write_shaded(grid: &Grid, units: Option<Units>, out: impl Write) -> std::io::Result<()> {
     let (nx, ny) = (grid.frame.nx, grid.frame.ny);
-    let legend = Legend::new(grid, ny);
+    let legend = Legend::new(grid, ny, units);
     let width = nx + legend.width;
     let mut writer = encoder(
         out,
@@ -195,7 +195,7 @@ struct Legend {
 }
 
 /// A 3x5 font for the legend's numbers: each row of a glyph is 3 bits.
-const GLYPHS: [(char, [u8; 5]); 12] = [
+const GLYPHS: [(char, [u8; 5]); 16] = [
     ('0', [7, 5, 5, 5, 7]),
     ('1', [2, 6, 2, 2, 7]),
     ('2', [7, 1, 7, 4, 7]),
@@ -208,13 +208,17 @@ const GLYPHS: [(char, [u8; 5]); 12] = [
     ('9', [7, 5, 7, 1, 7]),
     ('-', [0, 0, 7, 0, 0]),
     ('.', [0, 0, 0, 0, 2]),
+    (' ', [0, 0, 0, 0, 0]),
+    ('m', [0, 0, 6, 7, 5]),
+    ('i', [2, 0, 2, 2, 2]),
+    ('n', [0, 0, 6, 5, 5]),
 ];
 
 const BAR: usize = 6;
 const MARGIN: usize = 4;
 
 impl Legend {
-    fn new(grid: &Grid, height: usize) -> Legend {
+    fn new(grid: &Grid, height: usize, units: Option<Units>) -> Legend {
         let scale = (height / 120).clamp(1, 8);
         let steps = if height >= 12 * 5 * scale { 4 } else { 1 };
         let labels: Vec<(usize, String)> = (0..=steps)
@@ -222,7 +226,7 @@ impl Legend {
                 let t = k as f64 / steps as f64;
                 let z = grid.top + (grid.bottom - grid.top) * t;
                 let row = ((height.saturating_sub(1)) as f64 * t).round() as usize;
-                (row, format_depth(z))
+                (row, super::length(z, units))
             })
             .collect();
         let text = labels.iter().map(|(_, s)| s.len()).max().unwrap_or(0) * 4 * scale;
@@ -268,16 +272,5 @@ impl Legend {
                 }
             }
         }
-    }
-}
-
-/// A depth for the legend: at most 4 decimals, no trailing zeros.
-fn format_depth(z: f64) -> String {
-    let text = format!("{z:.4}");
-    let text = text.trim_end_matches('0').trim_end_matches('.');
-    if text == "-0" {
-        "0".to_string()
-    } else {
-        text.to_string()
     }
 }

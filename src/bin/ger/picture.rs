@@ -201,7 +201,8 @@ fn write_carved(
                     eprintln!("note: the two programs cut the same part");
                 } else {
                     eprintln!(
-                        "note: {differ} cells differ, by up to {largest:.4} (red: `{input}` cuts deeper; blue: the other)"
+                        "note: {differ} cells differ, by up to {} (red: `{input}` cuts deeper; blue: the other)",
+                        ger::render::length(largest, units)
                     );
                 }
             })
