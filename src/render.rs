@@ -12,6 +12,7 @@ pub mod described;
 pub mod image;
 pub mod stl;
 pub mod svg;
+pub mod view;
 
 use crate::diagnostic::{warning, Diagnostic, DiagnosticExt};
 use crate::ir::{Plane, Tool, ToolShape, Units};
