@@ -201,14 +201,21 @@ fn write_carved(
     let units = drawn.scene.units;
     Some(match (format, other) {
         (Picture::Stl, _) => {
-            if stl::block(&grid) > 1 {
+            let mesh = stl::mesh(&grid);
+            if mesh.block > 1 {
                 eprintln!(
-                    "note: the mesh takes the lowest of each {0}x{0} cells (at most {1} points)",
-                    stl::block(&grid),
-                    stl::MAX_CELLS
+                    "note: the mesh takes the lowest of each {0}x{0} cells (a surface of more than {1} runs of one height)",
+                    mesh.block,
+                    stl::MAX_RUNS
                 );
             }
-            write_file(output, |out| stl::write(&grid, out))
+            if mesh.raised > 0 {
+                eprintln!(
+                    "note: {} cells raised to the height beside them, where two columns met only along an edge",
+                    mesh.raised
+                );
+            }
+            write_file(output, |out| stl::write(&mesh, out))
         }
         (_, Some(other)) => {
             let tolerance = grid.frame.cell * 0.01;
