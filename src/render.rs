@@ -12,6 +12,7 @@ pub mod described;
 pub mod image;
 pub mod stl;
 pub mod svg;
+pub mod view;
 
 use crate::diagnostic::{warning, Diagnostic, DiagnosticExt};
 use crate::ir::{Plane, Tool, ToolShape, Units};
@@ -190,7 +191,9 @@ fn resolution(
     Ok((
         cell,
         Some(format!(
-            "the stock at {asked} would be {wanted:.0} cells; drawn with cells of {cell} instead (--max-cells {})",
+            "cells of {} would make {wanted:.0} of them; drawn with cells of {} instead (--max-cells {})",
+            length(asked, units),
+            length(cell, units),
             options.max_cells
         )),
     ))
@@ -558,10 +561,12 @@ fn below_stock(path: &ToolPath, scale: f64, stock: &Stock, warnings: &mut Vec<Re
             spans.push(m.span);
         }
     }
+    let units = path.units;
     warnings.extend(repeated(
         &spans,
         WarningKind::BelowStock {
             bottom: stock.bottom,
+            units,
         },
     ));
 }
@@ -585,6 +590,42 @@ fn repeated(spans: &[Span], kind: WarningKind) -> Vec<RenderWarning> {
         .collect()
 }
 
+/// A number as a person reads it: 4 significant digits, no trailing zeros
+/// (`0.0026`, `-3.931`, `-11.79`, `1250`).
+pub fn significant(v: f64) -> String {
+    if !v.is_finite() || v == 0.0 {
+        return if v.is_finite() {
+            "0".into()
+        } else {
+            v.to_string()
+        };
+    }
+    let decimals = (3 - v.abs().log10().floor() as i32).clamp(0, 17) as usize;
+    let text = format!("{v:.decimals$}");
+    let text = match text.contains('.') {
+        true => text.trim_end_matches('0').trim_end_matches('.'),
+        false => &text,
+    };
+    match text {
+        "-0" => "0".into(),
+        t => t.into(),
+    }
+}
+
+/// The name of the scene's unit of length (a program that states none is
+/// taken as millimetres).
+pub fn unit_name(units: Option<Units>) -> &'static str {
+    match units {
+        Some(Units::Inch) => "in",
+        Some(Units::Mm) | None => "mm",
+    }
+}
+
+/// A length with its unit: `0.0026 in`, `-3.931 mm`.
+pub fn length(v: f64, units: Option<Units>) -> String {
+    format!("{} {}", significant(v), unit_name(units))
+}
+
 /// What the picture warns about, at a source line.
 #[derive(Clone, Debug, PartialEq)]
 pub enum WarningKind {
@@ -597,7 +638,7 @@ pub enum WarningKind {
     /// A cutting move from or to an axis the program has not set.
     UnknownPosition,
     /// A move takes the tip below the stock's bottom.
-    BelowStock { bottom: f64 },
+    BelowStock { bottom: f64, units: Option<Units> },
     /// A rapid removed material.
     RapidCuts,
 }
@@ -638,13 +679,14 @@ impl RenderWarning {
             .with_help(
                 "drawn from where the move ends, with unset axes at 0; the machine may be elsewhere",
             ),
-            WarningKind::BelowStock { bottom } => warning(
+            WarningKind::BelowStock { bottom, units } => warning(
                 "the cut goes below the bottom of the stock",
                 self.span,
                 "the tool reaches below the stock here",
             )
             .with_help(format!(
-                "the stock's bottom is at Z{bottom} (a through cut?)"
+                "the stock's bottom is at Z{} (a through cut?)",
+                length(*bottom, *units)
             )),
             WarningKind::RapidCuts => warning(
                 "a rapid move cuts the stock",
@@ -657,5 +699,23 @@ impl RenderWarning {
             0 => d,
             more => d.with_notes(vec![format!("{more} more like it not shown")]),
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn numbers_are_shown_at_four_significant_digits_with_their_unit() {
+        assert_eq!(significant(0.0026000000000000003), "0.0026");
+        assert_eq!(significant(-3.93125), "-3.931");
+        assert_eq!(significant(-11.79375), "-11.79");
+        assert_eq!(significant(9.99996), "10");
+        assert_eq!(significant(12345.6), "12346");
+        assert_eq!(significant(-0.00001), "-0.00001");
+        assert_eq!(significant(0.0), "0");
+        assert_eq!(length(-10.0, Some(Units::Mm)), "-10 mm");
+        assert_eq!(length(0.0025, Some(Units::Inch)), "0.0025 in");
     }
 }

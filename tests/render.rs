@@ -412,6 +412,96 @@ fn the_shaded_png_is_colour_with_a_legend() {
     assert!(reader.info().width > 400, "the legend is beside the part");
 }
 
+/// A PNG's size and RGB pixels.
+fn rgb_png(path: &Path) -> (usize, usize, Vec<u8>) {
+    let decoder = png::Decoder::new(std::io::BufReader::new(std::fs::File::open(path).unwrap()));
+    let mut reader = decoder.read_info().unwrap();
+    assert_eq!(reader.info().color_type, png::ColorType::Rgb);
+    let mut pixels = vec![0; reader.output_buffer_size().unwrap()];
+    let info = reader.next_frame(&mut pixels).unwrap();
+    (info.width as usize, info.height as usize, pixels)
+}
+
+/// A 40 x 20 x 10 plate with a 6 mm hole drilled through at (20, 10).
+const THROUGH: &str =
+    "G21 G90 G17\nSetPart 40 20 10\nSetTool 1 6\nT1 M6\nG0 X20 Y10 Z1\nG1 Z-11 F100\nG0 Z5\nM30\n";
+
+#[test]
+fn the_view_fits_a_screen_and_a_hole_shows_what_is_behind_it() {
+    let dir = scratch("view");
+    std::fs::write(dir.join("through.egc"), THROUGH).unwrap();
+    let input = dir.join("through.egc");
+    let draw = |view: &str, extra: &[&str]| {
+        let out_path = dir.join(format!("{view}.png"));
+        let mut args = vec![
+            "render",
+            input.to_str().unwrap(),
+            "-o",
+            out_path.to_str().unwrap(),
+            "--view",
+            view,
+        ];
+        args.extend_from_slice(extra);
+        let out = ger(&args);
+        assert!(
+            out.status.success(),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        rgb_png(&out_path)
+    };
+    // 0.025 mm cells: 1600 x 800 cells, drawn at most 1600 px a side.
+    let (w, h, pixels) = draw("top", &[]);
+    assert!((1400..=1600).contains(&w.max(h)), "{w} x {h}");
+    let background = [246, 246, 246];
+    let at = |x: usize, y: usize| &pixels[(y * w + x) * 3..(y * w + x) * 3 + 3];
+    // Seen from above: the part's left edge on the middle row, its scale
+    // from its height (20 mm), and the hole at X20 Y10, its middle.
+    let left = (0..w).find(|&x| at(x, h / 2) != background).unwrap();
+    let tall = (0..h).filter(|&y| at(left + 2, y) != background).count();
+    let per_mm = tall as f64 / 20.0;
+    let top = (0..h).find(|&y| at(left + 2, y) != background).unwrap();
+    let (x, y) = (
+        left + (20.0 * per_mm) as usize,
+        top + (10.0 * per_mm) as usize,
+    );
+    assert_eq!(at(x, y), background, "the hole is see-through");
+    assert_ne!(
+        at(x, y - (4.0 * per_mm) as usize),
+        background,
+        "the stock is drawn"
+    );
+    // Asked smaller, it is smaller; from the corner the sides show too.
+    let (w, h, pixels) = draw("iso", &["--size", "400", "--resolution", "0.1"]);
+    assert!((350..=400).contains(&w.max(h)), "{w} x {h}");
+    let mut shades: Vec<&[u8]> = pixels
+        .chunks_exact(3)
+        .filter(|p| *p != background)
+        .collect();
+    shades.sort();
+    shades.dedup();
+    assert!(shades.len() >= 3, "top and two sides in different light");
+}
+
+#[test]
+fn the_shaded_png_fits_a_screen_unless_asked() {
+    // 0.1 mm cells over 400 x 200 mm: 4000 x 2000 cells.
+    let png = render_slot(
+        &scratch("shade-fit"),
+        "slot.png",
+        &["--shade", "--stock", "400,200,10"],
+    );
+    let (w, h, _) = rgb_png(&png);
+    assert!(w.max(h) <= 1600 && w > 1000, "{w} x {h}");
+    let png = render_slot(
+        &scratch("shade-size"),
+        "slot.png",
+        &["--shade", "--size", "500"],
+    );
+    let (w, h, _) = rgb_png(&png);
+    assert!(w.max(h) <= 500 && w > 400, "{w} x {h}");
+}
+
 #[test]
 fn the_stl_is_closed_and_holds_the_parts_volume() {
     let stl = render_slot(&scratch("stl"), "slot.stl", &[]);
@@ -449,11 +539,37 @@ fn the_stl_is_closed_and_holds_the_parts_volume() {
         .sum();
     let slot = 4.0 * (6.0 * 20.0 + PI * 9.0);
     let expected = 40.0 * 20.0 * 10.0 - slot;
-    // The mesh runs through the cell centres: its rim is half a cell in.
+    // The mesh is the cells' columns: the part's volume, to the cells'
+    // steps round the slot's ends.
     assert!(
-        (volume - expected).abs() / slot < 0.05,
+        (volume - expected).abs() / expected < 0.005 && (volume - expected).abs() / slot < 0.01,
         "volume {volume}, expected {expected}"
     );
+}
+
+#[test]
+fn the_stl_of_a_plate_with_a_slot_is_small() {
+    // 60 x 40 mm at the default 0.025 mm: 3.84 million cells; a slot and
+    // a hole drilled through.
+    let dir = scratch("stl-size");
+    let program = "G21 G90 G17\nSetPart 60 40 10\nSetTool 1 6\nT1 M6\nG0 X15 Y20 Z1\nG1 Z-5 F100\nG1 X45\nG0 Z5\nG0 X50 Y32\nG1 Z-11\nG0 Z5\nM30\n";
+    std::fs::write(dir.join("plate.egc"), program).unwrap();
+    let (input, output) = (dir.join("plate.egc"), dir.join("plate.stl"));
+    let out = ger(&[
+        "render",
+        input.to_str().unwrap(),
+        "-o",
+        output.to_str().unwrap(),
+    ]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let bytes = std::fs::metadata(&output).unwrap().len();
+    assert!(bytes < 1_000_000, "{bytes} bytes");
+    let mesh = stl_io::read_stl(&mut std::fs::File::open(&output).unwrap()).unwrap();
+    mesh.validate().unwrap();
 }
 
 #[test]

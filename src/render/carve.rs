@@ -99,6 +99,53 @@ impl Grid {
         self.z[j * self.frame.nx + i]
     }
 
+    /// Whether a height is cut through the stock (at or below its bottom).
+    pub fn through(&self, z: f32) -> bool {
+        f64::from(z) <= self.bottom + (self.top - self.bottom) * 1e-6
+    }
+
+    /// The grid in blocks of `b` x `b` cells, for a picture or a mesh that
+    /// cannot hold every cell: a block is cut through when most of its
+    /// cells are, else at the lowest of its other cells (a cut narrower
+    /// than a block stays visible, a wall between two holes stays).
+    pub fn reduced(&self, b: usize) -> Grid {
+        let f = self.frame;
+        if b <= 1 {
+            return self.clone();
+        }
+        let (mx, my) = (f.nx.div_ceil(b), f.ny.div_ceil(b));
+        let mut lowest = vec![f32::INFINITY; mx * my];
+        let mut holes = vec![0u32; mx * my];
+        for j in 0..f.ny {
+            let row = &self.z[j * f.nx..(j + 1) * f.nx];
+            let out = (j / b) * mx;
+            for (i, &z) in row.iter().enumerate() {
+                let k = out + i / b;
+                if self.through(z) {
+                    holes[k] += 1;
+                } else {
+                    lowest[k] = lowest[k].min(z);
+                }
+            }
+        }
+        let z = (0..mx * my)
+            .map(|k| {
+                let (i, j) = (k % mx, k / mx);
+                let cells = (b.min(f.nx - i * b) * b.min(f.ny - j * b)) as u32;
+                match 2 * holes[k] > cells || lowest[k].is_infinite() {
+                    true => self.bottom as f32,
+                    false => lowest[k],
+                }
+            })
+            .collect();
+        Grid {
+            frame: Frame::new(f.x0, f.y0, f.cell * b as f64, mx, my),
+            top: self.top,
+            bottom: self.bottom,
+            z,
+        }
+    }
+
     /// The volume removed from the stock (below its top), in cubed units.
     pub fn removed_volume(&self) -> f64 {
         let top = self.top as f32;

@@ -93,13 +93,61 @@ pub fn write_depth(grid: &Grid, units: Option<Units>, out: impl Write) -> std::i
 const LIGHT: [f64; 3] = [-0.5, 0.5, std::f64::consts::FRAC_1_SQRT_2];
 
 /// The colour of uncut stock.
-const STOCK: [u8; 3] = [214, 206, 190];
+pub(super) const STOCK: [u8; 3] = [214, 206, 190];
+
+/// An RGB picture with no scale of its own (a view of the part).
+pub(super) fn write_rgb(
+    width: usize,
+    height: usize,
+    rgb: &[u8],
+    out: impl Write,
+) -> std::io::Result<()> {
+    let too_big = || std::io::Error::other("the picture is too large for a PNG");
+    let width = u32::try_from(width).map_err(|_| too_big())?;
+    let height = u32::try_from(height).map_err(|_| too_big())?;
+    let mut encoder = png::Encoder::new(out, width, height);
+    encoder.set_color(png::ColorType::Rgb);
+    encoder.set_depth(png::BitDepth::Eight);
+    let mut writer = encoder.write_header().map_err(png_error)?;
+    writer.write_image_data(rgb).map_err(png_error)?;
+    writer.finish().map_err(png_error)
+}
+
+/// How many cells a side the shaded picture takes as one pixel, so that
+/// its long side (legend included) is at most `size` pixels.
+pub fn shaded_block(grid: &Grid, units: Option<Units>, size: usize) -> usize {
+    let (nx, ny) = (grid.frame.nx, grid.frame.ny);
+    let mut b = nx.max(ny).div_ceil(size.max(1)).max(1);
+    while b < nx.max(ny) {
+        let height = ny.div_ceil(b);
+        let width = nx.div_ceil(b) + Legend::new(grid, height, units).width;
+        if width.max(height) <= size {
+            break;
+        }
+        b += 1;
+    }
+    b
+}
 
 /// The hill-shaded colour image: depth coloured (uncut stock plain), lit
-/// from the north-west, with a legend of depths on the right.
-pub fn write_shaded(grid: &Grid, units: Option<Units>, out: impl Write) -> std::io::Result<()> {
+/// from the north-west, with a legend of depths on the right; its long
+/// side at most `size` pixels (blocks of cells, each at its lowest).
+pub fn write_shaded(
+    grid: &Grid,
+    units: Option<Units>,
+    size: usize,
+    out: impl Write,
+) -> std::io::Result<()> {
+    let reduced;
+    let grid = match shaded_block(grid, units, size) {
+        1 => grid,
+        b => {
+            reduced = grid.reduced(b);
+            &reduced
+        }
+    };
     let (nx, ny) = (grid.frame.nx, grid.frame.ny);
-    let legend = Legend::new(grid, ny);
+    let legend = Legend::new(grid, ny, units);
     let width = nx + legend.width;
     let mut writer = encoder(
         out,
@@ -124,6 +172,12 @@ pub fn write_shaded(grid: &Grid, units: Option<Units>, out: impl Write) -> std::
             let depth = (grid.top - z(i, j)) / span;
             let base = if depth < 1e-6 {
                 STOCK
+            } else if grid.through(grid.at(i, j)) {
+                // A hole: what lies under the part, not a colour of depth.
+                for k in 0..3 {
+                    row[i * 3 + k] = 255;
+                }
+                continue;
             } else {
                 depth_color(depth)
             };
@@ -186,46 +240,58 @@ pub fn write_difference(
 
 /// The depth legend: a colour bar with the depths written beside it in a
 /// small bitmap font, scaled to the picture's height.
-struct Legend {
-    width: usize,
+pub(super) struct Legend {
+    pub(super) width: usize,
     height: usize,
     scale: usize,
     /// (row of the label's middle, text).
     labels: Vec<(usize, String)>,
 }
 
-/// A 3x5 font for the legend's numbers: each row of a glyph is 3 bits.
-const GLYPHS: [(char, [u8; 5]); 12] = [
-    ('0', [7, 5, 5, 5, 7]),
-    ('1', [2, 6, 2, 2, 7]),
-    ('2', [7, 1, 7, 4, 7]),
-    ('3', [7, 1, 7, 1, 7]),
-    ('4', [5, 5, 7, 1, 1]),
-    ('5', [7, 4, 7, 1, 7]),
-    ('6', [7, 4, 7, 5, 7]),
-    ('7', [7, 1, 1, 1, 1]),
-    ('8', [7, 5, 7, 5, 7]),
-    ('9', [7, 5, 7, 1, 7]),
-    ('-', [0, 0, 7, 0, 0]),
-    ('.', [0, 0, 0, 0, 2]),
+/// A 5-row font for the legend's numbers and units: each row of a glyph
+/// is `width` bits, the highest on the left.
+const GLYPHS: [(char, usize, [u8; 5]); 16] = [
+    ('0', 3, [7, 5, 5, 5, 7]),
+    ('1', 3, [2, 6, 2, 2, 7]),
+    ('2', 3, [7, 1, 7, 4, 7]),
+    ('3', 3, [7, 1, 7, 1, 7]),
+    ('4', 3, [5, 5, 7, 1, 1]),
+    ('5', 3, [7, 4, 7, 1, 7]),
+    ('6', 3, [7, 4, 7, 5, 7]),
+    ('7', 3, [7, 1, 1, 1, 1]),
+    ('8', 3, [7, 5, 7, 5, 7]),
+    ('9', 3, [7, 5, 7, 1, 7]),
+    ('-', 3, [0, 0, 7, 0, 0]),
+    ('.', 1, [0, 0, 0, 0, 1]),
+    (' ', 2, [0, 0, 0, 0, 0]),
+    ('m', 5, [0, 0, 26, 21, 21]),
+    ('i', 1, [1, 0, 1, 1, 1]),
+    ('n', 3, [0, 0, 6, 5, 5]),
 ];
+
+/// The width of a text in font pixels (a column between glyphs).
+fn text_width(text: &str) -> usize {
+    text.chars()
+        .map(|c| GLYPHS.iter().find(|g| g.0 == c).map_or(0, |g| g.1 + 1))
+        .sum()
+}
 
 const BAR: usize = 6;
 const MARGIN: usize = 4;
 
 impl Legend {
-    fn new(grid: &Grid, height: usize) -> Legend {
-        let scale = (height / 120).clamp(1, 8);
+    pub(super) fn new(grid: &Grid, height: usize, units: Option<Units>) -> Legend {
+        let scale = (height / 200).clamp(1, 4);
         let steps = if height >= 12 * 5 * scale { 4 } else { 1 };
         let labels: Vec<(usize, String)> = (0..=steps)
             .map(|k| {
                 let t = k as f64 / steps as f64;
                 let z = grid.top + (grid.bottom - grid.top) * t;
                 let row = ((height.saturating_sub(1)) as f64 * t).round() as usize;
-                (row, format_depth(z))
+                (row, super::length(z, units))
             })
             .collect();
-        let text = labels.iter().map(|(_, s)| s.len()).max().unwrap_or(0) * 4 * scale;
+        let text = labels.iter().map(|(_, s)| text_width(s)).max().unwrap_or(0) * scale;
         Legend {
             width: MARGIN * scale + BAR * scale + MARGIN * scale + text + MARGIN * scale,
             height,
@@ -234,7 +300,7 @@ impl Legend {
         }
     }
 
-    fn draw_row(&self, y: usize, out: &mut [u8]) {
+    pub(super) fn draw_row(&self, y: usize, out: &mut [u8]) {
         out.fill(255);
         let s = self.scale;
         let t = y as f64 / (self.height.max(2) - 1) as f64;
@@ -252,32 +318,23 @@ impl Legend {
                 continue;
             }
             let glyph_row = (y - top) / s;
-            for (k, c) in text.chars().enumerate() {
-                let Some((_, rows)) = GLYPHS.iter().find(|(g, _)| *g == c) else {
+            let mut column = 0;
+            for c in text.chars() {
+                let Some(&(_, width, rows)) = GLYPHS.iter().find(|g| g.0 == c) else {
                     continue;
                 };
-                for bit in 0..3 {
-                    if rows[glyph_row] & (4 >> bit) != 0 {
+                for bit in 0..width {
+                    if rows[glyph_row] & (1 << (width - 1 - bit)) != 0 {
                         for dx in 0..s {
-                            let x = text_x + (k * 4 + bit) * s + dx;
+                            let x = text_x + (column + bit) * s + dx;
                             if let Some(px) = out.get_mut(x * 3..x * 3 + 3) {
                                 px.fill(0);
                             }
                         }
                     }
                 }
+                column += width + 1;
             }
         }
-    }
-}
-
-/// A depth for the legend: at most 4 decimals, no trailing zeros.
-fn format_depth(z: f64) -> String {
-    let text = format!("{z:.4}");
-    let text = text.trim_end_matches('0').trim_end_matches('.');
-    if text == "-0" {
-        "0".to_string()
-    } else {
-        text.to_string()
     }
 }

@@ -1,7 +1,10 @@
 //! The tool path as SVG, seen from above (SPEC §7): the stock outline,
-//! feeds coloured by depth, feed rate or tool, rapids dashed (or hidden),
-//! each path element titled with the source line it comes from. The moves
-//! of one source line that look alike share one element.
+//! feeds coloured by depth, feed rate or tool, feeds above the stock
+//! dotted as air moves, rapids dashed (or hidden), a circle of the
+//! cutter's size where it plunges (a hole drilled is a point seen from
+//! above), and a legend beside the stock. Each path element is titled with
+//! the source line it comes from; the moves of one source line that look
+//! alike share one element.
 
 use super::image::depth_color;
 use super::Scene;
@@ -41,6 +44,9 @@ const TOOL_COLORS: [&str; 6] = [
 
 const RAPID: &str = "#8a8a8a";
 
+/// Feeds that stay above the stock: they cut nothing.
+const AIR: &str = "#3d8fd1";
+
 /// Write the picture. `title` names a source line (`line 12: G1 X10`).
 pub fn write(
     path: &ToolPath,
@@ -52,8 +58,10 @@ pub fn write(
     let scale = 1.0 / crate::ir::Units::mm_per(scene.units);
     let s = &scene.stock;
     let stroke = (s.max[0] - s.min[0]).max(s.max[1] - s.min[1]) / 400.0;
-    write_head(scene, stroke, out)?;
+    let font = (s.max[0] - s.min[0]).max(s.max[1] - s.min[1]) / 40.0;
+    write_head(scene, stroke, font, out)?;
     let palette = Palette::new(path, scene, options.color);
+    let legend = Legend::new(path, scene, &palette);
     // The element being drawn: its source line, colour and path data.
     let mut element: Option<(Span, String, String)> = None;
     for (index, m) in path.moves.iter().enumerate() {
@@ -79,25 +87,95 @@ pub fn write(
         }
     }
     write_element(element.take(), stroke, title, out)?;
-    out.write_all(b"</g>\n</svg>\n")
+    out.write_all(b"</g>\n")?;
+    write_plunges(path, scene, &palette, stroke, title, out)?;
+    legend.write(scene, font, stroke, options.rapids, out)?;
+    out.write_all(b"</svg>\n")
 }
 
-/// The SVG element, sized in millimetres, the stock's outline, and the
-/// group the paths go in.
-fn write_head(scene: &Scene, stroke: f64, out: &mut impl Write) -> std::io::Result<()> {
+/// A circle of the cutter's size where a feed goes straight down into the
+/// stock, once per place and cutter (at its deepest), titled with the
+/// line of the first.
+fn write_plunges(
+    path: &ToolPath,
+    scene: &Scene,
+    palette: &Palette,
+    stroke: f64,
+    title: &dyn Fn(Span) -> String,
+    out: &mut impl Write,
+) -> std::io::Result<()> {
+    let scale = palette.scale;
+    let mut cutter_of = vec![None; path.moves.len()];
+    for segment in &scene.segments {
+        cutter_of[segment.move_index] = Some(segment.cutter);
+    }
+    let mut plunges: Vec<([f64; 2], usize, f64, Span)> = Vec::new();
+    let mut seen = std::collections::HashMap::new();
+    for (m, cutter) in path.moves.iter().zip(cutter_of) {
+        let Some(cutter) = cutter else { continue };
+        let (start, end) = (m.start.map(|v| v * scale), m.end.map(|v| v * scale));
+        let level = (end[0] - start[0]).hypot(end[1] - start[1]) <= 1e-9;
+        if !matches!(m.kind, MoveKind::Feed)
+            || !level
+            || end[2] >= start[2]
+            || end[2] >= scene.stock.top
+        {
+            continue;
+        }
+        let key = (num(end[0]), num(end[1]), cutter);
+        match seen.get(&key) {
+            Some(&k) => {
+                let p: &mut ([f64; 2], usize, f64, Span) = &mut plunges[k];
+                p.2 = p.2.min(end[2]);
+            }
+            None => {
+                seen.insert(key, plunges.len());
+                plunges.push(([end[0], end[1]], cutter, end[2], m.span));
+            }
+        }
+    }
+    if plunges.is_empty() {
+        return Ok(());
+    }
+    writeln!(
+        out,
+        r#"<g fill-opacity="0.45" stroke-width="{}">"#,
+        num(stroke)
+    )?;
+    for (at, cutter, z, span) in plunges {
+        let color = palette.depth(z);
+        writeln!(
+            out,
+            r#"<circle cx="{}" cy="{}" r="{}" fill="{color}" stroke="{color}"><title>{}</title></circle>"#,
+            num(at[0]),
+            num(-at[1]),
+            num(scene.cutters[cutter].radius.max(stroke)),
+            escape(&title(span))
+        )?;
+    }
+    out.write_all(b"</g>\n")
+}
+
+/// The legend's width and height, in fonts.
+const LEGEND: [f64; 2] = [15.0, 10.0];
+
+/// The SVG element, sized in millimetres (the stock and the legend beside
+/// it), the stock's outline, and the group the paths go in.
+fn write_head(scene: &Scene, stroke: f64, font: f64, out: &mut impl Write) -> std::io::Result<()> {
     let mm = crate::ir::Units::mm_per(scene.units);
     let s = &scene.stock;
     let (w, h) = (s.max[0] - s.min[0], s.max[1] - s.min[1]);
+    let (all_w, all_h) = (w + font * (1.0 + LEGEND[0]), h.max(font * LEGEND[1]));
     let mut text = String::new();
     let _ = writeln!(
         text,
         r#"<svg xmlns="http://www.w3.org/2000/svg" viewBox="{} {} {} {}" width="{}mm" height="{}mm">"#,
         num(s.min[0]),
         num(-s.max[1]),
-        num(w),
-        num(h),
-        num(w * mm),
-        num(h * mm),
+        num(all_w),
+        num(all_h),
+        num(all_w * mm),
+        num(all_h * mm),
     );
     let _ = writeln!(
         text,
@@ -147,13 +225,17 @@ impl Palette {
         }
     }
 
+    /// The colour of a depth (in the scene's units).
+    fn depth(&self, z: f64) -> String {
+        hex(depth_color((self.top - z) / (self.top - self.bottom)))
+    }
+
     fn color(&self, m: &Move) -> String {
+        let low = m.start[2].min(m.end[2]) * self.scale;
         match (m.kind, self.by) {
             (MoveKind::Rapid, _) => RAPID.to_string(),
-            (_, ColorBy::Depth) => {
-                let z = m.start[2].min(m.end[2]) * self.scale;
-                hex(depth_color((self.top - z) / (self.top - self.bottom)))
-            }
+            _ if low >= self.top => AIR.to_string(),
+            (_, ColorBy::Depth) => self.depth(low),
             (_, ColorBy::Feed) => {
                 let t = if self.fast > self.slow {
                     (m.state.feed - self.slow) / (self.fast - self.slow)
@@ -181,14 +263,18 @@ fn write_element(
     let Some((span, color, d)) = element else {
         return Ok(());
     };
-    let dash = if color == RAPID {
-        format!(
+    let dash = match color.as_str() {
+        RAPID => format!(
             r#" stroke-dasharray="{} {}""#,
             num(stroke * 4.0),
             num(stroke * 3.0)
-        )
-    } else {
-        String::new()
+        ),
+        AIR => format!(
+            r#" stroke-dasharray="{} {}""#,
+            num(stroke),
+            num(stroke * 2.0)
+        ),
+        _ => String::new(),
     };
     writeln!(
         out,
@@ -249,4 +335,164 @@ fn escape(text: &str) -> String {
         .replace('<', "&lt;")
         .replace('>', "&gt;")
         .replace('"', "&quot;")
+}
+
+/// What the colours and marks mean, beside the stock: the colour scale
+/// (depths, feeds or tools), rapids, air moves, plunges.
+struct Legend {
+    /// The scale's stops and its two ends' labels, or the tools' swatches.
+    scale: Scale,
+}
+
+enum Scale {
+    Gradient {
+        title: &'static str,
+        stops: Vec<String>,
+        ends: [String; 2],
+    },
+    Tools(Vec<(u32, String)>),
+}
+
+impl Legend {
+    fn new(path: &ToolPath, scene: &Scene, palette: &Palette) -> Legend {
+        let units = scene.units;
+        let scale = match palette.by {
+            ColorBy::Depth => Scale::Gradient {
+                title: "depth",
+                stops: (0..=4)
+                    .map(|k| hex(depth_color(f64::from(k) / 4.0)))
+                    .collect(),
+                ends: [palette.top, palette.bottom].map(|z| super::length(z, units)),
+            },
+            ColorBy::Feed => Scale::Gradient {
+                title: "feed",
+                stops: (0..=4)
+                    .map(|k| {
+                        hex(colorous::PLASMA
+                            .eval_continuous(f64::from(k) / 4.0 * 0.9)
+                            .as_array())
+                    })
+                    .collect(),
+                ends: [palette.slow, palette.fast].map(|f| {
+                    let f = if f.is_finite() {
+                        f * palette.scale
+                    } else {
+                        0.0
+                    };
+                    format!("{} {}/min", super::significant(f), super::unit_name(units))
+                }),
+            },
+            ColorBy::Tool => {
+                let mut tools: Vec<u32> = path.moves.iter().map(|m| m.state.tool).collect();
+                tools.sort_unstable();
+                tools.dedup();
+                Scale::Tools(
+                    tools
+                        .into_iter()
+                        .map(|t| (t, TOOL_COLORS[t as usize % TOOL_COLORS.len()].to_string()))
+                        .collect(),
+                )
+            }
+        };
+        Legend { scale }
+    }
+
+    fn write(
+        &self,
+        scene: &Scene,
+        font: f64,
+        stroke: f64,
+        rapids: bool,
+        out: &mut impl Write,
+    ) -> std::io::Result<()> {
+        let x = scene.stock.max[0] + font;
+        let mut y = -scene.stock.max[1] + font;
+        let mut text = String::new();
+        let _ = writeln!(
+            text,
+            r##"<g font-family="sans-serif" font-size="{}" fill="#333">"##,
+            num(font)
+        );
+        let label = |text: &mut String, y: f64, words: &str| {
+            let _ = writeln!(
+                text,
+                r#"<text x="{}" y="{}">{}</text>"#,
+                num(x + 3.0 * font),
+                num(y + 0.35 * font),
+                escape(words)
+            );
+        };
+        match &self.scale {
+            Scale::Gradient { title, stops, ends } => {
+                let _ = writeln!(
+                    text,
+                    r#"<linearGradient id="scale" x1="0" y1="0" x2="0" y2="1">"#
+                );
+                for (k, c) in stops.iter().enumerate() {
+                    let _ = writeln!(
+                        text,
+                        r#"<stop offset="{}" stop-color="{c}"/>"#,
+                        k as f64 / 4.0
+                    );
+                }
+                let _ = writeln!(text, "</linearGradient>");
+                let _ = writeln!(
+                    text,
+                    r#"<rect x="{}" y="{}" width="{}" height="{}" fill="url(#scale)"/>"#,
+                    num(x),
+                    num(y - 0.5 * font),
+                    num(2.0 * font),
+                    num(4.0 * font)
+                );
+                label(&mut text, y, &format!("{title} {}", ends[0]));
+                label(&mut text, y + 3.0 * font, &ends[1]);
+                y += 5.0 * font;
+            }
+            Scale::Tools(tools) => {
+                for (tool, color) in tools {
+                    let _ = writeln!(
+                        text,
+                        r#"<rect x="{}" y="{}" width="{}" height="{}" fill="{color}"/>"#,
+                        num(x),
+                        num(y - 0.4 * font),
+                        num(2.0 * font),
+                        num(0.8 * font)
+                    );
+                    label(&mut text, y, &format!("T{tool}"));
+                    y += 1.5 * font;
+                }
+            }
+        }
+        for (color, dash, words) in [
+            (RAPID, [4.0, 3.0], "rapid"),
+            (AIR, [1.0, 2.0], "feed in the air"),
+        ] {
+            if color == RAPID && !rapids {
+                continue;
+            }
+            let _ = writeln!(
+                text,
+                r#"<path d="M{} {} h{}" stroke="{color}" stroke-width="{}" stroke-dasharray="{} {}"/>"#,
+                num(x),
+                num(y),
+                num(2.0 * font),
+                num(stroke),
+                num(stroke * dash[0]),
+                num(stroke * dash[1])
+            );
+            label(&mut text, y, words);
+            y += 1.5 * font;
+        }
+        let _ = writeln!(
+            text,
+            r##"<circle cx="{}" cy="{}" r="{}" fill="#888" fill-opacity="0.45" stroke="#888" stroke-width="{}"/>"##,
+            num(x + font),
+            num(y),
+            num(0.6 * font),
+            num(stroke)
+        );
+        label(&mut text, y, "plunge (the cutter's size)");
+        text.push_str("</g>\n");
+        out.write_all(text.as_bytes())
+    }
 }

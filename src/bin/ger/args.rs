@@ -224,6 +224,16 @@ pub struct PictureArgs {
     /// A hill-shaded colour PNG with a depth legend instead of the depth image.
     #[arg(long)]
     pub shade: bool,
+    /// The cut part as a lit 3D picture (PNG) seen from this side, instead
+    /// of the depth image.
+    #[arg(long, value_enum)]
+    pub view: Option<ViewArg>,
+    /// The long side of a --view or --shade picture, in pixels.
+    #[arg(long, value_name = "PIXELS", default_value_t = 1600)]
+    pub size: usize,
+    /// Draw the tool path over a --view picture.
+    #[arg(long)]
+    pub toolpath: bool,
     /// What colours the feeds of an SVG.
     #[arg(long, value_enum, default_value_t = ColorArg::Depth)]
     pub color: ColorArg,
@@ -233,6 +243,14 @@ pub struct PictureArgs {
     /// Another program: the PNG shows where the two cut differently.
     #[arg(long, value_name = "OTHER")]
     pub diff: Option<String>,
+}
+
+#[derive(Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum ViewArg {
+    Top,
+    Iso,
+    Front,
+    Side,
 }
 
 #[derive(Clone, Copy, PartialEq, Eq, ValueEnum)]

@@ -1,7 +1,7 @@
 //! `ger render`: compile, simulate, write the picture (PNG, SVG or STL,
 //! by the output's name), printing the notes and warnings on the way.
 
-use crate::args::{ColorArg, Options, PictureArgs, RapidsArg};
+use crate::args::{ColorArg, Options, PictureArgs, RapidsArg, ViewArg};
 use crate::load;
 use ger::diagnostic::render;
 use ger::driver::output::{same_file, write_file};
@@ -103,8 +103,27 @@ fn picture_request(
         Some("stl") => Picture::Stl,
         _ => return Err("the picture's format comes from the output's name: .png, .svg or .stl"),
     };
-    if (picture.shade || picture.diff.is_some()) && format != Picture::Png {
-        return Err("--shade and --diff make a PNG: give -o NAME.png");
+    if (picture.shade || picture.diff.is_some() || picture.view.is_some()) && format != Picture::Png
+    {
+        return Err("--shade, --view and --diff make a PNG: give -o NAME.png");
+    }
+    if [
+        picture.shade,
+        picture.diff.is_some(),
+        picture.view.is_some(),
+    ]
+    .iter()
+    .filter(|&&on| on)
+    .count()
+        > 1
+    {
+        return Err("--shade, --view and --diff each make a picture of their own: give one");
+    }
+    if picture.toolpath && picture.view.is_none() {
+        return Err("--toolpath draws the tool path over a --view picture: give --view too");
+    }
+    if !(64..=ger::render::view::MAX_SIZE).contains(&picture.size) {
+        return Err("--size takes a number of pixels from 64 to 16000");
     }
     let stock = match picture.stock.as_deref().map(parse_stock) {
         None => None,
@@ -182,14 +201,21 @@ fn write_carved(
     let units = drawn.scene.units;
     Some(match (format, other) {
         (Picture::Stl, _) => {
-            if stl::block(&grid) > 1 {
+            let mesh = stl::mesh(&grid);
+            if mesh.block > 1 {
                 eprintln!(
-                    "note: the mesh takes the lowest of each {0}x{0} cells (at most {1} points)",
-                    stl::block(&grid),
-                    stl::MAX_CELLS
+                    "note: the mesh takes the lowest of each {0}x{0} cells (a surface of more than {1} runs of one height)",
+                    mesh.block,
+                    stl::MAX_RUNS
                 );
             }
-            write_file(output, |out| stl::write(&grid, out))
+            if mesh.raised > 0 {
+                eprintln!(
+                    "note: {} cells raised to the height beside them, where two columns met only along an edge",
+                    mesh.raised
+                );
+            }
+            write_file(output, |out| stl::write(&mesh, out))
         }
         (_, Some(other)) => {
             let tolerance = grid.frame.cell * 0.01;
@@ -201,13 +227,30 @@ fn write_carved(
                     eprintln!("note: the two programs cut the same part");
                 } else {
                     eprintln!(
-                        "note: {differ} cells differ, by up to {largest:.4} (red: `{input}` cuts deeper; blue: the other)"
+                        "note: {differ} cells differ, by up to {} (red: `{input}` cuts deeper; blue: the other)",
+                        ger::render::length(largest, units)
                     );
                 }
             })
         }
-        (_, None) if picture.shade => {
-            write_file(output, |out| image::write_shaded(&grid, units, out))
+        (_, None) if picture.shade => write_file(output, |out| {
+            image::write_shaded(&grid, units, picture.size, out)
+        }),
+        (_, None) if picture.view.is_some() => {
+            use ger::render::view::{self, View};
+            let side = match picture.view {
+                Some(ViewArg::Top) => View::Top,
+                Some(ViewArg::Front) => View::Front,
+                Some(ViewArg::Side) => View::Side,
+                Some(ViewArg::Iso) | None => View::Iso,
+            };
+            let lines = match picture.toolpath {
+                true => view::path_lines(drawn.path, units),
+                false => Vec::new(),
+            };
+            write_file(output, |out| {
+                view::write(&grid, units, side, picture.size, &lines, out)
+            })
         }
         (_, None) => write_file(output, |out| image::write_depth(&grid, units, out)),
     })
