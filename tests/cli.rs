@@ -417,7 +417,7 @@ fn subroutine_folders() {
 #[test]
 fn a_plain_program_compiled_to_a_file_is_read_in_parts() {
     let dir = scratch("plain-parts");
-    let mut text = String::from("G21 G90 G17\nG64 P0.01\nG0 X0 Y0 Z2\nG1 Z-1 F300\n");
+    let mut text = String::from("G21 G90 G17\nM100\nG0 X0 Y0 Z2\nG1 Z-1 F300\n");
     for i in 0..30_000 {
         text.push_str(&format!(
             "G1 X{:.3} Y{:.3} (pass {i})\n",
@@ -445,7 +445,7 @@ fn a_plain_program_compiled_to_a_file_is_read_in_parts() {
     assert_eq!(std::fs::read(dir.join("long.out")).unwrap(), whole.stdout);
     let warned = String::from_utf8_lossy(&to_file.stderr);
     assert!(
-        warned.contains("G64 dropped") && warned.contains("2 │ G64 P0.01"),
+        warned.contains("M100 is passed through") && warned.contains("2 │ M100"),
         "{warned}"
     );
     for other in [&whole, &to_stdout, &ger(&["check", "long.ngc"], &dir)] {
@@ -479,7 +479,7 @@ fn a_plain_program_compiled_to_a_file_is_read_in_parts() {
 #[test]
 fn a_file_not_as_its_first_lines_said_is_compiled_again() {
     let dir = scratch("first-look");
-    let mut text = String::from("G21 G90 G17\nG64 P0.01\nG0 X0 Y0 Z2\nG1 Z-1 F300\n");
+    let mut text = String::from("G21 G90 G17\nM100\nG0 X0 Y0 Z2\nG1 Z-1 F300\n");
     for i in 0..30_000 {
         let x = i as f64 * 0.01;
         text.push_str(&format!("G1 X{x:.3} Y{:.3}\n", (i % 7) as f64));
@@ -556,9 +556,9 @@ fn a_long_output_written_to_a_file_is_whole() {
 #[test]
 fn any_program_compiled_to_a_file_is_read_in_parts_or_whole() {
     let dir = scratch("any-parts");
-    let mut egc = String::from("G21 G90 G17\nG64 P0.01\nG0 X0 Y0 Z2\nG1 Z-1 F300\nIi = 0\n");
+    let mut egc = String::from("G21 G90 G17\nM100\nG0 X0 Y0 Z2\nG1 Z-1 F300\nIi = 0\n");
     let sub = "o<peck> sub\nG1 Z-1 F100\n(up)\nG0 Z2\no<peck> endsub\n";
-    let mut ngc = String::from("G21 G90 G17\nG64 P0.01\n");
+    let mut ngc = String::from("G21 G90 G17\nM100\n");
     for i in 0..3_000 {
         egc.push_str(&format!(
             "while (Ii < {}) {{\n  G1 X<Ii * 0.01> Y{}\n  Ii = Ii + 1\n}}\n",
@@ -576,7 +576,7 @@ fn any_program_compiled_to_a_file_is_read_in_parts_or_whole() {
     egc.push_str("G0 Z5\nM30\n");
     ngc.push_str("G0 Z5\nM2\n");
     std::fs::write(dir.join("long.egc"), &egc).unwrap();
-    let kept = ngc.replacen("G64 P0.01\n", &format!("G64 P0.01\n{sub}"), 1);
+    let kept = ngc.replacen("M100\n", &format!("M100\n{sub}"), 1);
     std::fs::write(dir.join("kept.ngc"), kept).unwrap();
     // Called once, at the end, before the subroutine is written more than
     // a part (16 KB) further on: found out in the last part run, after
@@ -599,7 +599,11 @@ fn any_program_compiled_to_a_file_is_read_in_parts_or_whole() {
         let to_stdout = ger(&["compile", name], &dir);
         assert_eq!(to_stdout.stdout, whole.stdout, "{name}");
         let warned = String::from_utf8_lossy(&to_file.stderr);
-        assert_eq!(warned.matches("G64 dropped").count(), 1, "{name}: {warned}");
+        assert_eq!(
+            warned.matches("M100 is passed through").count(),
+            1,
+            "{name}: {warned}"
+        );
         for other in [&whole, &to_stdout, &ger(&["check", name], &dir)] {
             assert_eq!(warned, String::from_utf8_lossy(&other.stderr), "{name}");
         }

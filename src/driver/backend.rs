@@ -212,6 +212,7 @@ impl<'s> Backend<'s> {
         }
         if let Printer::Program(p) = &printer {
             diagnostics.extend(p.arcs_not_r());
+            diagnostics.extend(p.path_control_lost());
             diagnostics.extend(p.arcs_fitted());
         }
         match (printer.finish(), self.out) {
