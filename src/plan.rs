@@ -133,6 +133,8 @@ pub struct Figures {
     pub tool_changes: usize,
     pub spindle_starts: usize,
     pub tools: Vec<ToolFigures>,
+    /// From one tool change to the next, in order.
+    pub operations: Vec<OperationFigures>,
     /// Each move's planned time, in order (empty without a machine).
     #[serde(skip)]
     pub move_s: Vec<f64>,
@@ -149,11 +151,104 @@ pub struct ToolFigures {
     pub bounds: Option<[[f64; 3]; 2]>,
 }
 
+/// One operation: the moves from a tool change to the next.
+#[derive(Clone, Debug, Default, Serialize)]
+pub struct OperationFigures {
+    pub tool: u32,
+    /// The source line of its tool change (the first operation's: of its
+    /// first move).
+    pub line: u32,
+    /// Its moves and dwells, planned; `None` without a machine.
+    pub time_s: Option<f64>,
+    pub feed_time_s: f64,
+    pub cut_mm: f64,
+    pub rapid_mm: f64,
+    pub dwell_s: f64,
+    /// The feed moves' bounds, mm.
+    pub bounds: Option<[[f64; 3]; 2]>,
+}
+
+/// Widen `bounds` to hold the ends of `m`.
+fn widen(bounds: &mut Option<[[f64; 3]; 2]>, m: &Move) {
+    let [low, high] = bounds.get_or_insert([m.start, m.start]);
+    for p in [m.start, m.end] {
+        for i in 0..3 {
+            low[i] = low[i].min(p[i]);
+            high[i] = high[i].max(p[i]);
+        }
+    }
+}
+
+/// The operations of `path`: split at each tool change; `move_s`, each
+/// move's planned time (empty: not planned).
+fn operations(path: &ToolPath, limits: Option<&Limits>, move_s: &[f64]) -> Vec<OperationFigures> {
+    let mut out: Vec<OperationFigures> = Vec::new();
+    let mut events = path.events.iter().peekable();
+    let planned = !move_s.is_empty();
+    for (i, m) in path.moves.iter().enumerate() {
+        while let Some(event) = events.next_if(|e| e.after_move <= i) {
+            event_into(&mut out, event, planned);
+        }
+        if out.is_empty() {
+            out.push(OperationFigures {
+                tool: m.state.tool,
+                line: m.span.line,
+                time_s: planned.then_some(0.0),
+                ..OperationFigures::default()
+            });
+        }
+        let Some(op) = out.last_mut() else { continue };
+        let length = m.length();
+        if let (Some(t), Some(s)) = (op.time_s.as_mut(), move_s.get(i)) {
+            *t += s;
+        }
+        if m.kind == MoveKind::Rapid {
+            op.rapid_mm += length;
+            if let Some(limits) = limits {
+                op.feed_time_s += length / rapid_rate(limits, unit(m));
+            }
+            continue;
+        }
+        op.cut_mm += length;
+        if m.state.feed > 0.0 {
+            op.feed_time_s += length / (m.state.feed / 60.0);
+        }
+        widen(&mut op.bounds, m);
+    }
+    for event in events {
+        event_into(&mut out, event, planned);
+    }
+    out
+}
+
+/// A tool change starts an operation; a dwell adds to the one running.
+fn event_into(out: &mut Vec<OperationFigures>, event: &crate::toolpath::Event, planned: bool) {
+    match event.kind {
+        EventKind::ToolChange(tool) => out.push(OperationFigures {
+            tool,
+            line: event.span.line,
+            time_s: planned.then_some(0.0),
+            ..OperationFigures::default()
+        }),
+        EventKind::Dwell(s) => {
+            if let Some(op) = out.last_mut() {
+                op.dwell_s += s;
+                op.feed_time_s += s;
+                if let Some(t) = op.time_s.as_mut() {
+                    *t += s;
+                }
+            }
+        }
+        EventKind::Stop(_) | EventKind::End => {}
+    }
+}
+
 /// The figures of `path` on the machine `limits` describes (length / feed
 /// only, without one).
 pub fn plan(path: &ToolPath, limits: Option<&Limits>) -> Figures {
     let mut figures = lengths(path, limits);
     let Some(limits) = limits else {
+        figures.operations = operations(path, None, &[]);
         return figures;
     };
     let blocks = match limits.controller {
@@ -178,6 +273,7 @@ pub fn plan(path: &ToolPath, limits: Option<&Limits>) -> Figures {
             .sum();
         tool.time_s = Some(time);
     }
+    figures.operations = operations(path, Some(limits), &move_s);
     figures.move_s = move_s;
     figures
 }
@@ -249,13 +345,7 @@ fn lengths(path: &ToolPath, limits: Option<&Limits>) -> Figures {
         let tool = &mut figures.tools[at];
         tool.cut_mm += length;
         tool.feed_time_s += seconds;
-        let [low, high] = tool.bounds.get_or_insert([m.start, m.start]);
-        for p in [m.start, m.end] {
-            for i in 0..3 {
-                low[i] = low[i].min(p[i]);
-                high[i] = high[i].max(p[i]);
-            }
-        }
+        widen(&mut tool.bounds, m);
     }
     for event in &path.events {
         match event.kind {
@@ -702,6 +792,35 @@ mod tests {
         let length = 2.0 * std::f64::consts::PI * 10.0;
         let expected = 2.0 * v / 500.0 + (length - v * v / 500.0) / v;
         assert!((t - expected).abs() < 1e-9, "{t} vs {expected}");
+    }
+
+    #[test]
+    fn operations_run_from_tool_change_to_tool_change() {
+        // Tool 1 cuts 100 mm, dwells 2 s; tool 2 (changed at line 7) cuts
+        // 50 mm: two operations, each with its own time and bounds.
+        let mut p = path(&[[0.0; 3], [100.0, 0.0, 0.0], [100.0, 50.0, 0.0]], 6000.0);
+        p.moves[1].state.tool = 2;
+        let at = |line, after_move, kind| crate::toolpath::Event {
+            kind,
+            after_move,
+            span: crate::source::Span::new(0, line, 0, 0),
+        };
+        p.events = vec![
+            at(5, 1, EventKind::Dwell(2.0)),
+            at(7, 1, EventKind::ToolChange(2)),
+        ];
+        let f = plan(&p, Some(&limits()));
+        let ops = &f.operations;
+        assert_eq!(ops.len(), 2, "{ops:?}");
+        assert_eq!((ops[0].tool, ops[1].tool, ops[1].line), (1, 2, 7));
+        assert!((ops[0].cut_mm - 100.0).abs() < 1e-12);
+        assert!((ops[0].feed_time_s - 3.0).abs() < 1e-12, "{ops:?}");
+        assert!((ops[0].time_s.unwrap() - 3.1).abs() < 1e-12, "{ops:?}");
+        assert!((ops[1].time_s.unwrap() - 0.6).abs() < 1e-12, "{ops:?}");
+        assert_eq!(ops[1].bounds, Some([[100.0, 0.0, 0.0], [100.0, 50.0, 0.0]]));
+        let total = f.time_s.unwrap();
+        assert!((total - 3.7).abs() < 1e-12, "{total}");
+        assert_eq!(plan(&p, None).operations[1].time_s, None);
     }
 
     #[test]

@@ -831,3 +831,68 @@ fn stats_plans_on_the_machine_of_the_project_file() {
     assert!(table.contains("planned as grbl plans it"), "{table}");
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// Travel limits (`[machine.x] min`/`max`): a move past them where the
+/// machine position is known (a `G53` move, or G54's origin set by the
+/// program) is an error at its line naming the axis and by how much, in
+/// `check` and `compile`; where G54's origin is the machine's, one
+/// warning says where it must lie (X: −300 … 0 minus the program's 0 …
+/// 120 and its arc's bulge to 130).
+#[test]
+fn moves_past_the_machine_travel_are_errors_where_the_offset_is_known() {
+    let dir = scratch("travel");
+    std::fs::write(
+        dir.join("ger.toml"),
+        "[machine]\ncontroller = \"linuxcnc\"\nunits = \"mm\"\n\
+         [machine.x]\nmin = -300\nmax = 0\n[machine.z]\nmin = -100\nmax = 0\n",
+    )
+    .unwrap();
+    let unknown = "G21 G90 G17\nG0 X0 Y0 Z5\nG1 X120 F500\nG3 X120 Y20 I0 J10\nM30\n";
+    std::fs::write(dir.join("unknown.nc"), unknown).unwrap();
+    let r = ger(&["compile", "unknown.nc"], &dir);
+    assert_success(&r);
+    let warned = String::from_utf8_lossy(&r.stderr);
+    assert!(
+        warned.contains("warning: travel limits checked only where"),
+        "{warned}"
+    );
+    assert!(warned.contains("X -300.000 … -130.000"), "{warned}");
+    assert!(warned.contains("Z -105.000 … -5.000"), "{warned}");
+    // G54 at X-200 Z-50: X reaches -200 + 130 = -70, fine; Z5 is -45.
+    // At X-100 the arc's bulge passes X0 by 30 mm; G53 Z10 by 10 mm.
+    let known = "G21 G90 G17\nG10 L2 P1 X-100 Y0 Z-50\nG0 X0 Y0 Z5\nG1 X120 F500\n\
+                 G3 X120 Y20 I0 J10\nG53 G0 Z10\nM30\n";
+    std::fs::write(dir.join("known.nc"), known).unwrap();
+    for command in ["compile", "check"] {
+        let r = ger(&[command, "known.nc"], &dir);
+        assert_eq!(r.status.code(), Some(1), "{command}");
+        let stderr = String::from_utf8_lossy(&r.stderr);
+        assert!(
+            stderr.contains("error: X leaves the machine's travel by 30.000 mm")
+                && stderr.contains("4 │ G1 X120 F500"),
+            "{stderr}"
+        );
+        assert!(
+            stderr.contains("2 moves go past it, the furthest by 30.000 mm"),
+            "{stderr}"
+        );
+        assert!(
+            stderr.contains("error: Z leaves the machine's travel by 10.000 mm")
+                && stderr.contains("6 │ G53 G0 Z10"),
+            "{stderr}"
+        );
+        assert!(!stderr.contains("warning: travel"), "{stderr}");
+    }
+    let inside = known
+        .replace("X-100", "X-200")
+        .replace("G53 G0 Z10", "G53 G0 Z0");
+    std::fs::write(dir.join("inside.nc"), inside).unwrap();
+    let r = ger(&["check", "inside.nc"], &dir);
+    assert_success(&r);
+    assert!(
+        r.stderr.is_empty(),
+        "{}",
+        String::from_utf8_lossy(&r.stderr)
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}

@@ -370,6 +370,7 @@ impl Options {
             },
             stage,
             library: Vec::new(),
+            travel: None,
         }
     }
 }
