@@ -551,7 +551,7 @@ impl Evaluator<'_> {
         }
         match t {
             0 | 10 | 20 | 30 => self.select_motion(t),
-            _ if self.g_mode(t, at, w, span)? => {}
+            _ if self.g_mode(t, at, span)? => {}
             _ => {
                 let op = self.g_statement(t, at, w)?;
                 self.emit(op, span)?;
@@ -578,13 +578,7 @@ impl Evaluator<'_> {
     /// A G code other than the motion codes that sets a mode of the
     /// evaluator, and makes a statement at most where the mode changes:
     /// whether `t` is one.
-    fn g_mode(
-        &mut self,
-        t: u32,
-        at: Span,
-        w: &mut WordValues,
-        span: Span,
-    ) -> Result<bool, Diagnostic> {
+    fn g_mode(&mut self, t: u32, at: Span, span: Span) -> Result<bool, Diagnostic> {
         match t {
             70 | 80 => {
                 // Folded into the X words as they are read.
@@ -595,12 +589,6 @@ impl Evaluator<'_> {
             530 => {
                 // The motion of this line is in machine coordinates.
                 self.this_line.machine_coordinates = true;
-            }
-            610 | 611 | 640 => {
-                w.take(b'P');
-                w.take(b'Q');
-                let name = code_name(b'G', t);
-                self.report(CodeError::new(K::BlendingDropped(name), at));
             }
             // G90.1/G91.1: made only where the mode changes (G91.1, the
             // mode every program starts in, is most often a post's
@@ -634,6 +622,9 @@ impl Evaluator<'_> {
         let name = || code_name(b'G', t);
         Ok(match t {
             40 => self.dwell(w, at)?,
+            610 => Op::PathControl(ir::PathControl::ExactPath),
+            611 => Op::PathControl(ir::PathControl::ExactStop),
+            640 => blend(w)?,
             100 => self.g10(w, at)?,
             150 => Op::Polar(false),
             160 => Op::Polar(true),
@@ -1150,6 +1141,28 @@ thread_local! {
 }
 
 /// A word that must hold a whole, non-negative number.
+/// G64 and its tolerances: P how far from a corner the blend may pass,
+/// Q LinuxCNC's naive-CAM tolerance. A negative one is none given
+/// (rs274: the default tolerance, and Q as P).
+fn blend(w: &mut WordValues) -> Result<Op, Diagnostic> {
+    let mut tolerance = |letter: u8| -> Result<Option<f64>, Diagnostic> {
+        match w.take(letter) {
+            Some((v, span)) if !ir::is_length(v) => Err(super::error::out_of_range(
+                format!("G64 `{}` is out of range", letter as char),
+                "tolerances",
+                v,
+                span,
+            )),
+            Some((v, _)) => Ok((v >= 0.0).then_some(v)),
+            None => Ok(None),
+        }
+    };
+    Ok(Op::PathControl(ir::PathControl::Blend {
+        tolerance: tolerance(b'P')?,
+        naive: tolerance(b'Q')?,
+    }))
+}
+
 fn whole(value: f64, span: Span, what: &'static str) -> Result<u32, Diagnostic> {
     ast::whole_number(value).ok_or_else(|| CodeError::new(K::NotWhole(what), span).into())
 }

@@ -388,6 +388,7 @@ impl Options {
             },
             stage,
             library: Vec::new(),
+            travel: None,
         }
     }
 }
