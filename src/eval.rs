@@ -662,6 +662,7 @@ impl<'a> Evaluator<'a> {
         match &stmt.kind {
             StmtKind::Line(line) => self.exec_line(line),
             StmtKind::Lines(lines) => self.exec_lines(lines),
+            StmtKind::MacroCall(call) => self.exec_macro_call(call),
             StmtKind::Assign(a) => {
                 if let Some(name) = self.target(&a.target, a.name_span) {
                     self.assign(name, a.name_span, &a.value);
@@ -1210,12 +1211,18 @@ fn first_value(n: u32, from: Flavour) -> Slot {
 /// [`ast::Lines`]: those are in parts of plain programs, which have no
 /// `GOTO`.)
 fn labelled(stmts: &[ast::Stmt], label: u32) -> Option<usize> {
-    stmts.iter().position(|s| match &s.kind {
-        StmtKind::Line(line) => line.words.first().is_some_and(|w| {
+    fn first(s: &ast::Stmt) -> Option<&ast::Word> {
+        match &s.kind {
+            StmtKind::Line(line) => line.words.first(),
+            StmtKind::MacroCall(call) => call.words().next(),
+            _ => None,
+        }
+    }
+    stmts.iter().position(|s| {
+        first(s).is_some_and(|w| {
             w.letter == b'N'
                 && matches!(&w.value, ast::WordValue::Number(n) if n.value == f64::from(label))
-        }),
-        _ => false,
+        })
     })
 }
 

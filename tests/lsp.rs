@@ -464,6 +464,15 @@ fn definition_references_and_rename() {
         .map(|e| e["newText"].as_str().unwrap().to_string())
         .collect();
     assert_eq!(texts, ["#<cut>", "#<cut>", "#<cut>"]);
+    // Fanuc's G65 P… -> its O block.
+    let fanuc = uri("/nowhere/nav/macro.nc");
+    client.open(
+        &fanuc,
+        "G21 G90\nG65 P200 A1 B2\nM30\nO200 (BOSS)\n#100=#1\nM99\n",
+    );
+    let found = client.ask(GotoDefinition::METHOD, &fanuc, (1, 6), none.clone());
+    assert_eq!(places(&found), [("macro.nc".into(), 3)]);
+    assert_eq!(client.hover(&fanuc, (1, 6)), "**O200**: BOSS");
     // A wizard call -> its .rhai file (a user wizard beside the part).
     let wizard = uri("/nowhere/nav/wizards/Hole.rhai");
     client.open(

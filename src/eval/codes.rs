@@ -107,33 +107,14 @@ impl Evaluator<'_> {
                 }
             }
         }
-        let mut span = stmt
+        let span = stmt
             .code
             .map(|c| c.span)
             .or_else(|| stmt.args.first().map(|w| w.span))
             .unwrap_or_default();
-        for (i, w) in stmt.args.iter().enumerate() {
-            span = span.to(w.span);
-            if w.letter == b'N' {
-                continue;
-            }
-            // A word given a vacant variable is left out (Fanuc).
-            if matches!(&w.value, WordValue::Expr(e) if super::value::vacant(e, &self.vars)) {
-                continue;
-            }
-            let Some(mut value) = self.word_value(w) else {
-                return Flow::Next;
-            };
-            if w.letter == b'X' && self.modal.diameter_mode {
-                value /= 2.0;
-            }
-            if let Some(first) = words.given(w.letter) {
-                let letter = w.letter as char;
-                self.report(CodeError::new(K::WordTwice { letter, first }, w.span));
-                return Flow::Next;
-            }
-            words.set(w.letter, value, i);
-        }
+        let Some(span) = self.read_words(stmt.args, words, span) else {
+            return Flow::Next;
+        };
         let result = match stmt.code {
             None => self.plain_words(words, span),
             Some(code) => {
@@ -151,6 +132,80 @@ impl Evaluator<'_> {
             }
         };
         result.unwrap_or_else(|d| self.reported(d))
+    }
+
+    /// The values of a statement's words `args` (but its `N` words and
+    /// those given a vacant variable) into `words`; `span` grown to the
+    /// last. `None` when a word's value is an error, reported.
+    fn read_words(
+        &mut self,
+        args: &[ast::Word],
+        words: &mut WordValues,
+        span: Span,
+    ) -> Option<Span> {
+        let mut span = span;
+        for (i, w) in args.iter().enumerate() {
+            span = span.to(w.span);
+            if w.letter == b'N' {
+                continue;
+            }
+            // A word given a vacant variable is left out (Fanuc).
+            if matches!(&w.value, WordValue::Expr(e) if super::value::vacant(e, &self.vars)) {
+                continue;
+            }
+            let mut value = self.word_value(w)?;
+            if w.letter == b'X' && self.modal.diameter_mode {
+                value /= 2.0;
+            }
+            if let Some(first) = words.given(w.letter) {
+                let letter = w.letter as char;
+                self.report(CodeError::new(K::WordTwice { letter, first }, w.span));
+                return None;
+            }
+            words.set(w.letter, value, i);
+        }
+        Some(span)
+    }
+
+    /// A line with Fanuc's `G65` ([`ast::MacroCall`]): the statements
+    /// before it, then the call ([`Self::macro_call`]). Without `--from
+    /// fanuc` the `G65` is a G code like any other, which says so.
+    pub(super) fn exec_macro_call(&mut self, call: &ast::MacroCall) -> Flow {
+        self.this_line.machine_coordinates = false;
+        self.this_line.inverse_feed = false;
+        self.this_line.block_delete = call.block_delete;
+        let mut flow = Flow::Next;
+        for s in ast::statements(&call.before) {
+            flow = self.exec_line_stmt(s);
+            if flow != Flow::Next {
+                break;
+            }
+        }
+        if flow == Flow::Next {
+            flow = match self.options.from {
+                Flavour::Fanuc => self.run_macro_call(call),
+                _ => self.exec_line_stmt(LineStmt {
+                    code: Some(&call.code),
+                    args: &call.args,
+                }),
+            };
+        }
+        self.this_line.block_delete = false;
+        flow
+    }
+
+    /// The call of a [`ast::MacroCall`], its words' values worked out.
+    fn run_macro_call(&mut self, call: &ast::MacroCall) -> Flow {
+        let table = self.word_table.take().unwrap_or_default();
+        let mut words = WordValues::new(&call.args, table);
+        let flow = match self.read_words(&call.args, &mut words, call.code.span) {
+            Some(_) => self
+                .macro_call(&mut words, call.code.span)
+                .unwrap_or_else(|d| self.reported(d)),
+            None => Flow::Next,
+        };
+        self.word_table = Some(words.table);
+        flow
     }
 
     /// Report a statement's error; the program goes on after it, unless it
@@ -484,7 +539,8 @@ impl Evaluator<'_> {
         span: Span,
     ) -> Result<Flow, Diagnostic> {
         let code = Some((b'G', t));
-        // Its F, S and T are arguments.
+        // A computed `G#1` that is 65 ([`Self::exec_macro_call`] runs a
+        // written one): its F, S and T are arguments.
         if t == 650 && self.options.from == Flavour::Fanuc {
             return self.macro_call(w, at);
         }

@@ -73,6 +73,13 @@ impl Evaluator<'_> {
                     }
                 }
             }
+            K::MacroCall(call) => {
+                for w in call.words() {
+                    if let ast::WordValue::Expr(e) = &w.value {
+                        self.watch_expr(e);
+                    }
+                }
+            }
             K::Assign(a) => self.watch_assignment(a),
             K::Assigns(all) => all.iter().for_each(|a| self.watch_assignment(a)),
             K::Call { args, .. } => args.iter().for_each(|a| self.watch_expr(a)),

@@ -35,8 +35,6 @@ pub struct SubPlace {
 pub struct CallPlace {
     pub key: String,
     pub at: Bytes,
-    /// Fanuc's `G65`, whose argument letters set `#1`…`#26`.
-    pub macro_call: bool,
 }
 
 /// A wizard (or directive) call: its name.
@@ -92,6 +90,11 @@ impl Index {
                     self.words(&words, names);
                 }
             }
+            StmtKind::MacroCall(call) => {
+                self.words(&call.before, names);
+                self.words(&call.args, names);
+                self.macro_call(call, names);
+            }
             StmtKind::Assign(a) => self.assignment(a, names),
             StmtKind::Assigns(all) => all.iter().for_each(|a| self.assignment(a, names)),
             StmtKind::Call {
@@ -127,7 +130,6 @@ impl Index {
                     self.calls.push(CallPlace {
                         key: call.name.describe(names),
                         at,
-                        macro_call: false,
                     });
                 }
                 call.args.iter().for_each(|a| self.expr(a, names));
@@ -168,27 +170,25 @@ impl Index {
             let WordValue::Number(n) = code.value else {
                 continue;
             };
-            let macro_call = code.letter == b'G' && n.value == 65.0;
-            if !(macro_call || code.letter == b'M' && n.value == 98.0) {
+            if code.letter != b'M' || n.value != 98.0 {
                 continue;
             }
-            let Some(p) = s.args.iter().find(|w| w.letter == b'P') else {
-                continue;
-            };
-            let WordValue::Number(number) = &p.value else {
-                continue;
-            };
-            let Some(whole) = ast::whole_number(number.value) else {
-                continue;
-            };
-            let program = match macro_call {
-                true => whole,
-                false => number.m98_split(whole).0,
-            };
+            if let Some((number, at)) = program_word(s.args) {
+                let program = number.m98_split(number.value as u32).0;
+                self.calls.push(CallPlace {
+                    key: OName::Number(program).describe(names),
+                    at,
+                });
+            }
+        }
+    }
+
+    /// Fanuc's `G65 P…`: a call of the program its `P` names.
+    fn macro_call(&mut self, call: &ast::MacroCall, names: &Names) {
+        if let Some((number, at)) = program_word(&call.args) {
             self.calls.push(CallPlace {
-                key: OName::Number(program).describe(names),
-                at: p.span.start as usize..p.span.end as usize,
-                macro_call,
+                key: OName::Number(number.value as u32).describe(names),
+                at,
             });
         }
     }
@@ -230,6 +230,18 @@ impl Index {
     /// The subprogram named `key`.
     pub fn sub(&self, key: &str) -> Option<&SubPlace> {
         self.subs.iter().find(|s| s.key.eq_ignore_ascii_case(key))
+    }
+}
+
+/// The `P` word of `words` when it is a whole number written as one,
+/// and its place.
+fn program_word(words: &[ast::Word]) -> Option<(ast::Number, Bytes)> {
+    let p = words.iter().find(|w| w.letter == b'P')?;
+    match &p.value {
+        WordValue::Number(n) if ast::whole_number(n.value).is_some() => {
+            Some((*n, p.span.start as usize..p.span.end as usize))
+        }
+        _ => None,
     }
 }
 

@@ -639,10 +639,7 @@ fn words_stmt(
         .map(|w| ast_word(w, number, at))
         .collect();
     Stmt {
-        kind: StmtKind::Line(Line {
-            words: line,
-            block_delete: false,
-        }),
+        kind: StmtKind::line(line, false),
         span: at.span_on_line(number, start, end),
     }
 }
