@@ -14,6 +14,7 @@
 pub mod analysis;
 pub mod answers;
 pub mod codes;
+pub mod format;
 pub mod index;
 
 use crate::diagnostic::Level;
@@ -61,6 +62,7 @@ pub fn serve(connection: &Connection) -> Result<(), Error> {
         inlay_hint_provider: Some(OneOf::Left(true)),
         hover_provider: Some(lsp_types::HoverProviderCapability::Simple(true)),
         document_symbol_provider: Some(OneOf::Left(true)),
+        document_formatting_provider: Some(OneOf::Left(true)),
         definition_provider: Some(OneOf::Left(true)),
         references_provider: Some(OneOf::Left(true)),
         rename_provider: Some(OneOf::Left(true)),
@@ -204,6 +206,17 @@ impl Server {
                     .unwrap_or_default();
                 Response::new_ok(request.id, hints)
             }
+            lsp_types::request::Formatting::METHOD => {
+                match serde_json::from_value::<lsp_types::DocumentFormattingParams>(request.params)
+                {
+                    Ok(p) => self.format(request.id, &p),
+                    Err(e) => Response::new_err(
+                        request.id,
+                        lsp_server::ErrorCode::InvalidParams as i32,
+                        e.to_string(),
+                    ),
+                }
+            }
             DocumentSymbolRequest::METHOD => {
                 let symbols =
                     serde_json::from_value::<lsp_types::DocumentSymbolParams>(request.params)
@@ -217,6 +230,40 @@ impl Server {
                 lsp_server::ErrorCode::MethodNotFound as i32,
                 format!("ger lsp does not answer {}", request.method),
             ),
+        }
+    }
+
+    /// The document formatted, as one edit of its whole text; the `N`
+    /// words renumbered unless the option `gerNumbers` says `remove` or
+    /// `keep`.
+    fn format(
+        &self,
+        id: lsp_server::RequestId,
+        p: &lsp_types::DocumentFormattingParams,
+    ) -> Response {
+        use format::Numbers;
+        let uri = &p.text_document.uri;
+        let (Some(document), Some(path)) = (self.documents.get(uri), path_of(uri)) else {
+            return Response::new_ok(id, serde_json::Value::Null);
+        };
+        let numbers = match p.options.properties.get("gerNumbers") {
+            Some(lsp_types::FormattingProperty::String(s)) if s == "remove" => Numbers::Remove,
+            Some(lsp_types::FormattingProperty::String(s)) if s == "keep" => Numbers::Keep,
+            _ => Numbers::Renumber,
+        };
+        match analysis::formatted(&self.open_files(), &path, &document.text, numbers) {
+            Ok(text) if text == document.text => {
+                Response::new_ok(id, Vec::<lsp_types::TextEdit>::new())
+            }
+            Ok(text) => {
+                let lines = document.text.split('\n').count() as u32;
+                let edit = lsp_types::TextEdit {
+                    range: Range::new(Position::new(0, 0), Position::new(lines, 0)),
+                    new_text: text,
+                };
+                Response::new_ok(id, vec![edit])
+            }
+            Err(why) => Response::new_err(id, lsp_server::ErrorCode::RequestFailed as i32, why),
         }
     }
 

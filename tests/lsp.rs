@@ -532,3 +532,98 @@ fn completion_and_signature_help() {
     assert!(help(&mut client, (1, 3)).is_null());
     client.stop();
 }
+
+/// The tool path of `text` as the file `path`, by the library, without
+/// its places in the text: what formatting must keep.
+fn tool_path_of(path: &str, text: &str) -> Vec<String> {
+    use ger::driver::{discovery::Search, fs::Memory, CompileOptions, Program, Session};
+    let fs = Memory::new();
+    let session = Session::new(&fs, CompileOptions::default(), Search::default()).unwrap();
+    let program = Program::Text {
+        name: path,
+        path: Some(std::path::Path::new(path)),
+        text: text.into(),
+    };
+    let Ok(mut job) = session.load(program) else {
+        panic!("{path} loads")
+    };
+    let path = job.tool_path().0.expect("the program compiles");
+    let moves = path
+        .moves
+        .iter()
+        .map(|m| format!("{:?} {:?} {:?} {:?}", m.kind, m.start, m.end, m.state));
+    let events = path
+        .events
+        .iter()
+        .map(|e| format!("{:?} after {}", e.kind, e.after_move));
+    moves.chain(events).collect()
+}
+
+#[test]
+fn formatting_renumbers_spaces_and_cases_and_keeps_the_tool_path() {
+    use lsp_types::request::Formatting;
+    let mut client = Client::start();
+    let doc = uri("/nowhere/format/messy.nc");
+    let messy = "%\nn5 g21g90 g0x0 y0   z5\nN7 t1m6\ng1 z-1 f100 (CUT (DEEP))\n  g1  x10.  \n\
+                 /n9 G1 Y5 ; end\nG2 X20 Y5 i5 j0\nm30\n%\n";
+    client.open(&doc, messy);
+    let format = |c: &mut Client, options: serde_json::Value| {
+        c.request(
+            Formatting::METHOD,
+            serde_json::json!({ "textDocument": { "uri": doc.as_str() }, "options": options }),
+        )
+    };
+    let edits = format(
+        &mut client,
+        serde_json::json!({ "tabSize": 4, "insertSpaces": true }),
+    );
+    let formatted = edits[0]["newText"].as_str().unwrap().to_string();
+    assert_eq!(
+        formatted,
+        "%\nN10 G21 G90 G0 X0 Y0 Z5\nN20 T1 M6\nG1 Z-1 F100 (CUT (DEEP))\nG1 X10.\n\
+         /N30 G1 Y5 ; end\nG2 X20 Y5 I5 J0\nM30\n%\n"
+    );
+    assert_eq!(
+        edits[0]["range"]["start"],
+        serde_json::json!({"line": 0, "character": 0})
+    );
+    let before = tool_path_of("/nowhere/format/messy.nc", messy);
+    assert!(before.len() > 4, "{before:?}");
+    assert_eq!(before, tool_path_of("/nowhere/format/messy.nc", &formatted));
+    let removed = format(
+        &mut client,
+        serde_json::json!({ "tabSize": 4, "insertSpaces": true, "gerNumbers": "remove" }),
+    );
+    let removed = removed[0]["newText"].as_str().unwrap().to_string();
+    assert!(
+        removed.starts_with("%\nG21 G90 G0 X0 Y0 Z5\nT1 M6\n"),
+        "{removed}"
+    );
+    assert_eq!(before, tool_path_of("/nowhere/format/messy.nc", &removed));
+    // A program with an error is not formatted: its tool path could not
+    // be checked.
+    let broken = uri("/nowhere/format/broken.nc");
+    client.open(&broken, "g21 g90\ng5 x1\nm30\n");
+    client.next_id += 1;
+    let id = RequestId::from(client.next_id);
+    let request = Request::new(
+        id.clone(),
+        Formatting::METHOD.into(),
+        serde_json::json!({ "textDocument": { "uri": broken.as_str() },
+                            "options": { "tabSize": 4, "insertSpaces": true } }),
+    );
+    client
+        .connection
+        .sender
+        .send(Message::Request(request))
+        .unwrap();
+    let refused = loop {
+        if let Message::Response(r) = client.receive() {
+            if r.id == id {
+                break r.error.expect("an error");
+            }
+        }
+    };
+    assert!(refused.message.contains("compiles"), "{}", refused.message);
+    client.stop();
+}

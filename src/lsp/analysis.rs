@@ -14,6 +14,7 @@ use crate::eval::Seen;
 use crate::ir::Units;
 use crate::plan::{clock_per_move, Limits};
 use crate::source::Sources;
+use crate::syntax::Language;
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
 
@@ -201,6 +202,52 @@ pub fn watch(fs: &dyn FileSystem, path: &Path, text: &str) -> HashMap<usize, See
         .filter(|((f, _), _)| *f == file)
         .map(|((_, start), seen)| (start as usize, seen))
         .collect()
+}
+
+/// The document formatted ([`super::format`]), checked: its tool path
+/// compiled before and after is the same, else `Err` says why it is left
+/// as it is.
+pub fn formatted(
+    fs: &dyn FileSystem,
+    path: &Path,
+    text: &str,
+    numbers: super::format::Numbers,
+) -> Result<String, String> {
+    let refused = "formatting needs a program that compiles (its tool path is checked)";
+    let tool_path = |loaded: Loaded| -> Result<crate::toolpath::ToolPath, String> {
+        let mut job = loaded.job;
+        job.tool_path().0.ok_or_else(|| refused.to_string())
+    };
+    let loaded = load(fs, path, text).map_err(|why| why.join("\n"))?;
+    let egc = loaded.language == Language::Egc;
+    let before = tool_path(loaded)?;
+    let after_text = super::format::format(text, egc, numbers);
+    if after_text == text {
+        return Ok(after_text);
+    }
+    let after = tool_path(load(fs, path, &after_text).map_err(|why| why.join("\n"))?)?;
+    let exact = crate::toolpath::compare::Options {
+        tol: 1e-9,
+        feed_tol: 1e-12,
+        ..Default::default()
+    };
+    let same_events = before.events.len() == after.events.len()
+        && before
+            .events
+            .iter()
+            .zip(&after.events)
+            .all(|(a, b)| a.kind == b.kind && a.after_move == b.after_move);
+    match crate::toolpath::compare::compare(&before, &after, &exact) {
+        Ok(_) if same_events => Ok(after_text),
+        Ok(_) => Err(
+            "formatting would change the program's tool changes, stops or dwells: left as it is"
+                .into(),
+        ),
+        Err(d) => Err(format!(
+            "formatting would change the tool path ({}): left as it is",
+            d.message
+        )),
+    }
 }
 
 /// The wizards the job can call, as the editor shows them.
