@@ -16,12 +16,14 @@ mod options;
 mod setup;
 mod state;
 pub mod value;
+mod watch;
 mod wizard_api;
 mod words;
 
 pub use cycle::{count_pecks, MAX_PECKS};
 pub(crate) use options::LAST_USER_PARAMETER;
 pub use options::{EvalOptions, Flavour};
+pub use watch::{Seen, Watched};
 pub use wizard_api::{MachineState, WizardCall, WizardContext, WizardHost};
 
 use crate::ast::{self, Names, StmtKind, Symbol};
@@ -46,6 +48,21 @@ pub fn eval_program<'a>(
     ev.run();
     ev.finish();
     ev.reports.diagnostics
+}
+
+/// Stage 0 run only to see the values variables have where the program
+/// reads and sets them (the editor's hover): no output is made.
+pub fn watch_program(
+    program: &ast::Program,
+    options: &EvalOptions,
+    wizards: Option<&mut dyn WizardHost>,
+) -> Watched {
+    let mut nowhere = watch::Nowhere;
+    let wizards = wizards.map(|w| w as &mut dyn WizardHost);
+    let mut ev = Evaluator::new(program, options, wizards, &mut nowhere);
+    ev.watch = Some(Box::default());
+    ev.run();
+    ev.watch.map(|w| *w).unwrap_or_default()
 }
 
 /// A part of a program read in parts: its statements and subprograms.
@@ -156,6 +173,7 @@ impl<'a> Evaluator<'a> {
             modal: Modal::default(),
             this_line: LineState::default(),
             cycles: CycleState::default(),
+            watch: None,
         }
     }
 
@@ -638,6 +656,9 @@ impl<'a> Evaluator<'a> {
     }
 
     fn exec(&mut self, stmt: &ast::Stmt) -> Flow {
+        if self.watch.is_some() {
+            self.watch_reads(stmt);
+        }
         match &stmt.kind {
             StmtKind::Line(line) => self.exec_line(line),
             StmtKind::Lines(lines) => self.exec_lines(lines),
@@ -645,24 +666,13 @@ impl<'a> Evaluator<'a> {
             StmtKind::Assign(a) => {
                 if let Some(name) = self.target(&a.target, a.name_span) {
                     self.assign(name, a.name_span, &a.value);
+                    if self.watch.is_some() {
+                        self.watch_set(name, a.name_span);
+                    }
                 }
                 Flow::Next
             }
-            StmtKind::Assigns(all) => {
-                // Every target and value from the variables as they were
-                // before the line, then every store.
-                let stores: Vec<Option<(Symbol, Slot)>> = all
-                    .iter()
-                    .map(|a| {
-                        let name = self.target(&a.target, a.name_span)?;
-                        Some((name, self.assigned(name, a.name_span, &a.value)?))
-                    })
-                    .collect();
-                for (name, slot) in stores.into_iter().flatten() {
-                    self.store(name, slot);
-                }
-                Flow::Next
-            }
+            StmtKind::Assigns(all) => self.exec_assigns(all),
             StmtKind::Call {
                 name,
                 name_span,
@@ -849,6 +859,9 @@ impl<'a> Evaluator<'a> {
         // runs untested).
         let mut tested = !w.test_after;
         loop {
+            if tested && self.watch.is_some() {
+                self.watch_expr(&w.cond);
+            }
             if tested {
                 match self.condition(&w.cond, "the `while` condition") {
                     Ok(true) => {}
@@ -938,6 +951,29 @@ impl<'a> Evaluator<'a> {
 
     /// The variable an assignment sets: its name, or the parameter an
     /// indirect target's value names (`None`: an error, reported).
+    /// Several assignments on one line: every target and value from the
+    /// variables as they were before the line, then every store.
+    fn exec_assigns(&mut self, all: &[ast::Assignment]) -> Flow {
+        let stores: Vec<Option<(Symbol, Slot)>> = all
+            .iter()
+            .map(|a| {
+                let name = self.target(&a.target, a.name_span)?;
+                Some((name, self.assigned(name, a.name_span, &a.value)?))
+            })
+            .collect();
+        for (name, slot) in stores.into_iter().flatten() {
+            self.store(name, slot);
+        }
+        if self.watch.is_some() {
+            for a in all {
+                if let ast::Target::Name(name) = a.target {
+                    self.watch_set(name, a.name_span);
+                }
+            }
+        }
+        Flow::Next
+    }
+
     fn target(&mut self, target: &ast::Target, span: Span) -> Option<Symbol> {
         let number = match target {
             ast::Target::Name(name) => {

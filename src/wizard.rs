@@ -64,6 +64,44 @@ pub struct Wizard {
     text: String,
 }
 
+impl Wizard {
+    /// Its signature and one-line summary (`ger wizards`).
+    pub fn described(&self) -> (String, String) {
+        match &self.declaration {
+            Ok(d) => (d.signature(&self.name), d.summary().to_string()),
+            Err(e) => (
+                self.name.clone(),
+                format!("(bad declaration, line {}: {})", e.line, e.message),
+            ),
+        }
+    }
+
+    /// Its signature, where it comes from, its doc and each parameter:
+    /// what `ger wizards NAME` prints and the editor's hover shows.
+    pub fn manual(&self) -> String {
+        let (signature, _) = self.described();
+        let mut out = format!("{signature}    [{}]\n\n", self.origin);
+        let Ok(d) = &self.declaration else {
+            return out;
+        };
+        for line in &d.doc {
+            out.push_str(line);
+            out.push('\n');
+        }
+        if !d.params.is_empty() {
+            out.push('\n');
+        }
+        for p in &d.params {
+            let default = p
+                .default
+                .as_ref()
+                .map_or(String::new(), |d| format!(" (default {d})"));
+            out.push_str(&format!("  {:<12} {}{default}\n", p.name, p.doc));
+        }
+        out
+    }
+}
+
 /// Every wizard found, by lower-case name; earlier sources win.
 #[derive(Default)]
 pub struct Library {
