@@ -66,35 +66,7 @@ pub(super) fn encode(
         let main = m.span.file_id();
         let line = m.span.line;
         let output = outputs.find(line);
-        let mut head = match m.kind {
-            MoveKind::Rapid => KIND_RAPID,
-            MoveKind::Feed => KIND_FEED,
-            MoveKind::Arc(_) => KIND_ARC,
-        };
-        let mut tail = Vec::with_capacity(16);
-        if index == 0 || tool != state.tool {
-            head |= TOOL_CHANGE;
-            varint(&mut tail, tool as u64);
-        }
-        if main != state.file {
-            head |= LINE_FILE;
-            varint(&mut tail, main as u64);
-            varint(&mut tail, u64::from(line));
-        } else if line == state.line.wrapping_add(1) {
-            head |= LINE_NEXT;
-        } else if line != state.line {
-            head |= LINE_DELTA;
-            zigzag(&mut tail, i64::from(line) - i64::from(state.line));
-        }
-        match output {
-            0 => {}
-            o if o == state.output => head |= OUT_SAME,
-            o if o == state.output + 1 => head |= OUT_NEXT,
-            o => {
-                head |= OUT_DELTA;
-                zigzag(&mut tail, o as i64 - state.output as i64);
-            }
-        }
+        let (mut head, mut tail) = labels(m, index == 0, tool, output, &state);
         let from = q(m.start);
         if from != at {
             head |= START_JUMP;
@@ -148,6 +120,48 @@ pub(super) fn encode(
         "length": binary.len() - offset,
         "tool_numbers": tools,
     })
+}
+
+/// A record's head byte and its words before the positions: its kind,
+/// and its tool, source line and output line where they change.
+fn labels(
+    m: &crate::toolpath::Move,
+    first: bool,
+    tool: usize,
+    output: usize,
+    state: &Previous,
+) -> (u8, Vec<u8>) {
+    let (main, line) = (m.span.file_id(), m.span.line);
+    let mut head = match m.kind {
+        MoveKind::Rapid => KIND_RAPID,
+        MoveKind::Feed => KIND_FEED,
+        MoveKind::Arc(_) => KIND_ARC,
+    };
+    let mut tail = Vec::with_capacity(16);
+    if first || tool != state.tool {
+        head |= TOOL_CHANGE;
+        varint(&mut tail, tool as u64);
+    }
+    if main != state.file {
+        head |= LINE_FILE;
+        varint(&mut tail, main as u64);
+        varint(&mut tail, u64::from(line));
+    } else if line == state.line.wrapping_add(1) {
+        head |= LINE_NEXT;
+    } else if line != state.line {
+        head |= LINE_DELTA;
+        zigzag(&mut tail, i64::from(line) - i64::from(state.line));
+    }
+    match output {
+        0 => {}
+        o if o == state.output => head |= OUT_SAME,
+        o if o == state.output + 1 => head |= OUT_NEXT,
+        o => {
+            head |= OUT_DELTA;
+            zigzag(&mut tail, o as i64 - state.output as i64);
+        }
+    }
+    (head, tail)
 }
 
 /// The record before, that the next one is written against.

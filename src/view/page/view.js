@@ -508,9 +508,10 @@ function drawOverlays(mvp) {
   const points = [];
   const shapes = [];
   const at = moveAt(view.time);
-  if (m.n > 0 && at.index < m.n) {
-    const p = positionAt(at.index, at.fraction);
-    const cutter = view.header.tools[m.tool[at.index]];
+  if (m.n > 0) {
+    const k = Math.min(at.index, m.n - 1);
+    const p = positionAt(k, at.index < m.n ? at.fraction : 1);
+    const cutter = view.header.tools[m.tool[k]];
     const r = cutter ? cutter.radius : 1;
     const circle = [];
     for (let a = 0; a <= 32; a++) circle.push(p[0] + r * Math.cos(a / 16 * Math.PI), p[1] + r * Math.sin(a / 16 * Math.PI), p[2]);
@@ -935,6 +936,7 @@ async function fetchPayload() {
 // last good picture.
 async function load(payload, version) {
   const { header, binary } = unpack(await inflate(payload));
+  view.last = { payload, version };
   sourcePane.set(header.source.text);
   $("source-title").textContent = header.source.name;
   const failed = header.moves === undefined;
@@ -956,7 +958,8 @@ async function load(payload, version) {
   const stock = header.stock ? decodeStock(header.stock, binary) : null;
   const keepCamera = view.camera !== null;
   view.header = header; view.moves = moves; view.stock = stock;
-  view.total = header.time_s || (moves.n ? moves.tEnd[moves.n - 1] : 0);
+  // The clock's sum of rounded steps may pass the run time by a hair.
+  view.total = Math.max(header.time_s || 0, moves.n ? moves.tEnd[moves.n - 1] : 0);
   uploadPath(moves);
   if (stock) uploadStockMesh(stock);
   if (!keepCamera) preset("iso");
@@ -966,6 +969,8 @@ async function load(payload, version) {
   applyHash(keepCamera);
   body.dataset.gerVersion = String(version);
   draw();
+  // The time from navigation to the first picture (benches/view.rs).
+  if (window.gerReadyMs === undefined) window.gerReadyMs = performance.now();
   body.dataset.gerState = "ready";
 }
 
@@ -1039,6 +1044,16 @@ async function main() {
     body.dataset.gerState = "error";
     return;
   }
+  // A context the browser takes away (a busy or reset GPU) is asked back
+  // and the scene uploaded again.
+  $("gl").addEventListener("webglcontextlost", (e) => {
+    e.preventDefault();
+    body.dataset.gerState = "loading";
+  });
+  $("gl").addEventListener("webglcontextrestored", () => {
+    glState = setupGl();
+    if (view.last) load(view.last.payload, view.last.version);
+  });
   glState = setupGl();
   wireCamera();
   wireControls();
