@@ -8,6 +8,7 @@
 mod args;
 mod picture;
 mod stats;
+mod view;
 
 use args::{Command, MachineCommand, Options};
 use ger::diagnostic::render;
@@ -78,6 +79,14 @@ fn real_main() -> ExitCode {
             options,
             json,
         } => stats::print_stats(&input, &options, json),
+        Command::View {
+            input,
+            output,
+            port,
+            no_open,
+            options,
+            stock,
+        } => view::view(&input, output.as_deref(), port, no_open, &options, &stock),
         Command::Machine {
             action: MachineCommand::Import { file },
         } => import_machine(&file),
