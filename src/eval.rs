@@ -268,13 +268,13 @@ impl<'a> Evaluator<'a> {
                 self.modal.comp_off = Some(self.modal.plane);
             }
             ir::Op::End => self.modal.comp = None,
-            ir::Op::Feed(_) => {
-                self.modal.feed_set = true;
+            ir::Op::Feed(f) => {
+                self.modal.feed = Some(*f);
                 self.modal.inverse_time_ended = false;
                 self.output.feed_before_units |= self.output.first_units.is_none();
                 self.this_line.inverse_feed = self.modal.inverse_time;
             }
-            ir::Op::Move(m) if m.motion != ir::Motion::Rapid && !self.modal.feed_set => {
+            ir::Op::Move(m) if m.motion != ir::Motion::Rapid && self.modal.feed.is_none() => {
                 let kind = if self.modal.inverse_time_ended {
                     EvalErrorKind::FeedAfterInverseTime
                 } else {
@@ -294,7 +294,7 @@ impl<'a> Evaluator<'a> {
             }
             // G94 after G93: rs274 sets the feed to 0.
             ir::Op::InverseTime(false) => {
-                self.modal.feed_set = false;
+                self.modal.feed = None;
                 self.modal.inverse_time_ended = true;
             }
             ir::Op::Units(u) if self.cycles.run_open && self.modal.units != Some(*u) => {
@@ -1165,6 +1165,9 @@ impl WizardContext for Context<'_, '_> {
             units: self.ev.modal.units,
             tool,
             tool_diameter: self.ev.setup.tool_diameter(tool, self.ev.modal.units),
+            tool_angle: self.ev.setup.tool_angle(tool),
+            // under G93 an F is a time, not a feed per minute
+            feed: self.ev.modal.feed.filter(|_| !self.ev.modal.inverse_time),
         }
     }
 }

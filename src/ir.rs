@@ -739,13 +739,19 @@ pub enum ToolShape {
 }
 
 impl ToolShape {
+    /// `flat`, `ball`, `drill`, `vee` (90°) or `vee60` (a vee of that
+    /// included angle, more than 0 and less than 180 degrees).
     pub fn from_name(name: &str) -> Option<ToolShape> {
-        match name.to_ascii_lowercase().as_str() {
+        let name = name.to_ascii_lowercase();
+        match name.as_str() {
             "flat" => Some(ToolShape::Flat),
             "ball" => Some(ToolShape::Ball),
             "drill" => Some(ToolShape::Drill),
             "vee" | "v" => Some(ToolShape::Vee(90.0)),
-            _ => None,
+            _ => {
+                let angle: f64 = name.strip_prefix("vee")?.parse().ok()?;
+                (angle > 0.0 && angle < 180.0).then_some(ToolShape::Vee(angle))
+            }
         }
     }
 }

@@ -170,6 +170,9 @@ struct Session {
     units: Option<ir::Units>,
     tool: u32,
     tool_diameter: f64,
+    tool_angle: Option<f64>,
+    /// The feed per minute in effect, as `feed()` changes it.
+    feed: Option<f64>,
     /// Wizards running, innermost last.
     stack: Vec<String>,
 }
@@ -347,6 +350,7 @@ fn register_moves(engine: &mut Engine, session: &Rc<RefCell<Session>>) {
         ));
     }
     api!("feed", |s, f| if f > 0.0 {
+        s.feed = Some(f);
         s.push(Action::Op(Op::Feed(f)))
     } else {
         fail("the feed must be positive")
@@ -442,6 +446,20 @@ fn register_state(engine: &mut Engine, session: &Rc<RefCell<Session>>) {
     let shared = Rc::clone(session);
     engine.register_fn("tool_diameter", move || -> rhai::FLOAT {
         shared.borrow().tool_diameter
+    });
+    let shared = Rc::clone(session);
+    engine.register_fn("tool_angle", move || -> Dynamic {
+        shared
+            .borrow()
+            .tool_angle
+            .map_or(Dynamic::UNIT, Dynamic::from_float)
+    });
+    let shared = Rc::clone(session);
+    engine.register_fn("feed_rate", move || -> Dynamic {
+        shared
+            .borrow()
+            .feed
+            .map_or(Dynamic::UNIT, Dynamic::from_float)
     });
 }
 
@@ -672,6 +690,8 @@ impl WizardEngine {
                 units: state.units,
                 tool: state.tool,
                 tool_diameter: state.tool_diameter,
+                tool_angle: state.tool_angle,
+                feed: state.feed,
                 stack: vec![wizard.name.clone()],
                 actions: Vec::new(),
             };

@@ -2,7 +2,7 @@
 //! time, and the spelling of every statement as written. It decides
 //! nothing about what to print; the stage and program printers do.
 
-use super::number::{push_fixed_bytes, push_int, push_line_word, push_scaled, round_to_int};
+use super::number::{push_fixed_bytes, push_int, push_line_word, push_scaled, to_grid};
 use super::{Numbering, Target};
 use crate::ir::{self, ArcGeometry, CompRadius, Motion, Op, Passthrough, Units};
 use crate::source::Span;
@@ -157,7 +157,7 @@ impl Printer {
     /// absolute pass); the clamp only makes sure that no input can make a
     /// difference of two overflow.
     pub fn scaled(&self, v: f64) -> i64 {
-        round_to_int(v * self.scale).clamp(-(1 << 61), 1 << 61)
+        to_grid(v, self.scale).clamp(-(1 << 61), 1 << 61)
     }
 
     pub fn unscaled(&self, n: i64) -> f64 {

@@ -459,7 +459,7 @@ impl ProgramPrinter {
         let most = self.p.decimals.max(6);
         (self.p.decimals..=most).find_map(|decimals| {
             let scale = 10f64.powi(decimals as i32);
-            let printed = crate::emit::number::round_to_int(r * scale) as f64 / scale;
+            let printed = crate::emit::number::to_grid(r, scale) as f64 / scale;
             let c = geometry::center_from_radius(s, e, printed, plane, clockwise).ok()?;
             let moved = (c[a] - center[a]).hypot(c[b] - center[b]);
             let turned =
