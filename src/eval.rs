@@ -61,6 +61,8 @@ pub struct Chunked {
     /// `M98` line, which the parts' check cannot see): the program must be
     /// read whole, and nothing of this run kept.
     pub needs_whole: bool,
+    /// The program ran to its end (M2/M30), not out of parts.
+    pub ended: bool,
 }
 
 /// Stage 0 for a program read a part at a time
@@ -91,6 +93,7 @@ pub fn eval_chunks(
     // The statements of the part that ran last, handed back with the call
     // for the next (their vectors can be used again).
     let mut ran = Vec::new();
+    let mut ended = false;
     loop {
         // No statement of an earlier part is run again: its notes can go.
         let names = Rc::make_mut(&mut ev.names);
@@ -109,7 +112,9 @@ pub fn eval_chunks(
         }
         let flow = ev.exec_block(&stmts);
         ran = stmts;
-        if ev.no_label(flow) != Flow::Next {
+        let flow = ev.no_label(flow);
+        if flow != Flow::Next {
+            ended = flow == Flow::End;
             break;
         }
     }
@@ -118,6 +123,7 @@ pub fn eval_chunks(
         diagnostics: ev.reports.diagnostics,
         names: Rc::try_unwrap(ev.names).unwrap_or_else(|shared| (*shared).clone()),
         needs_whole: ev.macros.needs_whole,
+        ended,
     }
 }
 
