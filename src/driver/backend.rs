@@ -211,6 +211,7 @@ impl<'s> Backend<'s> {
             }
         }
         if let Printer::Program(p) = &printer {
+            diagnostics.extend(p.refused());
             diagnostics.extend(p.arcs_not_r());
             diagnostics.extend(p.arcs_fitted());
         }
