@@ -234,7 +234,7 @@ struct Input<'a> {
     file: FileId,
     locator: Locator,
     language: Language,
-    from: eval::Flavour,
+    from: (eval::Flavour, eval::Chosen),
 }
 
 impl<'a> Input<'a> {
@@ -251,7 +251,7 @@ impl<'a> Input<'a> {
             file,
             locator: sources.locator(file),
             language: options.language(name),
-            from: options.flavour(name),
+            from: options.flavour(name, super::scan::clue(sources.text(file))),
         }
     }
 }
@@ -289,7 +289,7 @@ fn run<'a>(
         from,
     } = input;
     let eval_options = options.eval_options(from, language);
-    let fanuc_functions = from == eval::Flavour::Fanuc && language == Language::Gcode;
+    let fanuc_functions = from.0 == eval::Flavour::Fanuc && language == Language::Gcode;
     // A program is read in parts, unless it needs to be read whole.
     let at = &locator;
     let source =
@@ -408,7 +408,7 @@ pub fn compile_file(
 ) -> std::io::Result<Streamed> {
     let mut diagnostics = Vec::new();
     let mut clock = Clock::new();
-    let (from, language) = (options.flavour(name), options.language(name));
+    let (from, language) = (options.flavour(name, scan.clue), options.language(name));
     let eval_options = options.eval_options(from, language);
     let backend = Backend::new(SourceFacts::Known(scan), file, options, Output::Text(out));
     let lines = LineReader::new(reader, file, scan);
@@ -420,7 +420,7 @@ pub fn compile_file(
     let written = run_by_parts(
         &mut parts,
         language,
-        from == eval::Flavour::Fanuc && language == Language::Gcode,
+        from.0 == eval::Flavour::Fanuc && language == Language::Gcode,
         &eval_options,
         wizards,
         backend,
