@@ -43,7 +43,7 @@ pub mod travel;
 pub use compile::{
     check, compile, compile_file, compile_to, compile_to_vec, tool_path, Compiled, Report, Streamed,
 };
-pub use options::{CompileOptions, OptionError, Stage};
+pub use options::{Clue, CompileOptions, OptionError, Stage};
 pub use scan::{
     each_line, first_look, first_look_within, lines_shown, scan_file, scan_path, FileScan,
 };

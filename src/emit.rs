@@ -17,7 +17,7 @@ mod target;
 
 pub use program::ProgramPrinter;
 pub use stage::StagePrinter;
-pub use target::Target;
+pub use target::{Target, Unrunnable, Why};
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
 pub enum Numbering {

@@ -22,7 +22,7 @@ mod words;
 
 pub use cycle::{count_pecks, MAX_PECKS};
 pub(crate) use options::LAST_USER_PARAMETER;
-pub use options::{EvalOptions, Flavour};
+pub use options::{Chosen, EvalOptions, Flavour};
 pub use watch::{Seen, Watched};
 pub use wizard_api::{MachineState, WizardCall, WizardContext, WizardHost};
 

@@ -37,16 +37,10 @@ const REFUSED: &[(&str, &str)] = &[
 const TOOL_TABLES: &[(&str, &str)] = &[("020_", "T34 P34 D3 Z0 ;3MM CRB 2FL\n")];
 
 /// Programs whose path differs for a reason that is not ger's to fix.
-const KNOWN: &[(&str, &str)] = &[
-    (
-        "029_",
-        "`G4 P4000` in a .nc file: ger reads a P without a decimal point as milliseconds (Fanuc) and warns; rs274 dwells 4000 s (`--from linuxcnc` gives its reading)",
-    ),
-    (
-        "040_",
-        "the output passes grbl's `$H` through, which rs274 cannot read",
-    ),
-];
+const KNOWN: &[(&str, &str)] = &[(
+    "040_",
+    "the output passes grbl's `$H` through, which rs274 cannot read",
+)];
 
 fn clean_for_rs274(bytes: &[u8]) -> String {
     let text = String::from_utf8_lossy(bytes)

@@ -224,6 +224,7 @@ impl<'s> Backend<'s> {
         }
         diagnostics.extend(travel.iter().flat_map(TravelCheck::finish));
         if let Printer::Program(p) = &printer {
+            diagnostics.extend(p.refused());
             diagnostics.extend(p.arcs_not_r());
             diagnostics.extend(p.path_control_lost());
             diagnostics.extend(p.arcs_fitted());

@@ -244,7 +244,7 @@ pub fn watch(
     if parsed.iter().any(is_error) {
         return eval::Watched::default();
     }
-    if input.from == eval::Flavour::Fanuc && input.language == Language::Gcode {
+    if input.from.0 == eval::Flavour::Fanuc && input.language == Language::Gcode {
         map_fanuc_functions(&mut program.main);
         for sub in &mut program.subprograms {
             map_fanuc_functions(&mut sub.body);
@@ -262,7 +262,7 @@ struct Input<'a> {
     file: FileId,
     locator: Locator,
     language: Language,
-    from: eval::Flavour,
+    from: (eval::Flavour, eval::Chosen),
 }
 
 impl<'a> Input<'a> {
@@ -279,7 +279,7 @@ impl<'a> Input<'a> {
             file,
             locator: sources.locator(file),
             language: options.language(name),
-            from: options.flavour(name),
+            from: options.flavour(name, super::scan::clue(sources.text(file))),
         }
     }
 }
@@ -317,7 +317,7 @@ fn run<'a>(
         from,
     } = input;
     let eval_options = options.eval_options(from, language);
-    let fanuc_functions = from == eval::Flavour::Fanuc && language == Language::Gcode;
+    let fanuc_functions = from.0 == eval::Flavour::Fanuc && language == Language::Gcode;
     // A program is read in parts, unless it needs to be read whole.
     let at = &locator;
     let source =
@@ -436,7 +436,7 @@ pub fn compile_file(
 ) -> std::io::Result<Streamed> {
     let mut diagnostics = Vec::new();
     let mut clock = Clock::new();
-    let (from, language) = (options.flavour(name), options.language(name));
+    let (from, language) = (options.flavour(name, scan.clue), options.language(name));
     let eval_options = options.eval_options(from, language);
     let backend = Backend::new(SourceFacts::Known(scan), file, options, Output::Text(out));
     let lines = LineReader::new(reader, file, scan);
@@ -448,7 +448,7 @@ pub fn compile_file(
     let written = run_by_parts(
         &mut parts,
         language,
-        from == eval::Flavour::Fanuc && language == Language::Gcode,
+        from.0 == eval::Flavour::Fanuc && language == Language::Gcode,
         &eval_options,
         wizards,
         backend,

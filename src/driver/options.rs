@@ -4,7 +4,7 @@
 //! command line would refuse. Knows nothing of files or of the stages' code.
 
 use crate::emit::{EmitOptions, Target};
-use crate::eval::{self, EvalOptions};
+use crate::eval::{self, Chosen, EvalOptions};
 use crate::lower;
 use crate::source::FileId;
 use crate::syntax::Language;
@@ -61,19 +61,55 @@ impl CompileOptions {
         self.input.unwrap_or_else(|| Language::of_file(name))
     }
 
-    /// Whose meaning holds for the file `name`: `--from`, else its name's.
-    pub(super) fn flavour(&self, name: &str) -> eval::Flavour {
-        self.from.unwrap_or_else(|| eval::Flavour::of_file(name))
+    /// Whose meaning holds for the file `name` whose first lines say
+    /// `clue`, and why (SPEC §1): `--from`, else a `.ngc` file is
+    /// LinuxCNC's, else the `--target`'s controller, else the clue, else
+    /// generic. A `.egc` program is generic.
+    pub(super) fn flavour(&self, name: &str, clue: Option<Clue>) -> (eval::Flavour, Chosen) {
+        use eval::Flavour as F;
+        if let Some(from) = self.from {
+            return (from, Chosen::Flag);
+        }
+        // ger's own language means the same whatever the target.
+        if self.language(name) != Language::Gcode {
+            return (F::Generic, Chosen::Nothing);
+        }
+        if F::of_file(name) == F::LinuxCnc {
+            return (F::LinuxCnc, Chosen::FileName);
+        }
+        match (self.emit.target, clue) {
+            (Target::Grbl, _) => (F::Grbl, Chosen::Target),
+            (Target::LinuxCnc, _) => (F::LinuxCnc, Chosen::Target),
+            (Target::Fanuc, _) => (F::Fanuc, Chosen::Target),
+            (Target::Generic, Some(Clue::GrblCommand)) => (F::Grbl, Chosen::GrblCommand),
+            (Target::Generic, Some(Clue::FanucTape)) => (F::Fanuc, Chosen::FanucTape),
+            (Target::Generic, None) => (F::Generic, Chosen::Nothing),
+        }
     }
 
     /// The evaluator's options for a file in `language` read as `from`.
-    pub(super) fn eval_options(&self, from: eval::Flavour, language: Language) -> EvalOptions {
+    pub(super) fn eval_options(
+        &self,
+        (from, chosen): (eval::Flavour, Chosen),
+        language: Language,
+    ) -> EvalOptions {
         EvalOptions {
             from,
+            chosen,
             plain: language == Language::Gcode,
             ..self.eval.clone()
         }
     }
+}
+
+/// A sign in a file's first lines that only one controller's programs
+/// carry.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Clue {
+    /// A line starting `$H` or `$J=`: grbl's homing or jog command.
+    GrblCommand,
+    /// A `%` line first and a line `O1234` (or `:1234`): a Fanuc tape.
+    FanucTape,
 }
 
 /// Options no compile can run with: the command line's usage errors,
@@ -105,5 +141,86 @@ impl CompileOptions {
             return Err(OptionError::CompKeptWithout);
         }
         Ok(())
+    }
+}
+
+#[cfg(test)]
+mod flavour_tests {
+    use super::{Clue, CompileOptions};
+    use crate::emit::Target;
+    use crate::eval::{Chosen, Flavour};
+
+    /// SPEC §1's order: `--from`, a `.ngc` name, the target, a clue,
+    /// nothing; a `.egc` program is generic whatever the target.
+    #[test]
+    fn whose_meaning_without_from() {
+        let with = |from: Option<Flavour>, target| {
+            let mut options = CompileOptions {
+                from,
+                ..CompileOptions::default()
+            };
+            options.emit.target = target;
+            options
+        };
+        let grbl_tape = Some(Clue::GrblCommand);
+        let cases = [
+            (
+                with(Some(Flavour::Fanuc), Target::Grbl),
+                "a.ngc",
+                grbl_tape,
+                (Flavour::Fanuc, Chosen::Flag),
+            ),
+            (
+                with(None, Target::Grbl),
+                "a.ngc",
+                None,
+                (Flavour::LinuxCnc, Chosen::FileName),
+            ),
+            (
+                with(None, Target::Grbl),
+                "a.nc",
+                Some(Clue::FanucTape),
+                (Flavour::Grbl, Chosen::Target),
+            ),
+            (
+                with(None, Target::Fanuc),
+                "a.nc",
+                grbl_tape,
+                (Flavour::Fanuc, Chosen::Target),
+            ),
+            (
+                with(None, Target::LinuxCnc),
+                "a.tap",
+                None,
+                (Flavour::LinuxCnc, Chosen::Target),
+            ),
+            (
+                with(None, Target::Generic),
+                "a.gcode",
+                grbl_tape,
+                (Flavour::Grbl, Chosen::GrblCommand),
+            ),
+            (
+                with(None, Target::Generic),
+                "a.nc",
+                Some(Clue::FanucTape),
+                (Flavour::Fanuc, Chosen::FanucTape),
+            ),
+            (
+                with(None, Target::Generic),
+                "a.nc",
+                None,
+                (Flavour::Generic, Chosen::Nothing),
+            ),
+            (
+                with(None, Target::Fanuc),
+                "a.egc",
+                None,
+                (Flavour::Generic, Chosen::Nothing),
+            ),
+        ];
+        for (options, name, clue, expected) in cases {
+            assert_eq!(options.flavour(name, clue), expected, "{name} {clue:?}");
+        }
     }
 }

@@ -4,6 +4,7 @@
 //! diagnostics. Reads only from the readers it is handed.
 
 use super::fs::FileSystem;
+use super::options::Clue;
 use crate::diagnostic::Diagnostic;
 use crate::ir;
 use crate::source::{self, FileId, BLOCK};
@@ -92,6 +93,40 @@ pub struct FileScan {
     /// is read, and one the scan of the whole file would have answered
     /// otherwise stops the compile ([`Streamed::Rescan`]).
     pub partial: bool,
+    /// What the file's first lines say of its controller ([`clue`]).
+    pub clue: Option<Clue>,
+}
+
+/// The bytes at the start of a file [`clue`] looks at (with the rest of
+/// the line they end in): less than a part, so that a file read in parts
+/// and one read whole say the same.
+const CLUE_BYTES: usize = 4096;
+
+/// What the lines holding a file's first [`CLUE_BYTES`] say of its
+/// controller.
+pub fn clue(text: &str) -> Option<Clue> {
+    let cut = text
+        .as_bytes()
+        .get(CLUE_BYTES..)
+        .map_or(text.len(), |rest| {
+            rest.iter()
+                .position(|&b| b == b'\n')
+                .map_or(text.len(), |at| CLUE_BYTES + at)
+        });
+    let head = text.get(..cut).unwrap_or(text);
+    let lines = head.lines().map(str::trim).filter(|l| !l.is_empty());
+    let tape = lines.clone().next().is_some_and(|l| l.starts_with('%'));
+    let mut program_number = false;
+    for line in lines {
+        let bytes = line.as_bytes();
+        if let [b'$', b'H' | b'h', ..] | [b'$', b'J' | b'j', b'=', ..] = bytes {
+            return Some(Clue::GrblCommand);
+        }
+        if let [b'O' | b'o' | b':', d, ..] = bytes {
+            program_number |= d.is_ascii_digit();
+        }
+    }
+    (tape && program_number).then_some(Clue::FanucTape)
 }
 
 impl FileScan {
@@ -286,6 +321,7 @@ pub fn scan_path(fs: &dyn FileSystem, path: &Path) -> std::io::Result<Option<Fil
             len: a.len + b.len,
             decimals: a.decimals.max(b.decimals),
             partial: false,
+            clue: a.clue,
         }),
         _ => None,
     })
@@ -318,6 +354,8 @@ pub(super) fn streamable_block(bytes: &[u8]) -> bool {
 /// (the block that passes it included).
 fn scan_blocks(mut blocks: RawBlocks<'_>, most: usize) -> std::io::Result<Option<FileScan>> {
     let (mut len, mut decimals) = (0, 0);
+    let mut head = None;
+    let starts = blocks.first;
     while let Some(bytes) = blocks.next()? {
         if !streamable_block(bytes) {
             return Ok(None);
@@ -332,6 +370,9 @@ fn scan_blocks(mut blocks: RawBlocks<'_>, most: usize) -> std::io::Result<Option
             }
         };
         decimals = decimals.max(input_decimals(text));
+        if starts && head.is_none() {
+            head = Some(clue(text));
+        }
         len += text.len();
         if len >= most {
             break;
@@ -341,6 +382,7 @@ fn scan_blocks(mut blocks: RawBlocks<'_>, most: usize) -> std::io::Result<Option
         len,
         decimals,
         partial: false,
+        clue: head.flatten(),
     }))
 }
 
@@ -533,5 +575,37 @@ mod tests {
             assert_eq!(input_decimals(text), most, "{text:?}");
             assert_eq!(decimals_read_forward(text), most, "{text:?}");
         }
+    }
+}
+
+#[cfg(test)]
+mod clue_tests {
+    use super::{clue, Clue, CLUE_BYTES};
+
+    #[test]
+    fn only_one_controllers_signs_are_clues() {
+        let cases = [
+            ("$H\nG21\nG0 X1\n", Some(Clue::GrblCommand)),
+            ("G21\n  $J=G91 X1 F100\n", Some(Clue::GrblCommand)),
+            ("%\nO1234 (PART)\nG21\n%\n", Some(Clue::FanucTape)),
+            ("\n%\n:0097\nG21\n", Some(Clue::FanucTape)),
+            // A `%` alone, an O word without the tape, a `$` setting.
+            ("%\nG21 G0 X1\n%\n", None),
+            ("O1000\nG21\nM30\n", None),
+            ("$32=1\nG21\n", None),
+            ("G21 (O100)\n", None),
+        ];
+        for (text, expected) in cases {
+            assert_eq!(clue(text), expected, "{text:?}");
+        }
+    }
+
+    /// A clue past the first lines is not looked at, as in a file read a
+    /// part at a time.
+    #[test]
+    fn clues_are_in_the_first_lines_only() {
+        let filler = "G1 X1 Y1\n".repeat(CLUE_BYTES / 9 + 2);
+        assert_eq!(clue(&format!("{filler}$H\n")), None);
+        assert_eq!(clue(&format!("$H\n{filler}")), Some(Clue::GrblCommand));
     }
 }

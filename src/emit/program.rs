@@ -3,8 +3,8 @@
 //! start point as printed, and the target's prologue and epilogue.
 
 use super::printer::{motion_code, Printer};
-use super::{ArcFormat, EmitOptions, Target};
-use crate::diagnostic::{warning, Diagnostic, DiagnosticExt};
+use super::{ArcFormat, EmitOptions, Target, Unrunnable, Why};
+use crate::diagnostic::{warning, Diagnostic, DiagnosticExt, Located};
 use crate::geometry::{self, Point};
 use crate::ir::{self, ArcGeometry, Axis, Motion, Op, Units};
 use crate::source::Span;
@@ -40,7 +40,13 @@ pub struct ProgramPrinter {
     printed_feed: Option<i64>,
     /// `--arcs fit`: the run of lines held back.
     fitting: Option<Box<fitting::Fitting>>,
+    /// What the target cannot run, each code once (at most
+    /// [`MOST_REFUSED`]).
+    refused: Vec<Located<Unrunnable>>,
 }
+
+/// Distinct codes a target refuses that are reported.
+const MOST_REFUSED: usize = 50;
 
 impl ProgramPrinter {
     /// `units`: the output units, if known (a program that never states
@@ -83,6 +89,7 @@ impl ProgramPrinter {
             printed_feed: None,
             fitting: (options.arcs == ArcFormat::Fit)
                 .then(|| fitting::Fitting::new(options.tolerance, units)),
+            refused: Vec::new(),
         }
     }
 
@@ -90,6 +97,9 @@ impl ProgramPrinter {
     /// yet taken (the caller may take it).
     pub fn print(&mut self, stmts: &[ir::Stmt]) -> &mut Vec<u8> {
         for stmt in stmts {
+            if self.refuses(stmt) {
+                continue;
+            }
             if self.held(stmt) {
                 continue;
             }
@@ -171,7 +181,27 @@ impl ProgramPrinter {
         &mut self.p.out
     }
 
-    /// The rest of the text.
+    /// Whether the target cannot run `stmt`: then it is reported (each
+    /// code once) and not written. Arcs written as lines have no turns.
+    fn refuses(&mut self, stmt: &ir::Stmt) -> bool {
+        let Some(refusal) = self.p.target.cannot_run(&stmt.op) else {
+            return false;
+        };
+        if refusal.why == Why::Turns && self.arcs == ArcFormat::Lines {
+            return false;
+        }
+        let known = self.refused.iter().any(|r| r.kind.code == refusal.code);
+        if !known && self.refused.len() < MOST_REFUSED {
+            self.refused.push(Located::new(refusal, stmt.span));
+        }
+        true
+    }
+
+    /// The codes the target cannot run, as errors at their first lines.
+    pub fn refused(&self) -> impl Iterator<Item = Diagnostic> + '_ {
+        self.refused.iter().map(Located::to_diagnostic)
+    }
+
     /// `--arcs r`: a warning that some arcs are written with I/J.
     pub fn arcs_not_r(&self) -> Option<Diagnostic> {
         let (first, n) = self.not_r?;

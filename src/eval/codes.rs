@@ -4,7 +4,7 @@
 //! (`M98`/`M99`) are run here too.
 
 use super::evaluator::{Evaluator, Flow};
-use super::options::Flavour;
+use super::options::{Chosen, Flavour};
 use super::value::Slot;
 use super::words::WordValues;
 use crate::ast::{self, LineStmt, OName, WordValue};
@@ -777,7 +777,7 @@ impl Evaluator<'_> {
 
     fn dwell(&mut self, w: &mut WordValues, at: Span) -> Result<Op, Diagnostic> {
         let seconds = match (w.take_number(b'P'), w.take(b'X')) {
-            (Some((p, pspan, n)), None) => self.seconds(p, pspan, n)?,
+            (Some((p, pspan, _)), None) => self.seconds(p, pspan)?,
             (None, Some((x, _))) => x,
             (Some(_), Some((_, xspan))) => return Err(CodeError::new(K::DwellTwice, xspan).into()),
             (None, None) => return Err(CodeError::new(K::DwellWithoutTime, at).into()),
@@ -788,28 +788,21 @@ impl Evaluator<'_> {
         Ok(Op::Dwell(seconds))
     }
 
-    /// A dwell's P in seconds: seconds on LinuxCNC, grbl and Mach3,
-    /// milliseconds on Fanuc; from an unknown controller, milliseconds
-    /// unless written with a decimal point (with a warning).
-    pub(super) fn seconds(
-        &mut self,
-        p: f64,
-        pspan: Span,
-        n: ast::Number,
-    ) -> Result<f64, Diagnostic> {
-        let seconds = match self.options.from {
-            Flavour::LinuxCnc | Flavour::Grbl | Flavour::Mach3 => p,
+    /// A dwell's P in seconds: milliseconds on Fanuc, seconds on the
+    /// others. The first P of a plain program whose controller no flag
+    /// named gets a note saying whose meaning was taken, and why.
+    pub(super) fn seconds(&mut self, p: f64, pspan: Span) -> Result<f64, Diagnostic> {
+        let from = self.options.from;
+        let seconds = match from {
+            Flavour::Generic | Flavour::LinuxCnc | Flavour::Grbl | Flavour::Mach3 => p,
             Flavour::Fanuc => p / 1000.0,
-            Flavour::Generic if n.has_point => p,
-            Flavour::Generic => {
-                if self.options.plain && p > 0.0 {
-                    self.warn_once((b'G', 40), || {
-                        CodeError::new(K::DwellInMilliseconds(p), pspan)
-                    });
-                }
-                p / 1000.0
-            }
         };
+        let chosen = self.options.chosen;
+        if self.options.plain && chosen != Chosen::Flag {
+            self.warn_once((b'G', 40), || {
+                CodeError::new(K::DwellMeaning { p, from, chosen }, pspan)
+            });
+        }
         if seconds < 0.0 {
             return Err(CodeError::new(K::NegativeDwell, pspan).into());
         }

@@ -280,7 +280,7 @@ impl Evaluator<'_> {
             return Ok(None);
         }
         let p = match w.take_number(b'P') {
-            Some((p, pspan, written)) => Some(self.seconds(p, pspan, written)?),
+            Some((p, pspan, _)) => Some(self.seconds(p, pspan)?),
             None => (repeat || !needs_dwell(kind)).then_some(self.cycles.sticky.p),
         };
         let help = "P is the dwell at the bottom in seconds: `G82 X10 Z-3 R1 P0.5`";

@@ -27,6 +27,8 @@ pub struct EvalOptions {
     /// driver fills it from `CompileOptions::from` (or the file's name):
     /// set that one.
     pub from: Flavour,
+    /// Why `from` holds (a note says so where it matters).
+    pub chosen: Chosen,
     /// `--tool-table`: tools known before the program's `SetTool`s.
     pub tools: std::collections::BTreeMap<u32, ir::Tool>,
     /// `--comments keep` (the default): a plain program's comments go to
@@ -49,8 +51,8 @@ impl EvalOptions {
 /// it settles the codes controllers read differently.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
 pub enum Flavour {
-    /// `G4 P` without a decimal point in milliseconds, with one in seconds
-    /// (a warning says which was taken).
+    /// `G4 P` in seconds, as most programs people have mean it (grbl,
+    /// LinuxCNC, Mach3); cycles return to G98 at power-up.
     #[default]
     Generic,
     /// `G4 P` in seconds.
@@ -107,9 +109,43 @@ impl Default for EvalOptions {
             batch: 1024,
             units: None,
             from: Flavour::Generic,
+            chosen: Chosen::Flag,
             plain: false,
             keep_comments: true,
             tools: Default::default(),
+        }
+    }
+}
+
+/// Why a flavour holds when `--from` was not given (SPEC §1): the file's
+/// name, the `--target`'s controller, a clue only one controller writes,
+/// or nothing.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Chosen {
+    /// `--from` (or `from` in `ger.toml`).
+    Flag,
+    /// A `.ngc` file is LinuxCNC's.
+    FileName,
+    /// The `--target`'s controller.
+    Target,
+    /// A grbl command (`$H`, `$J=`) in the file's first lines.
+    GrblCommand,
+    /// A `%` tape with an `O` number.
+    FanucTape,
+    /// Nothing decided.
+    Nothing,
+}
+
+impl Chosen {
+    /// Why, for a note.
+    pub fn reason(self) -> &'static str {
+        match self {
+            Chosen::Flag => "as --from says",
+            Chosen::FileName => "a .ngc file is LinuxCNC's",
+            Chosen::Target => "the --target's controller",
+            Chosen::GrblCommand => "the file has grbl's `$` commands",
+            Chosen::FanucTape => "the file is a `%` tape with an O number, as Fanuc's are",
+            Chosen::Nothing => "nothing in the file or the options names a controller",
         }
     }
 }

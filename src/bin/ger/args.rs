@@ -122,7 +122,9 @@ pub struct Options {
     #[arg(long = "input", id = "language", value_name = "LANGUAGE", value_enum)]
     pub language: Option<InputArg>,
     /// Whose meaning holds where controllers disagree (G4 P in s or ms);
-    /// default: linuxcnc for .ngc files, else generic.
+    /// default: linuxcnc for .ngc files, else the --target's controller,
+    /// else grbl's `$H` or a Fanuc `%` tape with an O number in the first
+    /// lines, else generic (P in seconds).
     #[arg(long, value_enum)]
     pub from: Option<FromArg>,
     /// A LinuxCNC tool table (`T1 P1 D6.35 Z75`), in the output's units;

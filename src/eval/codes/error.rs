@@ -2,7 +2,8 @@
 //! about the codes it passes through or drops, as data with one wording
 //! function.
 
-use crate::diagnostic::{error, warning, Diagnostic, DiagnosticExt, Located, Wording};
+use crate::diagnostic::{error, note, warning, Diagnostic, DiagnosticExt, Located, Wording};
+use crate::eval::options::{Chosen, Flavour};
 use crate::source::Span;
 
 #[derive(Clone, Debug, PartialEq)]
@@ -42,8 +43,13 @@ pub enum CodeErrorKind {
     HomePassedThrough(String),
     /// A warning: an M code ger does not know is written as it is.
     MCodePassedThrough(u32),
-    /// A warning: a Fanuc-style P without a point, read in milliseconds.
-    DwellInMilliseconds(f64),
+    /// A note: the first dwell P, read as `from` reads it, which no flag
+    /// chose.
+    DwellMeaning {
+        p: f64,
+        from: Flavour,
+        chosen: Chosen,
+    },
     DwellTwice,
     DwellWithoutTime,
     NegativeDwell,
@@ -155,14 +161,26 @@ impl Wording for CodeErrorKind {
                 "ger does not know what this code does on your machine",
             )
             .with_note("it is written to the output as it is, in its place"),
-            K::DwellInMilliseconds(p) => warning(
-                format!("P{p} is read as {p} milliseconds"),
-                at,
-                "a P without a decimal point is in ms (Fanuc)",
-            )
-            .with_help(
-                "LinuxCNC, grbl and Mach3 read it in seconds: pass --from linuxcnc (or grbl, mach3), or write `P0.5`",
-            ),
+            K::DwellMeaning { p, from, chosen } => {
+                let seconds = "--from fanuc reads it in milliseconds";
+                let (unit, who, other) = match from {
+                    Flavour::Fanuc => (
+                        "ms",
+                        "Fanuc's",
+                        "--from linuxcnc (or grbl, mach3) reads it in seconds",
+                    ),
+                    Flavour::Generic => ("s", "most controllers'", seconds),
+                    Flavour::LinuxCnc => ("s", "LinuxCNC's", seconds),
+                    Flavour::Grbl => ("s", "grbl's", seconds),
+                    Flavour::Mach3 => ("s", "Mach3's", seconds),
+                };
+                note(
+                    format!("dwells are read as {who}: P{p} is {p} {unit}"),
+                    at,
+                    format!("{who} meaning, as no --from was given: {}", chosen.reason()),
+                )
+                .with_help(other)
+            }
             K::DwellTwice => error("G4 with both P and X", at, "give the dwell once"),
             K::DwellWithoutTime => error("G4 without a time", at, "no P or X here")
                 .with_help("`G4 P500` dwells 500 ms, `G4 P0.5` or `G4 X0.5` half a second"),
@@ -184,11 +202,7 @@ impl Wording for CodeErrorKind {
                 at,
                 "G10 R rotates the coordinate system",
             ),
-            K::G10Form => error(
-                "unsupported G10 form",
-                at,
-                "ger knows G10 L2 and G10 L20",
-            ),
+            K::G10Form => error("unsupported G10 form", at, "ger knows G10 L2 and G10 L20"),
             K::G10ToolTable => error(
                 "G10 L1, L10 and L11 are not supported",
                 at,
@@ -197,16 +211,8 @@ impl Wording for CodeErrorKind {
             .with_note("ger knows G10 L2 and G10 L20 (work offsets)")
             .with_help("give ger the tools with `SetTool` lines or `--tool-table`"),
             K::WithoutAxes(code) => error(format!("{code} without axes"), at, "give X, Y or Z"),
-            K::M98WithoutP => error(
-                "M98 without P",
-                at,
-                "P names the subprogram: `M98 P1000`",
-            ),
-            K::G65WithoutP => error(
-                "G65 without P",
-                at,
-                "P names the macro: `G65 P9010 A… B…`",
-            ),
+            K::M98WithoutP => error("M98 without P", at, "P names the subprogram: `M98 P1000`"),
+            K::G65WithoutP => error("G65 without P", at, "P names the macro: `G65 P9010 A… B…`"),
             K::M98CountTwice => error(
                 "M98 with both L and a repeat count in P",
                 at,
