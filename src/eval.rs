@@ -78,8 +78,6 @@ pub struct Chunked {
     /// `M98` line, which the parts' check cannot see): the program must be
     /// read whole, and nothing of this run kept.
     pub needs_whole: bool,
-    /// The program ran to its end (M2/M30), not out of parts.
-    pub ended: bool,
 }
 
 /// Stage 0 for a program read a part at a time
@@ -110,7 +108,6 @@ pub fn eval_chunks(
     // The statements of the part that ran last, handed back with the call
     // for the next (their vectors can be used again).
     let mut ran = Vec::new();
-    let mut ended = false;
     loop {
         // No statement of an earlier part is run again: its notes can go.
         let names = Rc::make_mut(&mut ev.names);
@@ -129,9 +126,7 @@ pub fn eval_chunks(
         }
         let flow = ev.exec_block(&stmts);
         ran = stmts;
-        let flow = ev.no_label(flow);
-        if flow != Flow::Next {
-            ended = flow == Flow::End;
+        if ev.no_label(flow) != Flow::Next {
             break;
         }
     }
@@ -140,7 +135,6 @@ pub fn eval_chunks(
         diagnostics: ev.reports.diagnostics,
         names: Rc::try_unwrap(ev.names).unwrap_or_else(|shared| (*shared).clone()),
         needs_whole: ev.macros.needs_whole,
-        ended,
     }
 }
 

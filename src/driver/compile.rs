@@ -501,14 +501,11 @@ fn run_by_parts(
         diagnostics: evaluated,
         mut names,
         needs_whole,
-        ended,
     } = chunked;
     parts.whole |= needs_whole;
     // The parts after the program's end, for their syntax errors (and
-    // their subprograms, numbered by the program's names); plain G-code
-    // is not read after its end (rs274's rule, `parser::unread_after_end`).
-    let unread = ended && language == Language::Gcode;
-    while !unread && parts.next(language, &mut names).is_some() {
+    // their subprograms, numbered by the program's names).
+    while parts.next(language, &mut names).is_some() {
         names.forget_notes();
     }
     diagnostics.append(&mut parts.diagnostics);
