@@ -2,7 +2,8 @@
 //! the list of standard-library wizards (`stdlib/*.rhai`, embedded with
 //! `include_str!`) into `$OUT_DIR`; and sets `cfg(shared_real)` when the
 //! third-party programs of `../shared/real` are beside the repository, so
-//! the tests over them are reported ignored, by name, in a clone alone.
+//! the tests over them are reported ignored, by name, in a clone alone
+//! (and `cfg(chromium)` when a Chromium is installed, for the page's tests).
 
 use std::path::Path;
 
@@ -19,6 +20,16 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     println!("cargo:rerun-if-changed={}", shared_real.display());
     if shared_real.is_dir() {
         println!("cargo:rustc-cfg=shared_real");
+    }
+
+    // The page tests drive a headless Chromium; without one they are
+    // reported ignored by name (CI installs it).
+    println!("cargo::rustc-check-cfg=cfg(chromium)");
+    println!("cargo:rerun-if-env-changed=GER_CHROMIUM");
+    let chromium = std::env::var_os("GER_CHROMIUM")
+        .map_or(Path::new("/usr/bin/chromium").to_path_buf(), Into::into);
+    if chromium.is_file() {
+        println!("cargo:rustc-cfg=chromium");
     }
 
     println!("cargo:rerun-if-changed=stdlib");

@@ -169,6 +169,7 @@ fn each_stmt(stmts: &[Stmt], f: &mut impl FnMut(&Stmt)) {
             StmtKind::Repeat(r) => each_stmt(&r.body, f),
             StmtKind::Line(_)
             | StmtKind::Lines(_)
+            | StmtKind::MacroCall(_)
             | StmtKind::Assign(_)
             | StmtKind::Assigns(_)
             | StmtKind::Call { .. }
@@ -302,6 +303,8 @@ pub enum StmtKind {
     },
     /// LinuxCNC's `oN repeat [n] … oN endrepeat`: the body, n times.
     Repeat(Box<Repeat>),
+    /// A line with Fanuc's macro call `G65 P… L… A… B…` (SPEC §2.8).
+    MacroCall(Box<MacroCall>),
     /// Fanuc's `GOTO n`: go on at the line labelled `Nn` of the same
     /// program or subprogram (the target may be an expression).
     Goto(Box<Expr>),
@@ -377,6 +380,52 @@ pub struct While {
     pub label: Option<OName>,
     /// LinuxCNC's `do … while`: the body runs once before the test.
     pub test_after: bool,
+}
+
+/// A line with Fanuc's `G65` ([`StmtKind::MacroCall`]). The words before
+/// it are statements of their own, run first in the order written (an `N`
+/// label among them is the line's, for `GOTO`); every word after it is the
+/// call's: `P` names the macro, `L` repeats it, the rest are its arguments
+/// (a `G` or `M` among them too: Fanuc's argument `M` is `#13`).
+#[derive(Debug, Clone)]
+pub struct MacroCall {
+    pub before: Vec<Word>,
+    /// The `G65` word.
+    pub code: Word,
+    pub args: Vec<Word>,
+    /// Written after a block-delete `/`, as [`Line::block_delete`].
+    pub block_delete: bool,
+}
+
+impl MacroCall {
+    /// Every word of the line, in the order written.
+    pub fn words(&self) -> impl Iterator<Item = &Word> {
+        self.before
+            .iter()
+            .chain(std::iter::once(&self.code))
+            .chain(&self.args)
+    }
+}
+
+impl StmtKind {
+    /// The statement a line of `words` is: a [`StmtKind::MacroCall`] from
+    /// its first `G65` on, else a [`StmtKind::Line`].
+    pub fn line(mut words: Vec<Word>, block_delete: bool) -> StmtKind {
+        let Some(at) = words.iter().position(Word::is_macro_call) else {
+            return StmtKind::Line(Line {
+                words,
+                block_delete,
+            });
+        };
+        let mut args = words.split_off(at);
+        let code = args.remove(0);
+        StmtKind::MacroCall(Box::new(MacroCall {
+            before: words,
+            code,
+            args,
+            block_delete,
+        }))
+    }
 }
 
 /// The words of one G-code line, in the order written.
@@ -530,14 +579,10 @@ pub fn statements(words: &[Word]) -> impl Iterator<Item = LineStmt<'_>> {
         } else {
             (None, 0)
         };
-        // Fanuc's `G65 P… A… M…`: every word after it is an argument.
-        let len = match code {
-            Some(c) if c.is_macro_call() => rest.len() - from,
-            _ => rest[from..]
-                .iter()
-                .position(Word::is_code)
-                .unwrap_or(rest.len() - from),
-        };
+        let len = rest[from..]
+            .iter()
+            .position(Word::is_code)
+            .unwrap_or(rest.len() - from);
         let args = &rest[from..from + len];
         rest = &rest[from + len..];
         // A line of only N words is no statement at all.
@@ -562,7 +607,8 @@ impl Word {
         matches!(self.letter, b'G' | b'M')
     }
 
-    /// Fanuc's macro call `G65`, whose words are all its arguments.
+    /// Fanuc's macro call `G65`, whose words are all its arguments
+    /// ([`MacroCall`]).
     pub fn is_macro_call(&self) -> bool {
         self.letter == b'G' && matches!(&self.value, WordValue::Number(n) if n.value == 65.0)
     }
@@ -680,6 +726,7 @@ impl Stmt {
             StmtKind::Repeat(r) => block(&mut r.body),
             StmtKind::Line(_)
             | StmtKind::Lines(_)
+            | StmtKind::MacroCall(_)
             | StmtKind::Assign(_)
             | StmtKind::Assigns(_)
             | StmtKind::Call { .. }
@@ -699,6 +746,10 @@ impl Stmt {
         let block = |stmts: &mut Vec<Stmt>| stmts.iter_mut().for_each(|s| s.map_functions(f));
         match &mut self.kind {
             StmtKind::Line(Line { words, .. }) => map_word_functions(words, f),
+            StmtKind::MacroCall(call) => {
+                map_word_functions(&mut call.before, f);
+                map_word_functions(&mut call.args, f);
+            }
             // Numbers only: no function to change.
             StmtKind::Lines(_) => {}
             StmtKind::Assign(a) => a.map_functions(f),
@@ -924,6 +975,37 @@ mod tests {
             s.args.as_ptr(),
             s.args.len(),
         )
+    }
+
+    /// A line with `G65` is a macro call from the `G65` on; the words
+    /// before it stay the line's (its `N` label first), a second `G65`
+    /// among the arguments is one of them.
+    #[test]
+    fn a_g65_line_is_a_macro_call_from_the_g65_on() {
+        let word = |letter: u8, value: f64| Word {
+            letter,
+            value: WordValue::Number(Number {
+                value,
+                int_digits: 1,
+                has_point: false,
+            }),
+            span: Span::default(),
+        };
+        let letters = |words: &[Word]| words.iter().map(|w| w.letter as char).collect::<String>();
+        let line = [(b'N', 10.0), (b'G', 1.0), (b'X', 1.0), (b'G', 65.0)];
+        let args = [(b'P', 9010.0), (b'M', 13.0), (b'G', 65.0), (b'A', 1.0)];
+        let words = line.iter().chain(&args).map(|&(l, v)| word(l, v)).collect();
+        let StmtKind::MacroCall(call) = StmtKind::line(words, true) else {
+            panic!("not a macro call");
+        };
+        assert_eq!(letters(&call.before), "NGX");
+        assert!(call.code.is_macro_call());
+        assert_eq!(letters(&call.args), "PMGA");
+        assert!(call.block_delete);
+        assert_eq!(call.words().count(), 8);
+        // G65.1 is no macro call.
+        let words = vec![word(b'G', 65.1), word(b'P', 1.0)];
+        assert!(matches!(StmtKind::line(words, false), StmtKind::Line(_)));
     }
 
     /// Every line of up to five words from G, M, N, X and F (and G65):

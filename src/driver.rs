@@ -38,6 +38,7 @@ pub mod scan;
 pub mod session;
 pub mod subroutines;
 mod threads;
+pub mod travel;
 
 pub use compile::{
     check, compile, compile_file, compile_to, compile_to_vec, tool_path, Compiled, Report, Streamed,

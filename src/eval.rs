@@ -16,12 +16,14 @@ mod options;
 mod setup;
 mod state;
 pub mod value;
+mod watch;
 mod wizard_api;
 mod words;
 
 pub use cycle::{count_pecks, MAX_PECKS};
 pub(crate) use options::LAST_USER_PARAMETER;
 pub use options::{EvalOptions, Flavour};
+pub use watch::{Seen, Watched};
 pub use wizard_api::{MachineState, WizardCall, WizardContext, WizardHost};
 
 use crate::ast::{self, Names, StmtKind, Symbol};
@@ -48,6 +50,21 @@ pub fn eval_program<'a>(
     ev.reports.diagnostics
 }
 
+/// Stage 0 run only to see the values variables have where the program
+/// reads and sets them (the editor's hover): no output is made.
+pub fn watch_program(
+    program: &ast::Program,
+    options: &EvalOptions,
+    wizards: Option<&mut dyn WizardHost>,
+) -> Watched {
+    let mut nowhere = watch::Nowhere;
+    let wizards = wizards.map(|w| w as &mut dyn WizardHost);
+    let mut ev = Evaluator::new(program, options, wizards, &mut nowhere);
+    ev.watch = Some(Box::default());
+    ev.run();
+    ev.watch.map(|w| *w).unwrap_or_default()
+}
+
 /// A part of a program read in parts: its statements and subprograms.
 pub type Part = (Vec<ast::Stmt>, Vec<ast::Subprogram>);
 
@@ -61,6 +78,8 @@ pub struct Chunked {
     /// `M98` line, which the parts' check cannot see): the program must be
     /// read whole, and nothing of this run kept.
     pub needs_whole: bool,
+    /// The program ran to its end (M2/M30), not out of parts.
+    pub ended: bool,
 }
 
 /// Stage 0 for a program read a part at a time
@@ -91,6 +110,7 @@ pub fn eval_chunks(
     // The statements of the part that ran last, handed back with the call
     // for the next (their vectors can be used again).
     let mut ran = Vec::new();
+    let mut ended = false;
     loop {
         // No statement of an earlier part is run again: its notes can go.
         let names = Rc::make_mut(&mut ev.names);
@@ -109,7 +129,9 @@ pub fn eval_chunks(
         }
         let flow = ev.exec_block(&stmts);
         ran = stmts;
-        if ev.no_label(flow) != Flow::Next {
+        let flow = ev.no_label(flow);
+        if flow != Flow::Next {
+            ended = flow == Flow::End;
             break;
         }
     }
@@ -118,6 +140,7 @@ pub fn eval_chunks(
         diagnostics: ev.reports.diagnostics,
         names: Rc::try_unwrap(ev.names).unwrap_or_else(|shared| (*shared).clone()),
         needs_whole: ev.macros.needs_whole,
+        ended,
     }
 }
 
@@ -156,6 +179,7 @@ impl<'a> Evaluator<'a> {
             modal: Modal::default(),
             this_line: LineState::default(),
             cycles: CycleState::default(),
+            watch: None,
         }
     }
 
@@ -250,13 +274,13 @@ impl<'a> Evaluator<'a> {
                 self.modal.comp_off = Some(self.modal.plane);
             }
             ir::Op::End => self.modal.comp = None,
-            ir::Op::Feed(_) => {
-                self.modal.feed_set = true;
+            ir::Op::Feed(f) => {
+                self.modal.feed = Some(*f);
                 self.modal.inverse_time_ended = false;
                 self.output.feed_before_units |= self.output.first_units.is_none();
                 self.this_line.inverse_feed = self.modal.inverse_time;
             }
-            ir::Op::Move(m) if m.motion != ir::Motion::Rapid && !self.modal.feed_set => {
+            ir::Op::Move(m) if m.motion != ir::Motion::Rapid && self.modal.feed.is_none() => {
                 let kind = if self.modal.inverse_time_ended {
                     EvalErrorKind::FeedAfterInverseTime
                 } else {
@@ -276,7 +300,7 @@ impl<'a> Evaluator<'a> {
             }
             // G94 after G93: rs274 sets the feed to 0.
             ir::Op::InverseTime(false) => {
-                self.modal.feed_set = false;
+                self.modal.feed = None;
                 self.modal.inverse_time_ended = true;
             }
             ir::Op::Units(u) if self.cycles.run_open && self.modal.units != Some(*u) => {
@@ -638,30 +662,23 @@ impl<'a> Evaluator<'a> {
     }
 
     fn exec(&mut self, stmt: &ast::Stmt) -> Flow {
+        if self.watch.is_some() {
+            self.watch_reads(stmt);
+        }
         match &stmt.kind {
             StmtKind::Line(line) => self.exec_line(line),
             StmtKind::Lines(lines) => self.exec_lines(lines),
+            StmtKind::MacroCall(call) => self.exec_macro_call(call),
             StmtKind::Assign(a) => {
                 if let Some(name) = self.target(&a.target, a.name_span) {
                     self.assign(name, a.name_span, &a.value);
+                    if self.watch.is_some() {
+                        self.watch_set(name, a.name_span);
+                    }
                 }
                 Flow::Next
             }
-            StmtKind::Assigns(all) => {
-                // Every target and value from the variables as they were
-                // before the line, then every store.
-                let stores: Vec<Option<(Symbol, Slot)>> = all
-                    .iter()
-                    .map(|a| {
-                        let name = self.target(&a.target, a.name_span)?;
-                        Some((name, self.assigned(name, a.name_span, &a.value)?))
-                    })
-                    .collect();
-                for (name, slot) in stores.into_iter().flatten() {
-                    self.store(name, slot);
-                }
-                Flow::Next
-            }
+            StmtKind::Assigns(all) => self.exec_assigns(all),
             StmtKind::Call {
                 name,
                 name_span,
@@ -848,6 +865,9 @@ impl<'a> Evaluator<'a> {
         // runs untested).
         let mut tested = !w.test_after;
         loop {
+            if tested && self.watch.is_some() {
+                self.watch_expr(&w.cond);
+            }
             if tested {
                 match self.condition(&w.cond, "the `while` condition") {
                     Ok(true) => {}
@@ -937,6 +957,29 @@ impl<'a> Evaluator<'a> {
 
     /// The variable an assignment sets: its name, or the parameter an
     /// indirect target's value names (`None`: an error, reported).
+    /// Several assignments on one line: every target and value from the
+    /// variables as they were before the line, then every store.
+    fn exec_assigns(&mut self, all: &[ast::Assignment]) -> Flow {
+        let stores: Vec<Option<(Symbol, Slot)>> = all
+            .iter()
+            .map(|a| {
+                let name = self.target(&a.target, a.name_span)?;
+                Some((name, self.assigned(name, a.name_span, &a.value)?))
+            })
+            .collect();
+        for (name, slot) in stores.into_iter().flatten() {
+            self.store(name, slot);
+        }
+        if self.watch.is_some() {
+            for a in all {
+                if let ast::Target::Name(name) = a.target {
+                    self.watch_set(name, a.name_span);
+                }
+            }
+        }
+        Flow::Next
+    }
+
     fn target(&mut self, target: &ast::Target, span: Span) -> Option<Symbol> {
         let number = match target {
             ast::Target::Name(name) => {
@@ -1128,6 +1171,9 @@ impl WizardContext for Context<'_, '_> {
             units: self.ev.modal.units,
             tool,
             tool_diameter: self.ev.setup.tool_diameter(tool, self.ev.modal.units),
+            tool_angle: self.ev.setup.tool_angle(tool),
+            // under G93 an F is a time, not a feed per minute
+            feed: self.ev.modal.feed.filter(|_| !self.ev.modal.inverse_time),
         }
     }
 }
@@ -1174,12 +1220,18 @@ fn first_value(n: u32, from: Flavour) -> Slot {
 /// [`ast::Lines`]: those are in parts of plain programs, which have no
 /// `GOTO`.)
 fn labelled(stmts: &[ast::Stmt], label: u32) -> Option<usize> {
-    stmts.iter().position(|s| match &s.kind {
-        StmtKind::Line(line) => line.words.first().is_some_and(|w| {
+    fn first(s: &ast::Stmt) -> Option<&ast::Word> {
+        match &s.kind {
+            StmtKind::Line(line) => line.words.first(),
+            StmtKind::MacroCall(call) => call.words().next(),
+            _ => None,
+        }
+    }
+    stmts.iter().position(|s| {
+        first(s).is_some_and(|w| {
             w.letter == b'N'
                 && matches!(&w.value, ast::WordValue::Number(n) if n.value == f64::from(label))
-        }),
-        _ => false,
+        })
     })
 }
 

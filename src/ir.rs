@@ -335,6 +335,61 @@ impl Plane {
     }
 }
 
+/// Path control (G61, G61.1, G64): how the controller joins one move to
+/// the next. The machine's state, passed on to targets that have it.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum PathControl {
+    /// G61: the path exactly, slowing at each corner as much as it needs.
+    ExactPath,
+    /// G61.1: a stop at the end of every move.
+    ExactStop,
+    /// G64: corners blended. `tolerance` (P): how far the blend may leave
+    /// the programmed corner, in length units; `None`, the controller's
+    /// default (as fast as it can on LinuxCNC). `naive` (Q): LinuxCNC's
+    /// tolerance for joining short collinear moves; `None`, `tolerance`.
+    Blend {
+        tolerance: Option<f64>,
+        naive: Option<f64>,
+    },
+}
+
+/// Every controller starts blending as its settings say (LinuxCNC: G64
+/// with no tolerance).
+impl Default for PathControl {
+    fn default() -> PathControl {
+        PathControl::Blend {
+            tolerance: None,
+            naive: None,
+        }
+    }
+}
+
+impl PathControl {
+    /// The blend tolerance and the naive-CAM tolerance as LinuxCNC applies
+    /// them (0: none given, as fast as it can), or `None` for an exact
+    /// mode.
+    pub fn tolerances(self) -> Option<(f64, f64)> {
+        match self {
+            PathControl::ExactPath | PathControl::ExactStop => None,
+            PathControl::Blend { tolerance, naive } => {
+                let p = tolerance.unwrap_or(0.0);
+                Some((p, naive.unwrap_or(p)))
+            }
+        }
+    }
+
+    /// Its lengths times `k`.
+    pub fn scaled(self, k: f64) -> PathControl {
+        match self {
+            PathControl::Blend { tolerance, naive } => PathControl::Blend {
+                tolerance: tolerance.map(|v| v * k),
+                naive: naive.map(|v| v * k),
+            },
+            exact => exact,
+        }
+    }
+}
+
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Spindle {
     Clockwise,
@@ -583,6 +638,8 @@ pub enum Op {
     },
     /// G40
     CompOff,
+    /// G61, G61.1, G64 P Q.
+    PathControl(PathControl),
     Comment(String),
     Passthrough(Passthrough),
 }
@@ -631,6 +688,7 @@ impl Op {
             | Op::CycleOff
             | Op::Comp { .. }
             | Op::CompOff
+            | Op::PathControl(_)
             | Op::Comment(_)
             | Op::Passthrough(_) => false,
         }
@@ -681,13 +739,19 @@ pub enum ToolShape {
 }
 
 impl ToolShape {
+    /// `flat`, `ball`, `drill`, `vee` (90°) or `vee60` (a vee of that
+    /// included angle, more than 0 and less than 180 degrees).
     pub fn from_name(name: &str) -> Option<ToolShape> {
-        match name.to_ascii_lowercase().as_str() {
+        let name = name.to_ascii_lowercase();
+        match name.as_str() {
             "flat" => Some(ToolShape::Flat),
             "ball" => Some(ToolShape::Ball),
             "drill" => Some(ToolShape::Drill),
             "vee" | "v" => Some(ToolShape::Vee(90.0)),
-            _ => None,
+            _ => {
+                let angle: f64 = name.strip_prefix("vee")?.parse().ok()?;
+                (angle > 0.0 && angle < 180.0).then_some(ToolShape::Vee(angle))
+            }
         }
     }
 }

@@ -37,5 +37,8 @@ pub mod lsp;
 // The picture: the tool path carved into a heightmap, drawn.
 pub mod render;
 
+// `ger view`: the compiled part as the browser page draws it.
+pub mod view;
+
 #[cfg(test)]
 mod test_random;

@@ -12,7 +12,10 @@
 //! is called by no module of the library.
 
 pub mod analysis;
+pub mod answers;
 pub mod codes;
+pub mod format;
+pub mod index;
 
 use crate::diagnostic::Level;
 use crate::driver::fs::{Disk, Memory};
@@ -28,7 +31,7 @@ use lsp_types::{
     InlayHintParams, Location, OneOf, Position, PublishDiagnosticsParams, Range,
     ServerCapabilities, TextDocumentSyncCapability, TextDocumentSyncKind, Uri,
 };
-use std::collections::{BTreeMap, BTreeSet};
+use std::collections::{BTreeMap, BTreeSet, HashMap};
 use std::path::PathBuf;
 use std::str::FromStr;
 
@@ -39,6 +42,9 @@ struct Document {
     text: String,
     version: i32,
     analysis: Option<Analysis>,
+    /// The values of its variables where it reads and sets them, worked
+    /// out on the first hover that needs them.
+    values: Option<HashMap<usize, crate::eval::Seen>>,
 }
 
 /// The server's state: the open documents.
@@ -56,6 +62,18 @@ pub fn serve(connection: &Connection) -> Result<(), Error> {
         inlay_hint_provider: Some(OneOf::Left(true)),
         hover_provider: Some(lsp_types::HoverProviderCapability::Simple(true)),
         document_symbol_provider: Some(OneOf::Left(true)),
+        document_formatting_provider: Some(OneOf::Left(true)),
+        definition_provider: Some(OneOf::Left(true)),
+        references_provider: Some(OneOf::Left(true)),
+        rename_provider: Some(OneOf::Left(true)),
+        completion_provider: Some(lsp_types::CompletionOptions {
+            trigger_characters: Some(vec!["#".into(), "<".into()]),
+            ..lsp_types::CompletionOptions::default()
+        }),
+        signature_help_provider: Some(lsp_types::SignatureHelpOptions {
+            trigger_characters: Some(vec![" ".into(), "(".into(), ",".into()]),
+            ..lsp_types::SignatureHelpOptions::default()
+        }),
         ..ServerCapabilities::default()
     };
     connection.initialize(serde_json::to_value(capabilities)?)?;
@@ -97,6 +115,7 @@ impl Server {
                     text: p.text_document.text,
                     version: p.text_document.version,
                     analysis: None,
+                    values: None,
                 };
                 self.documents.insert(p.text_document.uri.clone(), document);
                 self.stale.insert(p.text_document.uri);
@@ -116,6 +135,7 @@ impl Server {
                 };
                 document.text = change.text;
                 document.version = p.text_document.version;
+                document.values = None;
                 self.stale.insert(uri);
             }
             DidCloseTextDocument::METHOD => {
@@ -136,12 +156,7 @@ impl Server {
         if self.stale.is_empty() {
             return Ok(());
         }
-        let mut open = Memory::over(&Disk);
-        for (uri, document) in &self.documents {
-            if let Some(path) = path_of(uri) {
-                open.insert(path, document.text.clone());
-            }
-        }
+        let open = self.open_files();
         for uri in std::mem::take(&mut self.stale) {
             let (Some(path), Some(document)) = (path_of(&uri), self.documents.get(&uri)) else {
                 continue;
@@ -167,8 +182,22 @@ impl Server {
         Ok(())
     }
 
+    /// The open documents' texts over the disk.
+    fn open_files(&self) -> Memory<'static> {
+        let mut open = Memory::over(&Disk);
+        for (uri, document) in &self.documents {
+            if let Some(path) = path_of(uri) {
+                open.insert(path, document.text.clone());
+            }
+        }
+        open
+    }
+
     /// The answer to a request.
-    fn answer(&self, request: Request) -> Response {
+    fn answer(&mut self, request: Request) -> Response {
+        if let Some(response) = self.answer_at_place(&request) {
+            return response;
+        }
         match request.method.as_str() {
             InlayHintRequest::METHOD => {
                 let hints = serde_json::from_value::<InlayHintParams>(request.params)
@@ -176,6 +205,17 @@ impl Server {
                     .map(|p| self.hints(&p))
                     .unwrap_or_default();
                 Response::new_ok(request.id, hints)
+            }
+            lsp_types::request::Formatting::METHOD => {
+                match serde_json::from_value::<lsp_types::DocumentFormattingParams>(request.params)
+                {
+                    Ok(p) => self.format(request.id, &p),
+                    Err(e) => Response::new_err(
+                        request.id,
+                        lsp_server::ErrorCode::InvalidParams as i32,
+                        e.to_string(),
+                    ),
+                }
             }
             DocumentSymbolRequest::METHOD => {
                 let symbols =
@@ -185,17 +225,45 @@ impl Server {
                         .unwrap_or_default();
                 Response::new_ok(request.id, symbols)
             }
-            HoverRequest::METHOD => {
-                let hover = serde_json::from_value::<lsp_types::HoverParams>(request.params)
-                    .ok()
-                    .and_then(|p| self.hover(&p));
-                Response::new_ok(request.id, hover)
-            }
             _ => Response::new_err(
                 request.id,
                 lsp_server::ErrorCode::MethodNotFound as i32,
                 format!("ger lsp does not answer {}", request.method),
             ),
+        }
+    }
+
+    /// The document formatted, as one edit of its whole text; the `N`
+    /// words renumbered unless the option `gerNumbers` says `remove` or
+    /// `keep`.
+    fn format(
+        &self,
+        id: lsp_server::RequestId,
+        p: &lsp_types::DocumentFormattingParams,
+    ) -> Response {
+        use format::Numbers;
+        let uri = &p.text_document.uri;
+        let (Some(document), Some(path)) = (self.documents.get(uri), path_of(uri)) else {
+            return Response::new_ok(id, serde_json::Value::Null);
+        };
+        let numbers = match p.options.properties.get("gerNumbers") {
+            Some(lsp_types::FormattingProperty::String(s)) if s == "remove" => Numbers::Remove,
+            Some(lsp_types::FormattingProperty::String(s)) if s == "keep" => Numbers::Keep,
+            _ => Numbers::Renumber,
+        };
+        match analysis::formatted(&self.open_files(), &path, &document.text, numbers) {
+            Ok(text) if text == document.text => {
+                Response::new_ok(id, Vec::<lsp_types::TextEdit>::new())
+            }
+            Ok(text) => {
+                let lines = document.text.split('\n').count() as u32;
+                let edit = lsp_types::TextEdit {
+                    range: Range::new(Position::new(0, 0), Position::new(lines, 0)),
+                    new_text: text,
+                };
+                Response::new_ok(id, vec![edit])
+            }
+            Err(why) => Response::new_err(id, lsp_server::ErrorCode::RequestFailed as i32, why),
         }
     }
 
@@ -230,22 +298,121 @@ impl Server {
             .collect()
     }
 
-    /// The meaning of the code under the cursor.
-    fn hover(&self, p: &lsp_types::HoverParams) -> Option<lsp_types::Hover> {
-        let place = &p.text_document_position_params;
-        let document = self.documents.get(&place.text_document.uri)?;
+    /// The answer to a request about a place in a document (hover,
+    /// definition, references, rename, completion, signature help);
+    /// `None`: not such a request.
+    fn answer_at_place(&mut self, request: &Request) -> Option<Response> {
+        use lsp_types::request::{
+            Completion, GotoDefinition, References, Rename, SignatureHelpRequest,
+        };
+        let method = request.method.as_str();
+        let known = [
+            HoverRequest::METHOD,
+            GotoDefinition::METHOD,
+            References::METHOD,
+            Rename::METHOD,
+            Completion::METHOD,
+            SignatureHelpRequest::METHOD,
+        ];
+        if !known.contains(&method) {
+            return None;
+        }
+        let id = request.id.clone();
+        let Ok(place) =
+            serde_json::from_value::<lsp_types::TextDocumentPositionParams>(request.params.clone())
+        else {
+            let message = format!("{method}: no text document and position");
+            let code = lsp_server::ErrorCode::InvalidParams as i32;
+            return Some(Response::new_err(id, code, message));
+        };
+        let uri = place.text_document.uri;
         let at = At {
             line: place.position.line,
             column: place.position.character,
         };
-        let text = analysis::hover(&document.text, at)?;
-        Some(lsp_types::Hover {
-            contents: lsp_types::HoverContents::Markup(lsp_types::MarkupContent {
-                kind: lsp_types::MarkupKind::Markdown,
-                value: text,
-            }),
-            range: None,
+        if method == HoverRequest::METHOD {
+            self.values_for_hover(&uri, at);
+        }
+        let (Some(document), Some(analysis)) = (
+            self.documents.get(&uri),
+            self.documents.get(&uri).and_then(|d| d.analysis.as_ref()),
+        ) else {
+            return Some(Response::new_ok(id, serde_json::Value::Null));
+        };
+        let asked = answers::Document::new(&document.text, analysis);
+        let at_uri = |t: answers::Target| {
+            let uri = match &t.file {
+                Some(path) => uri_of(path)?,
+                None => uri.clone(),
+            };
+            Some(Location::new(
+                uri,
+                Range::new(position(t.from), position(t.to)),
+            ))
+        };
+        Some(match method {
+            HoverRequest::METHOD => {
+                let hover =
+                    asked
+                        .hover(at, document.values.as_ref())
+                        .map(|text| lsp_types::Hover {
+                            contents: lsp_types::HoverContents::Markup(lsp_types::MarkupContent {
+                                kind: lsp_types::MarkupKind::Markdown,
+                                value: text,
+                            }),
+                            range: None,
+                        });
+                Response::new_ok(id, hover)
+            }
+            GotoDefinition::METHOD => {
+                let found: Vec<_> = asked
+                    .definition(at)
+                    .into_iter()
+                    .filter_map(at_uri)
+                    .collect();
+                Response::new_ok(id, found)
+            }
+            References::METHOD => {
+                let found: Vec<_> = asked
+                    .references(at)
+                    .into_iter()
+                    .filter_map(at_uri)
+                    .collect();
+                Response::new_ok(id, found)
+            }
+            Rename::METHOD => {
+                let new = request.params["newName"].as_str().unwrap_or_default();
+                match asked.rename(at, new) {
+                    Ok(edits) => Response::new_ok(id, rename_edit(&uri, edits)),
+                    Err(why) => {
+                        Response::new_err(id, lsp_server::ErrorCode::InvalidParams as i32, why)
+                    }
+                }
+            }
+            Completion::METHOD => Response::new_ok(id, completions(asked.completion(at))),
+            _ => Response::new_ok(id, asked.signature(at).map(signature_help)),
         })
+    }
+
+    /// Work out the document's variable values if the hover at `at` is on
+    /// a variable and they are not known yet.
+    fn values_for_hover(&mut self, uri: &Uri, at: At) {
+        let Some(document) = self.documents.get(uri) else {
+            return;
+        };
+        let on_var = document.analysis.as_ref().is_some_and(|a| {
+            answers::Document::new(&document.text, a)
+                .var_at(at)
+                .is_some()
+        });
+        if !on_var || document.values.is_some() {
+            return;
+        }
+        let Some(path) = path_of(uri) else { return };
+        let values = analysis::watch(&self.open_files(), &path, &document.text);
+        if let Some(document) = self.documents.get_mut(uri) {
+            document.values = Some(values);
+        }
     }
 
     /// The tool's place and time after each moving line in the range.
@@ -277,6 +444,66 @@ impl Server {
 
 fn position(at: At) -> Position {
     Position::new(at.line, at.column)
+}
+
+/// Rename's edits as LSP has them.
+fn rename_edit(uri: &Uri, edits: Vec<(answers::Target, String)>) -> lsp_types::WorkspaceEdit {
+    let edits = edits
+        .into_iter()
+        .map(|(t, new_text)| lsp_types::TextEdit {
+            range: Range::new(position(t.from), position(t.to)),
+            new_text,
+        })
+        .collect();
+    lsp_types::WorkspaceEdit {
+        changes: Some(std::collections::HashMap::from([(uri.clone(), edits)])),
+        ..lsp_types::WorkspaceEdit::default()
+    }
+}
+
+/// Completions as LSP has them.
+fn completions(offered: Vec<answers::Completion>) -> Vec<lsp_types::CompletionItem> {
+    use answers::CompletionKind as K;
+    offered
+        .into_iter()
+        .map(|c| lsp_types::CompletionItem {
+            kind: Some(match c.kind {
+                K::Code => lsp_types::CompletionItemKind::KEYWORD,
+                K::Variable => lsp_types::CompletionItemKind::VARIABLE,
+                K::Wizard => lsp_types::CompletionItemKind::FUNCTION,
+            }),
+            detail: Some(c.detail),
+            insert_text_format: c
+                .snippet
+                .as_ref()
+                .map(|_| lsp_types::InsertTextFormat::SNIPPET),
+            insert_text: c.snippet,
+            label: c.label,
+            ..lsp_types::CompletionItem::default()
+        })
+        .collect()
+}
+
+/// Signature help as LSP has it.
+fn signature_help(s: answers::Signature) -> lsp_types::SignatureHelp {
+    let parameters = s
+        .parameters
+        .into_iter()
+        .map(|p| lsp_types::ParameterInformation {
+            label: lsp_types::ParameterLabel::Simple(p),
+            documentation: None,
+        })
+        .collect();
+    lsp_types::SignatureHelp {
+        signatures: vec![lsp_types::SignatureInformation {
+            label: s.label,
+            documentation: Some(lsp_types::Documentation::String(s.doc)),
+            parameters: Some(parameters),
+            active_parameter: Some(s.active as u32),
+        }],
+        active_signature: Some(0),
+        active_parameter: Some(s.active as u32),
+    }
 }
 
 /// A diagnostic as LSP has it.

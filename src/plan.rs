@@ -1,34 +1,49 @@
-//! The run time of a tool path on a machine, planned as grbl's planner
-//! plans it (SPEC §9): each move a block (arcs cut into the chords grbl
-//! makes of them within its arc tolerance), its speed limited per axis,
-//! corners by junction deviation, accelerations per axis, and a look-ahead
-//! as deep as the planner's buffer, whose last block must be able to stop.
-//! The controller stops where it syncs spindle or coolant, at dwells, tool
-//! changes and program stops. Beside it, the length / feed figure other
-//! tools give.
+//! The run time of a tool path on a machine, planned as its controller
+//! plans it (SPEC §9). grbl: each move a block (arcs cut into the chords
+//! grbl makes of them within its arc tolerance), its speed limited per
+//! axis, corners by junction deviation. LinuxCNC (`linuxcnc.rs`): each
+//! move a segment (arcs whole, held to the speed their radius allows),
+//! a stop after every move under G61.1 and at every corner under G61,
+//! corners blended within the G64 tolerance. Both: accelerations per
+//! axis, trapezoids, and a look-ahead as deep as the planner's buffer,
+//! whose last block must be able to stop. The controller stops where it
+//! syncs spindle or coolant, at dwells, tool changes and program stops.
+//! Beside it, the length / feed figure other tools give.
 //!
 //! Architecture Invariant: reads a [`ToolPath`] and a [`Machine`] only;
 //! never sees the IR or the program text.
 
-use crate::driver::machine::Machine;
+mod linuxcnc;
+
+use crate::driver::machine::{Controller, Machine};
+use crate::ir::PathControl;
 use crate::toolpath::{EventKind, Move, MoveKind, ToolPath};
 use serde::Serialize;
 
 /// grbl's defaults where the profile says nothing.
 const DEFAULT_JUNCTION_DEVIATION: f64 = 0.01;
 const DEFAULT_ARC_TOLERANCE: f64 = 0.002;
-const DEFAULT_PLANNER_BLOCKS: usize = 16;
+const DEFAULT_GRBL_BLOCKS: usize = 16;
+/// LinuxCNC's `[TRAJ]ARC_BLEND_OPTIMIZATION_DEPTH` default.
+const DEFAULT_LINUXCNC_BLOCKS: usize = 50;
 
 /// What the planner needs of the machine, in mm, mm/s and s.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Limits {
+    /// Whose planner: grbl's or LinuxCNC's.
+    pub controller: Controller,
     /// Per axis, mm/s.
     pub max_rate: [f64; 3],
     /// Per axis, mm/s².
     pub max_accel: [f64; 3],
     /// mm/s for rapids, else each axis's maximum.
     pub rapid_rate: Option<f64>,
+    /// grbl's junction deviation, mm.
     pub junction_deviation: f64,
+    /// LinuxCNC's blend tolerance where the program's G64 gives no P, mm
+    /// (0: none, the blend as large as a quarter of the moves allows).
+    pub path_tolerance: f64,
+    /// grbl's arc tolerance, mm.
     pub arc_tolerance: f64,
     /// Blocks the planner holds, the one running included.
     pub blocks: usize,
@@ -51,7 +66,12 @@ impl Limits {
                 .max_acceleration
                 .ok_or_else(|| format!("[machine.{name}] has no max-acceleration"))?;
         }
+        let blocks = match machine.controller {
+            Controller::Grbl => DEFAULT_GRBL_BLOCKS,
+            Controller::LinuxCnc => DEFAULT_LINUXCNC_BLOCKS,
+        };
         Ok(Limits {
+            controller: machine.controller,
             max_rate,
             max_accel,
             rapid_rate: machine.rapid_rate.map(|r| r / 60.0),
@@ -59,10 +79,9 @@ impl Limits {
                 .junction_deviation
                 .or(machine.path_tolerance)
                 .unwrap_or(DEFAULT_JUNCTION_DEVIATION),
+            path_tolerance: machine.path_tolerance.unwrap_or(0.0),
             arc_tolerance: machine.arc_tolerance.unwrap_or(DEFAULT_ARC_TOLERANCE),
-            blocks: machine
-                .planner_blocks
-                .map_or(DEFAULT_PLANNER_BLOCKS, |b| b as usize),
+            blocks: machine.planner_blocks.map_or(blocks, |b| b as usize),
             tool_change_s: machine.tool_change_s.unwrap_or(0.0),
             spindle_start_s: machine.spindle_start_s.unwrap_or(0.0),
         })
@@ -78,18 +97,23 @@ fn along(limits: [f64; 3], unit: [f64; 3]) -> f64 {
         .fold(f64::INFINITY, f64::min)
 }
 
-/// One planner block: a straight piece of a move.
+/// One planner block: a straight piece of a move (grbl), or a move
+/// (LinuxCNC).
 #[derive(Clone, Copy, Debug)]
 struct Block {
     /// mm.
     length: f64,
-    unit: [f64; 3],
+    /// The direction it starts and ends in (the same for a line).
+    unit_in: [f64; 3],
+    unit_out: [f64; 3],
     /// mm/s.
     nominal: f64,
     /// mm/s².
     accel: f64,
     /// The machine is stopped before it (a sync, or the start).
     stopped_before: bool,
+    /// G61, G61.1, G64 (tolerances in mm) while it runs.
+    control: PathControl,
     /// The move it is part of.
     source: usize,
 }
@@ -109,6 +133,8 @@ pub struct Figures {
     pub tool_changes: usize,
     pub spindle_starts: usize,
     pub tools: Vec<ToolFigures>,
+    /// From one tool change to the next, in order.
+    pub operations: Vec<OperationFigures>,
     /// Each move's planned time, in order (empty without a machine).
     #[serde(skip)]
     pub move_s: Vec<f64>,
@@ -125,14 +151,110 @@ pub struct ToolFigures {
     pub bounds: Option<[[f64; 3]; 2]>,
 }
 
+/// One operation: the moves from a tool change to the next.
+#[derive(Clone, Debug, Default, Serialize)]
+pub struct OperationFigures {
+    pub tool: u32,
+    /// The source line of its tool change (the first operation's: of its
+    /// first move).
+    pub line: u32,
+    /// Its moves and dwells, planned; `None` without a machine.
+    pub time_s: Option<f64>,
+    pub feed_time_s: f64,
+    pub cut_mm: f64,
+    pub rapid_mm: f64,
+    pub dwell_s: f64,
+    /// The feed moves' bounds, mm.
+    pub bounds: Option<[[f64; 3]; 2]>,
+}
+
+/// Widen `bounds` to hold the ends of `m`.
+fn widen(bounds: &mut Option<[[f64; 3]; 2]>, m: &Move) {
+    let [low, high] = bounds.get_or_insert([m.start, m.start]);
+    for p in [m.start, m.end] {
+        for i in 0..3 {
+            low[i] = low[i].min(p[i]);
+            high[i] = high[i].max(p[i]);
+        }
+    }
+}
+
+/// The operations of `path`: split at each tool change; `move_s`, each
+/// move's planned time (empty: not planned).
+fn operations(path: &ToolPath, limits: Option<&Limits>, move_s: &[f64]) -> Vec<OperationFigures> {
+    let mut out: Vec<OperationFigures> = Vec::new();
+    let mut events = path.events.iter().peekable();
+    let planned = !move_s.is_empty();
+    for (i, m) in path.moves.iter().enumerate() {
+        while let Some(event) = events.next_if(|e| e.after_move <= i) {
+            event_into(&mut out, event, planned);
+        }
+        if out.is_empty() {
+            out.push(OperationFigures {
+                tool: m.state.tool,
+                line: m.span.line,
+                time_s: planned.then_some(0.0),
+                ..OperationFigures::default()
+            });
+        }
+        let Some(op) = out.last_mut() else { continue };
+        let length = m.length();
+        if let (Some(t), Some(s)) = (op.time_s.as_mut(), move_s.get(i)) {
+            *t += s;
+        }
+        if m.kind == MoveKind::Rapid {
+            op.rapid_mm += length;
+            if let Some(limits) = limits {
+                op.feed_time_s += length / rapid_rate(limits, unit(m));
+            }
+            continue;
+        }
+        op.cut_mm += length;
+        if m.state.feed > 0.0 {
+            op.feed_time_s += length / (m.state.feed / 60.0);
+        }
+        widen(&mut op.bounds, m);
+    }
+    for event in events {
+        event_into(&mut out, event, planned);
+    }
+    out
+}
+
+/// A tool change starts an operation; a dwell adds to the one running.
+fn event_into(out: &mut Vec<OperationFigures>, event: &crate::toolpath::Event, planned: bool) {
+    match event.kind {
+        EventKind::ToolChange(tool) => out.push(OperationFigures {
+            tool,
+            line: event.span.line,
+            time_s: planned.then_some(0.0),
+            ..OperationFigures::default()
+        }),
+        EventKind::Dwell(s) => {
+            if let Some(op) = out.last_mut() {
+                op.dwell_s += s;
+                op.feed_time_s += s;
+                if let Some(t) = op.time_s.as_mut() {
+                    *t += s;
+                }
+            }
+        }
+        EventKind::Stop(_) | EventKind::End => {}
+    }
+}
+
 /// The figures of `path` on the machine `limits` describes (length / feed
 /// only, without one).
 pub fn plan(path: &ToolPath, limits: Option<&Limits>) -> Figures {
     let mut figures = lengths(path, limits);
     let Some(limits) = limits else {
+        figures.operations = operations(path, None, &[]);
         return figures;
     };
-    let blocks = blocks(path, limits);
+    let blocks = match limits.controller {
+        Controller::Grbl => blocks(path, limits),
+        Controller::LinuxCnc => linuxcnc::blocks(path, limits),
+    };
     let mut move_s = vec![0.0; path.moves.len()];
     for (block, seconds) in blocks.iter().zip(block_times(&blocks, limits)) {
         move_s[block.source] += seconds;
@@ -151,6 +273,7 @@ pub fn plan(path: &ToolPath, limits: Option<&Limits>) -> Figures {
             .sum();
         tool.time_s = Some(time);
     }
+    figures.operations = operations(path, Some(limits), &move_s);
     figures.move_s = move_s;
     figures
 }
@@ -222,13 +345,7 @@ fn lengths(path: &ToolPath, limits: Option<&Limits>) -> Figures {
         let tool = &mut figures.tools[at];
         tool.cut_mm += length;
         tool.feed_time_s += seconds;
-        let [low, high] = tool.bounds.get_or_insert([m.start, m.start]);
-        for p in [m.start, m.end] {
-            for i in 0..3 {
-                low[i] = low[i].min(p[i]);
-                high[i] = high[i].max(p[i]);
-            }
-        }
+        widen(&mut tool.bounds, m);
     }
     for event in &path.events {
         match event.kind {
@@ -239,6 +356,10 @@ fn lengths(path: &ToolPath, limits: Option<&Limits>) -> Figures {
     }
     figures.feed_time_s += figures.dwell_s;
     figures
+}
+
+fn dot(a: [f64; 3], b: [f64; 3]) -> f64 {
+    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
 }
 
 /// A straight move's direction (a zero move's: none).
@@ -284,10 +405,12 @@ fn blocks(path: &ToolPath, limits: &Limits) -> Vec<Block> {
             };
             out.push(Block {
                 length,
-                unit,
+                unit_in: unit,
+                unit_out: unit,
                 nominal: nominal.max(1e-9),
                 accel: along(limits.max_accel, unit),
                 stopped_before: stopped_before && k == 0,
+                control: m.state.path_control,
                 source: i,
             });
         }
@@ -347,7 +470,7 @@ fn block_times(blocks: &[Block], limits: &Limits) -> Vec<f64> {
         .map(|i| match i {
             0 => 0.0,
             _ if blocks[i].stopped_before => 0.0,
-            _ => junction_sqr(&blocks[i - 1], &blocks[i], limits)
+            _ => junction(&blocks[i - 1], &blocks[i], limits)
                 .min(blocks[i - 1].nominal.powi(2))
                 .min(blocks[i].nominal.powi(2)),
         })
@@ -375,11 +498,20 @@ fn block_times(blocks: &[Block], limits: &Limits) -> Vec<f64> {
     times
 }
 
+/// The largest speed squared from block `a` into block `b`, as the
+/// controller takes the corner between them.
+fn junction(a: &Block, b: &Block, limits: &Limits) -> f64 {
+    match limits.controller {
+        Controller::Grbl => junction_sqr(a, b, limits),
+        Controller::LinuxCnc => linuxcnc::junction_sqr(a, b, limits),
+    }
+}
+
 /// grbl's largest speed squared through the corner from `a` to `b`: the
 /// circle within the junction deviation of the corner, at the acceleration
 /// the corner's direction allows.
 fn junction_sqr(a: &Block, b: &Block, limits: &Limits) -> f64 {
-    let cos = -(a.unit[0] * b.unit[0] + a.unit[1] * b.unit[1] + a.unit[2] * b.unit[2]);
+    let cos = -dot(a.unit_out, b.unit_in);
     if cos > 0.999_999 {
         // Straight back: a stop.
         return 0.0;
@@ -388,7 +520,7 @@ fn junction_sqr(a: &Block, b: &Block, limits: &Limits) -> f64 {
         // Straight on.
         return f64::INFINITY;
     }
-    let corner = direction(a.unit, b.unit);
+    let corner = direction(a.unit_out, b.unit_in);
     let accel = along(limits.max_accel, corner);
     let sin_half = (0.5 * (1.0 - cos)).sqrt();
     (accel * limits.junction_deviation * sin_half / (1.0 - sin_half)).max(0.0)
@@ -417,10 +549,12 @@ mod tests {
     /// junction deviation (0.01 mm).
     fn limits() -> Limits {
         Limits {
+            controller: Controller::Grbl,
             max_rate: [200.0; 3],
             max_accel: [1000.0; 3],
             rapid_rate: None,
             junction_deviation: 0.01,
+            path_tolerance: 0.0,
             arc_tolerance: 0.002,
             blocks: 16,
             tool_change_s: 0.0,
@@ -552,6 +686,141 @@ mod tests {
             ..path(&[[10.0, 0.0, 0.0], [10.0, 0.0, 0.0]], 600.0).moves[0]
         };
         assert_eq!(arc_points(&m, 0.002).len(), 158);
+    }
+
+    /// [`limits`] on LinuxCNC's planner.
+    fn linuxcnc() -> Limits {
+        Limits {
+            controller: Controller::LinuxCnc,
+            blocks: 50,
+            ..limits()
+        }
+    }
+
+    /// [`path`] with every move under `control`.
+    fn controlled(points: &[[f64; 3]], feed: f64, control: PathControl) -> ToolPath {
+        let mut p = path(points, feed);
+        for m in &mut p.moves {
+            m.state.path_control = control;
+        }
+        p
+    }
+
+    fn linuxcnc_time(points: &[[f64; 3]], control: PathControl) -> f64 {
+        let path = controlled(points, 6000.0, control);
+        plan(&path, Some(&linuxcnc())).time_s.unwrap()
+    }
+
+    const SQUARE: [[f64; 3]; 5] = [
+        [0.0; 3],
+        [100.0, 0.0, 0.0],
+        [100.0, 100.0, 0.0],
+        [0.0, 100.0, 0.0],
+        [0.0; 3],
+    ];
+    const STRAIGHT: [[f64; 3]; 3] = [[0.0; 3], [100.0, 0.0, 0.0], [200.0, 0.0, 0.0]];
+    const CORNER: [[f64; 3]; 3] = [[0.0; 3], [100.0, 0.0, 0.0], [100.0, 100.0, 0.0]];
+
+    #[test]
+    fn linuxcnc_exact_stop_stops_after_every_move() {
+        // G61.1: each 100 mm leg at 100 mm/s, 1000 mm/s² from rest to
+        // rest is 1.1 s (the single trapezoid), straight on or not.
+        let t = linuxcnc_time(&SQUARE, PathControl::ExactStop);
+        assert!((t - 4.4).abs() < 1e-12, "{t}");
+        let t = linuxcnc_time(&STRAIGHT, PathControl::ExactStop);
+        assert!((t - 2.2).abs() < 1e-12, "{t}");
+    }
+
+    #[test]
+    fn linuxcnc_exact_path_stops_at_corners_only() {
+        // G61: straight on, one trapezoid over 200 mm (2.1 s); a corner,
+        // two (2.2 s).
+        let t = linuxcnc_time(&STRAIGHT, PathControl::ExactPath);
+        assert!((t - 2.1).abs() < 1e-12, "{t}");
+        let t = linuxcnc_time(&CORNER, PathControl::ExactPath);
+        assert!((t - 2.2).abs() < 1e-12, "{t}");
+    }
+
+    #[test]
+    fn linuxcnc_blends_a_right_angle_within_the_tolerance() {
+        // G64 P0.01 at 90°: θ = 45°, h = 0.01 / (1 − sin θ) = 0.034142,
+        // d = cos θ · h = 0.024142 (far less than half a leg), the blend's
+        // radius tan θ · d = 0.024142; its normal acceleration
+        // 1000 · √(1 − 0.5²) = 866.03 mm/s² allows v² = 20.908, v = 4.5725
+        // mm/s. Each leg: up 5 mm in 0.1 s, down from 100 to v over
+        // (10⁴ − v²) / 2000 mm in (100 − v) / 1000 s, the rest at 100 mm/s.
+        let p = PathControl::Blend {
+            tolerance: Some(0.01),
+            naive: None,
+        };
+        let t = linuxcnc_time(&CORNER, p);
+        let theta = std::f64::consts::FRAC_PI_4;
+        let radius = theta.tan() * theta.cos() * 0.01 / (1.0 - theta.sin());
+        let v2 = 1000.0 * 0.75_f64.sqrt() * radius;
+        assert!((v2 - 20.9077).abs() < 1e-4, "{v2}");
+        let down = (10_000.0 - v2) / 2000.0;
+        let leg = 0.1 + (100.0 - v2.sqrt()) / 1000.0 + (100.0 - 5.0 - down) / 100.0;
+        assert!((t - 2.0 * leg).abs() < 1e-9, "{t} vs {}", 2.0 * leg);
+        // Without P the blend may take a quarter of each leg: a radius
+        // of 25 / (1 − sin θ) · cos θ · tan θ capped at half a leg (50
+        // mm), v = √(866 · 50) = 208 mm/s, above the feed: no slowing.
+        let t = linuxcnc_time(&CORNER, PathControl::default());
+        assert!((t - 2.1).abs() < 1e-12, "{t}");
+    }
+
+    #[test]
+    fn linuxcnc_holds_an_arc_to_its_normal_acceleration() {
+        // A full circle of r = 10 at 100 mm/s: v² / r = 1000 would pass
+        // 866.03 mm/s², so v = √(866.03 · 10) = 93.060 mm/s, and the
+        // tangential acceleration is half of 1000. From rest to rest:
+        // up and down 2 · v / 500 s over v² / 500 mm, the rest at v.
+        let arc = Move {
+            kind: MoveKind::Arc(crate::toolpath::ArcPath {
+                center: [0.0; 3],
+                plane: crate::ir::Plane::XY,
+                clockwise: false,
+                turns: 1,
+            }),
+            ..path(&[[10.0, 0.0, 0.0], [10.0, 0.0, 0.0]], 6000.0).moves[0]
+        };
+        let circle = ToolPath {
+            moves: vec![arc],
+            ..ToolPath::default()
+        };
+        let t = plan(&circle, Some(&linuxcnc())).time_s.unwrap();
+        let v = (1000.0 * 0.75_f64.sqrt() * 10.0).sqrt();
+        let length = 2.0 * std::f64::consts::PI * 10.0;
+        let expected = 2.0 * v / 500.0 + (length - v * v / 500.0) / v;
+        assert!((t - expected).abs() < 1e-9, "{t} vs {expected}");
+    }
+
+    #[test]
+    fn operations_run_from_tool_change_to_tool_change() {
+        // Tool 1 cuts 100 mm, dwells 2 s; tool 2 (changed at line 7) cuts
+        // 50 mm: two operations, each with its own time and bounds.
+        let mut p = path(&[[0.0; 3], [100.0, 0.0, 0.0], [100.0, 50.0, 0.0]], 6000.0);
+        p.moves[1].state.tool = 2;
+        let at = |line, after_move, kind| crate::toolpath::Event {
+            kind,
+            after_move,
+            span: crate::source::Span::new(0, line, 0, 0),
+        };
+        p.events = vec![
+            at(5, 1, EventKind::Dwell(2.0)),
+            at(7, 1, EventKind::ToolChange(2)),
+        ];
+        let f = plan(&p, Some(&limits()));
+        let ops = &f.operations;
+        assert_eq!(ops.len(), 2, "{ops:?}");
+        assert_eq!((ops[0].tool, ops[1].tool, ops[1].line), (1, 2, 7));
+        assert!((ops[0].cut_mm - 100.0).abs() < 1e-12);
+        assert!((ops[0].feed_time_s - 3.0).abs() < 1e-12, "{ops:?}");
+        assert!((ops[0].time_s.unwrap() - 3.1).abs() < 1e-12, "{ops:?}");
+        assert!((ops[1].time_s.unwrap() - 0.6).abs() < 1e-12, "{ops:?}");
+        assert_eq!(ops[1].bounds, Some([[100.0, 0.0, 0.0], [100.0, 50.0, 0.0]]));
+        let total = f.time_s.unwrap();
+        assert!((total - 3.7).abs() < 1e-12, "{total}");
+        assert_eq!(plan(&p, None).operations[1].time_s, None);
     }
 
     #[test]

@@ -141,13 +141,14 @@ impl Scene {
         progress: &(dyn Fn(usize, usize) + Sync),
     ) -> Vec<RenderWarning> {
         let carved = carve::carve(grid, &self.segments, &self.cutters, progress);
-        let spans: Vec<_> = carved
-            .rapid_cuts
-            .iter()
-            .map(|&k| path.moves[k].span)
-            .collect();
-        repeated(&spans, WarningKind::RapidCuts)
+        rapid_cuts(path, &carved.rapid_cuts)
     }
+}
+
+/// The warnings for the rapids (move indices) that removed material.
+pub fn rapid_cuts(path: &ToolPath, moves: &[usize]) -> Vec<RenderWarning> {
+    let spans: Vec<_> = moves.iter().map(|&k| path.moves[k].span).collect();
+    repeated(&spans, WarningKind::RapidCuts)
 }
 
 /// The cell size, and a note when `--max-cells` made it coarser.
@@ -282,9 +283,29 @@ fn cutters(
     (cutters, of_move)
 }
 
+/// Each tool's cutter as the picture draws it, in the order the program
+/// first cuts with it (`ger view`'s legend and its sweep between
+/// checkpoints).
+pub fn cutters_by_tool(
+    path: &ToolPath,
+    scale: f64,
+    described: &[described::Described],
+) -> Vec<(u32, Cutter)> {
+    let (cutters, of_move) = cutters(path, scale, described, &mut Vec::new());
+    let first = first_named(path);
+    let mut out: Vec<(u32, Cutter)> = Vec::new();
+    for (m, &c) in path.moves.iter().zip(&of_move) {
+        let number = tool_of(m, first);
+        if !out.iter().any(|&(n, _)| n == number) {
+            out.push((number, cutters[c]));
+        }
+    }
+    out
+}
+
 /// The tool a move cuts with: the one loaded (M6), else the one a `T`
 /// word selected, else (before any) the first the program names.
-fn tool_of(m: &crate::toolpath::Move, first_named: u32) -> u32 {
+pub(crate) fn tool_of(m: &crate::toolpath::Move, first_named: u32) -> u32 {
     match (m.state.tool, m.state.selected) {
         (0, 0) => first_named,
         (0, selected) => selected,
@@ -294,7 +315,7 @@ fn tool_of(m: &crate::toolpath::Move, first_named: u32) -> u32 {
 
 /// The first tool the program loads or selects; tool 1 if it names none
 /// (SPEC §3).
-fn first_named(path: &ToolPath) -> u32 {
+pub(crate) fn first_named(path: &ToolPath) -> u32 {
     path.moves
         .iter()
         .find_map(|m| {

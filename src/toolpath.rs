@@ -60,6 +60,8 @@ pub struct State {
     pub tool: u32,
     /// The tool the last `T` word selected (0: none).
     pub selected: u32,
+    /// G61, G61.1, G64 (tolerances in mm).
+    pub path_control: ir::PathControl,
 }
 
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -237,6 +239,7 @@ impl Builder {
             Op::SetWorkOffset { index, origin } => self.set_offset(*index, origin),
             Op::SelectWorkOffset(index) => self.active = self.table(*index),
             Op::Plane(p) => self.plane = *p,
+            Op::PathControl(pc) => self.state.path_control = pc.scaled(k),
             // Folded away before the absolute pass, or the machine's own
             // (taken as zero, see the module doc), or nothing that moves.
             Op::Distance(_)

@@ -64,6 +64,44 @@ pub struct Wizard {
     text: String,
 }
 
+impl Wizard {
+    /// Its signature and one-line summary (`ger wizards`).
+    pub fn described(&self) -> (String, String) {
+        match &self.declaration {
+            Ok(d) => (d.signature(&self.name), d.summary().to_string()),
+            Err(e) => (
+                self.name.clone(),
+                format!("(bad declaration, line {}: {})", e.line, e.message),
+            ),
+        }
+    }
+
+    /// Its signature, where it comes from, its doc and each parameter:
+    /// what `ger wizards NAME` prints and the editor's hover shows.
+    pub fn manual(&self) -> String {
+        let (signature, _) = self.described();
+        let mut out = format!("{signature}    [{}]\n\n", self.origin);
+        let Ok(d) = &self.declaration else {
+            return out;
+        };
+        for line in &d.doc {
+            out.push_str(line);
+            out.push('\n');
+        }
+        if !d.params.is_empty() {
+            out.push('\n');
+        }
+        for p in &d.params {
+            let default = p
+                .default
+                .as_ref()
+                .map_or(String::new(), |d| format!(" (default {d})"));
+            out.push_str(&format!("  {:<12} {}{default}\n", p.name, p.doc));
+        }
+        out
+    }
+}
+
 /// Every wizard found, by lower-case name; earlier sources win.
 #[derive(Default)]
 pub struct Library {
@@ -132,6 +170,9 @@ struct Session {
     units: Option<ir::Units>,
     tool: u32,
     tool_diameter: f64,
+    tool_angle: Option<f64>,
+    /// The feed per minute in effect, as `feed()` changes it.
+    feed: Option<f64>,
     /// Wizards running, innermost last.
     stack: Vec<String>,
 }
@@ -309,6 +350,7 @@ fn register_moves(engine: &mut Engine, session: &Rc<RefCell<Session>>) {
         ));
     }
     api!("feed", |s, f| if f > 0.0 {
+        s.feed = Some(f);
         s.push(Action::Op(Op::Feed(f)))
     } else {
         fail("the feed must be positive")
@@ -404,6 +446,20 @@ fn register_state(engine: &mut Engine, session: &Rc<RefCell<Session>>) {
     let shared = Rc::clone(session);
     engine.register_fn("tool_diameter", move || -> rhai::FLOAT {
         shared.borrow().tool_diameter
+    });
+    let shared = Rc::clone(session);
+    engine.register_fn("tool_angle", move || -> Dynamic {
+        shared
+            .borrow()
+            .tool_angle
+            .map_or(Dynamic::UNIT, Dynamic::from_float)
+    });
+    let shared = Rc::clone(session);
+    engine.register_fn("feed_rate", move || -> Dynamic {
+        shared
+            .borrow()
+            .feed
+            .map_or(Dynamic::UNIT, Dynamic::from_float)
     });
 }
 
@@ -634,6 +690,8 @@ impl WizardEngine {
                 units: state.units,
                 tool: state.tool,
                 tool_diameter: state.tool_diameter,
+                tool_angle: state.tool_angle,
+                feed: state.feed,
                 stack: vec![wizard.name.clone()],
                 actions: Vec::new(),
             };

@@ -135,3 +135,34 @@ fn examples_written_as_lines_fit_back() {
     }
     let _ = std::fs::remove_dir_all(dir);
 }
+
+/// A flat program that never sets Z (a plotter's, a laser's): only the
+/// machine knows Z, and a circle of chords is still fitted, its arcs
+/// written without a Z word; rs274, starting at Z0, moves both alike.
+#[test]
+fn a_program_that_never_sets_z_has_its_circles_fitted_without_z() {
+    if !oracle() {
+        return;
+    }
+    let mut text = String::from("G21 G90 G17\nG0 X15 Y0\n");
+    for k in 1..=360 {
+        let a = f64::from(k).to_radians();
+        text.push_str(&format!(
+            "G1 X{:.3} Y{:.3} F500\n",
+            15.0 * a.cos(),
+            15.0 * a.sin()
+        ));
+    }
+    text.push_str("G0 X0 Y0\nM30\n");
+    let dir = scratch("flat");
+    let input = dir.join("flat.ngc");
+    std::fs::write(&input, &text).unwrap();
+    let out = dir.join("flat.fit.ngc");
+    let note = support::compile_with(&input, &out, &["--arcs", "fit"]).unwrap();
+    assert!(note.contains("lines written as"), "{note}");
+    let printed = std::fs::read_to_string(&out).unwrap();
+    assert!(moves(&out) <= 6, "{printed}");
+    assert!(!printed.contains('Z'), "{printed}");
+    same_within_tolerance(&input, &out);
+    let _ = std::fs::remove_dir_all(dir);
+}

@@ -417,7 +417,7 @@ fn subroutine_folders() {
 #[test]
 fn a_plain_program_compiled_to_a_file_is_read_in_parts() {
     let dir = scratch("plain-parts");
-    let mut text = String::from("G21 G90 G17\nG64 P0.01\nG0 X0 Y0 Z2\nG1 Z-1 F300\n");
+    let mut text = String::from("G21 G90 G17\nM100\nG0 X0 Y0 Z2\nG1 Z-1 F300\n");
     for i in 0..30_000 {
         text.push_str(&format!(
             "G1 X{:.3} Y{:.3} (pass {i})\n",
@@ -445,7 +445,7 @@ fn a_plain_program_compiled_to_a_file_is_read_in_parts() {
     assert_eq!(std::fs::read(dir.join("long.out")).unwrap(), whole.stdout);
     let warned = String::from_utf8_lossy(&to_file.stderr);
     assert!(
-        warned.contains("G64 dropped") && warned.contains("2 │ G64 P0.01"),
+        warned.contains("M100 is passed through") && warned.contains("2 │ M100"),
         "{warned}"
     );
     for other in [&whole, &to_stdout, &ger(&["check", "long.ngc"], &dir)] {
@@ -479,7 +479,7 @@ fn a_plain_program_compiled_to_a_file_is_read_in_parts() {
 #[test]
 fn a_file_not_as_its_first_lines_said_is_compiled_again() {
     let dir = scratch("first-look");
-    let mut text = String::from("G21 G90 G17\nG64 P0.01\nG0 X0 Y0 Z2\nG1 Z-1 F300\n");
+    let mut text = String::from("G21 G90 G17\nM100\nG0 X0 Y0 Z2\nG1 Z-1 F300\n");
     for i in 0..30_000 {
         let x = i as f64 * 0.01;
         text.push_str(&format!("G1 X{x:.3} Y{:.3}\n", (i % 7) as f64));
@@ -556,9 +556,9 @@ fn a_long_output_written_to_a_file_is_whole() {
 #[test]
 fn any_program_compiled_to_a_file_is_read_in_parts_or_whole() {
     let dir = scratch("any-parts");
-    let mut egc = String::from("G21 G90 G17\nG64 P0.01\nG0 X0 Y0 Z2\nG1 Z-1 F300\nIi = 0\n");
+    let mut egc = String::from("G21 G90 G17\nM100\nG0 X0 Y0 Z2\nG1 Z-1 F300\nIi = 0\n");
     let sub = "o<peck> sub\nG1 Z-1 F100\n(up)\nG0 Z2\no<peck> endsub\n";
-    let mut ngc = String::from("G21 G90 G17\nG64 P0.01\n");
+    let mut ngc = String::from("G21 G90 G17\nM100\n");
     for i in 0..3_000 {
         egc.push_str(&format!(
             "while (Ii < {}) {{\n  G1 X<Ii * 0.01> Y{}\n  Ii = Ii + 1\n}}\n",
@@ -576,7 +576,7 @@ fn any_program_compiled_to_a_file_is_read_in_parts_or_whole() {
     egc.push_str("G0 Z5\nM30\n");
     ngc.push_str("G0 Z5\nM2\n");
     std::fs::write(dir.join("long.egc"), &egc).unwrap();
-    let kept = ngc.replacen("G64 P0.01\n", &format!("G64 P0.01\n{sub}"), 1);
+    let kept = ngc.replacen("M100\n", &format!("M100\n{sub}"), 1);
     std::fs::write(dir.join("kept.ngc"), kept).unwrap();
     // Called once, at the end, before the subroutine is written more than
     // a part (16 KB) further on: found out in the last part run, after
@@ -599,7 +599,11 @@ fn any_program_compiled_to_a_file_is_read_in_parts_or_whole() {
         let to_stdout = ger(&["compile", name], &dir);
         assert_eq!(to_stdout.stdout, whole.stdout, "{name}");
         let warned = String::from_utf8_lossy(&to_file.stderr);
-        assert_eq!(warned.matches("G64 dropped").count(), 1, "{name}: {warned}");
+        assert_eq!(
+            warned.matches("M100 is passed through").count(),
+            1,
+            "{name}: {warned}"
+        );
         for other in [&whole, &to_stdout, &ger(&["check", name], &dir)] {
             assert_eq!(warned, String::from_utf8_lossy(&other.stderr), "{name}");
         }
@@ -825,5 +829,70 @@ fn stats_plans_on_the_machine_of_the_project_file() {
     let table = String::from_utf8(r.stdout).unwrap();
     assert!(table.starts_with("run time "), "{table}");
     assert!(table.contains("planned as grbl plans it"), "{table}");
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// Travel limits (`[machine.x] min`/`max`): a move past them where the
+/// machine position is known (a `G53` move, or G54's origin set by the
+/// program) is an error at its line naming the axis and by how much, in
+/// `check` and `compile`; where G54's origin is the machine's, one
+/// warning says where it must lie (X: −300 … 0 minus the program's 0 …
+/// 120 and its arc's bulge to 130).
+#[test]
+fn moves_past_the_machine_travel_are_errors_where_the_offset_is_known() {
+    let dir = scratch("travel");
+    std::fs::write(
+        dir.join("ger.toml"),
+        "[machine]\ncontroller = \"linuxcnc\"\nunits = \"mm\"\n\
+         [machine.x]\nmin = -300\nmax = 0\n[machine.z]\nmin = -100\nmax = 0\n",
+    )
+    .unwrap();
+    let unknown = "G21 G90 G17\nG0 X0 Y0 Z5\nG1 X120 F500\nG3 X120 Y20 I0 J10\nM30\n";
+    std::fs::write(dir.join("unknown.nc"), unknown).unwrap();
+    let r = ger(&["compile", "unknown.nc"], &dir);
+    assert_success(&r);
+    let warned = String::from_utf8_lossy(&r.stderr);
+    assert!(
+        warned.contains("warning: travel limits checked only where"),
+        "{warned}"
+    );
+    assert!(warned.contains("X -300.000 … -130.000"), "{warned}");
+    assert!(warned.contains("Z -105.000 … -5.000"), "{warned}");
+    // G54 at X-200 Z-50: X reaches -200 + 130 = -70, fine; Z5 is -45.
+    // At X-100 the arc's bulge passes X0 by 30 mm; G53 Z10 by 10 mm.
+    let known = "G21 G90 G17\nG10 L2 P1 X-100 Y0 Z-50\nG0 X0 Y0 Z5\nG1 X120 F500\n\
+                 G3 X120 Y20 I0 J10\nG53 G0 Z10\nM30\n";
+    std::fs::write(dir.join("known.nc"), known).unwrap();
+    for command in ["compile", "check"] {
+        let r = ger(&[command, "known.nc"], &dir);
+        assert_eq!(r.status.code(), Some(1), "{command}");
+        let stderr = String::from_utf8_lossy(&r.stderr);
+        assert!(
+            stderr.contains("error: X leaves the machine's travel by 30.000 mm")
+                && stderr.contains("4 │ G1 X120 F500"),
+            "{stderr}"
+        );
+        assert!(
+            stderr.contains("2 moves go past it, the furthest by 30.000 mm"),
+            "{stderr}"
+        );
+        assert!(
+            stderr.contains("error: Z leaves the machine's travel by 10.000 mm")
+                && stderr.contains("6 │ G53 G0 Z10"),
+            "{stderr}"
+        );
+        assert!(!stderr.contains("warning: travel"), "{stderr}");
+    }
+    let inside = known
+        .replace("X-100", "X-200")
+        .replace("G53 G0 Z10", "G53 G0 Z0");
+    std::fs::write(dir.join("inside.nc"), inside).unwrap();
+    let r = ger(&["check", "inside.nc"], &dir);
+    assert_success(&r);
+    assert!(
+        r.stderr.is_empty(),
+        "{}",
+        String::from_utf8_lossy(&r.stderr)
+    );
     let _ = std::fs::remove_dir_all(&dir);
 }

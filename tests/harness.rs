@@ -21,6 +21,30 @@ const PAIRS: &[(&str, &str, &str, &str)] = &[
         "",
     ),
     (
+        "exact_stop_is_not_exact_path",
+        "G21 G0 X0 Y0\nG61.1\nG1 X4 F100\nM2\n",
+        "G21 G0 X0 Y0\nG61\nG1 X4 F100\nM2\n",
+        "path control",
+    ),
+    (
+        "blend_tolerance_differs",
+        "G21 G0 X0 Y0\nG64 P0.01\nG1 X4 F100\nM2\n",
+        "G21 G0 X0 Y0\nG64 P0.02\nG1 X4 F100\nM2\n",
+        "path control",
+    ),
+    (
+        "blend_tolerance_in_inch_and_mm",
+        "G20 G0 X0 Y0\nG64 P0.001\nG1 X1 F10\nM2\n",
+        "G21 G0 X0 Y0\nG64 P0.0254 Q0.0254\nG1 X25.4 F254\nM2\n",
+        "",
+    ),
+    (
+        "naive_cam_tolerance_differs",
+        "G21 G0 X0 Y0\nG64 P0.01\nG1 X4 F100\nM2\n",
+        "G21 G0 X0 Y0\nG64 P0.01 Q0.05\nG1 X4 F100\nM2\n",
+        "path control",
+    ),
+    (
         "end_point_off_by_10_um",
         "G21 G0 X1 Y2\nG1 X4 F100\nM2\n",
         "G21 G0 X1 Y2\nG1 X4.01 F100\nM2\n",

@@ -10,7 +10,7 @@ use lsp_types::notification::{
     DidChangeTextDocument, DidOpenTextDocument, Exit, Initialized, Notification as _,
     PublishDiagnostics,
 };
-use lsp_types::request::{Initialize, InlayHintRequest, Request as _, Shutdown};
+use lsp_types::request::{HoverRequest, Initialize, InlayHintRequest, Request as _, Shutdown};
 use lsp_types::{
     DidChangeTextDocumentParams, DidOpenTextDocumentParams, InlayHint, InlayHintParams, Position,
     PublishDiagnosticsParams, Range, TextDocumentContentChangeEvent, TextDocumentIdentifier,
@@ -284,4 +284,346 @@ fn the_binary_speaks_lsp_on_stdio() {
     assert_eq!(receive()["id"], 2);
     send(serde_json::json!({"jsonrpc": "2.0", "method": "exit"}));
     assert!(child.wait().unwrap().success());
+}
+
+impl Client {
+    /// Open `text` as `uri` and wait for its diagnostics.
+    fn open(&self, uri: &lsp_types::Uri, text: &str) -> PublishDiagnosticsParams {
+        self.notify(
+            DidOpenTextDocument::METHOD,
+            DidOpenTextDocumentParams {
+                text_document: TextDocumentItem::new(uri.clone(), "gcode".into(), 1, text.into()),
+            },
+        );
+        loop {
+            let published = self.diagnostics();
+            if &published.uri == uri {
+                return published;
+            }
+        }
+    }
+
+    /// Ask `method` about the place `line`:`column` of `uri`, with `more`
+    /// parameters.
+    fn ask(
+        &mut self,
+        method: &str,
+        uri: &lsp_types::Uri,
+        (line, column): (u32, u32),
+        more: serde_json::Value,
+    ) -> serde_json::Value {
+        let mut params = serde_json::json!({
+            "textDocument": { "uri": uri.as_str() },
+            "position": { "line": line, "character": column }
+        });
+        if let (Some(params), Some(more)) = (params.as_object_mut(), more.as_object()) {
+            params.extend(more.clone());
+        }
+        self.request(method, params)
+    }
+
+    fn hover(&mut self, uri: &lsp_types::Uri, at: (u32, u32)) -> String {
+        let answer = self.ask(HoverRequest::METHOD, uri, at, serde_json::json!({}));
+        answer["contents"]["value"]
+            .as_str()
+            .unwrap_or_default()
+            .to_string()
+    }
+}
+
+/// Where each location of an answer is: its file's name and line.
+fn places(answer: &serde_json::Value) -> Vec<(String, u64)> {
+    answer
+        .as_array()
+        .unwrap_or(&Vec::new())
+        .iter()
+        .map(|l| {
+            let uri = l["uri"].as_str().unwrap_or_default();
+            let name = uri.rsplit('/').next().unwrap_or_default().to_string();
+            (name, l["range"]["start"]["line"].as_u64().unwrap())
+        })
+        .collect()
+}
+
+const LOOP_PROGRAM: &str = "G21 G90\nDepth = 2\nCount = 0\nG0 X0 Y0 Z5\n\
+    while (Count < 3) {\n  G1 X<Count * 6> F100\n  Count = Count + 1\n}\nG1 Z<-Depth>\n\
+    Pocket 20 10 2\nM98 P100\nM30\nO100 (DRILL THE PATTERN)\nG0 X1\nM99\n";
+
+#[test]
+fn hover_shows_a_variables_values_a_wizards_manual_and_a_calls_comment() {
+    let mut client = Client::start();
+    let doc = uri("/nowhere/hover/part.egc");
+    client.open(&doc, LOOP_PROGRAM);
+    // `Count` in the loop's move: 0, 1, 2.
+    let count = client.hover(&doc, (5, 8));
+    assert_eq!(count, "`Count` varies here: 3 values, 0 … 2");
+    // In the condition, tested four times; set to 1, 2, 3.
+    assert_eq!(
+        client.hover(&doc, (4, 8)),
+        "`Count` varies here: 4 values, 0 … 3"
+    );
+    assert_eq!(
+        client.hover(&doc, (6, 3)),
+        "`Count` varies here: 3 values, 1 … 3"
+    );
+    assert_eq!(client.hover(&doc, (8, 7)), "`Depth` = 2 here");
+    // The wizard's manual, as `ger wizards Pocket` prints it.
+    let manual = std::process::Command::new(env!("CARGO_BIN_EXE_ger"))
+        .args(["wizards", "Pocket"])
+        .output()
+        .unwrap();
+    let manual = String::from_utf8(manual.stdout).unwrap();
+    assert!(manual.starts_with("Pocket width height depth"), "{manual}");
+    assert_eq!(client.hover(&doc, (9, 2)), format!("```text\n{manual}```"));
+    // The call's subprogram and its first comment.
+    assert_eq!(client.hover(&doc, (10, 5)), "**O100**: DRILL THE PATTERN");
+    // A change: the values are worked out again.
+    client.notify(
+        DidChangeTextDocument::METHOD,
+        DidChangeTextDocumentParams {
+            text_document: VersionedTextDocumentIdentifier::new(doc.clone(), 2),
+            content_changes: vec![TextDocumentContentChangeEvent {
+                range: None,
+                range_length: None,
+                text: LOOP_PROGRAM.replace("Depth = 2", "Depth = 2.5"),
+            }],
+        },
+    );
+    assert_eq!(client.hover(&doc, (8, 7)), "`Depth` = 2.5 here");
+    client.stop();
+}
+
+#[test]
+fn definition_references_and_rename() {
+    use lsp_types::request::{GotoDefinition, References, Rename};
+    let mut client = Client::start();
+    let doc = uri("/nowhere/nav/part.egc");
+    client.open(&doc, LOOP_PROGRAM);
+    let none = serde_json::json!({});
+    let def = |c: &mut Client, at| places(&c.ask(GotoDefinition::METHOD, &doc, at, none.clone()));
+    // M98 P100 -> O100; a variable -> its assignments.
+    assert_eq!(def(&mut client, (10, 5)), [("part.egc".into(), 12)]);
+    assert_eq!(
+        def(&mut client, (5, 9)),
+        [("part.egc".into(), 2), ("part.egc".into(), 6)]
+    );
+    let refs = client.ask(
+        References::METHOD,
+        &doc,
+        (8, 6),
+        serde_json::json!({ "context": { "includeDeclaration": true } }),
+    );
+    assert_eq!(
+        places(&refs),
+        [("part.egc".into(), 1), ("part.egc".into(), 8)]
+    );
+    // Rename `Depth` to `Cut`: both places.
+    let edit = client.ask(
+        Rename::METHOD,
+        &doc,
+        (1, 1),
+        serde_json::json!({ "newName": "Cut" }),
+    );
+    let edits = edit["changes"][doc.as_str()].as_array().unwrap();
+    let lines: Vec<_> = edits
+        .iter()
+        .map(|e| (e["range"]["start"]["line"].clone(), e["newText"].clone()))
+        .collect();
+    assert_eq!(
+        lines,
+        [
+            (serde_json::json!(1), serde_json::json!("Cut")),
+            (serde_json::json!(8), serde_json::json!("Cut"))
+        ]
+    );
+    // A LinuxCNC subroutine in a file of its own, open in the editor;
+    // a named parameter renamed keeps its `#<…>`.
+    let sub = uri("/nowhere/nav/drill.ngc");
+    client.open(
+        &sub,
+        "o<drill> sub\n(one hole)\nG0 X#1\no<drill> endsub\nM2\n",
+    );
+    let main = uri("/nowhere/nav/main.ngc");
+    client.open(
+        &main,
+        "G21 G90\n#<depth> = 3\no<drill> call [#<depth>]\nG1 Z-#<depth> F100\nM2\n",
+    );
+    let found = client.ask(GotoDefinition::METHOD, &main, (2, 3), none.clone());
+    assert_eq!(places(&found), [("drill.ngc".into(), 0)]);
+    assert_eq!(client.hover(&main, (2, 3)), "**o<drill>**: one hole");
+    let edit = client.ask(
+        Rename::METHOD,
+        &main,
+        (3, 8),
+        serde_json::json!({ "newName": "cut" }),
+    );
+    let texts: Vec<_> = edit["changes"][main.as_str()]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|e| e["newText"].as_str().unwrap().to_string())
+        .collect();
+    assert_eq!(texts, ["#<cut>", "#<cut>", "#<cut>"]);
+    // Fanuc's G65 P… -> its O block.
+    let fanuc = uri("/nowhere/nav/macro.nc");
+    client.open(
+        &fanuc,
+        "G21 G90\nG65 P200 A1 B2\nM30\nO200 (BOSS)\n#100=#1\nM99\n",
+    );
+    let found = client.ask(GotoDefinition::METHOD, &fanuc, (1, 6), none.clone());
+    assert_eq!(places(&found), [("macro.nc".into(), 3)]);
+    assert_eq!(client.hover(&fanuc, (1, 6)), "**O200**: BOSS");
+    // A wizard call -> its .rhai file (a user wizard beside the part).
+    let wizard = uri("/nowhere/nav/wizards/Hole.rhai");
+    client.open(
+        &wizard,
+        "//! One hole.\n//! @param depth  how deep\nlinear(0.0, 0.0, -depth);\n",
+    );
+    let part = uri("/nowhere/nav/holes.egc");
+    client.open(&part, "G21 G90\nG0 X0 Y0 Z5\nF100\nHole 3\nM30\n");
+    let found = client.ask(GotoDefinition::METHOD, &part, (3, 1), none);
+    assert_eq!(places(&found), [("Hole.rhai".into(), 0)]);
+    client.stop();
+}
+
+#[test]
+fn completion_and_signature_help() {
+    use lsp_types::request::{Completion, SignatureHelpRequest};
+    let mut client = Client::start();
+    let doc = uri("/nowhere/complete/part.egc");
+    let text = "G21 G90\nDepth = 2\nG8\n\nPocket 20 1\nPocket(20, \nG65 P100 A1 B\nM30\nO100 (BOSS)\nM99\n";
+    client.open(&doc, text);
+    let none = serde_json::json!({});
+    let offered = |c: &mut Client, at| -> Vec<serde_json::Value> {
+        let answer = c.ask(Completion::METHOD, &doc, at, serde_json::json!({}));
+        answer.as_array().unwrap().clone()
+    };
+    let after_g8 = offered(&mut client, (2, 2));
+    let g83 = after_g8.iter().find(|c| c["label"] == "G83").unwrap();
+    assert_eq!(g83["detail"], "peck drilling, full retract");
+    assert!(after_g8
+        .iter()
+        .all(|c| c["label"].as_str().unwrap().starts_with('G')));
+    let fresh = offered(&mut client, (3, 0));
+    let pocket = fresh.iter().find(|c| c["label"] == "Pocket").unwrap();
+    assert_eq!(
+        pocket["insertText"],
+        "Pocket ${1:width} ${2:height} ${3:depth}"
+    );
+    assert_eq!(pocket["insertTextFormat"], 2);
+    assert!(fresh
+        .iter()
+        .any(|c| c["label"] == "Depth" && c["kind"] == 6));
+    let help = |c: &mut Client, at| c.ask(SignatureHelpRequest::METHOD, &doc, at, none.clone());
+    let spaced = help(&mut client, (4, 11));
+    assert_eq!(spaced["activeParameter"], 1, "{spaced}");
+    let label = spaced["signatures"][0]["label"].as_str().unwrap();
+    assert!(
+        label.starts_with("Pocket width height depth [stepdown=0]"),
+        "{label}"
+    );
+    assert_eq!(help(&mut client, (5, 11))["activeParameter"], 1);
+    assert_eq!(help(&mut client, (4, 7))["activeParameter"], 0);
+    let g65 = help(&mut client, (6, 13));
+    let signature = &g65["signatures"][0];
+    let active = g65["activeParameter"].as_u64().unwrap() as usize;
+    assert_eq!(signature["parameters"][active]["label"], "B=#2", "{g65}");
+    assert_eq!(signature["documentation"], "macro call of O100: BOSS");
+    assert!(help(&mut client, (1, 3)).is_null());
+    client.stop();
+}
+
+/// The tool path of `text` as the file `path`, by the library, without
+/// its places in the text: what formatting must keep.
+fn tool_path_of(path: &str, text: &str) -> Vec<String> {
+    use ger::driver::{discovery::Search, fs::Memory, CompileOptions, Program, Session};
+    let fs = Memory::new();
+    let session = Session::new(&fs, CompileOptions::default(), Search::default()).unwrap();
+    let program = Program::Text {
+        name: path,
+        path: Some(std::path::Path::new(path)),
+        text: text.into(),
+    };
+    let Ok(mut job) = session.load(program) else {
+        panic!("{path} loads")
+    };
+    let path = job.tool_path().0.expect("the program compiles");
+    let moves = path
+        .moves
+        .iter()
+        .map(|m| format!("{:?} {:?} {:?} {:?}", m.kind, m.start, m.end, m.state));
+    let events = path
+        .events
+        .iter()
+        .map(|e| format!("{:?} after {}", e.kind, e.after_move));
+    moves.chain(events).collect()
+}
+
+#[test]
+fn formatting_renumbers_spaces_and_cases_and_keeps_the_tool_path() {
+    use lsp_types::request::Formatting;
+    let mut client = Client::start();
+    let doc = uri("/nowhere/format/messy.nc");
+    let messy = "%\nn5 g21g90 g0x0 y0   z5\nN7 t1m6\ng1 z-1 f100 (CUT (DEEP))\n  g1  x10.  \n\
+                 /n9 G1 Y5 ; end\nG2 X20 Y5 i5 j0\nm30\n%\n";
+    client.open(&doc, messy);
+    let format = |c: &mut Client, options: serde_json::Value| {
+        c.request(
+            Formatting::METHOD,
+            serde_json::json!({ "textDocument": { "uri": doc.as_str() }, "options": options }),
+        )
+    };
+    let edits = format(
+        &mut client,
+        serde_json::json!({ "tabSize": 4, "insertSpaces": true }),
+    );
+    let formatted = edits[0]["newText"].as_str().unwrap().to_string();
+    assert_eq!(
+        formatted,
+        "%\nN10 G21 G90 G0 X0 Y0 Z5\nN20 T1 M6\nG1 Z-1 F100 (CUT (DEEP))\nG1 X10.\n\
+         /N30 G1 Y5 ; end\nG2 X20 Y5 I5 J0\nM30\n%\n"
+    );
+    assert_eq!(
+        edits[0]["range"]["start"],
+        serde_json::json!({"line": 0, "character": 0})
+    );
+    let before = tool_path_of("/nowhere/format/messy.nc", messy);
+    assert!(before.len() > 4, "{before:?}");
+    assert_eq!(before, tool_path_of("/nowhere/format/messy.nc", &formatted));
+    let removed = format(
+        &mut client,
+        serde_json::json!({ "tabSize": 4, "insertSpaces": true, "gerNumbers": "remove" }),
+    );
+    let removed = removed[0]["newText"].as_str().unwrap().to_string();
+    assert!(
+        removed.starts_with("%\nG21 G90 G0 X0 Y0 Z5\nT1 M6\n"),
+        "{removed}"
+    );
+    assert_eq!(before, tool_path_of("/nowhere/format/messy.nc", &removed));
+    // A program with an error is not formatted: its tool path could not
+    // be checked.
+    let broken = uri("/nowhere/format/broken.nc");
+    client.open(&broken, "g21 g90\ng5 x1\nm30\n");
+    client.next_id += 1;
+    let id = RequestId::from(client.next_id);
+    let request = Request::new(
+        id.clone(),
+        Formatting::METHOD.into(),
+        serde_json::json!({ "textDocument": { "uri": broken.as_str() },
+                            "options": { "tabSize": 4, "insertSpaces": true } }),
+    );
+    client
+        .connection
+        .sender
+        .send(Message::Request(request))
+        .unwrap();
+    let refused = loop {
+        if let Message::Response(r) = client.receive() {
+            if r.id == id {
+                break r.error.expect("an error");
+            }
+        }
+    };
+    assert!(refused.message.contains("compiles"), "{}", refused.message);
+    client.stop();
 }

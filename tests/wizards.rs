@@ -341,13 +341,19 @@ fn cases() -> Vec<Case> {
                 .iter()
                 .filter(|m| m.cuts() && near(m.end[2], -1.0, 1e-3) && near(m.start[2], -1.0, 1e-3))
                 .collect();
+            // the spiral starts where the entry (a helix) comes back to the centre
+            let first = cut
+                .iter()
+                .rposition(|m| near(m.end[0], 50.0, 1e-6) && near(m.end[1], 40.0, 1e-6))
+                .map_or(0, |i| i + 1);
+            let cut = &cut[first..];
             if cut.len() < 20 {
                 return Err(format!("only {} spiral segments", cut.len()).into());
             }
             // Archimedean: the radius grows by `Pitch` per turn, from 0 to Rext.
             let mut turned = 0.0f64;
             let mut prev = [cut[0].start[0] - 50.0, cut[0].start[1] - 40.0];
-            for m in &cut {
+            for m in cut {
                 let v = [m.end[0] - 50.0, m.end[1] - 40.0];
                 let (a0, a1) = (prev[1].atan2(prev[0]), v[1].atan2(v[0]));
                 let mut da = a1 - a0;

@@ -65,6 +65,15 @@ impl AstPrinter<'_> {
     fn stmt(&mut self, stmt: &Stmt) {
         match &stmt.kind {
             StmtKind::Line(line) => self.words(&line.words, line.block_delete),
+            StmtKind::MacroCall(call) => {
+                self.words(&call.before, call.block_delete);
+                let words: Vec<String> = std::iter::once(&call.code)
+                    .chain(&call.args)
+                    .map(|w| self.word(w))
+                    .collect();
+                let slash = if call.block_delete { "/" } else { "" };
+                self.line(&format!("{slash}{}", words.join(" ")));
+            }
             StmtKind::Lines(lines) => lines
                 .each_as_words()
                 .for_each(|words| self.words(&words, false)),

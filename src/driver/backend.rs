@@ -5,6 +5,7 @@
 
 use super::options::{CompileOptions, Stage};
 use super::scan::{grid_decimals, input_decimals, FileScan};
+use super::travel::TravelCheck;
 use crate::diagnostic::Diagnostic;
 use crate::emit;
 use crate::ir;
@@ -83,6 +84,8 @@ pub(super) struct Started {
     /// `None` for `--stage expand`.
     pub(super) lowering: Option<Pipeline>,
     printer: Printer,
+    /// The machine's travel, checked on the lowered program.
+    travel: Option<TravelCheck>,
 }
 
 pub(super) enum Printer {
@@ -160,7 +163,12 @@ impl<'s> Backend<'s> {
             Some(last) if last >= lower::pass_index("units").unwrap_or(0) => start.output_units,
             _ => start.program_units,
         };
+        let whole = self.options.stage.is_none();
         Started {
+            travel: match self.options.travel {
+                Some(travel) if whole => Some(TravelCheck::new(travel, units)),
+                _ => None,
+            },
             lowering: last.map(|last| Pipeline::new(&context, self.ahead..last + 1)),
             printer: match self.options.stage {
                 _ if matches!(self.out, Output::Path(_)) => {
@@ -185,6 +193,7 @@ impl<'s> Backend<'s> {
         let Some(Started {
             lowering,
             mut printer,
+            mut travel,
         }) = self.started
         else {
             return (Vec::new(), written);
@@ -201,6 +210,9 @@ impl<'s> Backend<'s> {
         }
         if let Some(mut lowering) = lowering {
             lowering.finish(&mut |rest| {
+                if let Some(travel) = travel.as_mut() {
+                    rest.iter().for_each(|s| travel.feed(s));
+                }
                 printer.print(rest);
                 rest.clear();
             });
@@ -210,8 +222,10 @@ impl<'s> Backend<'s> {
                 return (diagnostics, written);
             }
         }
+        diagnostics.extend(travel.iter().flat_map(TravelCheck::finish));
         if let Printer::Program(p) = &printer {
             diagnostics.extend(p.arcs_not_r());
+            diagnostics.extend(p.path_control_lost());
             diagnostics.extend(p.arcs_fitted());
         }
         match (printer.finish(), self.out) {
@@ -269,8 +283,12 @@ impl ir::Sink for Backend<'_> {
         let mut emit_time = Duration::ZERO;
         let (printer, out, write_error) =
             (&mut started.printer, &mut self.out, &mut self.write_error);
+        let travel = &mut started.travel;
         let mut print = |stmts: &mut Vec<ir::Stmt>| {
             let t = Instant::now();
+            if let Some(travel) = travel.as_mut() {
+                stmts.iter().for_each(|s| travel.feed(s));
+            }
             print_and_write(printer, out, write_error, stmts);
             emit_time += t.elapsed();
         };

@@ -226,6 +226,34 @@ pub fn tool_path(
     (path, diagnostics)
 }
 
+/// The values the variables of file `file` of `sources` have where the
+/// program reads and sets them ([`eval::watch_program`]): the program
+/// parsed whole and run without output; nothing when it does not parse.
+pub fn watch(
+    sources: &Sources,
+    file: FileId,
+    options: &CompileOptions,
+    wizards: Option<&mut dyn WizardHost>,
+) -> eval::Watched {
+    let input = Input::of(sources, file, options);
+    let (mut program, parsed) = crate::syntax::parse_program_files(
+        (input.text, &input.locator),
+        &input.library,
+        input.language,
+    );
+    if parsed.iter().any(is_error) {
+        return eval::Watched::default();
+    }
+    if input.from == eval::Flavour::Fanuc && input.language == Language::Gcode {
+        map_fanuc_functions(&mut program.main);
+        for sub in &mut program.subprograms {
+            map_fanuc_functions(&mut sub.body);
+        }
+    }
+    let eval_options = options.eval_options(input.from, input.language);
+    eval::watch_program(&program, &eval_options, wizards)
+}
+
 /// The file to compile: its text, id, language and flavour.
 struct Input<'a> {
     /// The subroutine files read with it (`CompileOptions::library`).
@@ -473,11 +501,14 @@ fn run_by_parts(
         diagnostics: evaluated,
         mut names,
         needs_whole,
+        ended,
     } = chunked;
     parts.whole |= needs_whole;
     // The parts after the program's end, for their syntax errors (and
-    // their subprograms, numbered by the program's names).
-    while parts.next(language, &mut names).is_some() {
+    // their subprograms, numbered by the program's names); plain G-code
+    // is not read after its end (rs274's rule, `parser::unread_after_end`).
+    let unread = ended && language == Language::Gcode;
+    while !unread && parts.next(language, &mut names).is_some() {
         names.forget_notes();
     }
     diagnostics.append(&mut parts.diagnostics);

@@ -50,6 +50,9 @@ pub struct CompileOptions {
     /// Files of LinuxCNC subroutines (`o<name> sub` … `endsub`) the
     /// program calls but does not hold; the caller found and read them.
     pub library: Vec<FileId>,
+    /// The machine's travel (`[machine]` of `ger.toml`): each move is
+    /// checked against it (`driver::travel`).
+    pub travel: Option<super::travel::Travel>,
 }
 
 impl CompileOptions {

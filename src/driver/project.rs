@@ -162,6 +162,10 @@ pub fn configure(
     match read(fs, &mut sources, &path) {
         Ok(project) => {
             project.compile.apply(options, search, given);
+            if let Some(machine) = &project.machine {
+                let travel = machine.axes.map(|a| a.travel);
+                options.travel = travel.iter().any(Option::is_some).then_some(travel);
+            }
             Ok(Some(project))
         }
         Err(e) => Err((sources, e)),

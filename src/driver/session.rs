@@ -484,6 +484,13 @@ impl Job {
         compile::tool_path(sources, file, options, Some(&mut self.engine))
     }
 
+    /// The values variables have where the program reads and sets them
+    /// (the editor's hover; no compile records them).
+    pub fn watch(&mut self) -> crate::eval::Watched {
+        let (sources, file, options) = (&self.sources, self.file, &self.options);
+        compile::watch(sources, file, options, Some(&mut self.engine))
+    }
+
     /// The file name and 1-based line of a span (a move's, a
     /// diagnostic's).
     pub fn line_of(&self, span: Span) -> (&str, usize) {

@@ -171,7 +171,7 @@ impl Run<'_> {
     /// (or one of its neighbours), as the output prints it, if it is
     /// within the tolerance of every vertex and segment.
     fn proven(&self, i: usize, j: usize, (center, clockwise): ([f64; 2], bool)) -> Option<Piece> {
-        let base = center.map(|v| crate::emit::number::round_to_int(v * self.scale));
+        let base = center.map(|v| crate::emit::number::to_grid(v, self.scale));
         let neighbours = [(0, 0), (1, 0), (-1, 0), (0, 1), (0, -1)];
         neighbours.into_iter().find_map(|(da, db)| {
             let q = [base[0] + da, base[1] + db];

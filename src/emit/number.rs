@@ -67,16 +67,35 @@ pub fn round_to_int(x: f64) -> i64 {
     }
 }
 
+/// How close (in the output's unit) to a tie at the last decimal a value
+/// counts as the tie; with many decimals, at most a thousandth of a step.
+const TIE: f64 = 1e-9;
+const TIE_STEPS: f64 = 1e-3;
+
+/// `v` on the grid of `scale` steps per unit (10^decimals), a tie rounded
+/// half away from zero, and a value within [`TIE`] of a tie taken as the
+/// tie: the same coordinate computed two ways (38.78749999999 and
+/// 38.78750000001) prints the same, `38.788`, everywhere.
+pub fn to_grid(v: f64, scale: f64) -> i64 {
+    let x = v * scale;
+    round_to_int(x + tie_band(scale).copysign(x))
+}
+
+/// [`TIE`] in steps of the grid.
+fn tie_band(scale: f64) -> f64 {
+    (TIE * scale).min(TIE_STEPS)
+}
+
 /// A number with a decimal point and at most `decimals` decimals, trailing
 /// zeros removed: `1.`, `-0.25`, `12.5`.
 pub fn push_fixed_bytes(out: &mut Vec<u8>, v: f64, decimals: usize) {
     let decimals = decimals.min(9);
-    let x = v * 10f64.powi(decimals as i32);
-    if !v.is_finite() || v.abs() >= 1e12 || x.abs() >= 1e18 {
+    let scale = 10f64.powi(decimals as i32);
+    if !v.is_finite() || v.abs() >= 1e12 || (v * scale).abs() >= 1e18 {
         out.extend_from_slice(format!("{v:.decimals$}").as_bytes());
         return;
     }
-    push_scaled(out, round_to_int(x), decimals);
+    push_scaled(out, to_grid(v, scale), decimals);
 }
 
 /// `q` × 10^-`decimals` (at most 18) as [`push_fixed_bytes`] writes it.
@@ -319,6 +338,20 @@ mod tests {
     }
 
     #[test]
+    fn the_same_value_computed_two_ways_prints_the_same() {
+        // issue 48: a pocket lap from Y38.787 to Y38.788
+        let (below, above) = (38.7875 - 3e-12, 38.7875 + 3e-12);
+        assert_eq!(fixed(below, 3), "38.788");
+        assert_eq!(fixed(above, 3), "38.788");
+        assert_eq!(fixed(-below, 3), "-38.788");
+        assert_eq!(fixed(0.1 + 0.2 - 0.3 + 0.0005, 3), "0.001");
+        assert_eq!(fixed(1.00045, 4), "1.0005");
+        // a value that is not a tie is not moved
+        assert_eq!(fixed(38.78749, 3), "38.787");
+        assert_eq!(fixed(38.7875 - 2e-9, 3), "38.787");
+    }
+
+    #[test]
     fn rounding_is_half_away_from_zero_like_f64_round() {
         let ties = [0.5, 1.5, 2.5, -0.5, -1.5, -2.5, 0.49999999999999994];
         let edges = [4503599627370495.5, -4503599627370495.5, 4.5e15, 1e18, -1e19];
@@ -333,7 +366,8 @@ mod tests {
     fn fixed_point_matches_rounding_then_printing() {
         fn reference(v: f64, d: usize) -> String {
             let scale = 10u64.pow(d as u32);
-            let n = (v * scale as f64).round() as i64;
+            let x = v * scale as f64;
+            let n = (x + super::tie_band(scale as f64).copysign(x)).round() as i64;
             let sign = if n < 0 { "-" } else { "" };
             let n = n.unsigned_abs();
             let fraction = format!("{:0width$}", n % scale, width = d);

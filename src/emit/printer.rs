@@ -2,7 +2,7 @@
 //! time, and the spelling of every statement as written. It decides
 //! nothing about what to print; the stage and program printers do.
 
-use super::number::{push_fixed_bytes, push_int, push_line_word, push_scaled, round_to_int};
+use super::number::{push_fixed_bytes, push_int, push_line_word, push_scaled, to_grid};
 use super::{Numbering, Target};
 use crate::ir::{self, ArcGeometry, CompRadius, Motion, Op, Passthrough, Units};
 use crate::source::Span;
@@ -157,7 +157,7 @@ impl Printer {
     /// absolute pass); the clamp only makes sure that no input can make a
     /// difference of two overflow.
     pub fn scaled(&self, v: f64) -> i64 {
-        round_to_int(v * self.scale).clamp(-(1 << 61), 1 << 61)
+        to_grid(v, self.scale).clamp(-(1 << 61), 1 << 61)
     }
 
     pub fn unscaled(&self, n: i64) -> f64 {
@@ -268,6 +268,7 @@ impl Printer {
             Op::CycleOff => self.code("G80"),
             Op::Comp { side, radius } => self.comp_words(*side, *radius),
             Op::CompOff => self.code("G40"),
+            Op::PathControl(pc) => self.path_control_words(*pc),
             Op::ReadPosition(_) => {}
             Op::Comment(text) => self.comment(text),
             Op::Passthrough(Passthrough::MCode { number, words }) => {
@@ -380,6 +381,32 @@ impl Printer {
         }
         if c.repeats != 1 {
             self.int_word(b'L', c.repeats);
+        }
+    }
+
+    /// G61, G61.1, G64 P Q; on Fanuc G61 (its exact stop) and a bare
+    /// G64 (it has no tolerance words). Grbl has none: the program
+    /// printer leaves them out.
+    fn path_control_words(&mut self, pc: ir::PathControl) {
+        let fanuc = self.target == Target::Fanuc;
+        match pc {
+            ir::PathControl::ExactPath => self.code("G61"),
+            ir::PathControl::ExactStop if fanuc => self.code("G61"),
+            ir::PathControl::ExactStop => self.code("G61.1"),
+            ir::PathControl::Blend { tolerance, naive } => {
+                self.code("G64");
+                if fanuc {
+                    return;
+                }
+                // A tolerance is often finer than the grid of positions
+                // (P0.0005 in mm): two digits more keep it.
+                let decimals = self.decimals + 2;
+                for (letter, v) in [(b'P', tolerance), (b'Q', naive)] {
+                    if let Some(v) = v {
+                        self.word_decimals(letter, v, decimals);
+                    }
+                }
+            }
         }
     }
 

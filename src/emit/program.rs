@@ -3,7 +3,7 @@
 //! start point as printed, and the target's prologue and epilogue.
 
 use super::printer::{motion_code, Printer};
-use super::{ArcFormat, EmitOptions};
+use super::{ArcFormat, EmitOptions, Target};
 use crate::diagnostic::{warning, Diagnostic, DiagnosticExt};
 use crate::geometry::{self, Point};
 use crate::ir::{self, ArcGeometry, Axis, Motion, Op, Units};
@@ -27,6 +27,9 @@ pub struct ProgramPrinter {
     /// `--arcs r`: the arcs written with I/J all the same (the first one's
     /// line, and how many).
     not_r: Option<(Span, usize)>,
+    /// Path control the target cannot run as written (grbl: none of it;
+    /// Fanuc: G61.1, G64's P and Q): the first one's line, and how many.
+    path_control_lost: Option<(Span, usize)>,
     /// Machine position per axis, as the absolute pass knows it.
     position: ir::Position,
     /// Last printed value of each axis, on the output grid; `None` makes
@@ -73,6 +76,7 @@ impl ProgramPrinter {
                 Some(Units::Inch) | None => 0.001 / 25.4,
             },
             not_r: None,
+            path_control_lost: None,
             position: [None; 9],
             printed: [None; 9],
             pending_feed: None,
@@ -122,6 +126,13 @@ impl ProgramPrinter {
                 Op::ChangeTool | Op::Stop(_) => self.printed = [None; 9],
                 // Nothing to write, and the output's tool has not moved.
                 Op::ReadPosition(_) => continue,
+                Op::PathControl(pc) if self.p.target.loses(pc) => {
+                    let lost = self.path_control_lost.get_or_insert((stmt.span, 0));
+                    lost.1 += 1;
+                    if self.p.target == Target::Grbl {
+                        continue;
+                    }
+                }
                 // Where the tool is, in program coordinates, is no longer
                 // known (the absolute pass forgets the same axes).
                 Op::MachineMove(_)
@@ -151,6 +162,7 @@ impl ProgramPrinter {
                 | Op::CycleOff
                 | Op::Comp { .. }
                 | Op::CompOff
+                | Op::PathControl(_)
                 | Op::Comment(_)
                 | Op::Passthrough(_) => {}
             }
@@ -177,6 +189,30 @@ impl ProgramPrinter {
             )
             .with_help("more decimals (`--decimals`) let more arcs be written with R"),
         )
+    }
+
+    /// Path control the target runs otherwise, or not at all: a warning.
+    pub fn path_control_lost(&self) -> Option<Diagnostic> {
+        let (first, n) = self.path_control_lost?;
+        let times = if n == 1 {
+            String::new()
+        } else {
+            format!(" ({n} times)")
+        };
+        Some(match self.p.target {
+            Target::Grbl => warning(
+                format!("path control dropped{times}"),
+                first,
+                "grbl has no G61, G61.1 or G64",
+            )
+            .with_note("grbl always blends corners within its junction deviation ($11)"),
+            _ => warning(
+                format!("path control written as Fanuc's{times}"),
+                first,
+                "Fanuc has no G61.1 and no P or Q on G64",
+            )
+            .with_note("G61.1 is written G61 (exact stop), G64 without its tolerances"),
+        })
     }
 
     pub fn finish(mut self) -> Vec<u8> {
@@ -423,7 +459,7 @@ impl ProgramPrinter {
         let most = self.p.decimals.max(6);
         (self.p.decimals..=most).find_map(|decimals| {
             let scale = 10f64.powi(decimals as i32);
-            let printed = crate::emit::number::round_to_int(r * scale) as f64 / scale;
+            let printed = crate::emit::number::to_grid(r, scale) as f64 / scale;
             let c = geometry::center_from_radius(s, e, printed, plane, clockwise).ok()?;
             let moved = (c[a] - center[a]).hypot(c[b] - center[b]);
             let turned =
@@ -494,7 +530,9 @@ impl ProgramPrinter {
     }
 
     /// Whether a move may join a run: a straight feed in the plane's axes
-    /// from a known point, on a line of its own.
+    /// from a known point, on a line of its own. Where only the machine
+    /// knows the normal axis (a program that never sets Z), a move that
+    /// leaves it alone joins too: its arc is flat, and written without it.
     fn joins(&self, stmt: &ir::Stmt, m: &ir::Move) -> bool {
         let Some(fitting) = self.fitting.as_deref() else {
             return false;
@@ -507,7 +545,8 @@ impl ProgramPrinter {
             && !fitting.inverse_time
             && !fitting.compensating
             && m.to.bits() & !plane_axes == 0
-            && [a, b, n].iter().all(|&i| self.position[i].is_some())
+            && [a, b].iter().all(|&i| self.position[i].is_some())
+            && (self.position[n].is_some() || m.to.get(Axis::ALL[n]).is_none())
     }
 
     fn hold(&mut self, stmt: &ir::Stmt, m: &ir::Move) {
@@ -658,7 +697,10 @@ impl ProgramPrinter {
             let q = match i {
                 _ if i == a => end[0],
                 _ if i == b => end[1],
-                _ if i == n && self.printed[n] != Some(end[2]) => end[2],
+                // (Not written where only the machine knows it.)
+                _ if i == n && self.position[n].is_some() && self.printed[n] != Some(end[2]) => {
+                    end[2]
+                }
                 _ => continue,
             };
             self.p.word_q(axis.letter(), q);

@@ -2,6 +2,8 @@
 //! wants around and inside the program. Everything a target changes is a
 //! method here, so a new target is one variant and its answers.
 
+use crate::ir;
+
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
 pub enum Target {
     #[default]
@@ -56,6 +58,22 @@ impl Target {
             (Target::Grbl, Some(t)) => format!("M0 (change to tool {t})"),
             (Target::Grbl, None) => "M0 (tool change)".to_string(),
             (Target::Generic | Target::Fanuc | Target::LinuxCnc, _) => "M6".to_string(),
+        }
+    }
+
+    /// Whether path control `pc` is written otherwise than the program
+    /// gave it, or not at all: grbl has none (it blends every corner
+    /// within its junction deviation); Fanuc's G61 is an exact stop and
+    /// its G64 takes no tolerance.
+    pub fn loses(self, pc: &ir::PathControl) -> bool {
+        match (self, pc) {
+            (Target::Grbl, _) => true,
+            (Target::Fanuc, ir::PathControl::ExactStop) => true,
+            (Target::Fanuc, ir::PathControl::Blend { tolerance, naive }) => {
+                tolerance.is_some() || naive.is_some()
+            }
+            (Target::Fanuc, ir::PathControl::ExactPath) => false,
+            (Target::Generic | Target::LinuxCnc, _) => false,
         }
     }
 }

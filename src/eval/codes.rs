@@ -107,33 +107,14 @@ impl Evaluator<'_> {
                 }
             }
         }
-        let mut span = stmt
+        let span = stmt
             .code
             .map(|c| c.span)
             .or_else(|| stmt.args.first().map(|w| w.span))
             .unwrap_or_default();
-        for (i, w) in stmt.args.iter().enumerate() {
-            span = span.to(w.span);
-            if w.letter == b'N' {
-                continue;
-            }
-            // A word given a vacant variable is left out (Fanuc).
-            if matches!(&w.value, WordValue::Expr(e) if super::value::vacant(e, &self.vars)) {
-                continue;
-            }
-            let Some(mut value) = self.word_value(w) else {
-                return Flow::Next;
-            };
-            if w.letter == b'X' && self.modal.diameter_mode {
-                value /= 2.0;
-            }
-            if let Some(first) = words.given(w.letter) {
-                let letter = w.letter as char;
-                self.report(CodeError::new(K::WordTwice { letter, first }, w.span));
-                return Flow::Next;
-            }
-            words.set(w.letter, value, i);
-        }
+        let Some(span) = self.read_words(stmt.args, words, span) else {
+            return Flow::Next;
+        };
         let result = match stmt.code {
             None => self.plain_words(words, span),
             Some(code) => {
@@ -151,6 +132,80 @@ impl Evaluator<'_> {
             }
         };
         result.unwrap_or_else(|d| self.reported(d))
+    }
+
+    /// The values of a statement's words `args` (but its `N` words and
+    /// those given a vacant variable) into `words`; `span` grown to the
+    /// last. `None` when a word's value is an error, reported.
+    fn read_words(
+        &mut self,
+        args: &[ast::Word],
+        words: &mut WordValues,
+        span: Span,
+    ) -> Option<Span> {
+        let mut span = span;
+        for (i, w) in args.iter().enumerate() {
+            span = span.to(w.span);
+            if w.letter == b'N' {
+                continue;
+            }
+            // A word given a vacant variable is left out (Fanuc).
+            if matches!(&w.value, WordValue::Expr(e) if super::value::vacant(e, &self.vars)) {
+                continue;
+            }
+            let mut value = self.word_value(w)?;
+            if w.letter == b'X' && self.modal.diameter_mode {
+                value /= 2.0;
+            }
+            if let Some(first) = words.given(w.letter) {
+                let letter = w.letter as char;
+                self.report(CodeError::new(K::WordTwice { letter, first }, w.span));
+                return None;
+            }
+            words.set(w.letter, value, i);
+        }
+        Some(span)
+    }
+
+    /// A line with Fanuc's `G65` ([`ast::MacroCall`]): the statements
+    /// before it, then the call ([`Self::macro_call`]). Without `--from
+    /// fanuc` the `G65` is a G code like any other, which says so.
+    pub(super) fn exec_macro_call(&mut self, call: &ast::MacroCall) -> Flow {
+        self.this_line.machine_coordinates = false;
+        self.this_line.inverse_feed = false;
+        self.this_line.block_delete = call.block_delete;
+        let mut flow = Flow::Next;
+        for s in ast::statements(&call.before) {
+            flow = self.exec_line_stmt(s);
+            if flow != Flow::Next {
+                break;
+            }
+        }
+        if flow == Flow::Next {
+            flow = match self.options.from {
+                Flavour::Fanuc => self.run_macro_call(call),
+                _ => self.exec_line_stmt(LineStmt {
+                    code: Some(&call.code),
+                    args: &call.args,
+                }),
+            };
+        }
+        self.this_line.block_delete = false;
+        flow
+    }
+
+    /// The call of a [`ast::MacroCall`], its words' values worked out.
+    fn run_macro_call(&mut self, call: &ast::MacroCall) -> Flow {
+        let table = self.word_table.take().unwrap_or_default();
+        let mut words = WordValues::new(&call.args, table);
+        let flow = match self.read_words(&call.args, &mut words, call.code.span) {
+            Some(_) => self
+                .macro_call(&mut words, call.code.span)
+                .unwrap_or_else(|d| self.reported(d)),
+            None => Flow::Next,
+        };
+        self.word_table = Some(words.table);
+        flow
     }
 
     /// Report a statement's error; the program goes on after it, unless it
@@ -484,7 +539,8 @@ impl Evaluator<'_> {
         span: Span,
     ) -> Result<Flow, Diagnostic> {
         let code = Some((b'G', t));
-        // Its F, S and T are arguments.
+        // A computed `G#1` that is 65 ([`Self::exec_macro_call`] runs a
+        // written one): its F, S and T are arguments.
         if t == 650 && self.options.from == Flavour::Fanuc {
             return self.macro_call(w, at);
         }
@@ -495,7 +551,7 @@ impl Evaluator<'_> {
         }
         match t {
             0 | 10 | 20 | 30 => self.select_motion(t),
-            _ if self.g_mode(t, at, w, span)? => {}
+            _ if self.g_mode(t, at, span)? => {}
             _ => {
                 let op = self.g_statement(t, at, w)?;
                 self.emit(op, span)?;
@@ -522,13 +578,7 @@ impl Evaluator<'_> {
     /// A G code other than the motion codes that sets a mode of the
     /// evaluator, and makes a statement at most where the mode changes:
     /// whether `t` is one.
-    fn g_mode(
-        &mut self,
-        t: u32,
-        at: Span,
-        w: &mut WordValues,
-        span: Span,
-    ) -> Result<bool, Diagnostic> {
+    fn g_mode(&mut self, t: u32, at: Span, span: Span) -> Result<bool, Diagnostic> {
         match t {
             70 | 80 => {
                 // Folded into the X words as they are read.
@@ -539,12 +589,6 @@ impl Evaluator<'_> {
             530 => {
                 // The motion of this line is in machine coordinates.
                 self.this_line.machine_coordinates = true;
-            }
-            610 | 611 | 640 => {
-                w.take(b'P');
-                w.take(b'Q');
-                let name = code_name(b'G', t);
-                self.report(CodeError::new(K::BlendingDropped(name), at));
             }
             // G90.1/G91.1: made only where the mode changes (G91.1, the
             // mode every program starts in, is most often a post's
@@ -578,6 +622,9 @@ impl Evaluator<'_> {
         let name = || code_name(b'G', t);
         Ok(match t {
             40 => self.dwell(w, at)?,
+            610 => Op::PathControl(ir::PathControl::ExactPath),
+            611 => Op::PathControl(ir::PathControl::ExactStop),
+            640 => blend(w)?,
             100 => self.g10(w, at)?,
             150 => Op::Polar(false),
             160 => Op::Polar(true),
@@ -1094,6 +1141,28 @@ thread_local! {
 }
 
 /// A word that must hold a whole, non-negative number.
+/// G64 and its tolerances: P how far from a corner the blend may pass,
+/// Q LinuxCNC's naive-CAM tolerance. A negative one is none given
+/// (rs274: the default tolerance, and Q as P).
+fn blend(w: &mut WordValues) -> Result<Op, Diagnostic> {
+    let mut tolerance = |letter: u8| -> Result<Option<f64>, Diagnostic> {
+        match w.take(letter) {
+            Some((v, span)) if !ir::is_length(v) => Err(super::error::out_of_range(
+                format!("G64 `{}` is out of range", letter as char),
+                "tolerances",
+                v,
+                span,
+            )),
+            Some((v, _)) => Ok((v >= 0.0).then_some(v)),
+            None => Ok(None),
+        }
+    };
+    Ok(Op::PathControl(ir::PathControl::Blend {
+        tolerance: tolerance(b'P')?,
+        naive: tolerance(b'Q')?,
+    }))
+}
+
 fn whole(value: f64, span: Span, what: &'static str) -> Result<u32, Diagnostic> {
     ast::whole_number(value).ok_or_else(|| CodeError::new(K::NotWhole(what), span).into())
 }

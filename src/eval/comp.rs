@@ -84,6 +84,7 @@ impl Evaluator<'_> {
             Op::ToolLength { .. } | Op::CancelToolLength => "a change of tool length offset",
             Op::Plane(p) if *p != self.modal.plane => "a change of plane",
             Op::Polar(true) => "polar coordinates (G16)",
+            Op::PathControl(_) => "a change of path control (G61, G61.1, G64)",
             _ => return Ok(()),
         };
         Err(CompBlockError::new(

@@ -232,7 +232,7 @@ impl Evaluator<'_> {
         if let Some(needed) = spindle_needed(kind) {
             self.check_spindle(kind, needed, at_code)?;
         }
-        if !self.modal.feed_set {
+        if self.modal.feed.is_none() {
             return Err(CycleBlockError::new(CycleBlockErrorKind::NoFeed, at_code).into());
         }
         if self.modal.inverse_time {

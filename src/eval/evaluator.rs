@@ -7,6 +7,7 @@ use super::options::EvalOptions;
 use super::setup::SetupBuilder;
 use super::state::{CycleState, LineState, Macros, Modal, OutputStart, Reports, RunCounts};
 use super::value::Vars;
+use super::watch::Watched;
 use super::wizard_api::WizardHost;
 use super::words::WordTable;
 use crate::ast::{self, Names, OName};
@@ -62,4 +63,7 @@ pub(super) struct Evaluator<'a> {
     pub(super) modal: Modal,
     /// What a run of canned cycles remembers between blocks.
     pub(super) cycles: CycleState,
+    /// The values seen where variables are read and set, when a caller
+    /// asked ([`super::watch_program`]).
+    pub(super) watch: Option<Box<Watched>>,
 }

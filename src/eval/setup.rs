@@ -92,6 +92,14 @@ impl SetupBuilder {
         }
     }
 
+    /// The included angle (degrees) of a vee tool; `None` for other shapes.
+    pub fn tool_angle(&self, tool: u32) -> Option<f64> {
+        match self.setup.tools.get(&tool)?.shape {
+            ToolShape::Vee(angle) => Some(angle),
+            ToolShape::Flat | ToolShape::Ball | ToolShape::Drill => None,
+        }
+    }
+
     pub fn apply(
         &mut self,
         directive: Directive,

@@ -276,8 +276,9 @@ pub(super) struct Modal {
     /// Last commanded position in program coordinates (`None` before the
     /// first move that sets the axis).
     pub(super) position: [Option<f64>; 3],
-    /// An F word has been given: a feed move without one is an error.
-    pub(super) feed_set: bool,
+    /// The last F word's value (`None` before one: a feed move without one
+    /// is an error; wizards read it for their plunge feed).
+    pub(super) feed: Option<f64>,
     /// G94 after G93, and no F since.
     pub(super) inverse_time_ended: bool,
 }
@@ -300,7 +301,7 @@ impl Default for Modal {
             tool: 1,
             selected: None,
             position: [None; 3],
-            feed_set: false,
+            feed: None,
             inverse_time_ended: false,
         }
     }

@@ -62,4 +62,8 @@ pub struct MachineState {
     pub units: Option<ir::Units>,
     pub tool: u32,
     pub tool_diameter: f64,
+    /// The loaded tool's included angle if it is a vee (`SetTool … "vee60"`).
+    pub tool_angle: Option<f64>,
+    /// The feed per minute in effect (`None` before an F, or under G93).
+    pub feed: Option<f64>,
 }

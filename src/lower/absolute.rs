@@ -283,6 +283,7 @@ impl Pass for AbsolutePass {
             | Op::CycleOff
             | Op::Comp { .. }
             | Op::CompOff
+            | Op::PathControl(_)
             | Op::Comment(_)
             | Op::Passthrough(_) => {}
         }

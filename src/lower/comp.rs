@@ -270,6 +270,7 @@ impl CompPass {
             | Op::ReturnLevel(_)
             | Op::Cycle(_)
             | Op::CycleOff
+            | Op::PathControl(_)
             | Op::Comment(_)
             | Op::Passthrough(_) => {}
         }

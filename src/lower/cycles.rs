@@ -459,6 +459,7 @@ impl Pass for CyclesPass {
             | Op::CycleOff
             | Op::Comp { .. }
             | Op::CompOff
+            | Op::PathControl(_)
             | Op::Comment(_)
             | Op::Passthrough(_) => {}
         }

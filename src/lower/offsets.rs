@@ -338,6 +338,7 @@ impl Pass for OffsetsPass {
             | Op::CycleOff
             | Op::Comp { .. }
             | Op::CompOff
+            | Op::PathControl(_)
             | Op::Comment(_)
             | Op::Passthrough(_) => true,
         }

@@ -137,6 +137,7 @@ impl Pass for PolarPass {
             | Op::CycleOff
             | Op::Comp { .. }
             | Op::CompOff
+            | Op::PathControl(_)
             | Op::Comment(_)
             | Op::Passthrough(_) => {}
         }

@@ -131,6 +131,11 @@ impl Pass for UnitsPass {
                 radius: CompRadius::Diameter(d),
                 ..
             } => scale(d),
+            Op::PathControl(ir::PathControl::Blend { tolerance, naive }) => {
+                for v in [tolerance, naive].into_iter().flatten() {
+                    scale(v);
+                }
+            }
             Op::Comp { .. }
             | Op::Speed(_)
             | Op::SelectTool(_)
@@ -151,6 +156,7 @@ impl Pass for UnitsPass {
             | Op::ReturnLevel(_)
             | Op::CycleOff
             | Op::CompOff
+            | Op::PathControl(_)
             | Op::Comment(_)
             | Op::Passthrough(_) => {}
         }

@@ -4,15 +4,19 @@
 //! moves the tool, where the tool is and when. Pure: text and a
 //! file-system view in, data out; no protocol here.
 
+use super::index::{first_comment, Index};
 use crate::diagnostic::{plain, Level, Plain};
 use crate::driver::discovery::{folder_of, Search};
 use crate::driver::fs::FileSystem;
 use crate::driver::project::{self, ProjectError};
 use crate::driver::{CompileOptions, Job, Program, Session};
+use crate::eval::Seen;
 use crate::ir::Units;
 use crate::plan::{clock_per_move, Limits};
 use crate::source::Sources;
-use std::path::Path;
+use crate::syntax::Language;
+use std::collections::HashMap;
+use std::path::{Path, PathBuf};
 
 /// A place in a document: 0-based line and UTF-16 column, as LSP counts.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord)]
@@ -59,42 +63,89 @@ pub enum OutlineKind {
     ToolChange,
 }
 
+/// A wizard as the editor shows it.
+#[derive(Clone, Debug, PartialEq)]
+pub struct WizardEntry {
+    pub name: String,
+    /// What `ger wizards NAME` prints.
+    pub manual: String,
+    pub summary: String,
+    /// Its parameters, each with its default if it has one.
+    pub params: Vec<(String, Option<String>)>,
+    /// Its `.rhai` file; `None` for the standard library's.
+    pub file: Option<PathBuf>,
+}
+
+/// A subprogram of another file (a LinuxCNC subroutine file).
+#[derive(Clone, Debug, PartialEq)]
+pub struct ElsewhereSub {
+    pub key: String,
+    pub file: PathBuf,
+    pub from: At,
+    pub to: At,
+    pub comment: Option<String>,
+}
+
 /// One document analysed.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct Analysis {
     pub diagnostics: Vec<Found>,
     pub tool_at: Vec<ToolAt>,
     pub outline: Vec<Outlined>,
+    /// Its names and their places.
+    pub index: Index,
+    /// The wizards it can call.
+    pub wizards: Vec<WizardEntry>,
+    /// The subprograms of the subroutine files it can call.
+    pub elsewhere: Vec<ElsewhereSub>,
 }
 
-/// Analyse the document `path` whose text is `text`, with the options of
-/// the `ger.toml` above it (else `ger compile`'s defaults).
-pub fn analyse(fs: &dyn FileSystem, path: &Path, text: &str) -> Analysis {
+/// A document loaded with what it needs, as `ger compile` would load it.
+struct Loaded {
+    job: Job,
+    machine: Option<crate::driver::machine::Machine>,
+    language: crate::syntax::Language,
+}
+
+/// Load the document `path` whose text is `text`, with the options of
+/// the `ger.toml` above it (else `ger compile`'s defaults); `Err`: why
+/// it cannot be, in words.
+fn load(fs: &dyn FileSystem, path: &Path, text: &str) -> Result<Loaded, Vec<String>> {
     let (mut options, mut search) = (CompileOptions::default(), Search::default());
     let machine =
         match project::configure(fs, folder_of(path), &mut options, &mut search, &|_| false) {
             Ok(project) => project.and_then(|p| p.machine),
             Err((sources, ProjectError::Invalid(d))) => {
-                return at_top(
-                    text,
-                    d.iter().map(|d| outside(&sources, &plain(d))).collect(),
-                )
+                return Err(d.iter().map(|d| outside(&sources, &plain(d))).collect())
             }
-            Err((_, ProjectError::Unread(why))) => return at_top(text, vec![why]),
+            Err((_, ProjectError::Unread(why))) => return Err(vec![why]),
         };
-    let session = match Session::new(fs, options, search) {
-        Ok(session) => session,
-        Err(e) => return at_top(text, vec![format!("ger.toml: {e}")]),
-    };
+    let session = Session::new(fs, options, search).map_err(|e| vec![format!("ger.toml: {e}")])?;
     let name = path.display().to_string();
     let program = Program::Text {
         name: &name,
         path: Some(path),
         text: text.to_string(),
     };
-    let mut job = match session.load(program) {
-        Ok(job) => job,
-        Err(e) => return at_top(text, vec![e.to_string()]),
+    let job = session.load(program).map_err(|e| vec![e.to_string()])?;
+    let language = session.options().language(&name);
+    Ok(Loaded {
+        job,
+        machine,
+        language,
+    })
+}
+
+/// Analyse the document `path` whose text is `text`, with the options of
+/// the `ger.toml` above it (else `ger compile`'s defaults).
+pub fn analyse(fs: &dyn FileSystem, path: &Path, text: &str) -> Analysis {
+    let Loaded {
+        mut job,
+        machine,
+        language,
+    } = match load(fs, path, text) {
+        Ok(loaded) => loaded,
+        Err(messages) => return at_top(text, messages),
     };
     let outcome = job.outcome();
     let lines = LineStarts::new(text);
@@ -108,7 +159,6 @@ pub fn analyse(fs: &dyn FileSystem, path: &Path, text: &str) -> Analysis {
         Some(path) => tool_positions(&job, &lines, path, limits.as_ref()),
         None => Vec::new(),
     };
-    let language = session.options().language(&name);
     let mut outline = outline(text, &lines, language);
     if let Some(path) = &outcome.tool_path {
         for event in &path.events {
@@ -130,7 +180,117 @@ pub fn analyse(fs: &dyn FileSystem, path: &Path, text: &str) -> Analysis {
         diagnostics,
         tool_at,
         outline,
+        index: Index::of(text, language),
+        wizards: wizards(&job),
+        elsewhere: elsewhere(&job, language),
     }
+}
+
+/// The values the document's variables have where it reads and sets
+/// them, by the byte offset of the place: a run of its own, only when
+/// the editor asks (a hover on a variable).
+pub fn watch(fs: &dyn FileSystem, path: &Path, text: &str) -> HashMap<usize, Seen> {
+    let Ok(mut loaded) = load(fs, path, text) else {
+        return HashMap::new();
+    };
+    let file = loaded.job.file as u32;
+    loaded
+        .job
+        .watch()
+        .seen
+        .into_iter()
+        .filter(|((f, _), _)| *f == file)
+        .map(|((_, start), seen)| (start as usize, seen))
+        .collect()
+}
+
+/// The document formatted ([`super::format`]), checked: its tool path
+/// compiled before and after is the same, else `Err` says why it is left
+/// as it is.
+pub fn formatted(
+    fs: &dyn FileSystem,
+    path: &Path,
+    text: &str,
+    numbers: super::format::Numbers,
+) -> Result<String, String> {
+    let refused = "formatting needs a program that compiles (its tool path is checked)";
+    let tool_path = |loaded: Loaded| -> Result<crate::toolpath::ToolPath, String> {
+        let mut job = loaded.job;
+        job.tool_path().0.ok_or_else(|| refused.to_string())
+    };
+    let loaded = load(fs, path, text).map_err(|why| why.join("\n"))?;
+    let egc = loaded.language == Language::Egc;
+    let before = tool_path(loaded)?;
+    let after_text = super::format::format(text, egc, numbers);
+    if after_text == text {
+        return Ok(after_text);
+    }
+    let after = tool_path(load(fs, path, &after_text).map_err(|why| why.join("\n"))?)?;
+    let exact = crate::toolpath::compare::Options {
+        tol: 1e-9,
+        feed_tol: 1e-12,
+        ..Default::default()
+    };
+    let same_events = before.events.len() == after.events.len()
+        && before
+            .events
+            .iter()
+            .zip(&after.events)
+            .all(|(a, b)| a.kind == b.kind && a.after_move == b.after_move);
+    match crate::toolpath::compare::compare(&before, &after, &exact) {
+        Ok(_) if same_events => Ok(after_text),
+        Ok(_) => Err(
+            "formatting would change the program's tool changes, stops or dwells: left as it is"
+                .into(),
+        ),
+        Err(d) => Err(format!(
+            "formatting would change the tool path ({}): left as it is",
+            d.message
+        )),
+    }
+}
+
+/// The wizards the job can call, as the editor shows them.
+fn wizards(job: &Job) -> Vec<WizardEntry> {
+    job.wizards()
+        .iter()
+        .map(|w| {
+            let params = match &w.declaration {
+                Ok(d) => d
+                    .params
+                    .iter()
+                    .map(|p| (p.name.clone(), p.default.as_ref().map(|d| d.to_string())))
+                    .collect(),
+                Err(_) => Vec::new(),
+            };
+            WizardEntry {
+                name: w.name.clone(),
+                manual: w.manual(),
+                summary: w.described().1,
+                params,
+                file: (w.origin != "stdlib").then(|| PathBuf::from(&w.origin)),
+            }
+        })
+        .collect()
+}
+
+/// The subprograms of the subroutine files the job reads.
+fn elsewhere(job: &Job, language: crate::syntax::Language) -> Vec<ElsewhereSub> {
+    let mut out = Vec::new();
+    for &file in &job.options.library {
+        let text = job.sources.text(file);
+        let lines = LineStarts::new(text);
+        for sub in Index::of(text, language).subs {
+            out.push(ElsewhereSub {
+                comment: first_comment(text, sub.whole.clone()),
+                key: sub.key,
+                file: PathBuf::from(job.sources.name(file)),
+                from: lines.at(text, sub.at.start),
+                to: lines.at(text, sub.at.end),
+            });
+        }
+    }
+    out
 }
 
 /// The outline of `text` as its front end reads it: subprograms, wizard
@@ -245,8 +405,7 @@ fn at_top(text: &str, messages: Vec<String>) -> Analysis {
         .collect();
     Analysis {
         diagnostics,
-        tool_at: Vec::new(),
-        outline: Vec::new(),
+        ..Analysis::default()
     }
 }
 
@@ -373,19 +532,19 @@ fn minutes(seconds: f64) -> String {
 }
 
 /// Where each line of a text starts, to turn byte offsets into LSP places.
-struct LineStarts {
+pub(super) struct LineStarts {
     starts: Vec<usize>,
 }
 
 impl LineStarts {
-    fn new(text: &str) -> LineStarts {
+    pub(super) fn new(text: &str) -> LineStarts {
         let mut starts = vec![0];
         starts.extend(text.match_indices('\n').map(|(i, _)| i + 1));
         LineStarts { starts }
     }
 
     /// The place of byte `offset` (clamped to the text, to a character).
-    fn at(&self, text: &str, offset: usize) -> At {
+    pub(super) fn at(&self, text: &str, offset: usize) -> At {
         let mut offset = offset.min(text.len());
         while !text.is_char_boundary(offset) {
             offset -= 1;
@@ -398,8 +557,24 @@ impl LineStarts {
         }
     }
 
+    /// The byte offset of the place `at` (clamped to its line).
+    pub(super) fn offset(&self, text: &str, at: At) -> usize {
+        let Some(&start) = self.starts.get(at.line as usize) else {
+            return text.len();
+        };
+        let end = self.line_end(text, at.line as usize);
+        let mut units = 0;
+        text[start..end]
+            .char_indices()
+            .find(|(_, c)| {
+                units += c.len_utf16();
+                units > at.column as usize
+            })
+            .map_or(end, |(i, _)| start + i)
+    }
+
     /// The byte offset of the end of line `line` (before its line end).
-    fn line_end(&self, text: &str, line: usize) -> usize {
+    pub(super) fn line_end(&self, text: &str, line: usize) -> usize {
         let end = self.starts.get(line + 1).map_or(text.len(), |&s| s - 1);
         let end = end.min(text.len());
         match text[..end].ends_with('\r') {

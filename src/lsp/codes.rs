@@ -122,19 +122,25 @@ pub fn lookup(letter: u8, number: f64) -> Option<&'static Code> {
 }
 
 impl Code {
+    /// As a program writes it: `G38.2`, `M3`.
+    pub fn name(&self) -> String {
+        match self.tenths % 10 {
+            0 => format!("{}{}", self.letter as char, self.tenths / 10),
+            d => format!("{}{}.{d}", self.letter as char, self.tenths / 10),
+        }
+    }
+
     /// As the hover shows it, in Markdown.
     pub fn markdown(&self) -> String {
-        let number = match self.tenths % 10 {
-            0 => format!("{}", self.tenths / 10),
-            d => format!("{}.{d}", self.tenths / 10),
-        };
         let words = match self.words {
             "" => String::new(),
             w => format!("\n\nwords: {w}"),
         };
         format!(
-            "**{}{number}**: {}{words}\n\nmodal group: {}",
-            self.letter as char, self.meaning, self.group
+            "**{}**: {}{words}\n\nmodal group: {}",
+            self.name(),
+            self.meaning,
+            self.group
         )
     }
 }

@@ -319,6 +319,10 @@ fn needs_whole(stmt: &Stmt, known: &dyn Fn(OName) -> bool, in_sub: bool) -> bool
     match &stmt.kind {
         StmtKind::Goto(_) => true,
         StmtKind::Line(line) => line_needs_whole(&line.words, known, in_sub),
+        StmtKind::MacroCall(call) => {
+            let words: Vec<Word> = call.words().cloned().collect();
+            line_needs_whole(&words, known, in_sub)
+        }
         // (The parser `cut_part` reads with makes no `Lines`, only
         // `parse_lines` does: kept whole for any other caller.)
         StmtKind::Lines(lines) => lines

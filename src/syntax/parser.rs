@@ -178,8 +178,51 @@ pub fn parse_program_from(
             .into_iter()
             .map(|e| Problem::new(ProblemKind::Read, e)),
     );
+    if language == Language::Gcode {
+        unread_after_end(&program, &mut problems);
+    }
     problems.sort_by_key(|p| p.error.span.start);
     (program, drop_cascades(problems))
+}
+
+/// What rs274 never reads: the lines after the main program's end (a
+/// line of the top level with `M2` or `M30`), where LinuxCNC's files keep
+/// notes in prose. Only subprograms are read there (Fanuc keeps them after
+/// `M30`; rs274 finds an `o` word's there as it seeks one): every problem
+/// after the end outside a subprogram is dropped (the statements stay, as
+/// plain lines read straight from bytes keep them; none runs after the
+/// end). A block-deleted end may not run, so it ends nothing here.
+fn unread_after_end(program: &Program, problems: &mut Vec<Problem>) {
+    let is_end = |letter: u8, value: f64| letter == b'M' && (value == 2.0 || value == 30.0);
+    let end_line = program.main.iter().find_map(|stmt| match &stmt.kind {
+        StmtKind::Line(line) if !line.block_delete => line
+            .words
+            .iter()
+            .find(|w| matches!(w.value, WordValue::Number(n) if is_end(w.letter, n.value)))
+            .map(|w| w.span.line),
+        StmtKind::Lines(lines) => lines.each().find_map(|(words, line)| {
+            words
+                .iter()
+                .any(|w| is_end(w.letter, w.value))
+                .then_some(line)
+        }),
+        _ => None,
+    });
+    let Some(end_line) = end_line else {
+        return;
+    };
+    let subprograms: Vec<(u32, u32)> = program
+        .subprograms
+        .iter()
+        .map(|sub| {
+            let last = sub.body.iter().map(|s| s.span.line).max();
+            (sub.span.line, last.unwrap_or(sub.span.line))
+        })
+        .collect();
+    problems.retain(|p| {
+        let line = p.error.span.line;
+        line <= end_line || subprograms.iter().any(|&(a, b)| (a..=b).contains(&line))
+    });
 }
 
 /// A syntax problem and where it comes from, which decides whether it is
@@ -639,10 +682,7 @@ fn words_stmt(
         .map(|w| ast_word(w, number, at))
         .collect();
     Stmt {
-        kind: StmtKind::Line(Line {
-            words: line,
-            block_delete: false,
-        }),
+        kind: StmtKind::line(line, false),
         span: at.span_on_line(number, start, end),
     }
 }

@@ -276,6 +276,19 @@ fn state_difference(a: &Move, b: &Move, o: &Options) -> Option<String> {
     if !o.ignore_tools && sa.tool != sb.tool {
         return Some(format!("tool T{} vs T{}", sa.tool, sb.tool));
     }
+    let same_control = match (sa.path_control, sb.path_control) {
+        (x, y) if x.tolerances().is_none() || y.tolerances().is_none() => x == y,
+        (x, y) => {
+            let ((p, q), (r, s)) = (x.tolerances()?, y.tolerances()?);
+            (p - r).abs() <= o.tol && (q - s).abs() <= o.tol
+        }
+    };
+    if !same_control {
+        return Some(format!(
+            "path control {:?} vs {:?}",
+            sa.path_control, sb.path_control
+        ));
+    }
     None
 }
 

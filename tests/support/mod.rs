@@ -6,6 +6,7 @@
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
+pub mod cdp;
 pub mod rs274;
 
 pub fn manifest() -> &'static Path {

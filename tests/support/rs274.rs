@@ -10,7 +10,7 @@
 //! rs274 at a time (two at once crash: a file lock serialises them across
 //! test processes), and a time limit.
 
-use ger::ir::{Plane, Spindle, Stop};
+use ger::ir::{PathControl, Plane, Spindle, Stop};
 use ger::source::Span;
 use ger::toolpath::{ArcPath, Event, EventKind, Move, MoveKind, Point, State, ToolPath};
 use std::path::Path;
@@ -390,7 +390,11 @@ fn normalize(calls: &[Call]) -> ToolPath {
         position: [0.0; 6],
         path: ToolPath::default(),
     };
-    for call in calls {
+    let wraps = cycle_wraps(calls);
+    for (i, call) in calls.iter().enumerate() {
+        if wraps.contains(&i) {
+            continue;
+        }
         let v = numbers(&call.args);
         match call.name.as_str() {
             "STRAIGHT_TRAVERSE" => m.push(MoveKind::Rapid, m.to_machine(&v), call.line),
@@ -440,10 +444,58 @@ fn normalize(calls: &[Call]) -> ToolPath {
             "PROGRAM_STOP" => m.event(EventKind::Stop(Stop::Program), call.line),
             "OPTIONAL_PROGRAM_STOP" => m.event(EventKind::Stop(Stop::Optional), call.line),
             "PROGRAM_END" => m.event(EventKind::End, call.line),
+            "SET_MOTION_CONTROL_MODE" => {
+                m.state.path_control = path_control(&call.args, &v, m.scale)
+            }
+            "SET_NAIVECAM_TOLERANCE" => {
+                if let PathControl::Blend { naive, .. } = &mut m.state.path_control {
+                    *naive = v.first().map(|q| q * m.scale);
+                }
+            }
             _ => {}
         }
     }
     m.path
+}
+
+/// The path-control calls rs274 wraps each canned cycle in: exact path
+/// for its moves, then the program's mode again, both at the cycle's
+/// line (two modes on one line: no program sets that). The program's
+/// state stays as it was; ger writes a cycle's moves without them.
+fn cycle_wraps(calls: &[Call]) -> std::collections::HashSet<usize> {
+    let mut wraps = std::collections::HashSet::new();
+    let control = |c: &Call| c.name == "SET_MOTION_CONTROL_MODE";
+    for (i, call) in calls.iter().enumerate() {
+        if !control(call) || !call.args.contains("EXACT_PATH") || call.line == 0 {
+            continue;
+        }
+        let Some(j) = (i + 1..calls.len()).find(|&j| control(&calls[j])) else {
+            continue;
+        };
+        if calls[j].line == call.line {
+            wraps.extend([i, j]);
+            if calls
+                .get(j + 1)
+                .is_some_and(|c| c.name == "SET_NAIVECAM_TOLERANCE")
+            {
+                wraps.insert(j + 1);
+            }
+        }
+    }
+    wraps
+}
+
+/// `SET_MOTION_CONTROL_MODE(CANON_CONTINUOUS, tolerance)`, the tolerance in
+/// the units active now.
+fn path_control(args: &str, v: &[f64], scale: f64) -> PathControl {
+    match args {
+        a if a.contains("EXACT_PATH") => PathControl::ExactPath,
+        a if a.contains("EXACT_STOP") => PathControl::ExactStop,
+        _ => PathControl::Blend {
+            tolerance: v.first().map(|p| p * scale),
+            naive: None,
+        },
+    }
 }
 
 /// `ARC_FEED(first_end, second_end, first_axis, second_axis, rotation,

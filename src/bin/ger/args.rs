@@ -67,6 +67,25 @@ pub enum Command {
         #[arg(long)]
         json: bool,
     },
+    /// The part in 3D in the browser: the cut played back, each move
+    /// linked to its line, redrawn when a file it uses changes.
+    View {
+        /// The program.
+        input: String,
+        /// One self-contained page to keep or send (no server).
+        #[arg(short, long)]
+        output: Option<PathBuf>,
+        /// The server's port on 127.0.0.1 (default: any free one).
+        #[arg(long, default_value_t = 0)]
+        port: u16,
+        /// Print the page's address without opening a browser.
+        #[arg(long)]
+        no_open: bool,
+        #[command(flatten)]
+        options: Options,
+        #[command(flatten)]
+        stock: StockArgs,
+    },
     /// The language server for editors (LSP on standard input and output):
     /// diagnostics as you type, and where the tool is after each line.
     Lsp,
@@ -204,6 +223,7 @@ pub fn parse() -> Cli {
         Command::Compile { options, .. }
         | Command::Check { options, .. }
         | Command::Render { options, .. }
+        | Command::View { options, .. }
         | Command::Stats { options, .. } => options.given = given,
         Command::Machine { .. } | Command::Wizards { .. } | Command::Lsp => {}
     }
@@ -243,6 +263,20 @@ pub struct PictureArgs {
     /// Another program: the PNG shows where the two cut differently.
     #[arg(long, value_name = "OTHER")]
     pub diff: Option<String>,
+}
+
+/// The stock `ger view` carves, as `ger render` takes it.
+#[derive(clap::Args)]
+pub struct StockArgs {
+    /// The cell size, in the program's units (default 0.001 in / 0.025 mm).
+    #[arg(long)]
+    pub resolution: Option<f64>,
+    /// Coarser cells when the stock would need more than this many.
+    #[arg(long, default_value_t = 40_000_000)]
+    pub max_cells: u64,
+    /// The stock's size X,Y,Z (placed as SetPart places it).
+    #[arg(long, value_name = "X,Y,Z")]
+    pub stock: Option<String>,
 }
 
 #[derive(Clone, Copy, PartialEq, Eq, ValueEnum)]
@@ -388,6 +422,7 @@ impl Options {
             },
             stage,
             library: Vec::new(),
+            travel: None,
         }
     }
 }

@@ -8,6 +8,7 @@
 mod args;
 mod picture;
 mod stats;
+mod view;
 
 use args::{Command, MachineCommand, Options};
 use ger::diagnostic::render;
@@ -78,6 +79,14 @@ fn real_main() -> ExitCode {
             options,
             json,
         } => stats::print_stats(&input, &options, json),
+        Command::View {
+            input,
+            output,
+            port,
+            no_open,
+            options,
+            stock,
+        } => view::view(&input, output.as_deref(), port, no_open, &options, &stock),
         Command::Machine {
             action: MachineCommand::Import { file },
         } => import_machine(&file),
@@ -328,7 +337,7 @@ fn list_wizards(name: Option<&str>, dirs: &[PathBuf], part: Option<&Path>) -> Ex
     match name {
         None => {
             for w in library.iter() {
-                let (signature, summary) = described(w);
+                let (signature, summary) = w.described();
                 println!("{signature}\n    {summary}  [{}]", w.origin);
             }
             ExitCode::SUCCESS
@@ -338,42 +347,9 @@ fn list_wizards(name: Option<&str>, dirs: &[PathBuf], part: Option<&Path>) -> Ex
                 eprintln!("error: no wizard named `{name}`; `ger wizards` lists them");
                 return ExitCode::from(2);
             };
-            print_wizard(w);
+            // A closed pipe is no error of `ger wizards`.
+            let _ = std::io::stdout().lock().write_all(w.manual().as_bytes());
             ExitCode::SUCCESS
         }
-    }
-}
-
-/// A wizard's signature and one-line summary.
-fn described(w: &ger::wizard::Wizard) -> (String, String) {
-    match &w.declaration {
-        Ok(d) => (d.signature(&w.name), d.summary().to_string()),
-        Err(e) => (
-            w.name.clone(),
-            format!("(bad declaration, line {}: {})", e.line, e.message),
-        ),
-    }
-}
-
-/// `ger wizards NAME`: the signature, the doc and each parameter.
-fn print_wizard(w: &ger::wizard::Wizard) {
-    let mut out = std::io::stdout().lock();
-    let (signature, _) = described(w);
-    let _ = writeln!(out, "{signature}    [{}]\n", w.origin);
-    let Ok(d) = &w.declaration else {
-        return;
-    };
-    for line in &d.doc {
-        let _ = writeln!(out, "{line}");
-    }
-    if !d.params.is_empty() {
-        let _ = writeln!(out);
-    }
-    for p in &d.params {
-        let default = p
-            .default
-            .as_ref()
-            .map_or(String::new(), |d| format!(" (default {d})"));
-        let _ = writeln!(out, "  {:<12} {}{default}", p.name, p.doc);
     }
 }

@@ -326,7 +326,7 @@ fn diagnostics_of(warnings: &[ger::render::RenderWarning]) -> Vec<ger::diagnosti
 }
 
 /// `X,Y,Z`, each positive.
-fn parse_stock(text: &str) -> Option<[f64; 3]> {
+pub fn parse_stock(text: &str) -> Option<[f64; 3]> {
     let values: Vec<f64> = text
         .split(',')
         .map(|v| {

@@ -43,6 +43,7 @@ pub fn print_stats(input: &str, options: &Options, json: bool) -> ExitCode {
             "tool_changes": figures.tool_changes,
             "spindle_starts": figures.spindle_starts,
             "tools": figures.tools,
+            "operations": figures.operations,
         });
         println!("{object}");
     } else {
@@ -99,6 +100,18 @@ fn table(f: &Figures, controller: Option<&str>) -> String {
                 t.tool, t.cut_mm
             ),
         );
+    }
+    if f.operations.len() > 1 {
+        for op in &f.operations {
+            let time = op.time_s.map_or(clock(op.feed_time_s), clock);
+            line(
+                &mut out,
+                format!(
+                    "operation at line {:<5} tool {:<4} {time}  cut {:.1} mm  rapid {:.1} mm",
+                    op.line, op.tool, op.cut_mm, op.rapid_mm
+                ),
+            );
+        }
     }
     out
 }

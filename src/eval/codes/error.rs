@@ -40,8 +40,6 @@ pub enum CodeErrorKind {
     DiameterMode,
     /// A warning: G28 or G30 moves to a home only the machine knows.
     HomePassedThrough(String),
-    /// A warning: G61/G64 are the controller's settings.
-    BlendingDropped(String),
     /// A warning: an M code ger does not know is written as it is.
     MCodePassedThrough(u32),
     /// A warning: a Fanuc-style P without a point, read in milliseconds.
@@ -150,11 +148,6 @@ impl Wording for CodeErrorKind {
             )
             .with_note(
                 "the position after it is not known to ger: the next moves must be absolute",
-            ),
-            K::BlendingDropped(code) => warning(
-                format!("{code} dropped"),
-                at,
-                "path blending is a setting of the controller",
             ),
             K::MCodePassedThrough(number) => warning(
                 format!("M{number} is passed through"),

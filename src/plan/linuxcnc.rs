@@ -1,0 +1,157 @@
+//! LinuxCNC's trajectory planner as `ger stats` models it (learnt from
+//! `src/emc/tp/` of LinuxCNC: `tc.c`, `blendmath.c`). Each move is one
+//! segment: a line at its feed within each axis's velocity and
+//! acceleration; an arc whole, held to the speed at which its normal
+//! acceleration stays within `BLEND_ACC_RATIO_NORMAL` of the plane's
+//! acceleration, its tangential acceleration the rest. Where one segment
+//! meets the next: under G61.1 a stop; under G61 a stop unless they are
+//! tangent; under G64 the speed of the circular blend LinuxCNC puts in
+//! the corner, as large as the tolerance (P, else the profile's, else a
+//! quarter of each move) and half of each move allow.
+//!
+//! Left out (README, "What the model covers"): the blend arc's shortening
+//! of the path (the corner is taken at the blend's speed, over the
+//! programmed length), LinuxCNC's merging of short collinear moves (G64
+//! Q), the S-curve planner, the exact path LinuxCNC keeps inside canned
+//! cycles (ger's output has their moves, not the cycle).
+//!
+//! Architecture Invariant: planner arithmetic only, on the blocks and
+//! limits of `plan.rs`; never sees the IR.
+
+use super::{along, direction, dot, rapid_rate, sync_points, Block, Limits};
+use crate::ir::PathControl;
+use crate::toolpath::{Move, MoveKind, ToolPath};
+
+/// `BLEND_ACC_RATIO_TANGENTIAL`: the share of the acceleration an arc
+/// keeps for speeding up and slowing down at its speed limit.
+const ACC_RATIO_TANGENTIAL: f64 = 0.5;
+/// What a blend may take of each move (`tcFindBlendTolerance`'s ratio for
+/// the tolerance when none is given).
+const TOLERANCE_RATIO: f64 = 0.25;
+/// `BLEND_DIST_FRACTION`: how much of each move a blend may consume.
+const BLEND_DIST_FRACTION: f64 = 0.5;
+/// Directions this close (cosine) are tangent: no corner.
+const TANGENT_COS: f64 = 0.999_999;
+
+/// `BLEND_ACC_RATIO_NORMAL`: the share of the acceleration left for the
+/// normal acceleration of an arc or a blend.
+fn acc_ratio_normal() -> f64 {
+    (1.0 - ACC_RATIO_TANGENTIAL * ACC_RATIO_TANGENTIAL).sqrt()
+}
+
+/// The segments of `path`, one per move of some length.
+pub(super) fn blocks(path: &ToolPath, limits: &Limits) -> Vec<Block> {
+    let syncs = sync_points(path);
+    let mut out = Vec::with_capacity(path.moves.len());
+    for (i, m) in path.moves.iter().enumerate() {
+        let block = match m.kind {
+            MoveKind::Arc(_) => arc_block(m, limits),
+            MoveKind::Rapid | MoveKind::Feed => line_block(m, limits),
+        };
+        if let Some(mut b) = block {
+            b.stopped_before = syncs[i];
+            b.source = i;
+            out.push(b);
+        }
+    }
+    out
+}
+
+fn line_block(m: &Move, limits: &Limits) -> Option<Block> {
+    let length = m.length();
+    if length <= 0.0 {
+        return None;
+    }
+    let unit = direction(m.start, m.end);
+    let nominal = match m.kind {
+        MoveKind::Rapid => rapid_rate(limits, unit),
+        _ => (m.state.feed / 60.0).min(along(limits.max_rate, unit)),
+    };
+    Some(Block {
+        length,
+        unit_in: unit,
+        unit_out: unit,
+        nominal: nominal.max(1e-9),
+        accel: along(limits.max_accel, unit),
+        stopped_before: false,
+        control: m.state.path_control,
+        source: 0,
+    })
+}
+
+/// An arc: its speed held where the normal acceleration `v²/r` would pass
+/// its share of the plane's acceleration (`tcUpdateArcLimits`).
+fn arc_block(m: &Move, limits: &Limits) -> Option<Block> {
+    let MoveKind::Arc(a) = m.kind else {
+        return None;
+    };
+    let length = m.length();
+    if length <= 0.0 {
+        return None;
+    }
+    let (p, q, _) = a.plane.axes();
+    let radius = (m.start[p] - a.center[p]).hypot(m.start[q] - a.center[q]);
+    let a_max = limits.max_accel[p].min(limits.max_accel[q]);
+    let v_axes = limits.max_rate[p].min(limits.max_rate[q]);
+    let v_cutoff = (acc_ratio_normal() * a_max * radius).sqrt();
+    let feed = (m.state.feed / 60.0).min(v_axes);
+    let (nominal, ratio) = match feed * feed / radius.max(1e-12) > acc_ratio_normal() * a_max {
+        true => (v_cutoff, ACC_RATIO_TANGENTIAL),
+        false => {
+            let normal = feed * feed / radius.max(1e-12) / a_max;
+            (feed, (1.0 - normal * normal).max(0.0).sqrt())
+        }
+    };
+    let step = 1e-6;
+    Some(Block {
+        length,
+        unit_in: direction(m.start, m.at(step)),
+        unit_out: direction(m.at(1.0 - step), m.end),
+        nominal: nominal.max(1e-9),
+        accel: (a_max * ratio).max(1e-9),
+        stopped_before: false,
+        control: m.state.path_control,
+        source: 0,
+    })
+}
+
+/// The largest speed squared from `a` into `b`: the path control in force
+/// while `a` runs decides how it ends.
+pub(super) fn junction_sqr(a: &Block, b: &Block, limits: &Limits) -> f64 {
+    let cos = dot(a.unit_out, b.unit_in);
+    let tangent = cos > TANGENT_COS;
+    match a.control {
+        PathControl::ExactStop => 0.0,
+        PathControl::ExactPath if tangent => f64::INFINITY,
+        PathControl::ExactPath => 0.0,
+        PathControl::Blend { .. } if tangent => f64::INFINITY,
+        PathControl::Blend { tolerance, .. } => {
+            let tolerance = tolerance.unwrap_or(limits.path_tolerance);
+            blend_speed(a, b, cos, tolerance, limits).powi(2)
+        }
+    }
+}
+
+/// The speed of the circular blend LinuxCNC puts in the corner between
+/// `a` and `b` (`blendComputeParameters`): its radius as large as the
+/// tolerance and half of each move allow, its speed that at which the
+/// normal acceleration stays within its share.
+fn blend_speed(a: &Block, b: &Block, cos: f64, tolerance: f64, limits: &Limits) -> f64 {
+    // Half the angle between the two moves' lines at the corner: π/2
+    // straight on, 0 straight back.
+    let theta = (-cos).clamp(-1.0, 1.0).acos() / 2.0;
+    if theta <= 1e-9 {
+        return 0.0;
+    }
+    let quarter = TOLERANCE_RATIO * a.length.min(b.length);
+    let tolerance = match tolerance > 0.0 {
+        true => tolerance.min(quarter),
+        false => quarter,
+    };
+    let h = tolerance / (1.0 - theta.sin());
+    let d_tol = theta.cos() * h;
+    let d_lengths = BLEND_DIST_FRACTION * a.length.min(b.length);
+    let radius = theta.tan() * d_tol.min(d_lengths);
+    let a_max = along(limits.max_accel, a.unit_out).min(along(limits.max_accel, b.unit_in));
+    (acc_ratio_normal() * a_max * radius).sqrt()
+}
