@@ -113,6 +113,7 @@ impl Scene {
         let frame = Frame::new(stock.min[0], stock.min[1], cell, nx, ny);
         let segments = segments(path, scale, cell, &cutter_of, &mut warnings)?;
         below_stock(path, scale, &stock, &mut warnings);
+        warnings.extend(inverted_z(path, scale));
         Ok(Scene {
             units,
             stock,
@@ -592,6 +593,41 @@ fn below_stock(path: &ToolPath, scale: f64, stock: &Stock, warnings: &mut Vec<Re
     ));
 }
 
+/// One warning when most rapids end below the deepest point a feed ends
+/// at: the program's Z probably points into the stock (some Estlcam
+/// posts), so it would be drawn as a solid block cut by its rapids.
+fn inverted_z(path: &ToolPath, scale: f64) -> Option<RenderWarning> {
+    let known = |index: usize| {
+        let (before, after) = unknown_ends(path, index);
+        !(before[2] || after[2])
+    };
+    let moves = || path.moves.iter().enumerate().filter(|&(k, _)| known(k));
+    let deepest = moves()
+        .filter(|(_, m)| !matches!(m.kind, MoveKind::Rapid))
+        .map(|(_, m)| m.end[2])
+        .fold(f64::INFINITY, f64::min);
+    let rapids = moves().filter(|(_, m)| matches!(m.kind, MoveKind::Rapid));
+    let (mut count, mut below, mut first) = (0, 0, None);
+    for (_, m) in rapids {
+        count += 1;
+        if m.end[2] < deepest - 1e-6 {
+            below += 1;
+            first = first.or(Some(m.span));
+        }
+    }
+    let span = first.filter(|_| 2 * below > count)?;
+    Some(RenderWarning {
+        kind: WarningKind::InvertedZ {
+            below,
+            rapids: count,
+            deepest: deepest * scale,
+            units: path.units,
+        },
+        span,
+        more: 0,
+    })
+}
+
 /// One warning for each of the first few spans, the last saying how many
 /// more there are.
 fn repeated(spans: &[Span], kind: WarningKind) -> Vec<RenderWarning> {
@@ -662,6 +698,13 @@ pub enum WarningKind {
     BelowStock { bottom: f64, units: Option<Units> },
     /// A rapid removed material.
     RapidCuts,
+    /// Most rapids end below the deepest feed: Z may point into the stock.
+    InvertedZ {
+        below: usize,
+        rapids: usize,
+        deepest: f64,
+        units: Option<Units>,
+    },
 }
 
 #[derive(Clone, Debug, PartialEq)]
@@ -715,6 +758,22 @@ impl RenderWarning {
                 "this rapid removes material",
             )
             .with_help("check the safe height before this move"),
+            WarningKind::InvertedZ {
+                below,
+                rapids,
+                deepest,
+                units,
+            } => warning(
+                format!(
+                    "the program's Z may be inverted: {below} of its {rapids} rapids end below its deepest cut (Z{})",
+                    length(*deepest, *units)
+                ),
+                self.span,
+                "the first rapid below the deepest cut",
+            )
+            .with_help(
+                "the picture takes +Z as up, out of the stock; if this program's Z points down, into it, the part is drawn as its rapids cut it: check the post-processor's Z direction",
+            ),
         };
         match self.more {
             0 => d,

@@ -649,6 +649,40 @@ fn render_warns_at_the_lines_that_need_a_look() {
 }
 
 #[test]
+fn a_program_whose_rapids_run_below_its_cuts_is_told_its_z_may_be_inverted() {
+    // As some Estlcam posts write it: safe height at Z-20, cuts at Z+2.
+    let dir = scratch("inverted");
+    let inverted = "G21 G90 G17\nSetTool 1 3\nT1 M6\nG0 Z-20\nG0 X10 Y10\nG0 Z-0.5\nG1 Z2 F100\nG0 Z-20\nG0 X20\nG0 Z-0.5\nG1 Z2\nG0 Z-20\nM30\n";
+    let upright = "G21 G90 G17\nSetTool 1 3\nT1 M6\nG0 Z20\nG0 X10 Y10\nG0 Z0.5\nG1 Z-2 F100\nG0 Z20\nG0 X20\nG0 Z0.5\nG1 Z-2\nG0 Z20\nM30\n";
+    for (name, program, warned) in [("inverted", inverted, true), ("upright", upright, false)] {
+        let input = dir.join(format!("{name}.egc"));
+        std::fs::write(&input, program).unwrap();
+        let out = ger(&[
+            "render",
+            input.to_str().unwrap(),
+            "-o",
+            dir.join(format!("{name}.svg")).to_str().unwrap(),
+        ]);
+        assert!(out.status.success());
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(
+            stderr.matches("Z may be inverted").count(),
+            usize::from(warned),
+            "{stderr}"
+        );
+        if warned {
+            // Its first rapid with a known height: line 5 (line 4's starts
+            // where the machine is, not known).
+            let warning = &stderr[stderr.find("Z may be inverted").unwrap()..];
+            assert!(
+                warning.contains("6 of its 6 rapids") && warning.contains("inverted.egc:5:"),
+                "{stderr}"
+            );
+        }
+    }
+}
+
+#[test]
 fn diff_shows_where_two_programs_cut_differently() {
     let dir = scratch("diff");
     std::fs::write(dir.join("a.egc"), SLOT).unwrap();

@@ -5,7 +5,7 @@
 
 use ger::driver::{tool_path, CompileOptions};
 use ger::eval::EvalOptions;
-use ger::render::{image, stl, svg, RenderOptions, Scene};
+use ger::render::{image, stl, svg, view, RenderOptions, Scene};
 use ger::source::{decode, Sources};
 use libfuzzer_sys::fuzz_target;
 
@@ -34,6 +34,7 @@ fuzz_target!(|bytes: &[u8]| {
     let Ok(mut grid) = scene.grid() else { return };
     let _ = scene.carve(&mut grid, &path, &|_, _| {});
     let _ = image::write_depth(&grid, scene.units, &mut out);
-    let _ = image::write_shaded(&grid, scene.units, &mut out);
-    let _ = stl::write(&grid, &mut out);
+    let _ = image::write_shaded(&grid, scene.units, 200, &mut out);
+    let _ = view::write(&grid, scene.units, view::View::Iso, 200, &[], &mut out);
+    let _ = stl::write(&stl::mesh(&grid), &mut out);
 });
