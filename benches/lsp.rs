@@ -2,15 +2,19 @@
 //! program within 150 ms of a change): the editor server's analysis of a
 //! document, a 10,000-line CAM-like program with one error, and the same
 //! at 200,000 lines (which must never block the editor: changes that
-//! arrive meanwhile are coalesced, so it is analysed for the newest).
+//! arrive meanwhile cancel it, so it is analysed for the newest): how
+//! long an analysis of it runs on after it is cancelled.
 
 // Test code: a failed unwrap is a failed test.
 #![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
 
 use criterion::{criterion_group, criterion_main, Criterion};
 use ger::driver::fs::Memory;
-use ger::lsp::analysis::analyse;
+use ger::lsp::analysis::{analyse, analyse_unless};
 use std::path::Path;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::Arc;
+use std::time::{Duration, Instant};
 
 /// A program of `lines` lines: a zig-zag of feed moves, one line of them
 /// with an error in the middle.
@@ -43,6 +47,28 @@ fn bench(c: &mut Criterion) {
             b.iter(|| analyse(&fs, Path::new("/p/part.egc"), &fixed))
         });
     }
+    // Cancelled 50 ms in: the time it runs on after the flag is set.
+    let text = program(200_000).replace("X<Width>", "X1");
+    let wait = Duration::from_millis(50);
+    group.bench_function("200000 lines, cancelled 50 ms in: runs on", |b| {
+        b.iter_custom(|iterations| {
+            let mut after = Duration::ZERO;
+            for _ in 0..iterations {
+                let cancel = Arc::new(AtomicBool::new(false));
+                let setter = Arc::clone(&cancel);
+                let started = Instant::now();
+                let timer = std::thread::spawn(move || {
+                    std::thread::sleep(wait);
+                    setter.store(true, Ordering::Relaxed);
+                });
+                let a = analyse_unless(&fs, Path::new("/p/part.egc"), &text, &cancel);
+                assert!(a.is_none(), "cancelled");
+                after += started.elapsed().saturating_sub(wait);
+                timer.join().unwrap();
+            }
+            after
+        })
+    });
     group.finish();
 }
 

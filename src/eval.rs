@@ -34,6 +34,7 @@ use evaluator::{Evaluator, Flow};
 pub(crate) use state::parameter_number;
 use state::{CycleState, JumpLimit, LineState, Macros, Modal, OutputStart, Reports, RunCounts};
 use std::rc::Rc;
+use std::sync::atomic::Ordering;
 use value::{ExprError, Slot, Value, Vars};
 
 /// Stage 0: evaluate a parsed program into IR, which goes to `sink` as it
@@ -126,7 +127,7 @@ pub fn eval_chunks(
         }
         let flow = ev.exec_block(&stmts);
         ran = stmts;
-        if ev.no_label(flow) != Flow::Next {
+        if ev.no_label(flow) != Flow::Next || ev.run.cancelled {
             break;
         }
     }
@@ -371,6 +372,12 @@ impl<'a> Evaluator<'a> {
     /// (after the first move: the setup is complete). Until then they wait
     /// here. After an error nothing is sent: there will be no output.
     fn send(&mut self) {
+        let cancel = self.options.cancel.as_ref();
+        if !self.run.cancelled && cancel.is_some_and(|c| c.load(Ordering::Relaxed)) {
+            self.run.cancelled = true;
+            let at = self.out.last().map_or(Span::default(), |s| s.span);
+            self.report(EvalError::new(EvalErrorKind::Cancelled, at));
+        }
         if self.reports.errors > 0 {
             self.out.clear();
             return;
@@ -475,7 +482,7 @@ impl<'a> Evaluator<'a> {
                 },
                 _ => return flow,
             }
-            if self.too_many_errors() {
+            if self.too_many_errors() || self.run.cancelled {
                 return Flow::Abort;
             }
         }

@@ -4,9 +4,11 @@
 //! document's text in, its diagnostics and where the tool is after each
 //! line out).
 //!
-//! Every change is coalesced with the ones already waiting before a
-//! document is analysed again: an editor typing fast on a long program is
-//! answered for its newest text, never for each keystroke in turn.
+//! A document is analysed on a thread of its own, so the loop answers
+//! the editor at once (from the last analysis) however long the program:
+//! a change that arrives meanwhile cancels the analysis under way (the
+//! compile stops at its next batch), and the newest text is analysed
+//! next, never each keystroke in turn.
 //!
 //! Architecture Invariant: calls the driver (through [`analysis`]) and
 //! is called by no module of the library.
@@ -19,13 +21,15 @@ pub mod index;
 
 use crate::diagnostic::Level;
 use crate::driver::fs::{Disk, Memory};
-use analysis::{analyse, Analysis, At};
+use analysis::{Analysis, At};
 use lsp_server::{Connection, Message, Notification, Request, Response};
 use lsp_types::notification::{
-    DidChangeTextDocument, DidCloseTextDocument, DidOpenTextDocument, Notification as _,
+    DidChangeTextDocument, DidCloseTextDocument, DidOpenTextDocument, Exit, Notification as _,
     PublishDiagnostics,
 };
-use lsp_types::request::{DocumentSymbolRequest, HoverRequest, InlayHintRequest, Request as _};
+use lsp_types::request::{
+    DocumentSymbolRequest, HoverRequest, InlayHintRequest, Request as _, Shutdown,
+};
 use lsp_types::{
     Diagnostic, DiagnosticRelatedInformation, DiagnosticSeverity, InlayHint, InlayHintLabel,
     InlayHintParams, Location, OneOf, Position, PublishDiagnosticsParams, Range,
@@ -34,6 +38,9 @@ use lsp_types::{
 use std::collections::{BTreeMap, BTreeSet, HashMap};
 use std::path::PathBuf;
 use std::str::FromStr;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::mpsc::Sender;
+use std::sync::Arc;
 
 type Error = Box<dyn std::error::Error + Send + Sync>;
 
@@ -41,23 +48,46 @@ type Error = Box<dyn std::error::Error + Send + Sync>;
 struct Document {
     text: String,
     version: i32,
-    analysis: Option<Analysis>,
-    /// The values of its variables where it reads and sets them, worked
-    /// out on the first hover that needs them.
+    /// The last analysis, of the text it was made of: what requests are
+    /// answered from while a newer one is under way.
+    analysed: Option<Analysed>,
+    /// The values of its variables where it reads and sets them (in the
+    /// analysed text), worked out on the first hover that needs them.
     values: Option<HashMap<usize, crate::eval::Seen>>,
 }
 
-/// The server's state: the open documents.
-#[derive(Default)]
-struct Server {
-    documents: BTreeMap<Uri, Document>,
-    /// Documents changed since their last analysis.
-    stale: BTreeSet<Uri>,
+/// An analysis and the text it was made of.
+struct Analysed {
+    text: String,
+    analysis: Analysis,
 }
 
-/// Serve `connection` until the client shuts it down.
-pub fn serve(connection: &Connection) -> Result<(), Error> {
-    let capabilities = ServerCapabilities {
+/// What the loop waits for: a message from the editor, or an analysis
+/// done (`None`: cancelled).
+enum Event {
+    Message(Message),
+    Analysed {
+        uri: Uri,
+        version: i32,
+        text: String,
+        analysis: Option<Analysis>,
+    },
+}
+
+/// The server's state: the open documents and the analyses under way.
+struct Server {
+    documents: BTreeMap<Uri, Document>,
+    /// Documents changed since their last analysis began.
+    stale: BTreeSet<Uri>,
+    /// The analyses under way, each with its cancel flag.
+    running: BTreeMap<Uri, Arc<AtomicBool>>,
+    /// Where analyses report.
+    events: Sender<Event>,
+}
+
+/// What `ger lsp` offers.
+fn capabilities() -> ServerCapabilities {
+    ServerCapabilities {
         text_document_sync: Some(TextDocumentSyncCapability::Kind(TextDocumentSyncKind::FULL)),
         inlay_hint_provider: Some(OneOf::Left(true)),
         hover_provider: Some(lsp_types::HoverProviderCapability::Simple(true)),
@@ -75,28 +105,57 @@ pub fn serve(connection: &Connection) -> Result<(), Error> {
             ..lsp_types::SignatureHelpOptions::default()
         }),
         ..ServerCapabilities::default()
-    };
-    connection.initialize(serde_json::to_value(capabilities)?)?;
-    let mut server = Server::default();
-    while let Ok(message) = connection.receiver.recv() {
-        let mut batch = vec![message];
-        // What is already waiting is read before anything is analysed.
-        batch.extend(connection.receiver.try_iter());
-        for message in batch {
-            match message {
-                Message::Request(request) => {
-                    if connection.handle_shutdown(&request)? {
-                        return Ok(());
-                    }
-                    server.analyse_stale(connection)?;
-                    let response = server.answer(request);
-                    connection.sender.send(Message::Response(response))?;
-                }
-                Message::Notification(notification) => server.note(notification),
-                Message::Response(_) => {}
+    }
+}
+
+/// Serve `connection` until the client shuts it down.
+pub fn serve(connection: &Connection) -> Result<(), Error> {
+    connection.initialize(serde_json::to_value(capabilities())?)?;
+    let (events, received) = std::sync::mpsc::channel();
+    // The editor's messages join the analyses' reports in one queue.
+    let (from_editor, to_loop) = (connection.receiver.clone(), events.clone());
+    std::thread::spawn(move || {
+        for message in from_editor {
+            if to_loop.send(Event::Message(message)).is_err() {
+                break;
             }
         }
-        server.analyse_stale(connection)?;
+    });
+    let mut server = Server {
+        documents: BTreeMap::new(),
+        stale: BTreeSet::new(),
+        running: BTreeMap::new(),
+        events,
+    };
+    let mut shut_down = false;
+    while let Ok(event) = received.recv() {
+        match event {
+            Event::Message(Message::Request(request)) => {
+                let response = match request.method.as_str() {
+                    Shutdown::METHOD => {
+                        shut_down = true;
+                        Response::new_ok(request.id, ())
+                    }
+                    _ => server.answer(request),
+                };
+                connection.sender.send(Message::Response(response))?;
+            }
+            Event::Message(Message::Notification(n)) if n.method == Exit::METHOD => {
+                return match shut_down {
+                    true => Ok(()),
+                    false => Err("exit before shutdown".into()),
+                };
+            }
+            Event::Message(Message::Notification(notification)) => server.note(notification),
+            Event::Message(Message::Response(_)) => {}
+            Event::Analysed {
+                uri,
+                version,
+                text,
+                analysis,
+            } => server.analysed(connection, uri, version, text, analysis)?,
+        }
+        server.start_stale();
     }
     Ok(())
 }
@@ -114,7 +173,7 @@ impl Server {
                 let document = Document {
                     text: p.text_document.text,
                     version: p.text_document.version,
-                    analysis: None,
+                    analysed: None,
                     values: None,
                 };
                 self.documents.insert(p.text_document.uri.clone(), document);
@@ -135,60 +194,111 @@ impl Server {
                 };
                 document.text = change.text;
                 document.version = p.text_document.version;
-                document.values = None;
+                // The analysis under way is of older text.
+                if let Some(cancel) = self.running.get(&uri) {
+                    cancel.store(true, Ordering::Relaxed);
+                }
                 self.stale.insert(uri);
             }
             DidCloseTextDocument::METHOD => {
                 if let Ok(p) = serde_json::from_value::<lsp_types::DidCloseTextDocumentParams>(
                     notification.params,
                 ) {
-                    self.documents.remove(&p.text_document.uri);
-                    self.stale.remove(&p.text_document.uri);
+                    let uri = &p.text_document.uri;
+                    self.documents.remove(uri);
+                    self.stale.remove(uri);
+                    if let Some(cancel) = self.running.get(uri) {
+                        cancel.store(true, Ordering::Relaxed);
+                    }
                 }
             }
             _ => {}
         }
     }
 
-    /// Analyse every changed document (with every open one over the disk)
-    /// and publish its diagnostics.
-    fn analyse_stale(&mut self, connection: &Connection) -> Result<(), Error> {
-        if self.stale.is_empty() {
-            return Ok(());
-        }
-        let open = self.open_files();
-        for uri in std::mem::take(&mut self.stale) {
+    /// Start analysing each changed document that is not being analysed
+    /// (with every open one over the disk), on a thread of its own.
+    fn start_stale(&mut self) {
+        let ready: Vec<Uri> = self
+            .stale
+            .iter()
+            .filter(|uri| !self.running.contains_key(*uri))
+            .cloned()
+            .collect();
+        for uri in ready {
+            self.stale.remove(&uri);
             let (Some(path), Some(document)) = (path_of(&uri), self.documents.get(&uri)) else {
                 continue;
             };
-            let analysis = analyse(&open, &path, &document.text);
-            let params = PublishDiagnosticsParams {
-                uri: uri.clone(),
-                diagnostics: analysis
-                    .diagnostics
-                    .iter()
-                    .map(|d| to_lsp(&uri, d))
-                    .collect(),
-                version: Some(document.version),
-            };
-            let notification = Notification::new(PublishDiagnostics::METHOD.into(), params);
-            connection
-                .sender
-                .send(Message::Notification(notification))?;
-            if let Some(document) = self.documents.get_mut(&uri) {
-                document.analysis = Some(analysis);
-            }
+            let cancel = Arc::new(AtomicBool::new(false));
+            self.running.insert(uri.clone(), Arc::clone(&cancel));
+            let open = self.open_texts();
+            let (text, version, events) =
+                (document.text.clone(), document.version, self.events.clone());
+            std::thread::spawn(move || {
+                let mut fs = Memory::over(&Disk);
+                for (path, text) in open {
+                    fs.insert(path, text);
+                }
+                let analysis = analysis::analyse_unless(&fs, &path, &text, &cancel);
+                let _ = events.send(Event::Analysed {
+                    uri,
+                    version,
+                    text,
+                    analysis,
+                });
+            });
         }
+    }
+
+    /// An analysis is done: kept, and its diagnostics published, unless
+    /// it was cancelled or the document changed since it began.
+    fn analysed(
+        &mut self,
+        connection: &Connection,
+        uri: Uri,
+        version: i32,
+        text: String,
+        analysis: Option<Analysis>,
+    ) -> Result<(), Error> {
+        self.running.remove(&uri);
+        let (Some(document), Some(analysis)) = (self.documents.get_mut(&uri), analysis) else {
+            return Ok(());
+        };
+        if document.version != version || self.stale.contains(&uri) {
+            return Ok(());
+        }
+        let params = PublishDiagnosticsParams {
+            uri: uri.clone(),
+            diagnostics: analysis
+                .diagnostics
+                .iter()
+                .map(|d| to_lsp(&uri, d))
+                .collect(),
+            version: Some(version),
+        };
+        document.analysed = Some(Analysed { text, analysis });
+        document.values = None;
+        let notification = Notification::new(PublishDiagnostics::METHOD.into(), params);
+        connection
+            .sender
+            .send(Message::Notification(notification))?;
         Ok(())
+    }
+
+    /// The open documents' texts, by path.
+    fn open_texts(&self) -> Vec<(PathBuf, String)> {
+        self.documents
+            .iter()
+            .filter_map(|(uri, d)| Some((path_of(uri)?, d.text.clone())))
+            .collect()
     }
 
     /// The open documents' texts over the disk.
     fn open_files(&self) -> Memory<'static> {
         let mut open = Memory::over(&Disk);
-        for (uri, document) in &self.documents {
-            if let Some(path) = path_of(uri) {
-                open.insert(path, document.text.clone());
-            }
+        for (path, text) in self.open_texts() {
+            open.insert(path, text);
         }
         open
     }
@@ -271,7 +381,9 @@ impl Server {
     #[allow(deprecated)] // `DocumentSymbol::deprecated`, which LSP keeps
     fn symbols(&self, uri: &Uri) -> Vec<lsp_types::DocumentSymbol> {
         use analysis::OutlineKind;
-        let Some(analysis) = self.documents.get(uri).and_then(|d| d.analysis.as_ref()) else {
+        let Some(Analysed { analysis, .. }) =
+            self.documents.get(uri).and_then(|d| d.analysed.as_ref())
+        else {
             return Vec::new();
         };
         analysis
@@ -333,13 +445,13 @@ impl Server {
         if method == HoverRequest::METHOD {
             self.values_for_hover(&uri, at);
         }
-        let (Some(document), Some(analysis)) = (
-            self.documents.get(&uri),
-            self.documents.get(&uri).and_then(|d| d.analysis.as_ref()),
-        ) else {
+        let Some(document) = self.documents.get(&uri) else {
             return Some(Response::new_ok(id, serde_json::Value::Null));
         };
-        let asked = answers::Document::new(&document.text, analysis);
+        let Some(Analysed { text, analysis }) = &document.analysed else {
+            return Some(Response::new_ok(id, serde_json::Value::Null));
+        };
+        let asked = answers::Document::new(text, analysis);
         let at_uri = |t: answers::Target| {
             let uri = match &t.file {
                 Some(path) => uri_of(path)?,
@@ -400,16 +512,15 @@ impl Server {
         let Some(document) = self.documents.get(uri) else {
             return;
         };
-        let on_var = document.analysis.as_ref().is_some_and(|a| {
-            answers::Document::new(&document.text, a)
-                .var_at(at)
-                .is_some()
-        });
+        let Some(Analysed { text, analysis }) = &document.analysed else {
+            return;
+        };
+        let on_var = answers::Document::new(text, analysis).var_at(at).is_some();
         if !on_var || document.values.is_some() {
             return;
         }
         let Some(path) = path_of(uri) else { return };
-        let values = analysis::watch(&self.open_files(), &path, &document.text);
+        let values = analysis::watch(&self.open_files(), &path, text);
         if let Some(document) = self.documents.get_mut(uri) {
             document.values = Some(values);
         }
@@ -417,10 +528,10 @@ impl Server {
 
     /// The tool's place and time after each moving line in the range.
     fn hints(&self, p: &InlayHintParams) -> Vec<InlayHint> {
-        let Some(analysis) = self
+        let Some(Analysed { analysis, .. }) = self
             .documents
             .get(&p.text_document.uri)
-            .and_then(|d| d.analysis.as_ref())
+            .and_then(|d| d.analysed.as_ref())
         else {
             return Vec::new();
         };

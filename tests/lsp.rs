@@ -389,6 +389,9 @@ fn hover_shows_a_variables_values_a_wizards_manual_and_a_calls_comment() {
             }],
         },
     );
+    // Requests are answered from the last analysis until the new one is
+    // published.
+    while client.diagnostics().version != Some(2) {}
     assert_eq!(client.hover(&doc, (8, 7)), "`Depth` = 2.5 here");
     client.stop();
 }
@@ -625,5 +628,49 @@ fn formatting_renumbers_spaces_and_cases_and_keeps_the_tool_path() {
         }
     };
     assert!(refused.message.contains("compiles"), "{}", refused.message);
+    client.stop();
+}
+
+#[test]
+fn a_long_program_blocks_nothing_and_a_change_cancels_its_analysis() {
+    use lsp_types::request::Completion;
+    let mut client = Client::start();
+    let doc = uri("/nowhere/long/part.nc");
+    let mut long = String::from("G21 G90\nG0 X0 Y0 Z5\nG1 Z-1 F600\n");
+    for i in 0..200_000 {
+        long.push_str(&format!("G1 X{} Y{}\n", i % 100, i / 100));
+    }
+    long.push_str("M30\n");
+    client.notify(
+        DidOpenTextDocument::METHOD,
+        DidOpenTextDocumentParams {
+            text_document: TextDocumentItem::new(doc.clone(), "gcode".into(), 1, long.clone()),
+        },
+    );
+    // Answered while the program is being analysed: nothing known yet.
+    let answer = client.ask(Completion::METHOD, &doc, (0, 0), serde_json::json!({}));
+    assert!(answer.is_null(), "{answer}");
+    // A change with an error: the analysis of version 1 is cancelled,
+    // never published; version 2's is.
+    client.notify(
+        DidChangeTextDocument::METHOD,
+        DidChangeTextDocumentParams {
+            text_document: VersionedTextDocumentIdentifier::new(doc.clone(), 2),
+            content_changes: vec![TextDocumentContentChangeEvent {
+                range: None,
+                range_length: None,
+                text: long.replace("G1 X5 Y3\n", "G5 X5 Y3\n"),
+            }],
+        },
+    );
+    let published = client.diagnostics();
+    assert_eq!(published.version, Some(2));
+    let errors: Vec<_> = published
+        .diagnostics
+        .iter()
+        .filter(|d| d.severity == Some(lsp_types::DiagnosticSeverity::ERROR))
+        .map(|d| d.range.start.line)
+        .collect();
+    assert_eq!(errors, [308], "{:?}", published.diagnostics);
     client.stop();
 }

@@ -11,6 +11,8 @@ use crate::source::Span;
 pub enum EvalErrorKind {
     /// More statements than `--max-statements` allows.
     TooManyStatements(usize),
+    /// The caller stopped the run (`EvalOptions::cancel`).
+    Cancelled,
     FeedBeforeRate,
     /// A feed move after G94 ended G93, before any F.
     FeedAfterInverseTime,
@@ -77,6 +79,11 @@ impl Wording for EvalErrorKind {
                 "the limit was reached here",
             )
             .with_help("check the loops and subprogram repeats"),
+            EvalErrorKind::Cancelled => error(
+                "the compile was stopped by its caller",
+                at,
+                "stopped after this statement",
+            ),
             EvalErrorKind::FeedBeforeRate => error(
                 "a feed move before any feed rate",
                 at,

@@ -37,6 +37,9 @@ pub struct EvalOptions {
     /// The program is plain G-code (not `.egc`, whose rules are ger's own
     /// and need no warning where controllers disagree).
     pub plain: bool,
+    /// A caller's flag (an editor that has newer text): once it is set,
+    /// the run stops at its next batch with an error.
+    pub cancel: Option<std::sync::Arc<std::sync::atomic::AtomicBool>>,
 }
 
 impl EvalOptions {
@@ -113,6 +116,7 @@ impl Default for EvalOptions {
             plain: false,
             keep_comments: true,
             tools: Default::default(),
+            cancel: None,
         }
     }
 }

@@ -30,6 +30,8 @@ pub(super) struct RunCounts {
     pub(super) jumped_back: bool,
     /// The statement limit was reached: the program stops.
     pub(super) over_limit: bool,
+    /// The caller stopped the run (`EvalOptions::cancel`).
+    pub(super) cancelled: bool,
     /// How many times a variable changed value (or a call's scope was
     /// entered or left): a loop pass that leaves it as it was changed
     /// nothing its condition can read, so it would run forever.

@@ -17,6 +17,8 @@ use crate::source::Sources;
 use crate::syntax::Language;
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::Arc;
 
 /// A place in a document: 0-based line and UTF-16 column, as LSP counts.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord)]
@@ -139,15 +141,31 @@ fn load(fs: &dyn FileSystem, path: &Path, text: &str) -> Result<Loaded, Vec<Stri
 /// Analyse the document `path` whose text is `text`, with the options of
 /// the `ger.toml` above it (else `ger compile`'s defaults).
 pub fn analyse(fs: &dyn FileSystem, path: &Path, text: &str) -> Analysis {
+    analyse_unless(fs, path, text, &Arc::default()).unwrap_or_default()
+}
+
+/// [`analyse`], given up (`None`) as soon as `cancel` is set: the
+/// editor has newer text.
+pub fn analyse_unless(
+    fs: &dyn FileSystem,
+    path: &Path,
+    text: &str,
+    cancel: &Arc<AtomicBool>,
+) -> Option<Analysis> {
     let Loaded {
         mut job,
         machine,
         language,
     } = match load(fs, path, text) {
         Ok(loaded) => loaded,
-        Err(messages) => return at_top(text, messages),
+        Err(messages) => return Some(at_top(text, messages)),
     };
+    job.options.eval.cancel = Some(Arc::clone(cancel));
+    let cancelled = || cancel.load(Ordering::Relaxed);
     let outcome = job.outcome();
+    if cancelled() {
+        return None;
+    }
     let lines = LineStarts::new(text);
     let diagnostics = outcome
         .diagnostics
@@ -159,7 +177,11 @@ pub fn analyse(fs: &dyn FileSystem, path: &Path, text: &str) -> Analysis {
         Some(path) => tool_positions(&job, &lines, path, limits.as_ref()),
         None => Vec::new(),
     };
-    let mut outline = outline(text, &lines, language);
+    if cancelled() {
+        return None;
+    }
+    let (program, _) = crate::syntax::parse_program_as(text, 0, language);
+    let mut outline = outline(text, &lines, &program);
     if let Some(path) = &outcome.tool_path {
         for event in &path.events {
             if let crate::toolpath::EventKind::ToolChange(t) = event.kind {
@@ -176,14 +198,17 @@ pub fn analyse(fs: &dyn FileSystem, path: &Path, text: &str) -> Analysis {
         }
     }
     outline.sort_by_key(|o| o.from);
-    Analysis {
+    if cancelled() {
+        return None;
+    }
+    Some(Analysis {
         diagnostics,
         tool_at,
         outline,
-        index: Index::of(text, language),
+        index: Index::of_program(&program, text),
         wizards: wizards(&job),
         elsewhere: elsewhere(&job, language),
-    }
+    })
 }
 
 /// The values the document's variables have where it reads and sets
@@ -295,9 +320,8 @@ fn elsewhere(job: &Job, language: crate::syntax::Language) -> Vec<ElsewhereSub> 
 
 /// The outline of `text` as its front end reads it: subprograms, wizard
 /// and directive calls, loops.
-fn outline(text: &str, lines: &LineStarts, language: crate::syntax::Language) -> Vec<Outlined> {
+fn outline(text: &str, lines: &LineStarts, program: &crate::ast::Program) -> Vec<Outlined> {
     use crate::ast::{Stmt, StmtKind};
-    let (program, _) = crate::syntax::parse_program_as(text, 0, language);
     let names = &program.names;
     let mut out = Vec::new();
     let place = |from: u32, to: u32| (lines.at(text, from as usize), lines.at(text, to as usize));

@@ -57,6 +57,11 @@ impl Index {
     /// The index of `text` read as `language`.
     pub fn of(text: &str, language: Language) -> Index {
         let (program, _) = crate::syntax::parse_program_as(text, 0, language);
+        Index::of_program(&program, text)
+    }
+
+    /// The index of `program`, parsed from `text`.
+    pub fn of_program(program: &ast::Program, text: &str) -> Index {
         let mut index = Index::default();
         let names = &program.names;
         for sub in &program.subprograms {
