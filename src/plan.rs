@@ -251,14 +251,12 @@ pub fn plan(path: &ToolPath, limits: Option<&Limits>) -> Figures {
         figures.operations = operations(path, None, &[]);
         return figures;
     };
-    let blocks = match limits.controller {
-        Controller::Grbl => blocks(path, limits),
-        Controller::LinuxCnc => linuxcnc::blocks(path, limits),
-    };
-    let mut move_s = vec![0.0; path.moves.len()];
-    for (block, seconds) in blocks.iter().zip(block_times(&blocks, limits)) {
-        move_s[block.source] += seconds;
+    let mut planner = Planner::new(limits, path.moves.len());
+    match limits.controller {
+        Controller::Grbl => blocks(path, limits, &mut |b| planner.push(b)),
+        Controller::LinuxCnc => linuxcnc::blocks(path, limits, &mut |b| planner.push(b)),
     }
+    let move_s = planner.finish();
     let stops = figures.dwell_s
         + figures.tool_changes as f64 * limits.tool_change_s
         + figures.spindle_starts as f64 * limits.spindle_start_s;
@@ -383,10 +381,10 @@ fn rapid_rate(limits: &Limits, unit: [f64; 3]) -> f64 {
 }
 
 /// The planner's blocks: each move, arcs cut into chords as grbl's
-/// `mc_arc` cuts them; a block after a sync starts from rest.
-fn blocks(path: &ToolPath, limits: &Limits) -> Vec<Block> {
+/// `mc_arc` cuts them, handed to `out` in order; a block after a sync
+/// starts from rest.
+fn blocks(path: &ToolPath, limits: &Limits, out: &mut dyn FnMut(Block)) {
     let syncs = sync_points(path);
-    let mut out = Vec::with_capacity(path.moves.len());
     for (i, m) in path.moves.iter().enumerate() {
         let stopped_before = syncs[i];
         let points = match m.kind {
@@ -403,7 +401,7 @@ fn blocks(path: &ToolPath, limits: &Limits) -> Vec<Block> {
                 MoveKind::Rapid => rapid_rate(limits, unit),
                 _ => (m.state.feed / 60.0).min(along(limits.max_rate, unit)),
             };
-            out.push(Block {
+            out(Block {
                 length,
                 unit_in: unit,
                 unit_out: unit,
@@ -415,7 +413,6 @@ fn blocks(path: &ToolPath, limits: &Limits) -> Vec<Block> {
             });
         }
     }
-    out
 }
 
 /// For each move, whether the machine stands still before it: the first
@@ -462,40 +459,76 @@ fn arc_points(m: &Move, tolerance: f64) -> Vec<[f64; 3]> {
         .collect()
 }
 
-/// The time of each block: planned with the look-ahead of the buffer
-/// (the last block held must be able to stop), corners limited by
-/// junction deviation, each block a trapezoid (or a triangle).
-fn block_times(blocks: &[Block], limits: &Limits) -> Vec<f64> {
-    let max_entry: Vec<f64> = (0..blocks.len())
-        .map(|i| match i {
-            0 => 0.0,
-            _ if blocks[i].stopped_before => 0.0,
-            _ => junction(&blocks[i - 1], &blocks[i], limits)
-                .min(blocks[i - 1].nominal.powi(2))
-                .min(blocks[i].nominal.powi(2)),
-        })
-        .collect();
-    let depth = limits.blocks.max(1);
-    let mut times = Vec::with_capacity(blocks.len());
-    let mut entry_sqr = 0.0;
-    for i in 0..blocks.len() {
-        // The buffer: this block and those after it, up to a stop.
-        let mut end = i + 1;
-        while end < blocks.len() && end < i + depth && !blocks[end].stopped_before {
-            end += 1;
+/// The blocks planned as they come, with the look-ahead of the buffer
+/// (the last block held must be able to stop), corners limited as the
+/// controller limits them, each block a trapezoid (or a triangle). Holds
+/// only the buffer's blocks: a block is timed, added to its move's time
+/// and dropped once the buffer behind it is full.
+struct Planner<'l> {
+    limits: &'l Limits,
+    depth: usize,
+    /// The blocks not yet timed, each with its largest entry speed squared.
+    window: std::collections::VecDeque<(Block, f64)>,
+    previous: Option<Block>,
+    entry_sqr: f64,
+    /// Each move's time, s.
+    move_s: Vec<f64>,
+}
+
+impl<'l> Planner<'l> {
+    fn new(limits: &'l Limits, moves: usize) -> Planner<'l> {
+        let depth = limits.blocks.max(1);
+        Planner {
+            limits,
+            depth,
+            window: std::collections::VecDeque::with_capacity(depth + 1),
+            previous: None,
+            entry_sqr: 0.0,
+            move_s: vec![0.0; moves],
         }
+    }
+
+    fn push(&mut self, block: Block) {
+        let max_entry = match &self.previous {
+            Some(a) if !block.stopped_before => junction(a, &block, self.limits)
+                .min(a.nominal.powi(2))
+                .min(block.nominal.powi(2)),
+            _ => 0.0,
+        };
+        self.previous = Some(block);
+        self.window.push_back((block, max_entry));
+        if self.window.len() >= self.depth {
+            self.time_first();
+        }
+    }
+
+    /// The first block of the window timed: its buffer is it and the
+    /// blocks after it, up to the depth or a stop.
+    fn time_first(&mut self) {
+        let Some(&(b, _)) = self.window.front() else {
+            return;
+        };
+        let end = (1..self.window.len().min(self.depth))
+            .find(|&j| self.window[j].0.stopped_before)
+            .unwrap_or(self.window.len().min(self.depth));
         // Backward from the buffer's end, where the speed must be 0.
         let mut exit_sqr = 0.0;
-        for j in (i + 1..end).rev() {
-            let b = &blocks[j];
-            exit_sqr = max_entry[j].min(exit_sqr + 2.0 * b.accel * b.length);
+        for j in (1..end).rev() {
+            let (next, max_entry) = &self.window[j];
+            exit_sqr = max_entry.min(exit_sqr + 2.0 * next.accel * next.length);
         }
-        let b = &blocks[i];
-        let exit_sqr = exit_sqr.min(entry_sqr + 2.0 * b.accel * b.length);
-        times.push(trapezoid(b, entry_sqr.sqrt(), exit_sqr.sqrt()));
-        entry_sqr = exit_sqr;
+        let exit_sqr = exit_sqr.min(self.entry_sqr + 2.0 * b.accel * b.length);
+        self.move_s[b.source] += trapezoid(&b, self.entry_sqr.sqrt(), exit_sqr.sqrt());
+        self.entry_sqr = exit_sqr;
+        self.window.pop_front();
     }
-    times
+
+    fn finish(mut self) -> Vec<f64> {
+        while !self.window.is_empty() {
+            self.time_first();
+        }
+        self.move_s
+    }
 }
 
 /// The largest speed squared from block `a` into block `b`, as the

@@ -39,10 +39,10 @@ fn acc_ratio_normal() -> f64 {
     (1.0 - ACC_RATIO_TANGENTIAL * ACC_RATIO_TANGENTIAL).sqrt()
 }
 
-/// The segments of `path`, one per move of some length.
-pub(super) fn blocks(path: &ToolPath, limits: &Limits) -> Vec<Block> {
+/// The segments of `path`, one per move of some length, handed to `out`
+/// in order.
+pub(super) fn blocks(path: &ToolPath, limits: &Limits, out: &mut dyn FnMut(Block)) {
     let syncs = sync_points(path);
-    let mut out = Vec::with_capacity(path.moves.len());
     for (i, m) in path.moves.iter().enumerate() {
         let block = match m.kind {
             MoveKind::Arc(_) => arc_block(m, limits),
@@ -51,10 +51,9 @@ pub(super) fn blocks(path: &ToolPath, limits: &Limits) -> Vec<Block> {
         if let Some(mut b) = block {
             b.stopped_before = syncs[i];
             b.source = i;
-            out.push(b);
+            out(b);
         }
     }
-    out
 }
 
 fn line_block(m: &Move, limits: &Limits) -> Option<Block> {
