@@ -87,10 +87,11 @@ fn stats_time(part: &Path) -> f64 {
 }
 
 fn ready(browser: &mut Browser, page: &str) {
+    // `loading` again after a lost WebGL context, until it is restored.
     browser.wait_for(
         page,
-        "document.body.dataset.gerState === 'ready' || document.body.dataset.gerState === 'error'",
-        30.0,
+        "document.body.dataset.gerState === 'ready' || (document.body.dataset.gerState === 'error' && document.getElementById('banner').textContent !== '')",
+        60.0,
     );
     let banner = browser.eval(page, "document.getElementById('banner').textContent");
     assert_eq!(browser.hook(page, "data-ger-state"), "ready", "{banner}");

@@ -239,8 +239,8 @@ void main() { if (tint.a <= 0.0) discard; color = tint; }`;
 const PLAIN_VS = `#version 300 es
 in vec3 position;
 uniform mat4 mvp;
-uniform float size;
-void main() { gl_Position = mvp * vec4(position, 1.0); gl_Position.z -= 0.004 * gl_Position.w; gl_PointSize = size; }`;
+uniform float size, bias;
+void main() { gl_Position = mvp * vec4(position, 1.0); gl_Position.z -= bias * gl_Position.w; gl_PointSize = size; }`;
 const PLAIN_FS = `#version 300 es
 precision mediump float;
 uniform vec4 tint;
@@ -403,38 +403,44 @@ function sweepMove(k, fraction) {
   }
 }
 
-function lift(cutter, d) {
-  if (cutter.profile === "ball") return cutter.radius - Math.sqrt(Math.max(0, cutter.radius ** 2 - d * d));
-  if (cutter.profile === "cone") return cutter.rise * d;
+// The cutter's underside above its tip at distance d (d <= radius).
+function lift(profile, r, rise, d) {
+  if (profile === 1) return r - Math.sqrt(Math.max(0, r * r - d * d));
+  if (profile === 2) return rise * d;
   return 0;
 }
 
 function sweepLine(spec, s, cutter, r, x0, y0, z0, x1, y1, z1) {
   const [cw, ch] = s.size;
+  const profile = cutter.profile === "ball" ? 1 : cutter.profile === "cone" ? 2 : 0, rise = cutter.rise;
   const dx = x1 - x0, dy = y1 - y0, dz = z1 - z0, len2 = dx * dx + dy * dy;
   const i0 = Math.max(0, Math.floor((Math.min(x0, x1) - r - spec.min[0]) / cw - 0.5));
   const i1 = Math.min(spec.nx - 1, Math.ceil((Math.max(x0, x1) + r - spec.min[0]) / cw - 0.5));
   const j0 = Math.max(0, Math.floor((Math.min(y0, y1) - r - spec.min[1]) / ch - 0.5));
   const j1 = Math.min(spec.ny - 1, Math.ceil((Math.max(y0, y1) + r - spec.min[1]) / ch - 0.5));
   if (Math.min(z0, z1) >= spec.top) return;
+  const heights = s.heights, r2 = r * r, nx = spec.nx;
   for (let j = j0; j <= j1; j++) {
     const py = spec.min[1] + (j + 0.5) * ch;
     for (let i = i0; i <= i1; i++) {
       const px = spec.min[0] + (i + 0.5) * cw;
+      // The closest point of the line to the cell's centre, and the
+      // stretch within the radius around it: the lowest is at one of them.
+      const tc = len2 > 0 ? Math.min(1, Math.max(0, ((px - x0) * dx + (py - y0) * dy) / len2)) : 0;
+      const cx = x0 + dx * tc - px, cy = y0 + dy * tc - py, dc2 = cx * cx + cy * cy;
+      if (dc2 > r2) continue;
+      const half = len2 > 0 ? Math.sqrt((r2 - dc2) / len2) : 0;
       let best = Infinity;
-      const at = (t) => {
-        const qx = x0 + dx * t - px, qy = y0 + dy * t - py, d = Math.hypot(qx, qy);
-        if (d <= r) best = Math.min(best, z0 + dz * t + lift(cutter, d));
-      };
-      if (len2 > 0) {
-        const tc = Math.min(1, Math.max(0, ((px - x0) * dx + (py - y0) * dy) / len2));
-        const cx = x0 + dx * tc - px, cy = y0 + dy * tc - py, dc = Math.hypot(cx, cy);
-        if (dc > r) continue;
-        const half = Math.sqrt(Math.max(0, r * r - dc * dc) / len2);
-        at(Math.max(0, tc - half)); at(Math.min(1, tc + half)); at(tc);
-      } else at(0);
-      const k = j * spec.nx + i;
-      if (best < s.heights[k]) s.heights[k] = best;
+      for (let n = 0; n < 3; n++) {
+        const t = n === 0 ? tc : n === 1 ? Math.max(0, tc - half) : Math.min(1, tc + half);
+        const qx = x0 + dx * t - px, qy = y0 + dy * t - py, d2 = qx * qx + qy * qy;
+        if (d2 <= r2 * (1 + 1e-9)) {
+          const z = z0 + dz * t + (profile === 0 ? 0 : lift(profile, r, rise, Math.sqrt(Math.min(d2, r2))));
+          if (z < best) best = z;
+        }
+      }
+      const k = j * nx + i;
+      if (best < heights[k]) heights[k] = best;
     }
   }
 }
@@ -535,12 +541,31 @@ function drawOverlays(mvp) {
   gl.bindBuffer(gl.ARRAY_BUFFER, g.plainBuf);
   gl.enableVertexAttribArray(g.plain.a("position"));
   gl.vertexAttribPointer(g.plain.a("position"), 3, gl.FLOAT, false, 0, 0);
+  if (view.stock && $("show-stock").checked) shapes.unshift({ mode: gl.TRIANGLES, data: walls(view.stock), tint: [0.60, 0.55, 0.45, 1], bias: 0 });
   for (const shape of shapes) {
     gl.bufferData(gl.ARRAY_BUFFER, new Float32Array(shape.data), gl.DYNAMIC_DRAW);
     gl.uniform4fv(g.plain.u.tint, shape.tint);
     gl.uniform1f(g.plain.u.size, shape.size || 1);
+    gl.uniform1f(g.plain.u.bias, shape.bias ?? 0.004);
     gl.drawArrays(shape.mode, 0, shape.data.length / 3);
   }
+}
+
+// The stock's four sides, from its bottom up to the shown edge cells.
+function walls(s) {
+  const sp = s.spec, out = [];
+  const side = (count, at) => {
+    for (let k = 0; k + 1 < count; k++) {
+      const [x0, y0, h0] = at(k), [x1, y1, h1] = at(k + 1);
+      out.push(x0, y0, sp.bottom, x1, y1, sp.bottom, x1, y1, h1, x0, y0, sp.bottom, x1, y1, h1, x0, y0, h0);
+    }
+  };
+  const x = (i) => sp.min[0] + (i + 0.5) * s.size[0], y = (j) => sp.min[1] + (j + 0.5) * s.size[1];
+  side(sp.nx, (i) => [x(i), y(0), s.heights[i]]);
+  side(sp.nx, (i) => [x(i), y(sp.ny - 1), s.heights[(sp.ny - 1) * sp.nx + i]]);
+  side(sp.ny, (j) => [x(0), y(j), s.heights[j * sp.nx]]);
+  side(sp.ny, (j) => [x(sp.nx - 1), y(j), s.heights[j * sp.nx + sp.nx - 1]]);
+  return out;
 }
 
 function positionAt(k, fraction) {
