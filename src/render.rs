@@ -89,6 +89,10 @@ pub enum RenderError {
         "nothing to draw: the program makes no cutting move and sets no stock (SetPart or --stock)"
     )]
     NothingToDraw,
+    #[error(
+        "nothing to draw: the program never moves Z, so how deep it cuts is not known; move Z (`G0 Z5`, then `G1 Z-1` to cut) or set the stock (SetPart or --stock)"
+    )]
+    NeverMovesZ,
     #[error("the stock has no size: {0}")]
     EmptyStock(String),
     #[error("the grid of {cells} cells does not fit in memory; give a coarser --resolution")]
@@ -403,7 +407,14 @@ fn stock(
         }
     }
     if !b[0].is_finite() {
-        return Err(RenderError::NothingToDraw);
+        // no move starts at a Z the program set, and the last changes none
+        let never_z = path.moves.iter().all(|m| m.guessed[2])
+            && path.moves.last().is_some_and(|m| m.end[2] == m.start[2]);
+        return Err(if never_z {
+            RenderError::NeverMovesZ
+        } else {
+            RenderError::NothingToDraw
+        });
     }
     let margin = path.setup.margin.unwrap_or(widest);
     Ok(Stock {

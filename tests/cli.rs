@@ -585,7 +585,7 @@ fn any_program_compiled_to_a_file_is_read_in_parts_or_whole() {
         .replace("o<peck> call\n", "")
         .replace("M2\n", "o<peck> call\nM2\n");
     let notes = "(the subroutine, written after the end of the program)\n".repeat(2_000);
-    std::fs::write(dir.join("later.ngc"), later + &notes + sub).unwrap();
+    std::fs::write(dir.join("later.ngc"), later + notes.as_str() + sub).unwrap();
     for name in ["long.egc", "kept.ngc", "later.ngc"] {
         let whole = ger_whole(&["compile", name], &dir);
         assert_eq!(whole.status.code(), Some(0), "{name}");
@@ -895,4 +895,37 @@ fn moves_past_the_machine_travel_are_errors_where_the_offset_is_known() {
         String::from_utf8_lossy(&r.stderr)
     );
     let _ = std::fs::remove_dir_all(&dir);
+
+/// Every list in `--help` is complete (issue 48): the stages, targets and
+/// standard wizards the help names are the library's registries.
+#[test]
+fn the_help_lists_every_stage_target_and_wizard() {
+    let dir = std::env::temp_dir();
+    let text = |args: &[&str]| {
+        let out = ger(args, &dir);
+        assert!(out.status.success(), "{args:?}");
+        String::from_utf8(out.stdout).unwrap()
+    };
+    let compile = text(&["compile", "--help"]);
+    let stage_line = compile
+        .lines()
+        .find(|l| l.contains("after this stage"))
+        .unwrap();
+    for stage in ger::driver::Stage::names() {
+        assert!(
+            stage_line.contains(stage),
+            "--stage {stage} missing: {stage_line}"
+        );
+    }
+    for (_, target) in ger::emit::Target::ALL {
+        assert!(compile.contains(target), "--target {target} missing");
+    }
+    let wizards = text(&["wizards", "--help"]);
+    for wizard in ger::wizard::standard_library() {
+        assert!(
+            wizards.contains(&wizard.name),
+            "wizard {} missing",
+            wizard.name
+        );
+    }
 }

@@ -884,3 +884,21 @@ fn the_cutter_is_the_described_one_or_a_warning_names_the_assumed_one() {
         assert!(stderr.contains("--tool-table"), "{stderr}");
     }
 }
+
+/// Issue 48: a program that cuts only in X and Y, never setting Z, is told
+/// so in those words.
+#[test]
+fn a_program_that_never_moves_z_is_told_so() {
+    let dir = scratch("never-z");
+    let part = dir.join("part.egc");
+    std::fs::write(&part, "G21 G90\nG0 X0 Y0\nG1 X10 F100\nM30\n").unwrap();
+    let out = ger(&[
+        "render",
+        part.to_str().unwrap(),
+        "-o",
+        dir.join("part.png").to_str().unwrap(),
+    ]);
+    assert!(!out.status.success());
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(stderr.contains("the program never moves Z"), "{stderr}");
+}

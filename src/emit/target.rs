@@ -18,6 +18,14 @@ pub enum Target {
 }
 
 impl Target {
+    /// Every target, as `--target` names them.
+    pub const ALL: [(Target, &'static str); 4] = [
+        (Target::Generic, "generic"),
+        (Target::Fanuc, "fanuc"),
+        (Target::Grbl, "grbl"),
+        (Target::LinuxCnc, "linuxcnc"),
+    ];
+
     /// Lines before the program: Fanuc's tape start and program number.
     pub fn prologue(self, program_number: u32) -> Option<String> {
         match self {

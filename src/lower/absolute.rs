@@ -199,7 +199,13 @@ impl Pass for AbsolutePass {
         if self.ended || out.failed() {
             return;
         }
-        let span = self.last.unwrap_or_default();
+        let Some(span) = self.last else {
+            out.report(LowerError::new(
+                LowerErrorKind::EmptyProgram,
+                Span::default(),
+            ));
+            return;
+        };
         out.report(LowerError::new(LowerErrorKind::NoProgramEnd, span));
         out.push(Stmt::new(Op::End, span));
     }

@@ -105,6 +105,8 @@ pub enum LowerErrorKind {
     /// Warning: the program has no M2/M30; one is added after its last
     /// statement.
     NoProgramEnd,
+    /// The program has no statement at all (blank lines and comments).
+    EmptyProgram,
 }
 
 /// The cycles pass's errors.
@@ -342,6 +344,12 @@ impl LowerError {
                 "its last statement",
             )
             .with_note("the output ends with a program end: a controller needs one to stop the spindle and reset"),
+            EmptyProgram => error(
+                "nothing to compile: the program has no statement",
+                span,
+                "the file holds only blank lines and comments",
+            )
+            .with_help("write the program's lines, e.g. `G21 G90`, the moves, then `M30`"),
             WorkOffsetUnknown { index } => warning(
                 format!(
                     "{} has no known values: passed through to the machine",

@@ -101,7 +101,7 @@ pub enum SyntaxErrorKind {
 }
 
 /// Why a parse error may have happened, read from the tokens around it.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[derive(Clone, Debug, PartialEq, Eq)]
 pub enum ParseHint {
     /// Right after `if` or `while`.
     ConditionInParentheses,
@@ -111,6 +111,11 @@ pub enum ParseHint {
     ElseAfterIf,
     /// A name where a word was expected: likely a comment's text.
     CommentSyntax,
+    /// A word letter glued to a name (`XDd`): the name's value was meant,
+    /// `X<Dd>`.
+    ValueFromName { letter: char, name: String },
+    /// No `{` after the condition of an `if` (true) or a `while` (false).
+    BlockAfter { is_if: bool },
     /// Inside a wizard call's `( … )`, which groups.
     CommentInCall,
 }
@@ -281,7 +286,7 @@ impl Wording for SyntaxErrorKind {
                 hints,
             } => hints.iter().fold(
                 error(format!("unexpected {what}"), at, format!("expected {expected}")),
-                |d, hint| d.with_help(hint_text(*hint)),
+                |d, hint| d.with_help(hint_text(hint)),
             ),
             UnexpectedEnd { expected } => error(
                 "unexpected end of file",
@@ -321,16 +326,25 @@ impl Wording for SyntaxErrorKind {
     }
 }
 
-fn hint_text(hint: ParseHint) -> &'static str {
+fn hint_text(hint: &ParseHint) -> String {
     match hint {
         ParseHint::ConditionInParentheses => {
-            "conditions are written in parentheses: `while (i < 3) { … }`"
+            "conditions are written in parentheses: `while (i < 3) { … }`".to_string()
         }
-        ParseHint::CompareWithEqEq => "to compare two values write `==`; `=` assigns",
-        ParseHint::ElseAfterIf => "`else` must follow the `}` of an `if` block",
-        ParseHint::CommentSyntax => "comments are written `( … )` or `// …`",
+        ParseHint::CompareWithEqEq => "to compare two values write `==`; `=` assigns".to_string(),
+        ParseHint::ElseAfterIf => "`else` must follow the `}` of an `if` block".to_string(),
+        ParseHint::CommentSyntax => "comments are written `( … )` or `// …`".to_string(),
+        ParseHint::ValueFromName { letter, name } => format!(
+            "a word takes a variable's value in angle brackets: write `{letter}<{name}>`"
+        ),
+        ParseHint::BlockAfter { is_if: true } => {
+            "an `if` runs a block: `{` on the line of the condition, `}` after the body: `if (Count > 0) { G0 X1 }`".to_string()
+        }
+        ParseHint::BlockAfter { is_if: false } => {
+            "a `while` runs a block: `{` on the line of the condition, `}` after the body: `while (Count < 3) { Count = Count + 1 }`".to_string()
+        }
         ParseHint::CommentInCall => {
-            "in a wizard call `( … )` groups an expression; write comments with `//`"
+            "in a wizard call `( … )` groups an expression; write comments with `//`".to_string()
         }
     }
 }

@@ -375,7 +375,19 @@ impl ErrorContext<'_> {
                 } else if tok == Tok::Else {
                     hints.push(ParseHint::ElseAfterIf);
                 } else if matches!(tok, Tok::Name(_)) && wants("word") {
-                    hints.push(ParseHint::CommentSyntax);
+                    hints.push(
+                        value_from_name(&self.text[l..r]).unwrap_or(ParseHint::CommentSyntax),
+                    );
+                } else if wants("{") && expected.len() == 1 {
+                    let opener = self.tokens.iter().rev().filter(|t| t.0 < l);
+                    let opener = opener
+                        .take_while(|t| t.1 != Tok::Term)
+                        .find(|t| matches!(t.1, Tok::If | Tok::While));
+                    if let Some(t) = opener {
+                        hints.push(ParseHint::BlockAfter {
+                            is_if: t.1 == Tok::If,
+                        });
+                    }
                 }
                 if self.in_call_group(l) {
                     hints.push(ParseHint::CommentInCall);
@@ -690,4 +702,18 @@ pub(crate) fn call(names: &Names, name: Symbol, args: Vec<Expr>, span: Span) -> 
         None => ExprKind::UnknownCall(name, args),
     };
     Expr { kind, span }
+}
+
+/// `XDd` where a word was expected: the letter of a value-taking word
+/// glued to a name that starts with a capital (a name, not a comment's
+/// `Move`): its value, `X<Dd>`, was meant.
+fn value_from_name(text: &str) -> Option<ParseHint> {
+    let mut chars = text.chars();
+    let letter = chars.next().filter(|c| "XYZABCUVWIJKRFSPQ".contains(*c))?;
+    let rest = chars.as_str();
+    rest.starts_with(|c: char| c.is_ascii_uppercase())
+        .then(|| ParseHint::ValueFromName {
+            letter,
+            name: rest.to_string(),
+        })
 }

@@ -31,8 +31,7 @@ pub enum Command {
         output: Option<PathBuf>,
         #[command(flatten)]
         options: Options,
-        /// Print the program after this stage (parse, expand, units, polar, offsets, absolute).
-        #[arg(long)]
+        #[arg(long, help = stage_help())]
         stage: Option<String>,
     },
     /// Check a program and print its diagnostics; write nothing.
@@ -96,6 +95,7 @@ pub enum Command {
         action: MachineCommand,
     },
     /// List the wizards found, or show one wizard's signature and doc.
+    #[command(after_help = standard_wizards())]
     Wizards {
         name: Option<String>,
         /// A folder of wizards (`<Name>.rhai`), searched first; repeatable.
@@ -447,4 +447,20 @@ pub fn wizard_path() -> Vec<PathBuf> {
     std::env::var_os("GER_WIZARDS")
         .map(|env| std::env::split_paths(&env).collect())
         .unwrap_or_default()
+}
+
+/// `--stage`'s help: every stage, from the registry.
+fn stage_help() -> String {
+    let names: Vec<&str> = Stage::names().collect();
+    format!("Print the program after this stage ({})", names.join(", "))
+}
+
+/// `ger wizards --help`: the standard library's wizards, by name.
+fn standard_wizards() -> String {
+    let mut names: Vec<String> = ger::wizard::standard_library()
+        .into_iter()
+        .map(|w| w.name)
+        .collect();
+    names.sort_by_key(|n| n.to_lowercase());
+    format!("Standard wizards: {}", names.join(", "))
 }
