@@ -276,6 +276,8 @@ pub(super) struct Modal {
     /// Last commanded position in program coordinates (`None` before the
     /// first move that sets the axis).
     pub(super) position: [Option<f64>; 3],
+    /// The work offset selected (G54..G59.3 as 1..=9): G10's P0.
+    pub(super) work_offset: u8,
     /// An F word has been given: a feed move without one is an error.
     pub(super) feed_set: bool,
     /// G94 after G93, and no F since.
@@ -300,6 +302,7 @@ impl Default for Modal {
             tool: 1,
             selected: None,
             position: [None; 3],
+            work_offset: 1,
             feed_set: false,
             inverse_time_ended: false,
         }
