@@ -421,6 +421,7 @@ impl<'a> Evaluator<'a> {
             ir::Op::ArcCenters(d) => self.modal.arc_centers = *d,
             ir::Op::InverseTime(on) => self.modal.inverse_time = *on,
             ir::Op::Polar(on) => self.modal.polar = *on,
+            ir::Op::SelectWorkOffset(index) => self.modal.work_offset = *index,
             ir::Op::SetPosition(a) => {
                 for axis in [ir::Axis::X, ir::Axis::Y, ir::Axis::Z] {
                     if let Some(v) = a.get(axis) {

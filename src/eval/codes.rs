@@ -826,7 +826,12 @@ impl Evaluator<'_> {
         let Some((p, pspan)) = w.take(b'P') else {
             return Err(CodeError::new(K::G10WithoutP, at).into());
         };
-        let index = whole(p, pspan, "a work offset number")?;
+        let mut index = whole(p, pspan, "a work offset number")?;
+        // P0: the system in use on LinuxCNC (Fanuc's is its external
+        // offset, which shifts every system: refused below).
+        if index == 0 && self.options.from != Flavour::Fanuc {
+            index = u32::from(self.modal.work_offset);
+        }
         if !(1..=9).contains(&index) {
             return Err(CodeError::new(K::WorkOffsetNumber, pspan).into());
         }

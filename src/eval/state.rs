@@ -281,6 +281,8 @@ pub(super) struct Modal {
     /// The last F word's value (`None` before one: a feed move without one
     /// is an error; wizards read it for their plunge feed).
     pub(super) feed: Option<f64>,
+    /// The work offset selected (G54..G59.3 as 1..=9): G10's P0.
+    pub(super) work_offset: u8,
     /// G94 after G93, and no F since.
     pub(super) inverse_time_ended: bool,
 }
@@ -304,6 +306,7 @@ impl Default for Modal {
             selected: None,
             position: [None; 3],
             feed: None,
+            work_offset: 1,
             inverse_time_ended: false,
         }
     }

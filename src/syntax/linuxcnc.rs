@@ -249,7 +249,7 @@ impl Lexer<'_> {
         start + 1
     }
 
-    /// `X[…]`, `X#1`, `Z-#2`: a word whose value is an expression. Where
+    /// `X[…]`, `X#1`, `Z-#2`, `Z-[…]`: a word whose value is an expression. Where
     /// it took the text, the offset to go on from.
     pub(super) fn expression_word(&mut self, start: usize, end: usize) -> Option<usize> {
         let after = self.text[end..].trim_start_matches([' ', '\t']);
@@ -275,6 +275,16 @@ impl Lexer<'_> {
                 self.push(name_end, Tok::SymClose, name_end);
             }
             Some(name_end)
+        } else if let Some(group) = after
+            .strip_prefix('-')
+            .map(|r| r.trim_start_matches([' ', '\t']))
+            .filter(|r| r.starts_with('['))
+        {
+            // `X-[#1*2]`: the group's negative; the word ends with it.
+            self.push(start, Tok::SymOpen(letter), end);
+            self.push(at, Tok::NegTight, at + 1);
+            self.open_sym(start, '[', true);
+            Some(self.text.len() - group.len())
         } else {
             None
         }
@@ -420,8 +430,31 @@ impl Lexer<'_> {
     /// and `continue` become `.egc` blocks and jumps (the o-word only
     /// labels them).
     pub(super) fn o_word(&mut self, text: &str, start: usize, end: usize) -> Option<usize> {
-        let keyword = OWord::from_text(text)?;
+        let mut keyword = OWord::from_text(text)?;
         let (label, (o_start, o_end)) = self.take_label(start)?;
+        // rs274 runs an o-word after a block-delete `/` as any other.
+        if self.out.len() == self.stmt_start + 1
+            && matches!(self.out.last(), Some(&(_, Tok::Slash, _)))
+        {
+            self.out.pop();
+            self.shape = Shape::Empty;
+        }
+        // rs274 reads a line without its spaces: `else if` is `elseif`.
+        let mut end = end;
+        if keyword == OWord::Else {
+            let after = self.text[end..].trim_start_matches([' ', '\t']);
+            let at = self.text.len() - after.len();
+            let bytes = after.as_bytes();
+            if bytes.len() >= 2
+                && bytes[..2].eq_ignore_ascii_case(b"if")
+                && !bytes
+                    .get(2)
+                    .is_some_and(|b| b.is_ascii_alphanumeric() || *b == b'_')
+            {
+                keyword = OWord::ElseIf;
+                end = at + 2;
+            }
+        }
         // Sub and call name a program: a whole number in range.
         let name = |lexer: &mut Self| match label {
             Label::Named(name) => Some(name),
