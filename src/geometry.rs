@@ -28,7 +28,7 @@ pub enum ArcError {
 
 /// The centre of an R arc (SPEC §4: R > 0 the short arc, R < 0 the long).
 /// A radius up to `short` under half the chord is the half circle about
-/// the chord's middle, as rs274, Mach3 and Fanuc draw it.
+/// the chord's middle, as Mach3 and Fanuc draw it.
 pub fn center_from_radius(
     start: Point,
     end: Point,

@@ -26,9 +26,10 @@ use crate::source::Span;
 const SPIRAL_MM: f64 = 0.02 * std::f64::consts::SQRT_2;
 
 /// How far an R may be under half the chord and still be drawn, as the
-/// half circle about the chord's middle: rs274's tolerance in a
-/// millimetre program (0.005 mm; 0.0005 in in an inch one). Fusion's
-/// Mach3 and Fanuc posts write such arcs.
+/// half circle about the chord's middle, as Mach3 and Fanuc draw it
+/// (rs274 refuses any shortfall): Fusion's Mach3 and Fanuc posts write
+/// such arcs, R rounded a few microns short (0.0002 and 0.0004 mm in
+/// ../shared/real); 0.005 mm or 0.0005 in is several of their last digits.
 const SHORT_R_MM: f64 = 0.005;
 const SHORT_R_INCH: f64 = 0.0005;
 

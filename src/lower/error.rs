@@ -250,7 +250,7 @@ impl LowerError {
                 ),
             )
             .with_note(
-                "drawn as the half circle about the chord's middle, as rs274, Mach3 and Fanuc draw it; \
+                "drawn as the half circle about the chord's middle, as Mach3 and Fanuc draw it (rs274 refuses it); \
                  the output gives its centre (I/J), so any controller draws the same (the first such arc)",
             ),
             FullCircleWithR => error(
