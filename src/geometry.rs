@@ -27,12 +27,15 @@ pub enum ArcError {
 }
 
 /// The centre of an R arc (SPEC §4: R > 0 the short arc, R < 0 the long).
+/// A radius up to `short` under half the chord is the half circle about
+/// the chord's middle, as Mach3 and Fanuc draw it.
 pub fn center_from_radius(
     start: Point,
     end: Point,
     radius: f64,
     plane: Plane,
     clockwise: bool,
+    short: f64,
 ) -> Result<Point, ArcError> {
     let (a, b, n) = plane.axes();
     let (s, e) = (project(start, plane), project(end, plane));
@@ -44,7 +47,7 @@ pub fn center_from_radius(
     let r = radius.abs();
     let half = d / 2.0;
     // Accept a radius a hair too small (rounded input) as a half circle.
-    if r < half * (1.0 - 1e-6) - 1e-9 {
+    if r < half * (1.0 - 1e-6) - 1e-9 - short {
         return Err(ArcError::RadiusTooSmall {
             radius: r,
             half_chord: half,
@@ -173,15 +176,23 @@ mod tests {
     fn radius_arcs_pick_the_right_side() {
         // CCW short arc from (0,0) to (2,0) with R1 has its centre at (1,0)
         // (a half circle); with R2 the centre is above for CCW-short.
-        let c =
-            center_from_radius([0.0, 0.0, 0.0], [2.0, 0.0, 0.0], 2.0, Plane::XY, false).unwrap();
+        let c = center_from_radius([0.0, 0.0, 0.0], [2.0, 0.0, 0.0], 2.0, Plane::XY, false, 0.0)
+            .unwrap();
         assert!(c[1] > 0.0);
-        let c =
-            center_from_radius([0.0, 0.0, 0.0], [2.0, 0.0, 0.0], -2.0, Plane::XY, false).unwrap();
+        let c = center_from_radius(
+            [0.0, 0.0, 0.0],
+            [2.0, 0.0, 0.0],
+            -2.0,
+            Plane::XY,
+            false,
+            0.0,
+        )
+        .unwrap();
         assert!(c[1] < 0.0);
-        let c = center_from_radius([0.0, 0.0, 0.0], [2.0, 0.0, 0.0], 2.0, Plane::XY, true).unwrap();
+        let c = center_from_radius([0.0, 0.0, 0.0], [2.0, 0.0, 0.0], 2.0, Plane::XY, true, 0.0)
+            .unwrap();
         assert!(c[1] < 0.0);
-        assert!(center_from_radius([0.0; 3], [3.0, 0.0, 0.0], 1.0, Plane::XY, true).is_err());
+        assert!(center_from_radius([0.0; 3], [3.0, 0.0, 0.0], 1.0, Plane::XY, true, 0.0).is_err());
     }
 
     #[test]

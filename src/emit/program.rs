@@ -490,7 +490,7 @@ impl ProgramPrinter {
         (self.p.decimals..=most).find_map(|decimals| {
             let scale = 10f64.powi(decimals as i32);
             let printed = crate::emit::number::to_grid(r, scale) as f64 / scale;
-            let c = geometry::center_from_radius(s, e, printed, plane, clockwise).ok()?;
+            let c = geometry::center_from_radius(s, e, printed, plane, clockwise, 0.0).ok()?;
             let moved = (c[a] - center[a]).hypot(c[b] - center[b]);
             let turned =
                 (geometry::sweep(s, e, c, plane, clockwise, 1) - exact_sweep).abs() * r.abs();

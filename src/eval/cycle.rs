@@ -13,6 +13,7 @@
 //! code or G80; where the tool is then is the G98 level of the run.
 
 use super::evaluator::Evaluator;
+use super::options::Flavour;
 use super::state::Sticky;
 use super::words::WordValues;
 use crate::diagnostic::{error, warning, Diagnostic, DiagnosticExt, Located, Wording};
@@ -276,7 +277,10 @@ impl Evaluator<'_> {
         repeat: bool,
         at_code: Span,
     ) -> Result<Option<f64>, Diagnostic> {
-        if !takes_dwell(kind) {
+        // Fanuc's G86 (and Haas's) has no dwell word: a P there is refused
+        // as any unexpected word is.
+        let fanuc_g86 = kind == CycleKind::G86 && self.options.from == Flavour::Fanuc;
+        if !takes_dwell(kind) || fanuc_g86 {
             return Ok(None);
         }
         let p = match w.take_number(b'P') {

@@ -25,6 +25,14 @@ use crate::source::Span;
 /// cuts it).
 const SPIRAL_MM: f64 = 0.02 * std::f64::consts::SQRT_2;
 
+/// How far an R may be under half the chord and still be drawn, as the
+/// half circle about the chord's middle, as Mach3 and Fanuc draw it
+/// (rs274 refuses any shortfall): Fusion's Mach3 and Fanuc posts write
+/// such arcs, R rounded a few microns short (0.0002 and 0.0004 mm in
+/// ../shared/real); 0.005 mm or 0.0005 in is several of their last digits.
+const SHORT_R_MM: f64 = 0.005;
+const SHORT_R_INCH: f64 = 0.0005;
+
 pub const PASS: PassInfo = PassInfo {
     name: "absolute",
     make: |cx: &Context<'_>| Box::new(AbsolutePass::new(cx.start.output_units)),
@@ -37,6 +45,10 @@ struct AbsolutePass {
     /// How far apart an arc's two radii may be whatever their ratio
     /// ([`SPIRAL_MM`] in the output's units).
     spiral: f64,
+    /// How far an R may be short of half the chord ([`SHORT_R_MM`]).
+    short: f64,
+    /// The first R arc a hair short, to report (once).
+    short_arc: ShortArc,
     /// G93, and the F (per minute of the move's time) of the next feed move.
     inverse_time: bool,
     inverse_feed: f64,
@@ -53,6 +65,12 @@ impl AbsolutePass {
                 // Inch, or not known: a number within it either way.
                 Some(ir::Units::Inch) | None => SPIRAL_MM / 25.4,
             },
+            short: match units {
+                Some(ir::Units::Mm) => SHORT_R_MM,
+                Some(ir::Units::Inch) => SHORT_R_INCH,
+                None => SHORT_R_MM / 25.4,
+            },
+            short_arc: ShortArc::None,
             at: Tracker::new(),
             centers: Distance::Incremental,
             inverse_time: false,
@@ -77,13 +95,15 @@ impl AbsolutePass {
                     end,
                     arc.geometry,
                     self.centers,
-                    self.spiral,
+                    [self.spiral, self.short],
                     clockwise,
                     span,
                 );
                 // A refused arc still ends where it says: the moves after
                 // it start there, and report no error of its making.
                 let center = resolved.inspect_err(|_| m.to.place(&mut self.at.position, Some))?;
+                self.short_arc
+                    .check(arc.geometry, center, self.at.plane, span);
                 arc.geometry = ArcGeometry::Center(center);
             }
             return self.at.move_absolute(&m.to, span);
@@ -96,11 +116,13 @@ impl AbsolutePass {
                 ends,
                 arc.geometry,
                 self.centers,
-                self.spiral,
+                [self.spiral, self.short],
                 clockwise,
                 span,
             );
             let center = resolved.inspect_err(|_| self.at.position = end)?;
+            self.short_arc
+                .check(arc.geometry, center, self.at.plane, span);
             arc.geometry = ArcGeometry::Center(center);
         }
         // Only the axes the statement wrote: a Z retract stays a Z move.
@@ -233,14 +255,18 @@ impl Pass for AbsolutePass {
             }
             Op::Plane(p) => self.at.plane = *p,
             Op::End => self.ended = true,
-            Op::Move(m) => match self.timed_move(m, span) {
-                Ok(None) => {}
-                Ok(Some(rate)) => out.push(stmt.with_op(Op::Feed(rate))),
-                Err(e) => {
-                    out.report(e);
-                    return false;
+            Op::Move(m) => {
+                let moved = self.timed_move(m, span);
+                self.short_arc.report(out);
+                match moved {
+                    Ok(None) => {}
+                    Ok(Some(rate)) => out.push(stmt.with_op(Op::Feed(rate))),
+                    Err(e) => {
+                        out.report(e);
+                        return false;
+                    }
                 }
-            },
+            }
             Op::MachineMove(_) => {
                 if self.at.distance == Distance::Incremental {
                     out.report(LowerError::new(
@@ -362,7 +388,7 @@ fn resolve_arc(
     end: [Option<f64>; 3],
     geometry: ArcGeometry,
     centers: Distance,
-    spiral: f64,
+    [spiral, short]: [f64; 2],
     clockwise: bool,
     span: Span,
 ) -> Result<ir::Center, LowerError> {
@@ -393,7 +419,8 @@ fn resolve_arc(
     };
     let center: Point = match geometry {
         ArcGeometry::Radius(r) => {
-            geometry::center_from_radius(s, e, r, pass.plane, clockwise).map_err(arc_error)?
+            geometry::center_from_radius(s, e, r, pass.plane, clockwise, short)
+                .map_err(arc_error)?
         }
         ArcGeometry::Center(c) => {
             let mut center = s;
@@ -416,4 +443,38 @@ fn resolve_arc(
     rel[a] = Some(center[a] - s[a]);
     rel[b] = Some(center[b] - s[b]);
     Ok(rel)
+}
+
+/// The first R arc whose radius is a hair under half its chord: drawn
+/// as the half circle about the chord's middle, with one warning.
+enum ShortArc {
+    None,
+    Found(LowerError),
+    Reported,
+}
+
+impl ShortArc {
+    /// An R arc whose centre came out farther than R from its start.
+    fn check(&mut self, given: ArcGeometry, center: ir::Center, plane: ir::Plane, span: Span) {
+        let (ArcGeometry::Radius(r), ShortArc::None) = (given, &self) else {
+            return;
+        };
+        let (a, b, _) = plane.axes();
+        let drawn = center[a].unwrap_or(0.0).hypot(center[b].unwrap_or(0.0));
+        if drawn > r.abs() * (1.0 + 1e-12) {
+            let kind = LowerErrorKind::ArcRadiusShort {
+                radius: r.abs(),
+                half_chord: drawn,
+            };
+            *self = ShortArc::Found(LowerError::new(kind, span));
+        }
+    }
+
+    fn report(&mut self, out: &mut Out<'_>) {
+        if let ShortArc::Found(_) = self {
+            if let ShortArc::Found(e) = std::mem::replace(self, ShortArc::Reported) {
+                out.report(e);
+            }
+        }
+    }
 }

@@ -319,7 +319,10 @@ impl CyclesPass {
             }
             CycleKind::G86 => {
                 emit.feed(k.bottom);
-                emit.push(Op::Dwell(dwell));
+                // rs274 dwells (P0 too); Fanuc's G86 has no dwell word.
+                if c.dwell.is_some() {
+                    emit.push(Op::Dwell(dwell));
+                }
                 emit.push(Op::Spindle(Spindle::Off));
                 emit.rapid(None, Some(k.clear));
                 emit.push(Op::Spindle(self.spindle));

@@ -35,6 +35,12 @@ pub enum LowerErrorKind {
         radius: f64,
         half_chord: f64,
     },
+    /// A warning: R a hair under half the chord (rs274's tolerance),
+    /// drawn as the half circle about the chord's middle.
+    ArcRadiusShort {
+        radius: f64,
+        half_chord: f64,
+    },
     /// An R arc whose end is its start.
     FullCircleWithR,
     /// I/J/K whose radii at start and end differ by more than 1 % and
@@ -185,6 +191,7 @@ impl LowerError {
                 | LowerErrorKind::WorkOffsetUnknown { .. }
                 | LowerErrorKind::NoProgramEnd
                 | LowerErrorKind::FeedInMachineUnits
+                | LowerErrorKind::ArcRadiusShort { .. }
                 | LowerErrorKind::WorkOffsetSetByMachine { .. }
                 | LowerErrorKind::Comp(CompError::StillOn { .. })
         )
@@ -235,6 +242,19 @@ impl LowerError {
                 "the radius must be at least half the distance: {}",
                 fmt(*half_chord)
             )),
+            ArcRadiusShort { radius, half_chord } => warning(
+                "arc radius a hair short of half the chord",
+                span,
+                format!(
+                    "R{radius} is {} under half of the chord, {}",
+                    fmt(half_chord - radius),
+                    fmt(*half_chord)
+                ),
+            )
+            .with_note(
+                "drawn as the half circle about the chord's middle, as Mach3 and Fanuc draw it (rs274 refuses it); \
+                 the output gives its centre (I/J), so any controller draws the same (the first such arc)",
+            ),
             FullCircleWithR => error(
                 "an R arc cannot be a full circle",
                 span,
