@@ -895,6 +895,7 @@ fn moves_past_the_machine_travel_are_errors_where_the_offset_is_known() {
         String::from_utf8_lossy(&r.stderr)
     );
     let _ = std::fs::remove_dir_all(&dir);
+}
 
 /// Every list in `--help` is complete (issue 48): the stages, targets and
 /// standard wizards the help names are the library's registries.
