@@ -429,7 +429,11 @@ impl<'a> Evaluator<'a> {
                     }
                 }
             }
-            ir::Op::Cycle(_) => self.modal.comp_off = None,
+            ir::Op::ReturnLevel(level) => self.modal.return_level = Some(*level),
+            ir::Op::Cycle(c) => {
+                self.modal.comp_off = None;
+                self.track_cycle(c);
+            }
             ir::Op::ReadPosition(plane) => {
                 // The tool's offset point: not known here.
                 let (u, v, _) = plane.axes();
@@ -438,6 +442,32 @@ impl<'a> Evaluator<'a> {
             }
             _ => {}
         }
+    }
+
+    /// Where a canned cycle block leaves the tool, for wizards: over its
+    /// hole, at the R level (G99) or the run's initial level (G98: the
+    /// higher of the two). Unknown under G91, where repeats step on, or
+    /// where the return level was never stated (controllers differ).
+    fn track_cycle(&mut self, c: &ir::Cycle) {
+        let (u, v, w) = self.modal.plane.axes();
+        let position = &mut self.modal.position;
+        if self.modal.distance == ir::Distance::Incremental {
+            *position = [None; 3];
+            return;
+        }
+        if c.starts_run {
+            self.modal.cycle_initial = position[w];
+        }
+        for i in [u, v] {
+            if let Some(at) = c.at.get(ir::Axis::ALL[i]) {
+                position[i] = Some(at);
+            }
+        }
+        position[w] = match self.modal.return_level {
+            Some(ir::ReturnLevel::R) => Some(c.r),
+            Some(ir::ReturnLevel::Initial) => self.modal.cycle_initial.map(|z| z.max(c.r)),
+            None => None,
+        };
     }
 
     fn exec_block(&mut self, stmts: &[ast::Stmt]) -> Flow {

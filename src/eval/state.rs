@@ -283,6 +283,11 @@ pub(super) struct Modal {
     pub(super) feed: Option<f64>,
     /// The work offset selected (G54..G59.3 as 1..=9): G10's P0.
     pub(super) work_offset: u8,
+    /// G98 or G99 as the program stated it (`None` before either).
+    pub(super) return_level: Option<ir::ReturnLevel>,
+    /// Where the normal axis stood when the run of canned cycles began:
+    /// G98's level.
+    pub(super) cycle_initial: Option<f64>,
     /// G94 after G93, and no F since.
     pub(super) inverse_time_ended: bool,
 }
@@ -307,6 +312,8 @@ impl Default for Modal {
             position: [None; 3],
             feed: None,
             work_offset: 1,
+            return_level: None,
+            cycle_initial: None,
             inverse_time_ended: false,
         }
     }
