@@ -13,6 +13,7 @@ mod degrees;
 mod error;
 mod evaluator;
 mod options;
+mod seen;
 mod setup;
 mod state;
 pub mod value;
@@ -23,7 +24,7 @@ mod words;
 pub use cycle::{count_pecks, MAX_PECKS};
 pub(crate) use options::LAST_USER_PARAMETER;
 pub use options::{Chosen, EvalOptions, Flavour};
-pub use watch::{Seen, Watched};
+pub use seen::{Seen, Watched};
 pub use wizard_api::{MachineState, WizardCall, WizardContext, WizardHost};
 
 use crate::ast::{self, Names, StmtKind, Symbol};

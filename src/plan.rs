@@ -10,113 +10,19 @@
 //! syncs spindle or coolant, at dwells, tool changes and program stops.
 //! Beside it, the length / feed figure other tools give.
 //!
-//! Architecture Invariant: reads a [`ToolPath`] and a [`Machine`] only;
+//! Architecture Invariant: reads a [`ToolPath`] and a
+//! [`Machine`](crate::driver::machine::Machine) only;
 //! never sees the IR or the program text.
 
+mod block;
 mod linuxcnc;
 
-use crate::driver::machine::{Controller, Machine};
-use crate::ir::PathControl;
+pub use block::Limits;
+use block::{along, direction, dot, rapid_rate, sync_points, Block};
+
+use crate::driver::machine::Controller;
 use crate::toolpath::{EventKind, Move, MoveKind, ToolPath};
 use serde::Serialize;
-
-/// grbl's defaults where the profile says nothing.
-const DEFAULT_JUNCTION_DEVIATION: f64 = 0.01;
-const DEFAULT_ARC_TOLERANCE: f64 = 0.002;
-const DEFAULT_GRBL_BLOCKS: usize = 16;
-/// LinuxCNC's `[TRAJ]ARC_BLEND_OPTIMIZATION_DEPTH` default.
-const DEFAULT_LINUXCNC_BLOCKS: usize = 50;
-
-/// What the planner needs of the machine, in mm, mm/s and s.
-#[derive(Clone, Debug, PartialEq)]
-pub struct Limits {
-    /// Whose planner: grbl's or LinuxCNC's.
-    pub controller: Controller,
-    /// Per axis, mm/s.
-    pub max_rate: [f64; 3],
-    /// Per axis, mm/s².
-    pub max_accel: [f64; 3],
-    /// mm/s for rapids, else each axis's maximum.
-    pub rapid_rate: Option<f64>,
-    /// grbl's junction deviation, mm.
-    pub junction_deviation: f64,
-    /// LinuxCNC's blend tolerance where the program's G64 gives no P, mm
-    /// (0: none, the blend as large as a quarter of the moves allows).
-    pub path_tolerance: f64,
-    /// grbl's arc tolerance, mm.
-    pub arc_tolerance: f64,
-    /// Blocks the planner holds, the one running included.
-    pub blocks: usize,
-    pub tool_change_s: f64,
-    pub spindle_start_s: f64,
-}
-
-impl Limits {
-    /// The planner's limits of `machine`; `Err`: what it lacks.
-    pub fn of(machine: &Machine) -> Result<Limits, String> {
-        let mut max_rate = [0.0; 3];
-        let mut max_accel = [0.0; 3];
-        for (i, axis) in machine.axes.iter().enumerate() {
-            let name = ["x", "y", "z"][i];
-            max_rate[i] = axis
-                .max_velocity
-                .ok_or_else(|| format!("[machine.{name}] has no max-velocity"))?
-                / 60.0;
-            max_accel[i] = axis
-                .max_acceleration
-                .ok_or_else(|| format!("[machine.{name}] has no max-acceleration"))?;
-        }
-        let blocks = match machine.controller {
-            Controller::Grbl => DEFAULT_GRBL_BLOCKS,
-            Controller::LinuxCnc => DEFAULT_LINUXCNC_BLOCKS,
-        };
-        Ok(Limits {
-            controller: machine.controller,
-            max_rate,
-            max_accel,
-            rapid_rate: machine.rapid_rate.map(|r| r / 60.0),
-            junction_deviation: machine
-                .junction_deviation
-                .or(machine.path_tolerance)
-                .unwrap_or(DEFAULT_JUNCTION_DEVIATION),
-            path_tolerance: machine.path_tolerance.unwrap_or(0.0),
-            arc_tolerance: machine.arc_tolerance.unwrap_or(DEFAULT_ARC_TOLERANCE),
-            blocks: machine.planner_blocks.map_or(blocks, |b| b as usize),
-            tool_change_s: machine.tool_change_s.unwrap_or(0.0),
-            spindle_start_s: machine.spindle_start_s.unwrap_or(0.0),
-        })
-    }
-}
-
-/// The largest value along `unit` that keeps each axis within its own
-/// (grbl's `limit_value_by_axis_maximum`).
-fn along(limits: [f64; 3], unit: [f64; 3]) -> f64 {
-    (0..3)
-        .filter(|&i| unit[i] != 0.0)
-        .map(|i| limits[i] / unit[i].abs())
-        .fold(f64::INFINITY, f64::min)
-}
-
-/// One planner block: a straight piece of a move (grbl), or a move
-/// (LinuxCNC).
-#[derive(Clone, Copy, Debug)]
-struct Block {
-    /// mm.
-    length: f64,
-    /// The direction it starts and ends in (the same for a line).
-    unit_in: [f64; 3],
-    unit_out: [f64; 3],
-    /// mm/s.
-    nominal: f64,
-    /// mm/s².
-    accel: f64,
-    /// The machine is stopped before it (a sync, or the start).
-    stopped_before: bool,
-    /// G61, G61.1, G64 (tolerances in mm) while it runs.
-    control: PathControl,
-    /// The move it is part of.
-    source: usize,
-}
 
 /// The planned figures of a program.
 #[derive(Clone, Debug, Default, Serialize)]
@@ -356,28 +262,9 @@ fn lengths(path: &ToolPath, limits: Option<&Limits>) -> Figures {
     figures
 }
 
-fn dot(a: [f64; 3], b: [f64; 3]) -> f64 {
-    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
-}
-
 /// A straight move's direction (a zero move's: none).
 fn unit(m: &Move) -> [f64; 3] {
     direction(m.start, m.end)
-}
-
-fn direction(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
-    let d = [b[0] - a[0], b[1] - a[1], b[2] - a[2]];
-    let n = (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt();
-    match n > 0.0 {
-        true => [d[0] / n, d[1] / n, d[2] / n],
-        false => [0.0; 3],
-    }
-}
-
-/// A rapid's rate along `unit`, mm/s.
-fn rapid_rate(limits: &Limits, unit: [f64; 3]) -> f64 {
-    let axes = along(limits.max_rate, unit);
-    limits.rapid_rate.map_or(axes, |r| r.min(axes))
 }
 
 /// The planner's blocks: each move, arcs cut into chords as grbl's
@@ -413,28 +300,6 @@ fn blocks(path: &ToolPath, limits: &Limits, out: &mut dyn FnMut(Block)) {
             });
         }
     }
-}
-
-/// For each move, whether the machine stands still before it: the first
-/// move, and any after an event or a change of spindle or coolant (grbl
-/// empties its buffer to sync them).
-fn sync_points(path: &ToolPath) -> Vec<bool> {
-    let mut stops = vec![false; path.moves.len()];
-    if let Some(first) = stops.first_mut() {
-        *first = true;
-    }
-    for event in &path.events {
-        if let Some(s) = stops.get_mut(event.after_move) {
-            *s = true;
-        }
-    }
-    for (i, pair) in path.moves.windows(2).enumerate() {
-        let (a, b) = (pair[0].state, pair[1].state);
-        if (a.spindle, a.rpm, a.flood, a.mist) != (b.spindle, b.rpm, b.flood, b.mist) {
-            stops[i + 1] = true;
-        }
-    }
-    stops
 }
 
 /// The points of an arc's chords, as grbl's `mc_arc` makes them: as many
@@ -576,6 +441,7 @@ fn trapezoid(b: &Block, entry: f64, exit: f64) -> f64 {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::ir::PathControl;
     use crate::toolpath::State;
 
     /// A machine of 1000 mm/s² and 200 mm/s on every axis, grbl's

@@ -4,10 +4,10 @@
 //! not hold code that runs statements.
 
 use super::options::EvalOptions;
+use super::seen::Watched;
 use super::setup::SetupBuilder;
 use super::state::{CycleState, LineState, Macros, Modal, OutputStart, Reports, RunCounts};
 use super::value::Vars;
-use super::watch::Watched;
 use super::wizard_api::WizardHost;
 use super::words::WordTable;
 use crate::ast::{self, Names, OName};

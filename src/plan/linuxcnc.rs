@@ -18,7 +18,7 @@
 //! Architecture Invariant: planner arithmetic only, on the blocks and
 //! limits of `plan.rs`; never sees the IR.
 
-use super::{along, direction, dot, rapid_rate, sync_points, Block, Limits};
+use super::block::{along, direction, dot, rapid_rate, sync_points, Block, Limits};
 use crate::ir::PathControl;
 use crate::toolpath::{Move, MoveKind, ToolPath};
 
