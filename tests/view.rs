@@ -87,12 +87,19 @@ fn stats_time(part: &Path) -> f64 {
 }
 
 fn ready(browser: &mut Browser, page: &str) {
-    // `loading` again after a lost WebGL context, until it is restored.
-    browser.wait_for(
-        page,
-        "document.body.dataset.gerState === 'ready' || (document.body.dataset.gerState === 'error' && document.getElementById('banner').textContent !== '')",
-        60.0,
-    );
+    // `loading` again after a lost WebGL context, until it is restored
+    // (software WebGL on a loaded machine loses it now and then, even
+    // between the wait and the read: wait again, a few times).
+    for _ in 0..3 {
+        browser.wait_for(
+            page,
+            "document.body.dataset.gerState === 'ready' || (document.body.dataset.gerState === 'error' && document.getElementById('banner').textContent !== '')",
+            60.0,
+        );
+        if browser.hook(page, "data-ger-state") != "loading" {
+            break;
+        }
+    }
     let banner = browser.eval(page, "document.getElementById('banner').textContent");
     assert_eq!(browser.hook(page, "data-ger-state"), "ready", "{banner}");
 }
