@@ -28,6 +28,16 @@ fn example(name: &str) -> PathBuf {
     support::manifest().join("examples").join(name)
 }
 
+/// The browser, launched once the tests before are done with theirs, and
+/// a page of the tests' size in it. (Bind the guard first: it is dropped
+/// last, after the browser.)
+fn one_browser() -> (std::sync::MutexGuard<'static, ()>, Browser, String) {
+    let one = ONE_BROWSER.lock().unwrap_or_else(|e| e.into_inner());
+    let mut browser = Browser::launch();
+    let page = browser.page(WIDTH, HEIGHT);
+    (one, browser, page)
+}
+
 /// `ger view PART -o page.html` into `dir`; the page's file URL.
 fn saved_page(part: &Path, dir: &Path) -> String {
     let page = dir.join("page.html");
@@ -114,9 +124,7 @@ fn the_hooks_give_the_librarys_moves_time_and_removed_volume() {
     let part = example("star_pocket.egc");
     let dir = tempfile::tempdir().unwrap();
     let url = saved_page(&part, dir.path());
-    let _one = ONE_BROWSER.lock().unwrap_or_else(|e| e.into_inner());
-    let mut browser = Browser::launch();
-    let page = browser.page(WIDTH, HEIGHT);
+    let (_one, mut browser, page) = one_browser();
     browser.navigate(&page, &url);
     ready(&mut browser, &page);
     let moves = library_moves(&part).len();
@@ -169,9 +177,7 @@ fn a_line_selects_its_moves_and_a_move_its_lines() {
     assert!(on_line > 1);
     let dir = tempfile::tempdir().unwrap();
     let url = saved_page(&part, dir.path());
-    let _one = ONE_BROWSER.lock().unwrap_or_else(|e| e.into_inner());
-    let mut browser = Browser::launch();
-    let page = browser.page(WIDTH, HEIGHT);
+    let (_one, mut browser, page) = one_browser();
     browser.navigate(&page, &format!("{url}#L{line}"));
     ready(&mut browser, &page);
     assert_eq!(
@@ -222,9 +228,7 @@ fn the_saved_page_makes_no_request() {
     let part = example("star_pocket.egc");
     let dir = tempfile::tempdir().unwrap();
     let url = saved_page(&part, dir.path());
-    let _one = ONE_BROWSER.lock().unwrap_or_else(|e| e.into_inner());
-    let mut browser = Browser::launch();
-    let page = browser.page(WIDTH, HEIGHT);
+    let (_one, mut browser, page) = one_browser();
     browser.call(Some(&page), "Network.enable", serde_json::json!({}));
     browser.navigate(&page, &url);
     ready(&mut browser, &page);
@@ -261,9 +265,7 @@ fn each_preset_draws_as_its_reviewed_picture() {
     let part = example("star_pocket.egc");
     let dir = tempfile::tempdir().unwrap();
     let url = saved_page(&part, dir.path());
-    let _one = ONE_BROWSER.lock().unwrap_or_else(|e| e.into_inner());
-    let mut browser = Browser::launch();
-    let page = browser.page(WIDTH, HEIGHT);
+    let (_one, mut browser, page) = one_browser();
     browser.navigate(&page, &url);
     ready(&mut browser, &page);
     let r = browser.eval(
@@ -377,9 +379,7 @@ fn a_changed_file_is_redrawn_in_place_and_errors_shown_over_it() {
         .unwrap();
     let url = url.trim().to_string();
     assert!(url.starts_with("http://127.0.0.1:"), "{url}");
-    let _one = ONE_BROWSER.lock().unwrap_or_else(|e| e.into_inner());
-    let mut browser = Browser::launch();
-    let page = browser.page(WIDTH, HEIGHT);
+    let (_one, mut browser, page) = one_browser();
     browser.navigate(&page, &url);
     ready(&mut browser, &page);
     assert_eq!(browser.hook(&page, "data-ger-version"), "1");
