@@ -4,11 +4,16 @@
 //! document's text in, its diagnostics and where the tool is after each
 //! line out).
 //!
-//! A document is analysed on a thread of its own, so the loop answers
-//! the editor at once (from the last analysis) however long the program:
-//! a change that arrives meanwhile cancels the analysis under way (the
-//! compile stops at its next batch), and the newest text is analysed
-//! next, never each keystroke in turn.
+//! Nothing that compiles or runs a program runs on the loop: a
+//! document's analysis, the values a hover shows (a run of its own) and
+//! formatting (two compiles) each run on a thread of their own and report
+//! back, so the loop answers the editor at once from the last analysis
+//! however long the program. A change cancels the work under way on the
+//! older text (the compile stops at its next batch) and the newest text
+//! is analysed next, never each keystroke in turn; a request that needs
+//! work not done yet (the document's first analysis, the values) waits
+//! for it without holding the loop; `$/cancelRequest` drops a waiting
+//! request and stops its work.
 //!
 //! Architecture Invariant: calls the driver (through [`analysis`]) and
 //! is called by no module of the library.
@@ -22,13 +27,13 @@ pub mod index;
 use crate::diagnostic::Level;
 use crate::driver::fs::{Disk, Memory};
 use analysis::{Analysis, At};
-use lsp_server::{Connection, Message, Notification, Request, Response};
+use lsp_server::{Connection, Message, Notification, Request, RequestId, Response};
 use lsp_types::notification::{
-    DidChangeTextDocument, DidCloseTextDocument, DidOpenTextDocument, Exit, Notification as _,
-    PublishDiagnostics,
+    Cancel, DidChangeTextDocument, DidCloseTextDocument, DidOpenTextDocument, Exit,
+    Notification as _, PublishDiagnostics,
 };
 use lsp_types::request::{
-    DocumentSymbolRequest, HoverRequest, InlayHintRequest, Request as _, Shutdown,
+    DocumentSymbolRequest, Formatting, HoverRequest, InlayHintRequest, Request as _, Shutdown,
 };
 use lsp_types::{
     Diagnostic, DiagnosticRelatedInformation, DiagnosticSeverity, InlayHint, InlayHintLabel,
@@ -51,9 +56,9 @@ struct Document {
     /// The last analysis, of the text it was made of: what requests are
     /// answered from while a newer one is under way.
     analysed: Option<Analysed>,
-    /// The values of its variables where it reads and sets them (in the
-    /// analysed text), worked out on the first hover that needs them.
-    values: Option<HashMap<usize, crate::eval::Seen>>,
+    /// The values of its variables where the analysed text reads and
+    /// sets them.
+    values: Values,
 }
 
 /// An analysis and the text it was made of.
@@ -62,8 +67,17 @@ struct Analysed {
     analysis: Analysis,
 }
 
-/// What the loop waits for: a message from the editor, or an analysis
-/// done (`None`: cancelled).
+/// The values of a document's variables: a run of the program of its
+/// own, started off the loop by the first hover that needs them.
+enum Values {
+    Unknown,
+    /// Being worked out by the job numbered so, stopped by its flag.
+    Working(u64, Arc<AtomicBool>),
+    Known(HashMap<usize, crate::eval::Seen>),
+}
+
+/// What the loop waits for: a message from the editor, or work done off
+/// the loop (`None`: cancelled).
 enum Event {
     Message(Message),
     Analysed {
@@ -72,16 +86,37 @@ enum Event {
         text: String,
         analysis: Option<Analysis>,
     },
+    /// The values of a document's analysed text, by the job numbered so.
+    Values {
+        uri: Uri,
+        job: u64,
+        values: Option<HashMap<usize, crate::eval::Seen>>,
+    },
+    /// A formatting request's answer for the text of `version`.
+    Formatted {
+        id: RequestId,
+        version: i32,
+        text: String,
+        result: Option<Result<String, String>>,
+    },
 }
 
-/// The server's state: the open documents and the analyses under way.
-struct Server {
+/// The server's state: the open documents and the work under way.
+struct Server<'c> {
+    connection: &'c Connection,
     documents: BTreeMap<Uri, Document>,
     /// Documents changed since their last analysis began.
     stale: BTreeSet<Uri>,
     /// The analyses under way, each with its cancel flag.
     running: BTreeMap<Uri, Arc<AtomicBool>>,
-    /// Where analyses report.
+    /// Requests that wait for work under way (their document's first
+    /// analysis, its values), asked again when it is done.
+    waiting: Vec<Request>,
+    /// The formatting under way, by request: its document and cancel flag.
+    formatting: HashMap<RequestId, (Uri, Arc<AtomicBool>)>,
+    /// The number of the last job started for values.
+    jobs: u64,
+    /// Where work done off the loop reports.
     events: Sender<Event>,
 }
 
@@ -112,7 +147,7 @@ fn capabilities() -> ServerCapabilities {
 pub fn serve(connection: &Connection) -> Result<(), Error> {
     connection.initialize(serde_json::to_value(capabilities())?)?;
     let (events, received) = std::sync::mpsc::channel();
-    // The editor's messages join the analyses' reports in one queue.
+    // The editor's messages join the work's reports in one queue.
     let (from_editor, to_loop) = (connection.receiver.clone(), events.clone());
     std::thread::spawn(move || {
         for message in from_editor {
@@ -122,98 +157,161 @@ pub fn serve(connection: &Connection) -> Result<(), Error> {
         }
     });
     let mut server = Server {
+        connection,
         documents: BTreeMap::new(),
         stale: BTreeSet::new(),
         running: BTreeMap::new(),
+        waiting: Vec::new(),
+        formatting: HashMap::new(),
+        jobs: 0,
         events,
     };
     let mut shut_down = false;
     while let Ok(event) = received.recv() {
         match event {
-            Event::Message(Message::Request(request)) => {
-                let response = match request.method.as_str() {
-                    Shutdown::METHOD => {
-                        shut_down = true;
-                        Response::new_ok(request.id, ())
-                    }
-                    _ => server.answer(request),
-                };
-                connection.sender.send(Message::Response(response))?;
+            Event::Message(Message::Request(request)) if request.method == Shutdown::METHOD => {
+                shut_down = true;
+                server.send(Response::new_ok(request.id, ()))?;
             }
+            Event::Message(Message::Request(request)) => server.ask(request)?,
             Event::Message(Message::Notification(n)) if n.method == Exit::METHOD => {
                 return match shut_down {
                     true => Ok(()),
                     false => Err("exit before shutdown".into()),
                 };
             }
-            Event::Message(Message::Notification(notification)) => server.note(notification),
+            Event::Message(Message::Notification(notification)) => server.note(notification)?,
             Event::Message(Message::Response(_)) => {}
             Event::Analysed {
                 uri,
                 version,
                 text,
                 analysis,
-            } => server.analysed(connection, uri, version, text, analysis)?,
+            } => server.analysed(uri, version, text, analysis)?,
+            Event::Values { uri, job, values } => server.valued(uri, job, values)?,
+            Event::Formatted {
+                id,
+                version,
+                text,
+                result,
+            } => server.formatted(id, version, &text, result)?,
         }
         server.start_stale();
     }
     Ok(())
 }
 
-impl Server {
-    /// A document opened, changed or closed.
-    fn note(&mut self, notification: Notification) {
+impl Server<'_> {
+    fn send(&self, response: Response) -> Result<(), Error> {
+        self.connection.sender.send(Message::Response(response))?;
+        Ok(())
+    }
+
+    /// Answer `request` now, or once the work it waits for is done.
+    fn ask(&mut self, request: Request) -> Result<(), Error> {
+        match self.answer(request) {
+            Some(response) => self.send(response),
+            None => Ok(()),
+        }
+    }
+
+    /// Ask again the requests about `uri` that wait.
+    fn ask_again(&mut self, uri: &Uri) -> Result<(), Error> {
+        let (again, still): (Vec<_>, Vec<_>) = std::mem::take(&mut self.waiting)
+            .into_iter()
+            .partition(|r| uri_in(r).as_ref() == Some(uri));
+        self.waiting = still;
+        again.into_iter().try_for_each(|r| self.ask(r))
+    }
+
+    /// A document opened, changed or closed; a request cancelled.
+    fn note(&mut self, notification: Notification) -> Result<(), Error> {
+        let params = notification.params;
         match notification.method.as_str() {
             DidOpenTextDocument::METHOD => {
-                let Ok(p) = serde_json::from_value::<lsp_types::DidOpenTextDocumentParams>(
-                    notification.params,
-                ) else {
-                    return;
+                let Ok(p) = serde_json::from_value::<lsp_types::DidOpenTextDocumentParams>(params)
+                else {
+                    return Ok(());
                 };
                 let document = Document {
                     text: p.text_document.text,
                     version: p.text_document.version,
                     analysed: None,
-                    values: None,
+                    values: Values::Unknown,
                 };
                 self.documents.insert(p.text_document.uri.clone(), document);
                 self.stale.insert(p.text_document.uri);
             }
             DidChangeTextDocument::METHOD => {
-                let Ok(p) = serde_json::from_value::<lsp_types::DidChangeTextDocumentParams>(
-                    notification.params,
-                ) else {
-                    return;
+                let Ok(p) =
+                    serde_json::from_value::<lsp_types::DidChangeTextDocumentParams>(params)
+                else {
+                    return Ok(());
                 };
                 let uri = p.text_document.uri;
                 let (Some(document), Some(change)) = (
                     self.documents.get_mut(&uri),
                     p.content_changes.into_iter().last(),
                 ) else {
-                    return;
+                    return Ok(());
                 };
                 document.text = change.text;
                 document.version = p.text_document.version;
-                // The analysis under way is of older text.
-                if let Some(cancel) = self.running.get(&uri) {
-                    cancel.store(true, Ordering::Relaxed);
-                }
+                // The work under way is of older text.
+                self.cancel_work(&uri);
                 self.stale.insert(uri);
             }
             DidCloseTextDocument::METHOD => {
-                if let Ok(p) = serde_json::from_value::<lsp_types::DidCloseTextDocumentParams>(
-                    notification.params,
-                ) {
+                if let Ok(p) =
+                    serde_json::from_value::<lsp_types::DidCloseTextDocumentParams>(params)
+                {
                     let uri = &p.text_document.uri;
+                    self.cancel_work(uri);
                     self.documents.remove(uri);
                     self.stale.remove(uri);
-                    if let Some(cancel) = self.running.get(uri) {
-                        cancel.store(true, Ordering::Relaxed);
-                    }
+                    self.ask_again(uri)?;
+                }
+            }
+            Cancel::METHOD => {
+                if let Ok(p) = serde_json::from_value::<lsp_types::CancelParams>(params) {
+                    self.cancel_request(match p.id {
+                        lsp_types::NumberOrString::Number(n) => n.into(),
+                        lsp_types::NumberOrString::String(s) => s.into(),
+                    })?;
                 }
             }
             _ => {}
         }
+        Ok(())
+    }
+
+    /// Stop the analysis and formatting under way for `uri`.
+    fn cancel_work(&self, uri: &Uri) {
+        let formatting = self.formatting.values().filter(|(u, _)| u == uri);
+        for cancel in self
+            .running
+            .get(uri)
+            .into_iter()
+            .chain(formatting.map(|(_, c)| c))
+        {
+            cancel.store(true, Ordering::Relaxed);
+        }
+    }
+
+    /// The editor no longer wants the answer to `id`: its work is
+    /// stopped, and it is answered so.
+    fn cancel_request(&mut self, id: RequestId) -> Result<(), Error> {
+        let waited = self.waiting.iter().position(|r| r.id == id);
+        let waited = waited.map(|at| self.waiting.remove(at)).is_some();
+        let formatted = self.formatting.remove(&id);
+        if let Some((_, cancel)) = &formatted {
+            cancel.store(true, Ordering::Relaxed);
+        }
+        if !waited && formatted.is_none() {
+            return Ok(());
+        }
+        let code = lsp_server::ErrorCode::RequestCanceled as i32;
+        self.send(Response::new_err(id, code, "cancelled".into()))
     }
 
     /// Start analysing each changed document that is not being analysed
@@ -236,10 +334,7 @@ impl Server {
             let (text, version, events) =
                 (document.text.clone(), document.version, self.events.clone());
             std::thread::spawn(move || {
-                let mut fs = Memory::over(&Disk);
-                for (path, text) in open {
-                    fs.insert(path, text);
-                }
+                let fs = over_disk(open);
                 let analysis = analysis::analyse_unless(&fs, &path, &text, &cancel);
                 let _ = events.send(Event::Analysed {
                     uri,
@@ -251,11 +346,11 @@ impl Server {
         }
     }
 
-    /// An analysis is done: kept, and its diagnostics published, unless
-    /// it was cancelled or the document changed since it began.
+    /// An analysis is done: kept, its diagnostics published and the
+    /// requests that waited for it answered, unless it was cancelled or
+    /// the document changed since it began.
     fn analysed(
         &mut self,
-        connection: &Connection,
         uri: Uri,
         version: i32,
         text: String,
@@ -278,12 +373,80 @@ impl Server {
             version: Some(version),
         };
         document.analysed = Some(Analysed { text, analysis });
-        document.values = None;
+        // The values were of the text analysed before.
+        if let Values::Working(_, cancel) = &document.values {
+            cancel.store(true, Ordering::Relaxed);
+        }
+        document.values = Values::Unknown;
         let notification = Notification::new(PublishDiagnostics::METHOD.into(), params);
-        connection
+        self.connection
             .sender
             .send(Message::Notification(notification))?;
-        Ok(())
+        self.ask_again(&uri)
+    }
+
+    /// A document's values are worked out: kept, and the hovers that
+    /// waited for them answered, unless a newer analysis replaced the
+    /// text they are of (it started a job of its own).
+    fn valued(
+        &mut self,
+        uri: Uri,
+        job: u64,
+        values: Option<HashMap<usize, crate::eval::Seen>>,
+    ) -> Result<(), Error> {
+        let Some(document) = self.documents.get_mut(&uri) else {
+            return Ok(());
+        };
+        if !matches!(document.values, Values::Working(j, _) if j == job) {
+            return Ok(());
+        }
+        document.values = match values {
+            Some(values) => Values::Known(values),
+            None => Values::Unknown,
+        };
+        self.ask_again(&uri)
+    }
+
+    /// A formatting is done: its answer, unless the editor cancelled the
+    /// request (answered then) or changed the document since.
+    fn formatted(
+        &mut self,
+        id: RequestId,
+        version: i32,
+        text: &str,
+        result: Option<Result<String, String>>,
+    ) -> Result<(), Error> {
+        let Some((uri, _)) = self.formatting.remove(&id) else {
+            return Ok(());
+        };
+        let current = self
+            .documents
+            .get(&uri)
+            .is_some_and(|d| d.version == version);
+        let response = match result {
+            Some(Ok(formatted)) if current => {
+                let edits = match formatted == text {
+                    true => Vec::new(),
+                    false => vec![lsp_types::TextEdit {
+                        range: Range::new(
+                            Position::new(0, 0),
+                            Position::new(text.split('\n').count() as u32, 0),
+                        ),
+                        new_text: formatted,
+                    }],
+                };
+                Response::new_ok(id, edits)
+            }
+            Some(Err(why)) if current => {
+                Response::new_err(id, lsp_server::ErrorCode::RequestFailed as i32, why)
+            }
+            _ => Response::new_err(
+                id,
+                lsp_server::ErrorCode::ContentModified as i32,
+                "the document changed while it was being formatted".into(),
+            ),
+        };
+        self.send(response)
     }
 
     /// The open documents' texts, by path.
@@ -294,38 +457,36 @@ impl Server {
             .collect()
     }
 
-    /// The open documents' texts over the disk.
-    fn open_files(&self) -> Memory<'static> {
-        let mut open = Memory::over(&Disk);
-        for (path, text) in self.open_texts() {
-            open.insert(path, text);
+    /// The answer to a request; `None`: it waits for work under way (its
+    /// document's first analysis, a formatting, the values a hover
+    /// shows), answered when that is done.
+    fn answer(&mut self, request: Request) -> Option<Response> {
+        let uri = uri_in(&request);
+        let analysing = |uri: &Uri| self.stale.contains(uri) || self.running.contains_key(uri);
+        let unanalysed = uri.as_ref().is_some_and(|uri| {
+            analysing(uri)
+                && self
+                    .documents
+                    .get(uri)
+                    .is_some_and(|d| d.analysed.is_none())
+        });
+        if request.method == Formatting::METHOD {
+            return self.format(request);
         }
-        open
-    }
-
-    /// The answer to a request.
-    fn answer(&mut self, request: Request) -> Response {
+        if unanalysed || self.wait_for_values(&request) {
+            self.waiting.push(request);
+            return None;
+        }
         if let Some(response) = self.answer_at_place(&request) {
-            return response;
+            return Some(response);
         }
-        match request.method.as_str() {
+        Some(match request.method.as_str() {
             InlayHintRequest::METHOD => {
                 let hints = serde_json::from_value::<InlayHintParams>(request.params)
                     .ok()
                     .map(|p| self.hints(&p))
                     .unwrap_or_default();
                 Response::new_ok(request.id, hints)
-            }
-            lsp_types::request::Formatting::METHOD => {
-                match serde_json::from_value::<lsp_types::DocumentFormattingParams>(request.params)
-                {
-                    Ok(p) => self.format(request.id, &p),
-                    Err(e) => Response::new_err(
-                        request.id,
-                        lsp_server::ErrorCode::InvalidParams as i32,
-                        e.to_string(),
-                    ),
-                }
             }
             DocumentSymbolRequest::METHOD => {
                 let symbols =
@@ -340,41 +501,48 @@ impl Server {
                 lsp_server::ErrorCode::MethodNotFound as i32,
                 format!("ger lsp does not answer {}", request.method),
             ),
-        }
+        })
     }
 
-    /// The document formatted, as one edit of its whole text; the `N`
-    /// words renumbered unless the option `gerNumbers` says `remove` or
-    /// `keep`.
-    fn format(
-        &self,
-        id: lsp_server::RequestId,
-        p: &lsp_types::DocumentFormattingParams,
-    ) -> Response {
+    /// Start formatting the document, off the loop (it compiles the
+    /// program twice), as one edit of its whole text; the `N` words
+    /// renumbered unless the option `gerNumbers` says `remove` or `keep`.
+    /// `Some`: answered at once.
+    fn format(&mut self, request: Request) -> Option<Response> {
         use format::Numbers;
-        let uri = &p.text_document.uri;
-        let (Some(document), Some(path)) = (self.documents.get(uri), path_of(uri)) else {
-            return Response::new_ok(id, serde_json::Value::Null);
+        let p = match serde_json::from_value::<lsp_types::DocumentFormattingParams>(request.params)
+        {
+            Ok(p) => p,
+            Err(e) => {
+                let code = lsp_server::ErrorCode::InvalidParams as i32;
+                return Some(Response::new_err(request.id, code, e.to_string()));
+            }
+        };
+        let uri = p.text_document.uri;
+        let (Some(document), Some(path)) = (self.documents.get(&uri), path_of(&uri)) else {
+            return Some(Response::new_ok(request.id, serde_json::Value::Null));
         };
         let numbers = match p.options.properties.get("gerNumbers") {
             Some(lsp_types::FormattingProperty::String(s)) if s == "remove" => Numbers::Remove,
             Some(lsp_types::FormattingProperty::String(s)) if s == "keep" => Numbers::Keep,
             _ => Numbers::Renumber,
         };
-        match analysis::formatted(&self.open_files(), &path, &document.text, numbers) {
-            Ok(text) if text == document.text => {
-                Response::new_ok(id, Vec::<lsp_types::TextEdit>::new())
-            }
-            Ok(text) => {
-                let lines = document.text.split('\n').count() as u32;
-                let edit = lsp_types::TextEdit {
-                    range: Range::new(Position::new(0, 0), Position::new(lines, 0)),
-                    new_text: text,
-                };
-                Response::new_ok(id, vec![edit])
-            }
-            Err(why) => Response::new_err(id, lsp_server::ErrorCode::RequestFailed as i32, why),
-        }
+        let cancel = Arc::new(AtomicBool::new(false));
+        let (id, open, events) = (request.id, self.open_texts(), self.events.clone());
+        let (text, version) = (document.text.clone(), document.version);
+        self.formatting
+            .insert(id.clone(), (uri, Arc::clone(&cancel)));
+        std::thread::spawn(move || {
+            let fs = over_disk(open);
+            let result = analysis::formatted_unless(&fs, &path, &text, numbers, &cancel);
+            let _ = events.send(Event::Formatted {
+                id,
+                version,
+                text,
+                result,
+            });
+        });
+        None
     }
 
     /// The document's outline: subprograms, calls, loops, tool changes.
@@ -413,7 +581,7 @@ impl Server {
     /// The answer to a request about a place in a document (hover,
     /// definition, references, rename, completion, signature help);
     /// `None`: not such a request.
-    fn answer_at_place(&mut self, request: &Request) -> Option<Response> {
+    fn answer_at_place(&self, request: &Request) -> Option<Response> {
         use lsp_types::request::{
             Completion, GotoDefinition, References, Rename, SignatureHelpRequest,
         };
@@ -442,9 +610,6 @@ impl Server {
             line: place.position.line,
             column: place.position.character,
         };
-        if method == HoverRequest::METHOD {
-            self.values_for_hover(&uri, at);
-        }
         let Some(document) = self.documents.get(&uri) else {
             return Some(Response::new_ok(id, serde_json::Value::Null));
         };
@@ -464,16 +629,21 @@ impl Server {
         };
         Some(match method {
             HoverRequest::METHOD => {
-                let hover =
-                    asked
-                        .hover(at, document.values.as_ref())
-                        .map(|text| lsp_types::Hover {
-                            contents: lsp_types::HoverContents::Markup(lsp_types::MarkupContent {
-                                kind: lsp_types::MarkupKind::Markdown,
-                                value: text,
-                            }),
-                            range: None,
-                        });
+                let hover = asked
+                    .hover(
+                        at,
+                        match &document.values {
+                            Values::Known(values) => Some(values),
+                            _ => None,
+                        },
+                    )
+                    .map(|text| lsp_types::Hover {
+                        contents: lsp_types::HoverContents::Markup(lsp_types::MarkupContent {
+                            kind: lsp_types::MarkupKind::Markdown,
+                            value: text,
+                        }),
+                        range: None,
+                    });
                 Response::new_ok(id, hover)
             }
             GotoDefinition::METHOD => {
@@ -506,24 +676,48 @@ impl Server {
         })
     }
 
-    /// Work out the document's variable values if the hover at `at` is on
-    /// a variable and they are not known yet.
-    fn values_for_hover(&mut self, uri: &Uri, at: At) {
-        let Some(document) = self.documents.get(uri) else {
-            return;
+    /// Whether `request` is a hover on a variable whose values are not
+    /// known yet: they are then worked out off the loop (a run of the
+    /// analysed text), and the hover waits for them.
+    fn wait_for_values(&mut self, request: &Request) -> bool {
+        if request.method != HoverRequest::METHOD {
+            return false;
+        }
+        let Ok(place) =
+            serde_json::from_value::<lsp_types::TextDocumentPositionParams>(request.params.clone())
+        else {
+            return false;
+        };
+        let uri = place.text_document.uri;
+        let at = At {
+            line: place.position.line,
+            column: place.position.character,
+        };
+        let open = self.open_texts();
+        let (Some(path), Some(document)) = (path_of(&uri), self.documents.get_mut(&uri)) else {
+            return false;
         };
         let Some(Analysed { text, analysis }) = &document.analysed else {
-            return;
+            return false;
         };
-        let on_var = answers::Document::new(text, analysis).var_at(at).is_some();
-        if !on_var || document.values.is_some() {
-            return;
+        if answers::Document::new(text, analysis).var_at(at).is_none() {
+            return false;
         }
-        let Some(path) = path_of(uri) else { return };
-        let values = analysis::watch(&self.open_files(), &path, text);
-        if let Some(document) = self.documents.get_mut(uri) {
-            document.values = Some(values);
+        match document.values {
+            Values::Known(_) => return false,
+            Values::Working(..) => return true,
+            Values::Unknown => {}
         }
+        self.jobs += 1;
+        let (job, cancel) = (self.jobs, Arc::new(AtomicBool::new(false)));
+        document.values = Values::Working(job, Arc::clone(&cancel));
+        let (text, events) = (text.clone(), self.events.clone());
+        std::thread::spawn(move || {
+            let fs = over_disk(open);
+            let values = analysis::watch_unless(&fs, &path, &text, &cancel);
+            let _ = events.send(Event::Values { uri, job, values });
+        });
+        true
     }
 
     /// The tool's place and time after each moving line in the range.
@@ -551,6 +745,21 @@ impl Server {
             })
             .collect()
     }
+}
+
+/// The document a request is about.
+fn uri_in(request: &Request) -> Option<Uri> {
+    let uri = request.params.get("textDocument")?.get("uri")?.as_str()?;
+    Uri::from_str(uri).ok()
+}
+
+/// The open documents' texts over the disk.
+fn over_disk(open: Vec<(PathBuf, String)>) -> Memory<'static> {
+    let mut fs = Memory::over(&Disk);
+    for (path, text) in open {
+        fs.insert(path, text);
+    }
+    fs
 }
 
 fn position(at: At) -> Position {

@@ -631,46 +631,127 @@ fn formatting_renumbers_spaces_and_cases_and_keeps_the_tool_path() {
     client.stop();
 }
 
+impl Client {
+    /// Send a request without waiting for its answer.
+    fn send(&mut self, method: &str, params: impl serde::Serialize) -> RequestId {
+        self.next_id += 1;
+        let id = RequestId::from(self.next_id);
+        let r = Request::new(id.clone(), method.into(), params);
+        self.connection.sender.send(Message::Request(r)).unwrap();
+        id
+    }
+
+    /// Change `uri`'s whole text to `text`, as its `version`.
+    fn change(&self, uri: &lsp_types::Uri, version: i32, text: String) {
+        self.notify(
+            DidChangeTextDocument::METHOD,
+            DidChangeTextDocumentParams {
+                text_document: VersionedTextDocumentIdentifier::new(uri.clone(), version),
+                content_changes: vec![TextDocumentContentChangeEvent {
+                    range: None,
+                    range_length: None,
+                    text,
+                }],
+            },
+        );
+    }
+}
+
+/// What a client received, in order: a response's id, or the version of
+/// the diagnostics published.
+#[derive(Debug, PartialEq)]
+enum Received {
+    Answer(RequestId),
+    Published(Option<i32>),
+}
+
 #[test]
 fn a_long_program_blocks_nothing_and_a_change_cancels_its_analysis() {
-    use lsp_types::request::Completion;
+    use lsp_types::request::{DocumentSymbolRequest, Formatting};
     let mut client = Client::start();
-    let doc = uri("/nowhere/long/part.nc");
-    let mut long = String::from("G21 G90\nG0 X0 Y0 Z5\nG1 Z-1 F600\n");
+    let doc = uri("/nowhere/long/part.ngc");
+    let mut long = String::from("G21 G90\n#<depth> = 1\nT1 M6\nG0 X0 Y0 Z5\nG1 Z-#<depth> F600\n");
     for i in 0..200_000 {
         long.push_str(&format!("G1 X{} Y{}\n", i % 100, i / 100));
     }
-    long.push_str("M30\n");
+    long.push_str("M2\n");
+    let outline = serde_json::json!({ "textDocument": { "uri": doc.as_str() } });
     client.notify(
         DidOpenTextDocument::METHOD,
         DidOpenTextDocumentParams {
             text_document: TextDocumentItem::new(doc.clone(), "gcode".into(), 1, long.clone()),
         },
     );
-    // Answered while the program is being analysed: nothing known yet.
-    let answer = client.ask(Completion::METHOD, &doc, (0, 0), serde_json::json!({}));
-    assert!(answer.is_null(), "{answer}");
-    // A change with an error: the analysis of version 1 is cancelled,
-    // never published; version 2's is.
-    client.notify(
-        DidChangeTextDocument::METHOD,
-        DidChangeTextDocumentParams {
-            text_document: VersionedTextDocumentIdentifier::new(doc.clone(), 2),
-            content_changes: vec![TextDocumentContentChangeEvent {
-                range: None,
-                range_length: None,
-                text: long.replace("G1 X5 Y3\n", "G5 X5 Y3\n"),
-            }],
-        },
+    // Asked before the first analysis: answered when it is done, from it.
+    let first = client.send(DocumentSymbolRequest::METHOD, outline.clone());
+    let mut published = false;
+    let symbols = loop {
+        match client.receive() {
+            Message::Notification(n) if n.method == PublishDiagnostics::METHOD => published = true,
+            Message::Response(r) if r.id == first => break r.result.unwrap(),
+            _ => {}
+        }
+    };
+    assert!(published, "the analysis comes before the answer");
+    assert_eq!(symbols[0]["name"], "T1 (tool change)", "{symbols}");
+    // A hover on a variable: its values are a run of the whole program,
+    // off the loop. Meanwhile a change (version 2, with an error), an
+    // outline asked, a formatting asked and cancelled: the outline and
+    // the cancel are answered at once, from the last analysis, before
+    // the hover's values and version 2's analysis are done.
+    let hover = client.send(
+        HoverRequest::METHOD,
+        serde_json::json!({ "textDocument": { "uri": doc.as_str() },
+                            "position": { "line": 4, "character": 8 } }),
     );
-    let published = client.diagnostics();
-    assert_eq!(published.version, Some(2));
-    let errors: Vec<_> = published
-        .diagnostics
-        .iter()
-        .filter(|d| d.severity == Some(lsp_types::DiagnosticSeverity::ERROR))
-        .map(|d| d.range.start.line)
-        .collect();
-    assert_eq!(errors, [308], "{:?}", published.diagnostics);
+    client.change(&doc, 2, long.replace("G1 X5 Y3\n", "G5 X5 Y3\n"));
+    let outlined = client.send(DocumentSymbolRequest::METHOD, outline);
+    let format = client.send(
+        Formatting::METHOD,
+        serde_json::json!({ "textDocument": { "uri": doc.as_str() },
+                            "options": { "tabSize": 4, "insertSpaces": true } }),
+    );
+    client.notify(
+        lsp_types::notification::Cancel::METHOD,
+        serde_json::json!({ "id": client.next_id }),
+    );
+    let mut received = Vec::new();
+    let (mut hover_text, mut errors, mut cancelled) = (String::new(), Vec::new(), None);
+    while !(received.contains(&Received::Answer(hover.clone()))
+        && received.contains(&Received::Published(Some(2))))
+    {
+        match client.receive() {
+            Message::Response(r) => {
+                if r.id == hover {
+                    let value = &r.result.clone().unwrap()["contents"]["value"];
+                    hover_text = value.as_str().unwrap().to_string();
+                }
+                if r.id == format {
+                    cancelled = r.error.map(|e| e.code);
+                }
+                received.push(Received::Answer(r.id));
+            }
+            Message::Notification(n) if n.method == PublishDiagnostics::METHOD => {
+                let p: PublishDiagnosticsParams = serde_json::from_value(n.params).unwrap();
+                errors = p
+                    .diagnostics
+                    .iter()
+                    .filter(|d| d.severity == Some(lsp_types::DiagnosticSeverity::ERROR))
+                    .map(|d| d.range.start.line)
+                    .collect();
+                received.push(Received::Published(p.version));
+            }
+            _ => {}
+        }
+    }
+    let at = |r: Received| received.iter().position(|x| *x == r).unwrap();
+    let (outlined, format) = (at(Received::Answer(outlined)), at(Received::Answer(format)));
+    let slow = at(Received::Answer(hover)).min(at(Received::Published(Some(2))));
+    assert!(outlined < slow && format < slow, "{received:?}");
+    assert_eq!(cancelled, Some(-32800), "the formatting is cancelled");
+    assert_eq!(hover_text, "`#<depth>` = 1 here");
+    // Version 1's analysis is not published again; version 2's error is.
+    assert!(!received.contains(&Received::Published(Some(1))));
+    assert_eq!(errors, [310], "{received:?}");
     client.stop();
 }

@@ -213,34 +213,56 @@ pub fn analyse_unless(
 
 /// The values the document's variables have where it reads and sets
 /// them, by the byte offset of the place: a run of its own, only when
-/// the editor asks (a hover on a variable).
-pub fn watch(fs: &dyn FileSystem, path: &Path, text: &str) -> HashMap<usize, Seen> {
+/// the editor asks (a hover on a variable); `None` as soon as `cancel`
+/// is set.
+pub fn watch_unless(
+    fs: &dyn FileSystem,
+    path: &Path,
+    text: &str,
+    cancel: &Arc<AtomicBool>,
+) -> Option<HashMap<usize, Seen>> {
     let Ok(mut loaded) = load(fs, path, text) else {
-        return HashMap::new();
+        return Some(HashMap::new());
     };
+    loaded.job.options.eval.cancel = Some(Arc::clone(cancel));
     let file = loaded.job.file as u32;
-    loaded
-        .job
-        .watch()
-        .seen
-        .into_iter()
-        .filter(|((f, _), _)| *f == file)
-        .map(|((_, start), seen)| (start as usize, seen))
-        .collect()
+    let seen = loaded.job.watch().seen;
+    if cancel.load(Ordering::Relaxed) {
+        return None;
+    }
+    Some(
+        seen.into_iter()
+            .filter(|((f, _), _)| *f == file)
+            .map(|((_, start), seen)| (start as usize, seen))
+            .collect(),
+    )
 }
 
 /// The document formatted ([`super::format`]), checked: its tool path
 /// compiled before and after is the same, else `Err` says why it is left
-/// as it is.
-pub fn formatted(
+/// as it is; `None` as soon as `cancel` is set.
+pub fn formatted_unless(
     fs: &dyn FileSystem,
     path: &Path,
     text: &str,
     numbers: super::format::Numbers,
+    cancel: &Arc<AtomicBool>,
+) -> Option<Result<String, String>> {
+    let checked = formatted(fs, path, text, numbers, cancel);
+    (!cancel.load(Ordering::Relaxed)).then_some(checked)
+}
+
+fn formatted(
+    fs: &dyn FileSystem,
+    path: &Path,
+    text: &str,
+    numbers: super::format::Numbers,
+    cancel: &Arc<AtomicBool>,
 ) -> Result<String, String> {
     let refused = "formatting needs a program that compiles (its tool path is checked)";
     let tool_path = |loaded: Loaded| -> Result<crate::toolpath::ToolPath, String> {
         let mut job = loaded.job;
+        job.options.eval.cancel = Some(Arc::clone(cancel));
         job.tool_path().0.ok_or_else(|| refused.to_string())
     };
     let loaded = load(fs, path, text).map_err(|why| why.join("\n"))?;

@@ -74,7 +74,7 @@ impl<'a> Document<'a> {
     }
 
     /// The variable named at `at`, if any: the hover then needs the
-    /// values ([`super::analysis::watch`]).
+    /// values ([`super::analysis::watch_unless`]).
     pub fn var_at(&self, at: At) -> Option<&'a VarPlace> {
         self.analysis.index.var_at(self.offset(at))
     }
