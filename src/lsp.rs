@@ -84,7 +84,7 @@ enum Event {
         uri: Uri,
         version: i32,
         text: String,
-        analysis: Option<Analysis>,
+        analysis: Option<Box<Analysis>>,
     },
     /// The values of a document's analysed text, by the job numbered so.
     Values {
@@ -335,7 +335,7 @@ impl Server<'_> {
                 (document.text.clone(), document.version, self.events.clone());
             std::thread::spawn(move || {
                 let fs = over_disk(open);
-                let analysis = analysis::analyse_unless(&fs, &path, &text, &cancel);
+                let analysis = analysis::analyse_unless(&fs, &path, &text, &cancel).map(Box::new);
                 let _ = events.send(Event::Analysed {
                     uri,
                     version,
@@ -354,7 +354,7 @@ impl Server<'_> {
         uri: Uri,
         version: i32,
         text: String,
-        analysis: Option<Analysis>,
+        analysis: Option<Box<Analysis>>,
     ) -> Result<(), Error> {
         self.running.remove(&uri);
         let (Some(document), Some(analysis)) = (self.documents.get_mut(&uri), analysis) else {
@@ -372,6 +372,7 @@ impl Server<'_> {
                 .collect(),
             version: Some(version),
         };
+        let analysis = *analysis;
         document.analysed = Some(Analysed { text, analysis });
         // The values were of the text analysed before.
         if let Values::Working(_, cancel) = &document.values {

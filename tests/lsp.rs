@@ -755,3 +755,58 @@ fn a_long_program_blocks_nothing_and_a_change_cancels_its_analysis() {
     assert_eq!(errors, [310], "{received:?}");
     client.stop();
 }
+
+/// LinuxCNC's scopes: in each `o… sub`, `#<depth>` is the sub's own;
+/// `#<_last>` is global.
+const SCOPES_PROGRAM: &str = "o<drill> sub\n#<hole> = #1\n#<depth> = #<hole>\nG1 Z-#<depth> F100\n\
+    #<_last> = #<depth>\no<drill> endsub\no<mill> sub\n#<depth> = 2\n#<pass> = 1\n\
+    G1 Z-#<depth> F100\no<mill> endsub\n#<depth> = 5\no<drill> call [#<depth>]\no<mill> call\n\
+    G0 Z#<_last>\nM2\n";
+
+#[test]
+fn a_linuxcnc_subs_locals_are_its_own() {
+    use lsp_types::request::{Completion, GotoDefinition, References, Rename};
+    let mut client = Client::start();
+    let doc = uri("/nowhere/scopes/part.ngc");
+    client.open(&doc, SCOPES_PROGRAM);
+    let none = serde_json::json!({});
+    let lines = |answer: serde_json::Value| -> Vec<u64> {
+        places(&answer).into_iter().map(|(_, line)| line).collect()
+    };
+    // `#<depth>` in o<drill>: renamed there only.
+    let edit = client.ask(
+        Rename::METHOD,
+        &doc,
+        (3, 7),
+        serde_json::json!({ "newName": "cut" }),
+    );
+    let renamed: Vec<_> = edit["changes"][doc.as_str()]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|e| e["range"]["start"]["line"].as_u64().unwrap())
+        .collect();
+    assert_eq!(renamed, [2, 3, 4], "{edit}");
+    // The main program's `#<depth>`: its own places.
+    let context = serde_json::json!({ "context": { "includeDeclaration": true } });
+    let refs = client.ask(References::METHOD, &doc, (11, 1), context);
+    assert_eq!(lines(refs), [11, 12]);
+    // o<mill>'s `#<depth>` is set in o<mill>; `#<_last>` in o<drill>.
+    let def = client.ask(GotoDefinition::METHOD, &doc, (9, 7), none.clone());
+    assert_eq!(lines(def), [7]);
+    let def = client.ask(GotoDefinition::METHOD, &doc, (14, 5), none.clone());
+    assert_eq!(lines(def), [4]);
+    // Completion offers the names in scope at the cursor.
+    let mut offered = |at| -> Vec<String> {
+        let answer = client.ask(Completion::METHOD, &doc, at, none.clone());
+        let names = answer.as_array().unwrap().iter();
+        names
+            .filter(|c| c["kind"] == 6)
+            .map(|c| c["label"].as_str().unwrap().to_string())
+            .collect()
+    };
+    assert_eq!(offered((9, 0)), ["#<_last>", "#<depth>", "#<pass>"]);
+    assert_eq!(offered((15, 0)), ["#<_last>", "#<depth>"]);
+    assert_eq!(offered((3, 0)), ["#<_last>", "#<depth>", "#<hole>"]);
+    client.stop();
+}

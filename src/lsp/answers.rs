@@ -125,9 +125,8 @@ impl<'a> Document<'a> {
         let index = &self.analysis.index;
         if let Some(var) = index.var_at(offset) {
             return index
-                .vars
-                .iter()
-                .filter(|v| v.set && v.name == var.name)
+                .same_variable(var)
+                .filter(|v| v.set)
                 .map(|v| self.here(&v.at))
                 .collect();
         }
@@ -168,12 +167,7 @@ impl<'a> Document<'a> {
         let offset = self.offset(at);
         let index = &self.analysis.index;
         if let Some(var) = index.var_at(offset) {
-            return index
-                .vars
-                .iter()
-                .filter(|v| v.name == var.name)
-                .map(|v| self.here(&v.at))
-                .collect();
+            return index.same_variable(var).map(|v| self.here(&v.at)).collect();
         }
         let sub = index.subs.iter().find(|s| s.at.contains(&offset));
         let key = sub
@@ -202,7 +196,7 @@ impl<'a> Document<'a> {
     }
 
     /// The edits that rename the variable at `at` to `new` everywhere in
-    /// the document; `Err` when `at` names none or `new` is no name.
+    /// its scope (a LinuxCNC sub's local: in that sub only); `Err` when `at` names none or `new` is no name.
     pub fn rename(&self, at: At, new: &str) -> Result<Vec<(Target, String)>, String> {
         let var = self
             .var_at(at)
@@ -226,15 +220,14 @@ impl<'a> Document<'a> {
         Ok(self
             .analysis
             .index
-            .vars
-            .iter()
-            .filter(|v| v.name == var.name)
+            .same_variable(var)
             .map(|v| (self.here(&v.at), replacement.clone()))
             .collect())
     }
 
     /// What may be written at `at`: G/M codes (after a `G` or `M`),
-    /// variables and named parameters the document sets, wizards.
+    /// variables and named parameters the document sets that are in
+    /// scope there (global, or local to the sub `at` is in), wizards.
     pub fn completion(&self, at: At) -> Vec<Completion> {
         let offset = self.offset(at);
         let before = &self.text[..offset];
@@ -262,12 +255,14 @@ impl<'a> Document<'a> {
         if code_like {
             return out;
         }
+        let scope = self.analysis.index.scope_at(offset);
         let names: BTreeSet<&str> = self
             .analysis
             .index
             .vars
             .iter()
             .filter(|v| v.set || v.name.starts_with("#<"))
+            .filter(|v| v.scope.is_none_or(|s| s == scope))
             .map(|v| v.name.as_str())
             .collect();
         out.extend(names.into_iter().map(|name| Completion {

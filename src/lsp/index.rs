@@ -3,6 +3,12 @@
 //! of it (`M98 P…`, `G65 P…`, `o… call`), each wizard call. What hover,
 //! go to definition, references, rename and completion look things up
 //! in. Byte offsets into the document's text; no protocol, no evaluation.
+//!
+//! Scopes as the evaluator keeps them (`eval/state.rs`'s `CallScope`):
+//! in a LinuxCNC `o… sub`, `#1`–`#30` and the named parameters that do
+//! not start with `_` are the sub's own; the main program's (and a
+//! Fanuc `O` block's, which shares its caller's) are another scope; every
+//! other name is global.
 
 use crate::ast::{self, Expr, ExprKind, Names, OName, Stmt, StmtKind, WordValue};
 use crate::syntax::Language;
@@ -17,6 +23,8 @@ pub struct VarPlace {
     pub name: String,
     pub at: Bytes,
     pub set: bool,
+    /// The scope it is local to ([`Index::scope_at`]); `None`: global.
+    pub scope: Option<usize>,
 }
 
 /// A subprogram the document defines.
@@ -51,6 +59,9 @@ pub struct Index {
     pub subs: Vec<SubPlace>,
     pub calls: Vec<CallPlace>,
     pub wizard_calls: Vec<WizardPlace>,
+    /// The LinuxCNC subs' bodies, each a scope of its own (numbered from
+    /// 1 in this order; 0 is the main program's).
+    pub scopes: Vec<Bytes>,
 }
 
 impl Index {
@@ -64,21 +75,52 @@ impl Index {
     pub fn of_program(program: &ast::Program, text: &str) -> Index {
         let mut index = Index::default();
         let names = &program.names;
+        index.scoped(&program.main, 0, names, text);
         for sub in &program.subprograms {
             let end = sub.body.last().map_or(sub.span.end, |s| s.span.end);
+            let whole = sub.span.start as usize..end as usize;
             index.subs.push(SubPlace {
                 key: sub.name.describe(names),
                 at: sub.span.start as usize..sub.span.end as usize,
-                whole: sub.span.start as usize..end as usize,
+                whole: whole.clone(),
             });
-        }
-        let bodies =
-            std::iter::once(&program.main).chain(program.subprograms.iter().map(|s| &s.body));
-        for body in bodies {
-            index.stmts(body, names, text);
+            let scope = match opens_a_sub(text, sub.span.end as usize) {
+                true => {
+                    index.scopes.push(whole);
+                    index.scopes.len()
+                }
+                false => 0,
+            };
+            index.scoped(&sub.body, scope, names, text);
         }
         index.vars.sort_by_key(|v| v.at.start);
         index
+    }
+
+    /// The names of `body`, the local ones in `scope`.
+    fn scoped(&mut self, body: &[Stmt], scope: usize, names: &Names, text: &str) {
+        let from = self.vars.len();
+        self.stmts(body, names, text);
+        for var in &mut self.vars[from..] {
+            var.scope = is_local(&var.name).then_some(scope);
+        }
+    }
+
+    /// The scope the byte `offset` is in: a LinuxCNC sub's (from 1), else
+    /// the main program's (0).
+    pub fn scope_at(&self, offset: usize) -> usize {
+        self.scopes
+            .iter()
+            .position(|s| s.contains(&offset))
+            .map_or(0, |i| i + 1)
+    }
+
+    /// The places of the variable `var` names: those of its name in its
+    /// scope.
+    pub fn same_variable<'a>(&'a self, var: &'a VarPlace) -> impl Iterator<Item = &'a VarPlace> {
+        self.vars
+            .iter()
+            .filter(move |v| v.name == var.name && v.scope == var.scope)
     }
 
     fn stmts(&mut self, stmts: &[Stmt], names: &Names, text: &str) {
@@ -157,6 +199,7 @@ impl Index {
                 name: names.text(*name).to_string(),
                 at: a.name_span.start as usize..a.name_span.end as usize,
                 set: true,
+                scope: None,
             }),
             ast::Target::Indirect(e) => self.expr(e, names),
         }
@@ -204,6 +247,7 @@ impl Index {
                 name: names.text(*s).to_string(),
                 at: e.span.start as usize..e.span.end as usize,
                 set: false,
+                scope: None,
             }),
             ExprKind::Number(_) | ExprKind::Bool(_) | ExprKind::Str(_) => {}
             ExprKind::Indirect(inner) | ExprKind::Unary(_, inner) => self.expr(inner, names),
@@ -236,6 +280,24 @@ impl Index {
     pub fn sub(&self, key: &str) -> Option<&SubPlace> {
         self.subs.iter().find(|s| s.key.eq_ignore_ascii_case(key))
     }
+}
+
+/// Whether a variable of this name is local to its call's scope:
+/// LinuxCNC's `#1`–`#30` and named parameters without a leading `_`.
+fn is_local(name: &str) -> bool {
+    match crate::eval::parameter_number(name) {
+        Some(k) => (1..=30).contains(&k),
+        None => name.starts_with("#<") && !name.starts_with("#<_"),
+    }
+}
+
+/// Whether the o-word ending at byte `end` opens a LinuxCNC `sub` (not
+/// a Fanuc `O` block, which shares its caller's variables).
+fn opens_a_sub(text: &str, end: usize) -> bool {
+    let rest = text.get(end..).unwrap_or_default();
+    let line = rest.lines().next().unwrap_or_default().trim_start();
+    line.get(..3).is_some_and(|k| k.eq_ignore_ascii_case("sub"))
+        && !line[3..].starts_with(|c: char| c.is_ascii_alphanumeric() || c == '_')
 }
 
 /// The `P` word of `words` when it is a whole number written as one,
@@ -339,5 +401,28 @@ mod tests {
             first_comment(text, sub.whole.clone()).as_deref(),
             Some("drills one hole")
         );
+        // `#1` in the sub is its own; `#<depth>` the main program's.
+        let scopes: Vec<_> = index.vars.iter().map(|v| v.scope).collect();
+        assert_eq!(scopes, [Some(0), Some(0), Some(1)]);
+    }
+
+    #[test]
+    fn a_fanuc_o_block_shares_its_callers_scope_and_globals_have_none() {
+        let text = "#1 = 2
+#<_g> = 1
+M98 P100
+M30
+O100
+G0 X#1
+M99
+";
+        let index = Index::of(text, Language::Gcode);
+        let scopes: Vec<_> = index
+            .vars
+            .iter()
+            .map(|v| (v.name.as_str(), v.scope))
+            .collect();
+        assert_eq!(scopes, [("#1", Some(0)), ("#<_g>", None), ("#1", Some(0))]);
+        assert!(index.scopes.is_empty());
     }
 }
