@@ -648,11 +648,15 @@ impl Server<'_> {
                 Response::new_ok(id, hover)
             }
             GotoDefinition::METHOD => {
-                let found: Vec<_> = asked
+                let mut found: Vec<_> = asked
                     .definition(at)
                     .into_iter()
                     .filter_map(at_uri)
                     .collect();
+                let stdlib = asked.stdlib_wizard_at(at).and_then(stdlib_copy);
+                found.extend(stdlib.as_deref().and_then(uri_of).map(|uri| {
+                    Location::new(uri, Range::new(Position::new(0, 0), Position::new(0, 0)))
+                }));
                 Response::new_ok(id, found)
             }
             References::METHOD => {
@@ -746,6 +750,41 @@ impl Server<'_> {
             })
             .collect()
     }
+}
+
+/// A copy of the standard library's wizard `name` (compiled into the
+/// binary) in the cache folder (`$XDG_CACHE_HOME/ger/stdlib`, else
+/// `~/.cache/ger/stdlib`, else the temporary folder's `ger-stdlib`), for
+/// the editor to open on go to definition: written when missing or not
+/// this binary's, read-only (editing it changes no wizard; a wizard of
+/// that name in a `wizards/` folder does). `None`: it cannot be written.
+fn stdlib_copy(name: &str) -> Option<PathBuf> {
+    let source = crate::wizard::standard_library()
+        .into_iter()
+        .find(|w| w.name == name)?;
+    let env = |key| {
+        std::env::var_os(key)
+            .filter(|v| !v.is_empty())
+            .map(PathBuf::from)
+    };
+    let folder = match (env("XDG_CACHE_HOME"), env("HOME")) {
+        (Some(cache), _) => cache.join("ger/stdlib"),
+        (None, Some(home)) => home.join(".cache/ger/stdlib"),
+        (None, None) => std::env::temp_dir().join("ger-stdlib"),
+    };
+    let path = folder.join(format!("{name}.rhai"));
+    if std::fs::read_to_string(&path).is_ok_and(|t| t == source.text) {
+        return Some(path);
+    }
+    std::fs::create_dir_all(&folder).ok()?;
+    // Written aside and renamed: another server may be reading it.
+    let aside = tempfile::NamedTempFile::new_in(&folder).ok()?;
+    std::fs::write(aside.path(), &source.text).ok()?;
+    let mut read_only = std::fs::metadata(aside.path()).ok()?.permissions();
+    read_only.set_readonly(true);
+    std::fs::set_permissions(aside.path(), read_only).ok()?;
+    aside.persist(&path).ok()?;
+    Some(path)
 }
 
 /// The document a request is about.

@@ -810,3 +810,115 @@ fn a_linuxcnc_subs_locals_are_its_own() {
     assert_eq!(offered((3, 0)), ["#<_last>", "#<depth>", "#<hole>"]);
     client.stop();
 }
+
+/// `ger lsp` run as an editor runs it, on stdio, with `env` set.
+struct Stdio {
+    child: std::process::Child,
+    stdin: std::process::ChildStdin,
+    stdout: std::io::BufReader<std::process::ChildStdout>,
+}
+
+impl Stdio {
+    fn start(env: &[(&str, &std::path::Path)]) -> Stdio {
+        let mut command = std::process::Command::new(env!("CARGO_BIN_EXE_ger"));
+        command
+            .arg("lsp")
+            .stdin(std::process::Stdio::piped())
+            .stdout(std::process::Stdio::piped());
+        for (key, value) in env {
+            command.env(key, value);
+        }
+        let mut child = command.spawn().unwrap();
+        let stdin = child.stdin.take().unwrap();
+        let stdout = std::io::BufReader::new(child.stdout.take().unwrap());
+        let mut s = Stdio {
+            child,
+            stdin,
+            stdout,
+        };
+        s.send(
+            serde_json::json!({"jsonrpc": "2.0", "id": 0, "method": "initialize",
+            "params": {"capabilities": {}, "processId": null, "rootUri": null}}),
+        );
+        assert_eq!(s.receive()["id"], 0);
+        s.send(serde_json::json!({"jsonrpc": "2.0", "method": "initialized", "params": {}}));
+        s
+    }
+
+    fn send(&mut self, value: serde_json::Value) {
+        use std::io::Write;
+        let body = value.to_string();
+        write!(self.stdin, "Content-Length: {}\r\n\r\n{body}", body.len()).unwrap();
+        self.stdin.flush().unwrap();
+    }
+
+    fn receive(&mut self) -> serde_json::Value {
+        use std::io::{BufRead, Read};
+        let mut length = 0;
+        loop {
+            let mut line = String::new();
+            self.stdout.read_line(&mut line).unwrap();
+            if line == "\r\n" {
+                break;
+            }
+            if let Some(n) = line.strip_prefix("Content-Length: ") {
+                length = n.trim().parse().unwrap();
+            }
+        }
+        let mut body = vec![0; length];
+        self.stdout.read_exact(&mut body).unwrap();
+        serde_json::from_slice(&body).unwrap()
+    }
+
+    /// The answer to request `id`.
+    fn answer(&mut self, id: i32) -> serde_json::Value {
+        loop {
+            let message = self.receive();
+            if message["id"] == id {
+                return message;
+            }
+        }
+    }
+
+    fn stop(mut self) {
+        self.send(serde_json::json!({"jsonrpc": "2.0", "id": -1, "method": "shutdown"}));
+        self.answer(-1);
+        self.send(serde_json::json!({"jsonrpc": "2.0", "method": "exit"}));
+        assert!(self.child.wait().unwrap().success());
+    }
+}
+
+#[test]
+fn definition_of_a_standard_library_wizard_is_a_file_the_editor_can_open() {
+    let cache = tempfile::tempdir().unwrap();
+    let mut server = Stdio::start(&[("XDG_CACHE_HOME", cache.path())]);
+    let text = "G21 G90\nG0 X0 Y0 Z5\nF300\nPocket 20 10 2\nM30\n";
+    server.send(
+        serde_json::json!({"jsonrpc": "2.0", "method": "textDocument/didOpen", "params": {
+        "textDocument": {"uri": "file:///nowhere/std/part.egc", "languageId": "gcode",
+                         "version": 1, "text": text}}}),
+    );
+    for id in [1, 2] {
+        server.send(
+            serde_json::json!({"jsonrpc": "2.0", "id": id, "method": "textDocument/definition",
+            "params": {"textDocument": {"uri": "file:///nowhere/std/part.egc"},
+                       "position": {"line": 3, "character": 2}}}),
+        );
+        let found = server.answer(id)["result"].clone();
+        let uri = found[0]["uri"].as_str().unwrap().to_string();
+        let path = std::path::PathBuf::from(uri.strip_prefix("file://").unwrap());
+        assert_eq!(path, cache.path().join("ger/stdlib/Pocket.rhai"), "{found}");
+        // The wizard as the binary has it: its manual is in the file.
+        let written = std::fs::read_to_string(&path).unwrap();
+        let stdlib = ger::wizard::standard_library();
+        let pocket = stdlib.iter().find(|w| w.name == "Pocket").unwrap();
+        assert_eq!(written, pocket.text);
+        assert!(std::fs::metadata(&path).unwrap().permissions().readonly());
+        // A stale copy (another ger's) is written again.
+        if id == 1 {
+            std::fs::remove_file(&path).unwrap();
+            std::fs::write(&path, "// an older Pocket\n").unwrap();
+        }
+    }
+    server.stop();
+}

@@ -161,6 +161,15 @@ impl<'a> Document<'a> {
         .collect()
     }
 
+    /// The name of the standard library's wizard called at `at`, if
+    /// that is what `at` names: it has no file of its own (it is compiled
+    /// into the binary), so the server writes one for the editor.
+    pub fn stdlib_wizard_at(&self, at: At) -> Option<&'a str> {
+        let called = self.analysis.index.wizard_at(self.offset(at))?;
+        let w = self.wizard(&called.name)?;
+        w.file.is_none().then_some(w.name.as_str())
+    }
+
     /// Every place in the document naming what `at` names: a variable's
     /// reads and assignments, a subprogram and its calls, a wizard's calls.
     pub fn references(&self, at: At) -> Vec<Target> {
