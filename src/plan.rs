@@ -20,7 +20,7 @@ mod linuxcnc;
 pub use block::Limits;
 mod tally;
 
-use block::{along, direction, dot, rapid_rate, Block};
+use block::{along, direction, direction_and_length, dot, rapid_rate, Block};
 pub use tally::Tally;
 
 use crate::driver::machine::Controller;
@@ -136,8 +136,7 @@ fn unit(m: &Move) -> [f64; 3] {
 /// starts from rest after a sync (`stopped`).
 fn blocks(m: &Move, index: usize, stopped: bool, limits: &Limits, out: &mut dyn FnMut(Block)) {
     let mut chord = |k: usize, from: [f64; 3], to: [f64; 3]| {
-        let unit = direction(from, to);
-        let length = crate::toolpath::distance(from, to);
+        let (unit, length) = direction_and_length(from, to);
         if length <= 0.0 {
             return;
         }
@@ -590,6 +589,32 @@ mod tests {
         let total = f.time_s.unwrap();
         assert!((total - 3.7).abs() < 1e-12, "{total}");
         assert_eq!(plan(&p, None).operations[1].time_s, None);
+    }
+
+    #[test]
+    fn the_clock_runs_on_the_planned_times_with_dwells_where_they_stand() {
+        // Two 100 mm legs at a right angle, a 2 s dwell between them: the
+        // clock at the first leg's end is its planned time, at the second
+        // the whole run's (as `time_s`), not length / feed (1 s a leg).
+        let mut p = path(&[[0.0; 3], [100.0, 0.0, 0.0], [100.0, 100.0, 0.0]], 6000.0);
+        p.events = vec![crate::toolpath::Event {
+            kind: EventKind::Dwell(2.0),
+            after_move: 1,
+            span: crate::source::Span::new(0, 3, 0, 0),
+        }];
+        let limits = limits();
+        let clock = clock_per_move(&p, Some(&limits));
+        let figures = plan(&p, Some(&limits));
+        assert_eq!(clock.len(), 2);
+        // Each leg from rest to rest (the dwell stops the machine): 1.1 s.
+        assert!((clock[0] - 1.1).abs() < 1e-12, "{clock:?}");
+        assert!(
+            (clock[1] - figures.time_s.unwrap()).abs() < 1e-12,
+            "{clock:?}"
+        );
+        assert!((clock[1] - 4.2).abs() < 1e-12, "{clock:?}");
+        let unplanned = clock_per_move(&p, None);
+        assert!((unplanned[1] - 4.0).abs() < 1e-12, "{unplanned:?}");
     }
 
     #[test]

@@ -122,7 +122,9 @@ impl Move {
         (0..=parts).map(move |k| along.at(k as f64 / parts as f64))
     }
 
-    fn along(&self) -> Along {
+    /// Its points by their share of it ([`Along::at`], [`Move::at`]'s),
+    /// an arc's constants found once.
+    pub fn along(&self) -> Along {
         match self.kind {
             MoveKind::Arc(a) => {
                 let (p, q, _) = a.plane.axes();
@@ -151,7 +153,7 @@ impl Move {
 
 /// A move's points by their share of it: an arc's constants computed
 /// once for many points.
-struct Along {
+pub struct Along {
     start: Point,
     end: Point,
     arc: Option<ArcAlong>,
@@ -168,7 +170,7 @@ struct ArcAlong {
 }
 
 impl Along {
-    fn at(&self, t: f64) -> Point {
+    pub fn at(&self, t: f64) -> Point {
         let Some(a) = &self.arc else {
             return std::array::from_fn(|i| self.start[i] + (self.end[i] - self.start[i]) * t);
         };

@@ -109,11 +109,17 @@ pub(super) fn dot(a: [f64; 3], b: [f64; 3]) -> f64 {
 }
 
 pub(super) fn direction(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
+    direction_and_length(a, b).0
+}
+
+/// The direction from `a` to `b` and the distance (`toolpath::distance`'s,
+/// one square root for both).
+pub(super) fn direction_and_length(a: [f64; 3], b: [f64; 3]) -> ([f64; 3], f64) {
     let d = [b[0] - a[0], b[1] - a[1], b[2] - a[2]];
     let n = (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt();
     match n > 0.0 {
-        true => [d[0] / n, d[1] / n, d[2] / n],
-        false => [0.0; 3],
+        true => ([d[0] / n, d[1] / n, d[2] / n], n),
+        false => ([0.0; 3], n),
     }
 }
 

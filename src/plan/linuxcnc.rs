@@ -18,7 +18,7 @@
 //! Architecture Invariant: planner arithmetic only, on the blocks and
 //! limits of `plan.rs`; never sees the IR.
 
-use super::block::{along, direction, dot, rapid_rate, Block, Limits};
+use super::block::{along, direction, direction_and_length, dot, rapid_rate, Block, Limits};
 use crate::ir::PathControl;
 use crate::toolpath::{Move, MoveKind};
 
@@ -54,11 +54,10 @@ pub(super) fn block(m: &Move, index: usize, stopped: bool, limits: &Limits) -> O
 }
 
 fn line_block(m: &Move, limits: &Limits) -> Option<Block> {
-    let length = m.length();
+    let (unit, length) = direction_and_length(m.start, m.end);
     if length <= 0.0 {
         return None;
     }
-    let unit = direction(m.start, m.end);
     let nominal = match m.kind {
         MoveKind::Rapid => rapid_rate(limits, unit),
         _ => (m.state.feed / 60.0).min(along(limits.max_rate, unit)),
@@ -99,10 +98,11 @@ fn arc_block(m: &Move, limits: &Limits) -> Option<Block> {
         }
     };
     let step = 1e-6;
+    let along = m.along();
     Some(Block {
         length,
-        unit_in: direction(m.start, m.at(step)),
-        unit_out: direction(m.at(1.0 - step), m.end),
+        unit_in: direction(m.start, along.at(step)),
+        unit_out: direction(along.at(1.0 - step), m.end),
         nominal: nominal.max(1e-9),
         accel: (a_max * ratio).max(1e-9),
         stopped_before: false,
