@@ -5,10 +5,13 @@ on a grbl and on a LinuxCNC `[machine]`), each the median of --runs runs,
 with the peak memory of each.
 
   benches/stats.py [--ger target/release/ger] [--runs 5] [--moves 200000]
+                   [--before OTHER_GER]
 
-`ger stats` builds the tool path and plans it; `ger compile` prints the
-program. The goal: stats within 20 % of compile. Wall clock on this
-machine; run on an idle machine.
+`ger stats` plans the moves as the back end makes them; `ger compile`
+prints the program. The goal: stats within 20 % of compile. Wall clock
+and CPU time (user + system, both threads): on a machine shared with
+other work the CPU time is the steadier. `--before`: the same cases with
+another binary too, in the same run.
 """
 import argparse, os, resource, subprocess, sys, tempfile, time
 
@@ -30,14 +33,16 @@ max-acceleration = 100
 """
 
 
+def cpu():
+    r = resource.getrusage(resource.RUSAGE_CHILDREN)
+    return r.ru_utime + r.ru_stime
+
+
 def run(cmd, cwd):
-    """Wall time and the peak memory (KiB) of one run."""
-    before = resource.getrusage(resource.RUSAGE_CHILDREN).ru_maxrss
-    t = time.perf_counter()
+    """Wall time and CPU time of one run."""
+    c, t = cpu(), time.perf_counter()
     subprocess.run(cmd, cwd=cwd, check=True, stdout=subprocess.DEVNULL)
-    wall = time.perf_counter() - t
-    peak = resource.getrusage(resource.RUSAGE_CHILDREN).ru_maxrss
-    return wall, max(peak, before)
+    return time.perf_counter() - t, cpu() - c
 
 
 def median(values):
@@ -50,23 +55,32 @@ def main():
     ap.add_argument("--ger", default="target/release/ger")
     ap.add_argument("--runs", type=int, default=5)
     ap.add_argument("--moves", type=int, default=200_000)
+    ap.add_argument("--before", help="another ger binary, measured alike")
     a = ap.parse_args()
-    ger = os.path.abspath(a.ger)
+    gers = [("", os.path.abspath(a.ger))]
+    if a.before:
+        gers.insert(0, ("before ", os.path.abspath(a.before)))
     with tempfile.TemporaryDirectory() as d:
         with open(os.path.join(d, "plain.nc"), "w") as f:
             f.write(plain_program(a.moves))
-        cases = [("compile", "grbl"), ("stats", "grbl"), ("stats", "linuxcnc")]
+        cases = [
+            (label, ger, command, controller)
+            for label, ger in gers
+            for command, controller in [("compile", "grbl"), ("stats", "grbl"), ("stats", "linuxcnc")]
+        ]
         times = {c: [] for c in cases}
         # In turn, so a machine that slows down weighs on each alike.
         for _ in range(a.runs):
-            for command, controller in cases:
+            for case in cases:
+                _, ger, command, controller = case
                 with open(os.path.join(d, "ger.toml"), "w") as f:
                     f.write(MACHINE.format(controller=controller))
-                times[(command, controller)].append(run([ger, command, "plain.nc"], d)[0])
+                times[case].append(run([ger, command, "plain.nc"], d))
         # Peak memory: one run each in a fresh child (ru_maxrss of the
         # children only grows, so each is measured in its own process).
         peaks = {}
-        for command, controller in cases:
+        for case in cases:
+            _, ger, command, controller = case
             with open(os.path.join(d, "ger.toml"), "w") as f:
                 f.write(MACHINE.format(controller=controller))
             probe = (
@@ -78,14 +92,17 @@ def main():
                 [sys.executable, "-c", probe, ger, command, "plain.nc"],
                 cwd=d, check=True, capture_output=True, text=True,
             )
-            peaks[(command, controller)] = int(out.stdout.strip())
-    base = median(times[("compile", "grbl")])
-    print(f"{time.strftime('%Y-%m-%d')}, {a.moves} moves, median of {a.runs}:")
+            peaks[case] = int(out.stdout.strip())
+    print(f"{time.strftime('%Y-%m-%d')}, {a.moves} moves, median of {a.runs} (wall, CPU):")
     for case in cases:
-        t = median(times[case])
+        label, _, command, controller = case
+        wall = median([w for w, _ in times[case]])
+        cpu_s = median([c for _, c in times[case]])
+        base = [c for c in cases if c[0] == label and c[2] == "compile"][0]
+        base_cpu = median([c for _, c in times[base]])
         print(
-            f"  ger {case[0]:8} ({case[1]:8}) {t:7.3f} s  {100 * (t / base - 1):+6.1f} %"
-            f"  peak {peaks[case] / 1024:7.1f} MiB"
+            f"  {label}ger {command:8} ({controller:8}) {wall:7.3f} s  CPU {cpu_s:7.3f} s"
+            f" {100 * (cpu_s / base_cpu - 1):+7.1f} %  peak {peaks[case] / 1024:7.1f} MiB"
         )
 
 

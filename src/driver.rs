@@ -41,7 +41,8 @@ mod threads;
 pub mod travel;
 
 pub use compile::{
-    check, compile, compile_file, compile_to, compile_to_vec, tool_path, Compiled, Report, Streamed,
+    check, compile, compile_file, compile_to, compile_to_vec, feed_tool_path, tool_path, Compiled,
+    Report, Streamed,
 };
 pub use options::{Clue, CompileOptions, OptionError, Stage};
 pub use scan::{

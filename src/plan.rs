@@ -18,11 +18,15 @@ mod block;
 mod linuxcnc;
 
 pub use block::Limits;
-use block::{along, direction, dot, rapid_rate, sync_points, Block};
+mod tally;
+
+use block::{along, direction, direction_and_length, dot, rapid_rate, Block};
+pub use tally::Tally;
 
 use crate::driver::machine::Controller;
 use crate::toolpath::{EventKind, Move, MoveKind, ToolPath};
 use serde::Serialize;
+use std::collections::VecDeque;
 
 /// The planned figures of a program.
 #[derive(Clone, Debug, Default, Serialize)]
@@ -85,101 +89,12 @@ fn widen(bounds: &mut Option<[[f64; 3]; 2]>, m: &Move) {
     }
 }
 
-/// The operations of `path`: split at each tool change; `move_s`, each
-/// move's planned time (empty: not planned).
-fn operations(path: &ToolPath, limits: Option<&Limits>, move_s: &[f64]) -> Vec<OperationFigures> {
-    let mut out: Vec<OperationFigures> = Vec::new();
-    let mut events = path.events.iter().peekable();
-    let planned = !move_s.is_empty();
-    for (i, m) in path.moves.iter().enumerate() {
-        while let Some(event) = events.next_if(|e| e.after_move <= i) {
-            event_into(&mut out, event, planned);
-        }
-        if out.is_empty() {
-            out.push(OperationFigures {
-                tool: m.state.tool,
-                line: m.span.line,
-                time_s: planned.then_some(0.0),
-                ..OperationFigures::default()
-            });
-        }
-        let Some(op) = out.last_mut() else { continue };
-        let length = m.length();
-        if let (Some(t), Some(s)) = (op.time_s.as_mut(), move_s.get(i)) {
-            *t += s;
-        }
-        if m.kind == MoveKind::Rapid {
-            op.rapid_mm += length;
-            if let Some(limits) = limits {
-                op.feed_time_s += length / rapid_rate(limits, unit(m));
-            }
-            continue;
-        }
-        op.cut_mm += length;
-        if m.state.feed > 0.0 {
-            op.feed_time_s += length / (m.state.feed / 60.0);
-        }
-        widen(&mut op.bounds, m);
-    }
-    for event in events {
-        event_into(&mut out, event, planned);
-    }
-    out
-}
-
-/// A tool change starts an operation; a dwell adds to the one running.
-fn event_into(out: &mut Vec<OperationFigures>, event: &crate::toolpath::Event, planned: bool) {
-    match event.kind {
-        EventKind::ToolChange(tool) => out.push(OperationFigures {
-            tool,
-            line: event.span.line,
-            time_s: planned.then_some(0.0),
-            ..OperationFigures::default()
-        }),
-        EventKind::Dwell(s) => {
-            if let Some(op) = out.last_mut() {
-                op.dwell_s += s;
-                op.feed_time_s += s;
-                if let Some(t) = op.time_s.as_mut() {
-                    *t += s;
-                }
-            }
-        }
-        EventKind::Stop(_) | EventKind::End => {}
-    }
-}
-
 /// The figures of `path` on the machine `limits` describes (length / feed
-/// only, without one).
+/// only, without one), each move's planned time in `move_s`.
 pub fn plan(path: &ToolPath, limits: Option<&Limits>) -> Figures {
-    let mut figures = lengths(path, limits);
-    let Some(limits) = limits else {
-        figures.operations = operations(path, None, &[]);
-        return figures;
-    };
-    let mut planner = Planner::new(limits, path.moves.len());
-    match limits.controller {
-        Controller::Grbl => blocks(path, limits, &mut |b| planner.push(b)),
-        Controller::LinuxCnc => linuxcnc::blocks(path, limits, &mut |b| planner.push(b)),
-    }
-    let move_s = planner.finish();
-    let stops = figures.dwell_s
-        + figures.tool_changes as f64 * limits.tool_change_s
-        + figures.spindle_starts as f64 * limits.spindle_start_s;
-    figures.time_s = Some(move_s.iter().sum::<f64>() + stops);
-    for tool in &mut figures.tools {
-        let time = path
-            .moves
-            .iter()
-            .zip(&move_s)
-            .filter(|(m, _)| m.state.tool == tool.tool)
-            .map(|(_, s)| s)
-            .sum();
-        tool.time_s = Some(time);
-    }
-    figures.operations = operations(path, Some(limits), &move_s);
-    figures.move_s = move_s;
-    figures
+    let mut tally = Tally::new(limits, true);
+    path.feed_to(&mut tally);
+    tally.finish()
 }
 
 /// The time each move ends at, from the start, in seconds: planned on
@@ -211,102 +126,51 @@ pub fn clock_per_move(path: &ToolPath, limits: Option<&Limits>) -> Vec<f64> {
     each
 }
 
-/// Lengths, length / feed, dwells, tool changes and spindle starts, per
-/// tool too.
-fn lengths(path: &ToolPath, limits: Option<&Limits>) -> Figures {
-    let mut figures = Figures::default();
-    let mut spindle_on = false;
-    for m in &path.moves {
-        let length = m.length();
-        let at = match figures.tools.iter().position(|t| t.tool == m.state.tool) {
-            Some(at) => at,
-            None => {
-                figures.tools.push(ToolFigures {
-                    tool: m.state.tool,
-                    ..ToolFigures::default()
-                });
-                figures.tools.len() - 1
-            }
-        };
-        let on = m.state.spindle.is_some();
-        figures.spindle_starts += usize::from(on && !spindle_on);
-        spindle_on = on;
-        if m.kind == MoveKind::Rapid {
-            figures.rapid_mm += length;
-            if let Some(limits) = limits {
-                let rate = rapid_rate(limits, unit(m));
-                figures.feed_time_s += length / rate;
-            }
-            continue;
-        }
-        let seconds = if m.state.feed > 0.0 {
-            length / (m.state.feed / 60.0)
-        } else {
-            0.0
-        };
-        figures.cut_mm += length;
-        figures.feed_time_s += seconds;
-        let tool = &mut figures.tools[at];
-        tool.cut_mm += length;
-        tool.feed_time_s += seconds;
-        widen(&mut tool.bounds, m);
-    }
-    for event in &path.events {
-        match event.kind {
-            EventKind::Dwell(s) => figures.dwell_s += s,
-            EventKind::ToolChange(_) => figures.tool_changes += 1,
-            EventKind::Stop(_) | EventKind::End => {}
-        }
-    }
-    figures.feed_time_s += figures.dwell_s;
-    figures
-}
-
 /// A straight move's direction (a zero move's: none).
 fn unit(m: &Move) -> [f64; 3] {
     direction(m.start, m.end)
 }
 
-/// The planner's blocks: each move, arcs cut into chords as grbl's
-/// `mc_arc` cuts them, handed to `out` in order; a block after a sync
-/// starts from rest.
-fn blocks(path: &ToolPath, limits: &Limits, out: &mut dyn FnMut(Block)) {
-    let syncs = sync_points(path);
-    for (i, m) in path.moves.iter().enumerate() {
-        let stopped_before = syncs[i];
-        let points = match m.kind {
-            MoveKind::Arc(_) => arc_points(m, limits.arc_tolerance),
-            MoveKind::Rapid | MoveKind::Feed => vec![m.start, m.end],
-        };
-        for (k, pair) in points.windows(2).enumerate() {
-            let unit = direction(pair[0], pair[1]);
-            let length = crate::toolpath::distance(pair[0], pair[1]);
-            if length <= 0.0 {
-                continue;
-            }
-            let nominal = match m.kind {
-                MoveKind::Rapid => rapid_rate(limits, unit),
-                _ => (m.state.feed / 60.0).min(along(limits.max_rate, unit)),
-            };
-            out(Block {
-                length,
-                unit_in: unit,
-                unit_out: unit,
-                nominal: nominal.max(1e-9),
-                accel: along(limits.max_accel, unit),
-                stopped_before: stopped_before && k == 0,
-                control: m.state.path_control,
-                source: i,
-            });
+/// The planner's blocks of move `m`, the `index`th: arcs cut into chords
+/// as grbl's `mc_arc` cuts them, handed to `out` in order; the first
+/// starts from rest after a sync (`stopped`).
+fn blocks(m: &Move, index: usize, stopped: bool, limits: &Limits, out: &mut dyn FnMut(Block)) {
+    let mut chord = |k: usize, from: [f64; 3], to: [f64; 3]| {
+        let (unit, length) = direction_and_length(from, to);
+        if length <= 0.0 {
+            return;
         }
+        let nominal = match m.kind {
+            MoveKind::Rapid => rapid_rate(limits, unit),
+            _ => (m.state.feed / 60.0).min(along(limits.max_rate, unit)),
+        };
+        out(Block {
+            length,
+            unit_in: unit,
+            unit_out: unit,
+            nominal: nominal.max(1e-9),
+            accel: along(limits.max_accel, unit),
+            stopped_before: stopped && k == 0,
+            control: m.state.path_control,
+            source: index,
+        });
+    };
+    if !matches!(m.kind, MoveKind::Arc(_)) {
+        return chord(0, m.start, m.end);
+    }
+    let mut points = m.points(arc_segments(m, limits.arc_tolerance));
+    let mut from = points.next().unwrap_or(m.start);
+    for (k, to) in points.enumerate() {
+        chord(k, from, to);
+        from = to;
     }
 }
 
-/// The points of an arc's chords, as grbl's `mc_arc` makes them: as many
-/// segments as keep each chord within the arc tolerance of the arc.
-fn arc_points(m: &Move, tolerance: f64) -> Vec<[f64; 3]> {
+/// How many chords grbl's `mc_arc` cuts an arc into: as many as keep each
+/// within the arc tolerance of the arc.
+fn arc_segments(m: &Move, tolerance: f64) -> usize {
     let MoveKind::Arc(a) = m.kind else {
-        return vec![m.start, m.end];
+        return 1;
     };
     let (p, q, _) = a.plane.axes();
     let radius = (m.start[p] - a.center[p]).hypot(m.start[q] - a.center[q]);
@@ -318,42 +182,42 @@ fn arc_points(m: &Move, tolerance: f64) -> Vec<[f64; 3]> {
             .max(1.0),
         false => 1.0,
     };
-    let segments = (segments as usize).clamp(1, 1 << 20);
-    (0..=segments)
-        .map(|k| m.at(k as f64 / segments as f64))
-        .collect()
+    (segments as usize).clamp(1, 1 << 20)
 }
 
 /// The blocks planned as they come, with the look-ahead of the buffer
 /// (the last block held must be able to stop), corners limited as the
 /// controller limits them, each block a trapezoid (or a triangle). Holds
-/// only the buffer's blocks: a block is timed, added to its move's time
+/// only the buffer's blocks: a block is timed, handed on with its time
 /// and dropped once the buffer behind it is full.
 struct Planner<'l> {
     limits: &'l Limits,
     depth: usize,
-    /// The blocks not yet timed, each with its largest entry speed squared.
-    window: std::collections::VecDeque<(Block, f64)>,
+    /// The blocks not yet timed, each with its largest entry speed squared
+    /// at the corner before it, and the largest from which it can still
+    /// slow down to a stop at the end of the buffer (grbl's reverse pass,
+    /// kept from one block to the next: a new block changes it only back
+    /// to the first block whose limit it does not raise).
+    window: VecDeque<(Block, f64, f64)>,
     previous: Option<Block>,
     entry_sqr: f64,
-    /// Each move's time, s.
-    move_s: Vec<f64>,
 }
 
 impl<'l> Planner<'l> {
-    fn new(limits: &'l Limits, moves: usize) -> Planner<'l> {
+    fn new(limits: &'l Limits) -> Planner<'l> {
         let depth = limits.blocks.max(1);
         Planner {
             limits,
             depth,
-            window: std::collections::VecDeque::with_capacity(depth + 1),
+            window: VecDeque::with_capacity(depth + 1),
             previous: None,
             entry_sqr: 0.0,
-            move_s: vec![0.0; moves],
         }
     }
 
-    fn push(&mut self, block: Block) {
+    /// Take `block`; `timed` gets each block timed (its move's index and
+    /// its seconds).
+    fn push(&mut self, block: Block, timed: &mut dyn FnMut(usize, f64)) {
         let max_entry = match &self.previous {
             Some(a) if !block.stopped_before => junction(a, &block, self.limits)
                 .min(a.nominal.powi(2))
@@ -361,38 +225,43 @@ impl<'l> Planner<'l> {
             _ => 0.0,
         };
         self.previous = Some(block);
-        self.window.push_back((block, max_entry));
+        // The speed must be 0 at the buffer's end (and is before a block
+        // after a stop, whose largest entry is 0).
+        let reachable = max_entry.min(2.0 * block.accel * block.length);
+        self.window.push_back((block, max_entry, reachable));
+        for j in (1..self.window.len() - 1).rev() {
+            let (b, max_entry, old) = self.window[j];
+            let new = max_entry.min(self.window[j + 1].2 + 2.0 * b.accel * b.length);
+            if new == old {
+                break;
+            }
+            self.window[j].2 = new;
+        }
         if self.window.len() >= self.depth {
-            self.time_first();
+            self.time_first(timed);
         }
     }
 
-    /// The first block of the window timed: its buffer is it and the
-    /// blocks after it, up to the depth or a stop.
-    fn time_first(&mut self) {
-        let Some(&(b, _)) = self.window.front() else {
+    /// The first block of the window timed: its exit as fast as the
+    /// blocks behind it, up to the buffer's end or a stop, allow.
+    fn time_first(&mut self, timed: &mut dyn FnMut(usize, f64)) {
+        let Some(&(b, _, _)) = self.window.front() else {
             return;
         };
-        let end = (1..self.window.len().min(self.depth))
-            .find(|&j| self.window[j].0.stopped_before)
-            .unwrap_or(self.window.len().min(self.depth));
-        // Backward from the buffer's end, where the speed must be 0.
-        let mut exit_sqr = 0.0;
-        for j in (1..end).rev() {
-            let (next, max_entry) = &self.window[j];
-            exit_sqr = max_entry.min(exit_sqr + 2.0 * next.accel * next.length);
-        }
+        let exit_sqr = self.window.get(1).map_or(0.0, |next| next.2);
         let exit_sqr = exit_sqr.min(self.entry_sqr + 2.0 * b.accel * b.length);
-        self.move_s[b.source] += trapezoid(&b, self.entry_sqr.sqrt(), exit_sqr.sqrt());
+        timed(
+            b.source,
+            trapezoid(&b, self.entry_sqr.sqrt(), exit_sqr.sqrt()),
+        );
         self.entry_sqr = exit_sqr;
         self.window.pop_front();
     }
 
-    fn finish(mut self) -> Vec<f64> {
+    fn finish(&mut self, timed: &mut dyn FnMut(usize, f64)) {
         while !self.window.is_empty() {
-            self.time_first();
+            self.time_first(timed);
         }
-        self.move_s
     }
 }
 
@@ -584,7 +453,7 @@ mod tests {
             }),
             ..path(&[[10.0, 0.0, 0.0], [10.0, 0.0, 0.0]], 600.0).moves[0]
         };
-        assert_eq!(arc_points(&m, 0.002).len(), 158);
+        assert_eq!(arc_segments(&m, 0.002), 157);
     }
 
     /// [`limits`] on LinuxCNC's planner.
@@ -720,6 +589,32 @@ mod tests {
         let total = f.time_s.unwrap();
         assert!((total - 3.7).abs() < 1e-12, "{total}");
         assert_eq!(plan(&p, None).operations[1].time_s, None);
+    }
+
+    #[test]
+    fn the_clock_runs_on_the_planned_times_with_dwells_where_they_stand() {
+        // Two 100 mm legs at a right angle, a 2 s dwell between them: the
+        // clock at the first leg's end is its planned time, at the second
+        // the whole run's (as `time_s`), not length / feed (1 s a leg).
+        let mut p = path(&[[0.0; 3], [100.0, 0.0, 0.0], [100.0, 100.0, 0.0]], 6000.0);
+        p.events = vec![crate::toolpath::Event {
+            kind: EventKind::Dwell(2.0),
+            after_move: 1,
+            span: crate::source::Span::new(0, 3, 0, 0),
+        }];
+        let limits = limits();
+        let clock = clock_per_move(&p, Some(&limits));
+        let figures = plan(&p, Some(&limits));
+        assert_eq!(clock.len(), 2);
+        // Each leg from rest to rest (the dwell stops the machine): 1.1 s.
+        assert!((clock[0] - 1.1).abs() < 1e-12, "{clock:?}");
+        assert!(
+            (clock[1] - figures.time_s.unwrap()).abs() < 1e-12,
+            "{clock:?}"
+        );
+        assert!((clock[1] - 4.2).abs() < 1e-12, "{clock:?}");
+        let unplanned = clock_per_move(&p, None);
+        assert!((unplanned[1] - 4.0).abs() < 1e-12, "{unplanned:?}");
     }
 
     #[test]

@@ -112,24 +112,76 @@ impl Move {
 
     /// The point at `t` in 0..=1 along the move.
     pub fn at(&self, t: f64) -> Point {
+        self.along().at(t)
+    }
+
+    /// The points at `k / parts` along the move for `k` in `0..=parts`
+    /// (each [`Move::at`]'s, the arc's angles and radii found once).
+    pub fn points(&self, parts: usize) -> impl Iterator<Item = Point> + '_ {
+        let along = self.along();
+        (0..=parts).map(move |k| along.at(k as f64 / parts as f64))
+    }
+
+    /// Its points by their share of it ([`Along::at`], [`Move::at`]'s),
+    /// an arc's constants found once.
+    pub fn along(&self) -> Along {
         match self.kind {
             MoveKind::Arc(a) => {
-                let (p, q, n) = a.plane.axes();
-                let sweep = self.sweep() * if a.clockwise { -1.0 } else { 1.0 };
+                let (p, q, _) = a.plane.axes();
                 let (sp, sq) = (self.start[p] - a.center[p], self.start[q] - a.center[q]);
                 let (ep, eq) = (self.end[p] - a.center[p], self.end[q] - a.center[q]);
-                let r = sp.hypot(sq) + (ep.hypot(eq) - sp.hypot(sq)) * t;
-                let angle = sq.atan2(sp) + sweep * t;
-                let mut out = [0.0; 3];
-                out[p] = a.center[p] + r * angle.cos();
-                out[q] = a.center[q] + r * angle.sin();
-                out[n] = self.start[n] + (self.end[n] - self.start[n]) * t;
-                out
+                Along {
+                    start: self.start,
+                    end: self.end,
+                    arc: Some(ArcAlong {
+                        arc: a,
+                        sweep: self.sweep() * if a.clockwise { -1.0 } else { 1.0 },
+                        radius: sp.hypot(sq),
+                        end_radius: ep.hypot(eq),
+                        angle: sq.atan2(sp),
+                    }),
+                }
             }
-            MoveKind::Rapid | MoveKind::Feed => {
-                std::array::from_fn(|i| self.start[i] + (self.end[i] - self.start[i]) * t)
-            }
+            MoveKind::Rapid | MoveKind::Feed => Along {
+                start: self.start,
+                end: self.end,
+                arc: None,
+            },
         }
+    }
+}
+
+/// A move's points by their share of it: an arc's constants computed
+/// once for many points.
+pub struct Along {
+    start: Point,
+    end: Point,
+    arc: Option<ArcAlong>,
+}
+
+struct ArcAlong {
+    arc: ArcPath,
+    /// Signed, radians.
+    sweep: f64,
+    radius: f64,
+    end_radius: f64,
+    /// Of the start about the centre.
+    angle: f64,
+}
+
+impl Along {
+    pub fn at(&self, t: f64) -> Point {
+        let Some(a) = &self.arc else {
+            return std::array::from_fn(|i| self.start[i] + (self.end[i] - self.start[i]) * t);
+        };
+        let (p, q, n) = a.arc.plane.axes();
+        let r = a.radius + (a.end_radius - a.radius) * t;
+        let angle = a.angle + a.sweep * t;
+        let mut out = [0.0; 3];
+        out[p] = a.arc.center[p] + r * angle.cos();
+        out[q] = a.arc.center[q] + r * angle.sin();
+        out[n] = self.start[n] + (self.end[n] - self.start[n]) * t;
+        out
     }
 }
 
@@ -153,11 +205,44 @@ pub struct Event {
     pub span: Span,
 }
 
+/// What takes a tool path move by move as it is made, instead of the
+/// whole [`ToolPath`] (the planner of `ger stats`): moves and events in
+/// the program's order, each event before the move that follows it.
+pub trait PathSink: Send {
+    fn feed_move(&mut self, m: &Move);
+    fn feed_event(&mut self, e: &Event);
+    /// Forget what was fed: the program is being read again from its
+    /// start.
+    fn restart(&mut self);
+}
+
+impl ToolPath {
+    /// Hand its moves and events to `sink`, in order.
+    pub fn feed_to(&self, sink: &mut dyn PathSink) {
+        interleave(&self.moves, &self.events, 0, sink);
+    }
+}
+
+/// `moves` (the first of them the `first`th of the program) and `events`
+/// to `sink`, each event before the move its `after_move` counts to.
+fn interleave(moves: &[Move], events: &[Event], first: usize, sink: &mut dyn PathSink) {
+    let mut events = events.iter().peekable();
+    for (i, m) in moves.iter().enumerate() {
+        while let Some(e) = events.next_if(|e| e.after_move <= first + i) {
+            sink.feed_event(e);
+        }
+        sink.feed_move(m);
+    }
+    events.for_each(|e| sink.feed_event(e));
+}
+
 /// Builds the tool path from the lowered IR (after the absolute pass:
 /// absolute coordinates, arcs with centres).
 #[derive(Clone, Debug)]
 pub struct Builder {
     path: ToolPath,
+    /// Moves handed on by [`Builder::drain_into`] and dropped.
+    drained: usize,
     /// Factor from the IR's lengths to mm (1 while the units are unknown).
     to_mm: f64,
     position: [f64; 9],
@@ -182,6 +267,7 @@ impl Builder {
                 setup: setup.clone(),
                 ..ToolPath::default()
             },
+            drained: 0,
             to_mm: Units::mm_per(units),
             position: [0.0; 9],
             plane: Plane::XY,
@@ -356,9 +442,18 @@ impl Builder {
     fn event(&mut self, kind: EventKind, span: Span) {
         self.path.events.push(Event {
             kind,
-            after_move: self.path.moves.len(),
+            after_move: self.drained + self.path.moves.len(),
             span,
         });
+    }
+
+    /// Hand the moves and events made since the last call to `sink` and
+    /// drop them, so that memory does not grow with the program.
+    pub fn drain_into(&mut self, sink: &mut dyn PathSink) {
+        interleave(&self.path.moves, &self.path.events, self.drained, sink);
+        self.drained += self.path.moves.len();
+        self.path.moves.clear();
+        self.path.events.clear();
     }
 
     pub fn finish(self) -> ToolPath {

@@ -301,6 +301,48 @@ fn base64(bytes: &[u8]) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::driver::fs::Memory;
+    use crate::driver::{CompileOptions, Program, Session};
+
+    #[test]
+    fn the_playback_clock_is_planned_on_the_machine() {
+        // 100 mm at 100 mm/s: 1 s by length / feed; at 10 mm/s² a
+        // triangle peaking at √(10 · 100) mm/s, 2 · √1000 / 10 = 6.32 s.
+        let fs = Memory::new();
+        let session = Session::new(&fs, CompileOptions::default(), Default::default()).unwrap();
+        let program = || Program::Text {
+            name: "part.nc",
+            path: None,
+            text: "G21 G90\nG1 X100 F6000\nM30\n".to_string(),
+        };
+        let limits = Limits {
+            controller: crate::driver::machine::Controller::Grbl,
+            max_rate: [100.0; 3],
+            max_accel: [10.0; 3],
+            rapid_rate: None,
+            junction_deviation: 0.01,
+            path_tolerance: 0.0,
+            arc_tolerance: 0.002,
+            blocks: 16,
+            tool_change_s: 0.0,
+            spindle_start_s: 0.0,
+        };
+        let render = RenderOptions::default();
+        let job = || session.load(program()).ok().unwrap();
+        let plain = studio(&mut job(), None, &render);
+        assert!(
+            (plain.time_s.unwrap() - 1.0).abs() < 1e-9,
+            "{:?}",
+            plain.time_s
+        );
+        let planned = studio(&mut job(), Some(&limits), &render);
+        let expected = 2.0 * 1000.0_f64.sqrt() / 10.0;
+        assert!(
+            (planned.time_s.unwrap() - expected).abs() < 1e-9,
+            "{:?}",
+            planned.time_s
+        );
+    }
 
     #[test]
     fn base64_matches_the_standard_alphabet_and_padding() {

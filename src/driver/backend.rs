@@ -11,7 +11,7 @@ use crate::emit;
 use crate::ir;
 use crate::lower::{self, Pipeline};
 use crate::source::FileId;
-use crate::toolpath::{Builder as ToolPathBuilder, ToolPath};
+use crate::toolpath::{Builder as ToolPathBuilder, PathSink, ToolPath};
 use std::io::Write;
 use std::time::{Duration, Instant};
 
@@ -19,6 +19,8 @@ use std::time::{Duration, Instant};
 pub(super) enum Output<'a> {
     Text(&'a mut (dyn Write + Send)),
     Path(&'a mut Option<ToolPath>),
+    /// The tool path's moves handed on as each batch makes them.
+    Moves(&'a mut dyn PathSink),
 }
 
 /// What the back end needs to know of the source: its length (to size the
@@ -131,7 +133,7 @@ impl<'s> Backend<'s> {
         match self.out {
             // A tool path is built from moves: cycles are always expanded
             // and compensation resolved.
-            Output::Path(_) => lower::LowerOptions {
+            Output::Path(_) | Output::Moves(_) => lower::LowerOptions {
                 keep_cycles: false,
                 keep_comp: false,
                 ..self.options.lower.clone()
@@ -171,7 +173,7 @@ impl<'s> Backend<'s> {
             },
             lowering: last.map(|last| Pipeline::new(&context, self.ahead..last + 1)),
             printer: match self.options.stage {
-                _ if matches!(self.out, Output::Path(_)) => {
+                _ if matches!(self.out, Output::Path(_) | Output::Moves(_)) => {
                     Printer::Path(Box::new(ToolPathBuilder::new(units, &start.setup)))
                 }
                 Some(_) => Printer::Stage(emit::StagePrinter::new(units, len, file)),
@@ -188,7 +190,7 @@ impl<'s> Backend<'s> {
 
     /// The passes' diagnostics, and the rest of the output unless a pass
     /// failed; and whether the output was written.
-    pub(super) fn finish(self) -> (Vec<Diagnostic>, std::io::Result<()>) {
+    pub(super) fn finish(mut self) -> (Vec<Diagnostic>, std::io::Result<()>) {
         let written = self.write_error.map_or(Ok(()), Err);
         let Some(Started {
             lowering,
@@ -229,6 +231,9 @@ impl<'s> Backend<'s> {
             diagnostics.extend(p.path_control_lost());
             diagnostics.extend(p.arcs_fitted());
         }
+        if let (Printer::Path(builder), Output::Moves(sink)) = (&mut printer, &mut self.out) {
+            builder.drain_into(&mut **sink);
+        }
         match (printer.finish(), self.out) {
             (Ok(rest), Output::Text(out)) => {
                 (diagnostics, written.and_then(|()| out.write_all(&rest)))
@@ -237,7 +242,8 @@ impl<'s> Backend<'s> {
                 *slot = Some(*path);
                 (diagnostics, written)
             }
-            (Ok(_), Output::Path(_)) | (Err(_), Output::Text(_)) => (diagnostics, written),
+            // The moves were handed on as they came.
+            _ => (diagnostics, written),
         }
     }
 }
@@ -313,6 +319,9 @@ fn print_and_write(
     let text = printer.print(stmts);
     stmts.clear();
     let Some(text) = text else {
+        if let (Printer::Path(builder), Output::Moves(sink)) = (printer, out) {
+            builder.drain_into(&mut **sink);
+        }
         return;
     };
     if text.len() >= WRITE_AT {

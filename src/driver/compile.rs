@@ -12,7 +12,7 @@ use crate::diagnostic::{is_error, Diagnostic};
 use crate::eval::{self, EvalOptions, WizardHost};
 use crate::source::{FileId, Locator, Sources};
 use crate::syntax::{chunk, Language};
-use crate::toolpath::ToolPath;
+use crate::toolpath::{PathSink, ToolPath};
 use std::io::Write;
 use std::time::Duration;
 
@@ -226,6 +226,49 @@ pub fn tool_path(
     (path, diagnostics)
 }
 
+/// The tool path of file `file` of `sources` handed to `sink` move by
+/// move as the back end makes it ([`tool_path`] without holding it); the
+/// diagnostics. With errors among them, what `sink` was fed is not the
+/// program's path.
+pub fn feed_tool_path(
+    sources: &Sources,
+    file: FileId,
+    options: &CompileOptions,
+    wizards: Option<&mut dyn WizardHost>,
+    sink: &mut dyn PathSink,
+) -> Vec<Diagnostic> {
+    let options = CompileOptions {
+        stage: None,
+        ..options.clone()
+    };
+    let mut wizards = wizards;
+    let mut started = false;
+    let found = in_parts_else_whole(|cutting| {
+        if std::mem::replace(&mut started, true) {
+            sink.restart();
+        }
+        let mut diagnostics = Vec::new();
+        let input = Input::of(sources, file, &options);
+        let wizards = wizards.as_mut().map(|w| &mut **w as &mut dyn WizardHost);
+        let clock = &mut Clock::new();
+        let out = Output::Moves(&mut *sink);
+        // Nothing is written: no write can fail.
+        let _ = run(
+            input,
+            &options,
+            wizards,
+            out,
+            &mut diagnostics,
+            clock,
+            cutting,
+        )?;
+        Ok(diagnostics)
+    });
+    found.unwrap_or_else(|Whole| {
+        vec![Diagnostic::error().with_message("internal: a whole read asked for a whole read")]
+    })
+}
+
 /// The values the variables of file `file` of `sources` have where the
 /// program reads and sets them ([`eval::watch_program`]): the program
 /// parsed whole and run without output; nothing when it does not parse.
@@ -371,7 +414,7 @@ fn run<'a>(
     if options.stage == Some(Stage::Parse) {
         return Ok(match out {
             Output::Text(out) => out.write_all(program.to_text().as_bytes()),
-            Output::Path(_) => Ok(()),
+            Output::Path(_) | Output::Moves(_) => Ok(()),
         });
     }
     let backend = Backend::new(SourceFacts::Text(text), file, options, out);

@@ -484,6 +484,13 @@ impl Job {
         compile::tool_path(sources, file, options, Some(&mut self.engine))
     }
 
+    /// The tool path handed to `sink` move by move, never held whole
+    /// (`ger stats`); the diagnostics.
+    pub fn feed_tool_path(&mut self, sink: &mut dyn crate::toolpath::PathSink) -> Vec<Diagnostic> {
+        let (sources, file, options) = (&self.sources, self.file, &self.options);
+        compile::feed_tool_path(sources, file, options, Some(&mut self.engine), sink)
+    }
+
     /// The values variables have where the program reads and sets them
     /// (the editor's hover; no compile records them).
     pub fn watch(&mut self) -> crate::eval::Watched {

@@ -672,6 +672,27 @@ mod tests {
     }
 
     #[test]
+    fn the_hints_clock_is_planned_on_the_machine_of_ger_toml() {
+        // 100 mm at 100 mm/s: 1 s by length / feed. At 10 mm/s² the move
+        // is a triangle peaking at √(10 · 100) = 31.6 mm/s: 2 · 31.6 / 10
+        // = 6.3 s.
+        let text = "G21 G90\nG1 X100 F6000\nM30\n";
+        let mut fs = Memory::new();
+        let path = Path::new("/p/part.nc");
+        let clock = |a: &Analysis| a.tool_at.last().map(|h| h.label.clone());
+        let unplanned = clock(&analyse(&fs, path, text)).unwrap();
+        assert!(unplanned.ends_with("· 0:01"), "{unplanned}");
+        let axis = "max-velocity = 6000\nmax-acceleration = 10\n";
+        let machine = format!(
+            "[machine]\ncontroller = \"grbl\"\nunits = \"mm\"\n\
+             [machine.x]\n{axis}[machine.y]\n{axis}[machine.z]\n{axis}"
+        );
+        fs.insert("/p/ger.toml", machine);
+        let planned = clock(&analyse(&fs, path, text)).unwrap();
+        assert!(planned.ends_with("· 0:06"), "{planned}");
+    }
+
+    #[test]
     fn hovering_a_code_tells_its_meaning_and_words() {
         let text = "G21 G90 (G83 in a comment)\nN10 G83 X1 Y2 Z-3 R1 Q0.5\ng38.2 Z-5\nM3 S1000\nMoveM3 = 1\n";
         let at = |line, column| At { line, column };

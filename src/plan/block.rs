@@ -1,12 +1,10 @@
 //! The planner's units of work and the machine's limits, shared by
 //! grbl's planner (`plan.rs`) and LinuxCNC's (`linuxcnc.rs`): a block,
-//! the limits along a direction, a rapid's rate, where the machine stops
-//! to sync. Pure arithmetic on a [`ToolPath`]; imports nothing of the
-//! planners.
+//! the limits along a direction, a rapid's rate. Pure arithmetic;
+//! imports nothing of the planners.
 
 use crate::driver::machine::{Controller, Machine};
 use crate::ir::PathControl;
-use crate::toolpath::ToolPath;
 
 /// grbl's defaults where the profile says nothing.
 pub(super) const DEFAULT_JUNCTION_DEVIATION: f64 = 0.01;
@@ -111,11 +109,17 @@ pub(super) fn dot(a: [f64; 3], b: [f64; 3]) -> f64 {
 }
 
 pub(super) fn direction(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
+    direction_and_length(a, b).0
+}
+
+/// The direction from `a` to `b` and the distance (`toolpath::distance`'s,
+/// one square root for both).
+pub(super) fn direction_and_length(a: [f64; 3], b: [f64; 3]) -> ([f64; 3], f64) {
     let d = [b[0] - a[0], b[1] - a[1], b[2] - a[2]];
     let n = (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt();
     match n > 0.0 {
-        true => [d[0] / n, d[1] / n, d[2] / n],
-        false => [0.0; 3],
+        true => ([d[0] / n, d[1] / n, d[2] / n], n),
+        false => ([0.0; 3], n),
     }
 }
 
@@ -123,26 +127,4 @@ pub(super) fn direction(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
 pub(super) fn rapid_rate(limits: &Limits, unit: [f64; 3]) -> f64 {
     let axes = along(limits.max_rate, unit);
     limits.rapid_rate.map_or(axes, |r| r.min(axes))
-}
-
-/// For each move, whether the machine stands still before it: the first
-/// move, and any after an event or a change of spindle or coolant (grbl
-/// empties its buffer to sync them).
-pub(super) fn sync_points(path: &ToolPath) -> Vec<bool> {
-    let mut stops = vec![false; path.moves.len()];
-    if let Some(first) = stops.first_mut() {
-        *first = true;
-    }
-    for event in &path.events {
-        if let Some(s) = stops.get_mut(event.after_move) {
-            *s = true;
-        }
-    }
-    for (i, pair) in path.moves.windows(2).enumerate() {
-        let (a, b) = (pair[0].state, pair[1].state);
-        if (a.spindle, a.rpm, a.flood, a.mist) != (b.spindle, b.rpm, b.flood, b.mist) {
-            stops[i + 1] = true;
-        }
-    }
-    stops
 }

@@ -18,9 +18,9 @@
 //! Architecture Invariant: planner arithmetic only, on the blocks and
 //! limits of `plan.rs`; never sees the IR.
 
-use super::block::{along, direction, dot, rapid_rate, sync_points, Block, Limits};
+use super::block::{along, direction, direction_and_length, dot, rapid_rate, Block, Limits};
 use crate::ir::PathControl;
-use crate::toolpath::{Move, MoveKind, ToolPath};
+use crate::toolpath::{Move, MoveKind};
 
 /// `BLEND_ACC_RATIO_TANGENTIAL`: the share of the acceleration an arc
 /// keeps for speeding up and slowing down at its speed limit.
@@ -39,29 +39,25 @@ fn acc_ratio_normal() -> f64 {
     (1.0 - ACC_RATIO_TANGENTIAL * ACC_RATIO_TANGENTIAL).sqrt()
 }
 
-/// The segments of `path`, one per move of some length, handed to `out`
-/// in order.
-pub(super) fn blocks(path: &ToolPath, limits: &Limits, out: &mut dyn FnMut(Block)) {
-    let syncs = sync_points(path);
-    for (i, m) in path.moves.iter().enumerate() {
-        let block = match m.kind {
-            MoveKind::Arc(_) => arc_block(m, limits),
-            MoveKind::Rapid | MoveKind::Feed => line_block(m, limits),
-        };
-        if let Some(mut b) = block {
-            b.stopped_before = syncs[i];
-            b.source = i;
-            out(b);
-        }
-    }
+/// The segment of move `m`, the `index`th, if it has some length; it
+/// starts from rest after a sync (`stopped`).
+pub(super) fn block(m: &Move, index: usize, stopped: bool, limits: &Limits) -> Option<Block> {
+    let block = match m.kind {
+        MoveKind::Arc(_) => arc_block(m, limits),
+        MoveKind::Rapid | MoveKind::Feed => line_block(m, limits),
+    };
+    block.map(|b| Block {
+        stopped_before: stopped,
+        source: index,
+        ..b
+    })
 }
 
 fn line_block(m: &Move, limits: &Limits) -> Option<Block> {
-    let length = m.length();
+    let (unit, length) = direction_and_length(m.start, m.end);
     if length <= 0.0 {
         return None;
     }
-    let unit = direction(m.start, m.end);
     let nominal = match m.kind {
         MoveKind::Rapid => rapid_rate(limits, unit),
         _ => (m.state.feed / 60.0).min(along(limits.max_rate, unit)),
@@ -102,10 +98,11 @@ fn arc_block(m: &Move, limits: &Limits) -> Option<Block> {
         }
     };
     let step = 1e-6;
+    let along = m.along();
     Some(Block {
         length,
-        unit_in: direction(m.start, m.at(step)),
-        unit_out: direction(m.at(1.0 - step), m.end),
+        unit_in: direction(m.start, along.at(step)),
+        unit_out: direction(along.at(1.0 - step), m.end),
         nominal: nominal.max(1e-9),
         accel: (a_max * ratio).max(1e-9),
         stopped_before: false,

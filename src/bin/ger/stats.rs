@@ -4,7 +4,7 @@
 use crate::args::Options;
 use crate::load_with_machine;
 use ger::diagnostic::render;
-use ger::plan::{plan, Figures, Limits};
+use ger::plan::{Figures, Limits, Tally};
 use std::process::ExitCode;
 
 /// `ger stats INPUT [--json]`.
@@ -12,11 +12,6 @@ pub fn print_stats(input: &str, options: &Options, json: bool) -> ExitCode {
     let (mut job, machine) = match load_with_machine(input, options, None) {
         Ok(loaded) => loaded,
         Err(code) => return code,
-    };
-    let (path, diagnostics) = job.tool_path();
-    eprint!("{}", render(&job.sources, &diagnostics));
-    let Some(path) = path else {
-        return ExitCode::from(1);
     };
     let limits = match machine.as_ref().map(Limits::of) {
         None => None,
@@ -26,7 +21,14 @@ pub fn print_stats(input: &str, options: &Options, json: bool) -> ExitCode {
             return ExitCode::from(2);
         }
     };
-    let figures = plan(&path, limits.as_ref());
+    // Planned as the back end makes the moves: the path is never held.
+    let mut tally = Tally::new(limits.as_ref(), false);
+    let diagnostics = job.feed_tool_path(&mut tally);
+    eprint!("{}", render(&job.sources, &diagnostics));
+    if diagnostics.iter().any(ger::diagnostic::is_error) {
+        return ExitCode::from(1);
+    }
+    let figures = tally.finish();
     let controller = machine.map(|m| match m.controller {
         ger::driver::machine::Controller::Grbl => "grbl",
         ger::driver::machine::Controller::LinuxCnc => "linuxcnc",
