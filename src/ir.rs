@@ -435,6 +435,9 @@ pub enum CycleKind {
     G73,
     /// G74 left-hand tapping.
     G74,
+    /// G76 fine boring (Fanuc's): at the bottom an oriented spindle stop,
+    /// a shift of Q away from the wall, and out.
+    G76,
     /// G81 drill.
     G81,
     /// G82 drill with dwell.
@@ -460,6 +463,7 @@ impl CycleKind {
         match self {
             CycleKind::G73 => 73,
             CycleKind::G74 => 74,
+            CycleKind::G76 => 76,
             CycleKind::G81 => 81,
             CycleKind::G82 => 82,
             CycleKind::G83 => 83,
@@ -486,7 +490,7 @@ pub struct Cycle {
     pub at: Axes,
     /// The R level, on the normal axis.
     pub r: f64,
-    /// Peck depth (G73, G83).
+    /// Peck depth (G73, G83); G76's shift off the wall.
     pub q: Option<f64>,
     /// Dwell at the bottom, seconds (G82, G84, G74, G86, G88, G89).
     pub dwell: Option<f64>,
