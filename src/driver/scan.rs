@@ -95,6 +95,8 @@ pub struct FileScan {
     pub partial: bool,
     /// What the file's first lines say of its controller ([`clue`]).
     pub clue: Option<Clue>,
+    /// The O number the program starts with ([`program_number`]).
+    pub program_number: Option<u32>,
 }
 
 /// The bytes at the start of a file [`clue`] looks at (with the rest of
@@ -133,6 +135,28 @@ pub fn clue(text: &str) -> Option<Clue> {
         (false, true) => Some(Clue::MacroB),
         (false, false) => None,
     }
+}
+
+/// The program's own number: an `O1234` (or `:1234`) line before any
+/// other words, after `%` lines and comments (a Fanuc program's head).
+pub fn program_number(text: &str) -> Option<u32> {
+    let lines = text.lines().map(str::trim).filter(|l| !l.is_empty());
+    for line in lines {
+        if line.starts_with(['%', '(', ';']) {
+            continue;
+        }
+        let rest = line.strip_prefix(['O', 'o', ':'])?;
+        let digits = rest
+            .find(|c: char| !c.is_ascii_digit())
+            .map_or(rest, |end| &rest[..end]);
+        let after = rest[digits.len()..].trim_start();
+        let alone = after.is_empty() || after.starts_with(['(', ';']);
+        return (alone && !digits.is_empty())
+            .then(|| digits.parse().ok())
+            .flatten()
+            .filter(|&n| n < 10_000);
+    }
+    None
 }
 
 /// A line of Fanuc's Macro B (SPEC §2.8): `IF [`, `WHILE [`, `GOTO n`
@@ -368,6 +392,7 @@ pub fn scan_path(fs: &dyn FileSystem, path: &Path) -> std::io::Result<Option<Fil
             decimals: a.decimals.max(b.decimals),
             partial: false,
             clue: a.clue,
+            program_number: a.program_number,
         }),
         _ => None,
     })
@@ -417,7 +442,7 @@ fn scan_blocks(mut blocks: RawBlocks<'_>, most: usize) -> std::io::Result<Option
         };
         decimals = decimals.max(input_decimals(text));
         if starts && head.is_none() {
-            head = Some(clue(text));
+            head = Some((clue(text), program_number(text)));
         }
         len += text.len();
         if len >= most {
@@ -428,7 +453,8 @@ fn scan_blocks(mut blocks: RawBlocks<'_>, most: usize) -> std::io::Result<Option
         len,
         decimals,
         partial: false,
-        clue: head.flatten(),
+        clue: head.and_then(|h| h.0),
+        program_number: head.and_then(|h| h.1),
     }))
 }
 
@@ -653,6 +679,20 @@ mod clue_tests {
         ];
         for (text, expected) in cases {
             assert_eq!(clue(text), expected, "{text:?}");
+        }
+    }
+
+    #[test]
+    fn a_program_number_heads_the_program() {
+        let cases = [
+            ("%\nO1234 (PART)\nG21\n", Some(1234)),
+            ("(NOTE)\n:0097\nG21\n", Some(97)),
+            ("G21\nO1234\n", None),
+            ("O1000 G0 X1\n", None),
+            ("O<sub> sub\n", None),
+        ];
+        for (text, expected) in cases {
+            assert_eq!(super::program_number(text), expected, "{text:?}");
         }
     }
 
