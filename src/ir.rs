@@ -450,8 +450,11 @@ pub enum CycleKind {
     G85,
     /// G86 bore, spindle stop, rapid out.
     G86,
-    /// G87 back bore.
+    /// G87 back bore (LinuxCNC's: I, J, K).
     G87,
+    /// G87 back bore as Fanuc's: shifted by Q down past the bore to R
+    /// (below the bottom word, which is the top of the back bore), fed up.
+    G87Fanuc,
     /// G88 bore, dwell, spindle stop, manual retract (program stop).
     G88,
     /// G89 bore, dwell, feed out.
@@ -470,7 +473,7 @@ impl CycleKind {
             CycleKind::G84 => 84,
             CycleKind::G85 => 85,
             CycleKind::G86 => 86,
-            CycleKind::G87 => 87,
+            CycleKind::G87 | CycleKind::G87Fanuc => 87,
             CycleKind::G88 => 88,
             CycleKind::G89 => 89,
         }

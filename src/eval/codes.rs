@@ -546,8 +546,12 @@ impl Evaluator<'_> {
             return self.macro_call(w, at);
         }
         self.feed_speed_tool(w, span)?;
-        let fanuc_g76 = t == 760 && self.options.from == Flavour::Fanuc;
-        if let Some(kind) = super::cycle::kind_of(t).or(fanuc_g76.then_some(ir::CycleKind::G76)) {
+        let kind = match (t, self.options.from) {
+            (760, Flavour::Fanuc) => Some(ir::CycleKind::G76),
+            (870, Flavour::Fanuc) => Some(ir::CycleKind::G87Fanuc),
+            _ => super::cycle::kind_of(t),
+        };
+        if let Some(kind) = kind {
             self.cycle_block(kind, Some(at), w, span)?;
             return self.unused_words(w, code).map(|_| Flow::Next);
         }

@@ -50,6 +50,7 @@ fn takes_dwell(kind: CycleKind) -> bool {
     matches!(
         kind,
         CycleKind::G76
+            | CycleKind::G87Fanuc
             | CycleKind::G82
             | CycleKind::G84
             | CycleKind::G74
@@ -76,7 +77,9 @@ fn spindle_needed(kind: CycleKind) -> Option<Option<ir::Spindle>> {
     match kind {
         CycleKind::G84 => Some(Some(ir::Spindle::Clockwise)),
         CycleKind::G74 => Some(Some(ir::Spindle::CounterClockwise)),
-        CycleKind::G76 | CycleKind::G86 | CycleKind::G87 | CycleKind::G88 => Some(None),
+        CycleKind::G76 | CycleKind::G86 | CycleKind::G87 | CycleKind::G87Fanuc | CycleKind::G88 => {
+            Some(None)
+        }
         _ => None,
     }
 }
@@ -230,7 +233,10 @@ impl Evaluator<'_> {
         n: Axis,
         at_code: Span,
     ) -> Result<(), Diagnostic> {
-        self.check_levels(r, depth, n, at_code)?;
+        match kind {
+            CycleKind::G87Fanuc => self.check_back_bore(r, depth, n, at_code)?,
+            _ => self.check_levels(r, depth, n, at_code)?,
+        }
         if let Some(needed) = spindle_needed(kind) {
             self.check_spindle(kind, needed, at_code)?;
         }
@@ -253,7 +259,7 @@ impl Evaluator<'_> {
         repeat: bool,
         at_code: Span,
     ) -> Result<Option<f64>, Diagnostic> {
-        if kind == CycleKind::G76 {
+        if matches!(kind, CycleKind::G76 | CycleKind::G87Fanuc) {
             return self.boring_shift(w, repeat);
         }
         if !pecks(kind) {
@@ -382,6 +388,19 @@ impl Evaluator<'_> {
         Ok((ijk, repeats))
     }
 
+    /// Fanuc's G87: R (where the tool goes down to) below the top of the
+    /// back bore (under G91 measured up from R).
+    fn check_back_bore(&self, r: f64, top: f64, n: Axis, at_code: Span) -> Result<(), Diagnostic> {
+        let incremental = self.modal.distance == ir::Distance::Incremental;
+        if (incremental && top <= 0.0) || (!incremental && r >= top) {
+            let kind = CycleBlockErrorKind::BackBoreLevels {
+                axis: n.letter() as char,
+            };
+            return Err(CycleBlockError::new(kind, at_code).into());
+        }
+        Ok(())
+    }
+
     /// R above the hole's bottom (under G91 the depth goes down from R).
     fn check_levels(&self, r: f64, depth: f64, n: Axis, at_code: Span) -> Result<(), Diagnostic> {
         let axis = n.letter() as char;
@@ -452,6 +471,10 @@ pub enum CycleBlockErrorKind {
     BottomAboveR {
         axis: char,
         depth: f64,
+    },
+    /// Fanuc's G87 with R not below the top of the back bore.
+    BackBoreLevels {
+        axis: char,
     },
     NoFeed,
     /// A cycle under G93.
@@ -525,6 +548,12 @@ impl Wording for CycleBlockErrorKind {
                 at,
                 format!("under G91 {axis}{depth} is measured from R, and goes up"),
             ),
+            CycleBlockErrorKind::BackBoreLevels { axis } => error(
+                "G87 with R not below the back bore",
+                at,
+                format!("Fanuc's G87 goes down to R under the part and feeds up to {axis}"),
+            )
+            .with_help("R is the level below the part, the depth word the top of the back bore: `G87 X0 Y0 Z-10 R-25 Q0.5`"),
             CycleBlockErrorKind::NoFeed => error(
                 "a canned cycle before any feed rate",
                 at,
