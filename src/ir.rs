@@ -435,6 +435,9 @@ pub enum CycleKind {
     G73,
     /// G74 left-hand tapping.
     G74,
+    /// G76 fine boring (Fanuc's): at the bottom an oriented spindle stop,
+    /// a shift of Q away from the wall, and out.
+    G76,
     /// G81 drill.
     G81,
     /// G82 drill with dwell.
@@ -447,8 +450,11 @@ pub enum CycleKind {
     G85,
     /// G86 bore, spindle stop, rapid out.
     G86,
-    /// G87 back bore.
+    /// G87 back bore (LinuxCNC's: I, J, K).
     G87,
+    /// G87 back bore as Fanuc's: shifted by Q down past the bore to R
+    /// (below the bottom word, which is the top of the back bore), fed up.
+    G87Fanuc,
     /// G88 bore, dwell, spindle stop, manual retract (program stop).
     G88,
     /// G89 bore, dwell, feed out.
@@ -460,13 +466,14 @@ impl CycleKind {
         match self {
             CycleKind::G73 => 73,
             CycleKind::G74 => 74,
+            CycleKind::G76 => 76,
             CycleKind::G81 => 81,
             CycleKind::G82 => 82,
             CycleKind::G83 => 83,
             CycleKind::G84 => 84,
             CycleKind::G85 => 85,
             CycleKind::G86 => 86,
-            CycleKind::G87 => 87,
+            CycleKind::G87 | CycleKind::G87Fanuc => 87,
             CycleKind::G88 => 88,
             CycleKind::G89 => 89,
         }
@@ -486,7 +493,7 @@ pub struct Cycle {
     pub at: Axes,
     /// The R level, on the normal axis.
     pub r: f64,
-    /// Peck depth (G73, G83).
+    /// Peck depth (G73, G83); G76's shift off the wall.
     pub q: Option<f64>,
     /// Dwell at the bottom, seconds (G82, G84, G74, G86, G88, G89).
     pub dwell: Option<f64>,

@@ -193,3 +193,57 @@ fn the_binary_writes_what_the_session_compiles() {
     assert!(ger.status.success());
     assert_eq!(String::from_utf8(ger.stdout).unwrap(), ours);
 }
+
+/// A Fanuc Macro B program named `.nc`, with no flag: its `WHILE`, `IF`,
+/// `G65` and vacant arguments are Fanuc's (SPEC §2.8), so its tool path
+/// is the one `--from fanuc` gives.
+#[test]
+fn a_macro_b_program_needs_no_flag() {
+    let mut fs = Memory::new();
+    fs.insert(
+        "/shop/holes.nc",
+        "G21 G90 G17\n\
+         #1 = 0\n\
+         WHILE [#1 LT 3] DO1\n\
+         G65 P9010 X[#1 * 10] Y5.\n\
+         #1 = #1 + 1\n\
+         END1\n\
+         IF [#1 EQ 3] GOTO 20\n\
+         G0 X99.\n\
+         N20 G4 P500\n\
+         M30\n\
+         O9010\n\
+         IF [#3 NE #0] GOTO 5\n\
+         #3 = -2.\n\
+         N5 G0 X#24 Y#25 Z5.\n\
+         G1 Z#3 F100.\n\
+         G0 Z5.\n\
+         M99\n",
+    );
+    let path_with = |options: CompileOptions| {
+        let session = Session::new(&fs, options, Search::default()).expect("valid options");
+        let mut job = session
+            .load(Program::Path(Path::new("/shop/holes.nc")))
+            .unwrap_or_else(|e| panic!("{e}"));
+        let outcome = job.outcome();
+        outcome
+            .tool_path
+            .unwrap_or_else(|| panic!("{:?}", outcome.diagnostics))
+    };
+    let fanuc = CompileOptions {
+        from: Some(ger::eval::Flavour::Fanuc),
+        ..CompileOptions::default()
+    };
+    let (plain, flagged) = (path_with(CompileOptions::default()), path_with(fanuc));
+    let feeds: Vec<_> = plain
+        .moves
+        .iter()
+        .filter(|m| matches!(m.kind, MoveKind::Feed))
+        .map(|m| m.end)
+        .collect();
+    assert_eq!(
+        feeds,
+        [[0.0, 5.0, -2.0], [10.0, 5.0, -2.0], [20.0, 5.0, -2.0]]
+    );
+    assert_eq!(plain, flagged);
+}

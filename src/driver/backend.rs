@@ -39,6 +39,14 @@ impl SourceFacts<'_> {
         }
     }
 
+    /// The O number the program starts with, if any.
+    pub(super) fn program_number(&self) -> Option<u32> {
+        match self {
+            SourceFacts::Text(text) => super::scan::program_number(text),
+            SourceFacts::Known(file) => file.program_number,
+        }
+    }
+
     pub(super) fn decimals(&self) -> usize {
         match self {
             SourceFacts::Text(text) => input_decimals(text),
@@ -179,6 +187,10 @@ impl<'s> Backend<'s> {
                 Some(_) => Printer::Stage(emit::StagePrinter::new(units, len, file)),
                 None => {
                     let mut emit = self.options.emit.clone();
+                    // A Fanuc user's O1234 stays O1234.
+                    if let Some(number) = self.source.program_number() {
+                        emit.program_number = number;
+                    }
                     if emit.decimals.is_none() {
                         emit.decimals = Some(grid_decimals(self.source.decimals(), units));
                     }

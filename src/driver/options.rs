@@ -83,6 +83,7 @@ impl CompileOptions {
             (Target::Fanuc, _) => (F::Fanuc, Chosen::Target),
             (Target::Generic, Some(Clue::GrblCommand)) => (F::Grbl, Chosen::GrblCommand),
             (Target::Generic, Some(Clue::FanucTape)) => (F::Fanuc, Chosen::FanucTape),
+            (Target::Generic, Some(Clue::MacroB)) => (F::Fanuc, Chosen::MacroB),
             (Target::Generic, None) => (F::Generic, Chosen::Nothing),
         }
     }
@@ -110,6 +111,8 @@ pub enum Clue {
     GrblCommand,
     /// A `%` line first and a line `O1234` (or `:1234`): a Fanuc tape.
     FanucTape,
+    /// A line of Fanuc's Macro B: `IF [`, `WHILE [`, `GOTO`, `G65`.
+    MacroB,
 }
 
 /// Options no compile can run with: the command line's usage errors,
@@ -205,6 +208,12 @@ mod flavour_tests {
                 "a.nc",
                 Some(Clue::FanucTape),
                 (Flavour::Fanuc, Chosen::FanucTape),
+            ),
+            (
+                with(None, Target::Generic),
+                "a.nc",
+                Some(Clue::MacroB),
+                (Flavour::Fanuc, Chosen::MacroB),
             ),
             (
                 with(None, Target::Generic),

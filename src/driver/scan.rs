@@ -95,6 +95,8 @@ pub struct FileScan {
     pub partial: bool,
     /// What the file's first lines say of its controller ([`clue`]).
     pub clue: Option<Clue>,
+    /// The O number the program starts with ([`program_number`]).
+    pub program_number: Option<u32>,
 }
 
 /// The bytes at the start of a file [`clue`] looks at (with the rest of
@@ -117,6 +119,7 @@ pub fn clue(text: &str) -> Option<Clue> {
     let lines = head.lines().map(str::trim).filter(|l| !l.is_empty());
     let tape = lines.clone().next().is_some_and(|l| l.starts_with('%'));
     let mut program_number = false;
+    let mut macro_b = false;
     for line in lines {
         let bytes = line.as_bytes();
         if let [b'$', b'H' | b'h', ..] | [b'$', b'J' | b'j', b'=', ..] = bytes {
@@ -125,8 +128,75 @@ pub fn clue(text: &str) -> Option<Clue> {
         if let [b'O' | b'o' | b':', d, ..] = bytes {
             program_number |= d.is_ascii_digit();
         }
+        macro_b = macro_b || is_macro_b(line);
     }
-    (tape && program_number).then_some(Clue::FanucTape)
+    match (tape && program_number, macro_b) {
+        (true, _) => Some(Clue::FanucTape),
+        (false, true) => Some(Clue::MacroB),
+        (false, false) => None,
+    }
+}
+
+/// The program's own number: an `O1234` (or `:1234`) line before any
+/// other words, after `%` lines and comments (a Fanuc program's head).
+pub fn program_number(text: &str) -> Option<u32> {
+    let lines = text.lines().map(str::trim).filter(|l| !l.is_empty());
+    for line in lines {
+        if line.starts_with(['%', '(', ';']) {
+            continue;
+        }
+        let rest = line.strip_prefix(['O', 'o', ':'])?;
+        let digits = rest
+            .find(|c: char| !c.is_ascii_digit())
+            .map_or(rest, |end| &rest[..end]);
+        let after = rest[digits.len()..].trim_start();
+        let alone = after.is_empty() || after.starts_with(['(', ';']);
+        return (alone && !digits.is_empty())
+            .then(|| digits.parse().ok())
+            .flatten()
+            .filter(|&n| n < 10_000);
+    }
+    None
+}
+
+/// A line of Fanuc's Macro B (SPEC §2.8): `IF [`, `WHILE [`, `GOTO n`
+/// first (after a block delete and an N label), or a `G65` word. LinuxCNC
+/// writes its control flow with o-words, so no program of its has one.
+fn is_macro_b(line: &str) -> bool {
+    let code: String = line
+        .split(['(', ';'])
+        .next()
+        .unwrap_or("")
+        .chars()
+        .filter(|c| !c.is_ascii_whitespace())
+        .map(|c| c.to_ascii_uppercase())
+        .collect();
+    let body = code.trim_start_matches('/');
+    let body = match body.strip_prefix('N') {
+        Some(rest) => rest.trim_start_matches(|c: char| c.is_ascii_digit()),
+        None => body,
+    };
+    let control = ["IF[", "WHILE[", "GOTO"]
+        .iter()
+        .any(|k| body.starts_with(k));
+    control || has_g65(body)
+}
+
+/// A `G65` word among a line's plain words (those before any `#` or `[`).
+fn has_g65(code: &str) -> bool {
+    let plain = code.split(['#', '[']).next().unwrap_or("");
+    let mut rest = plain;
+    while let Some(at) = rest.find('G') {
+        let after = &rest[at + 1..];
+        let len = after
+            .find(|c: char| !(c.is_ascii_digit() || c == '.'))
+            .unwrap_or(after.len());
+        if after[..len].parse::<f64>() == Ok(65.0) {
+            return true;
+        }
+        rest = &after[len..];
+    }
+    false
 }
 
 impl FileScan {
@@ -322,6 +392,7 @@ pub fn scan_path(fs: &dyn FileSystem, path: &Path) -> std::io::Result<Option<Fil
             decimals: a.decimals.max(b.decimals),
             partial: false,
             clue: a.clue,
+            program_number: a.program_number,
         }),
         _ => None,
     })
@@ -371,7 +442,7 @@ fn scan_blocks(mut blocks: RawBlocks<'_>, most: usize) -> std::io::Result<Option
         };
         decimals = decimals.max(input_decimals(text));
         if starts && head.is_none() {
-            head = Some(clue(text));
+            head = Some((clue(text), program_number(text)));
         }
         len += text.len();
         if len >= most {
@@ -382,7 +453,8 @@ fn scan_blocks(mut blocks: RawBlocks<'_>, most: usize) -> std::io::Result<Option
         len,
         decimals,
         partial: false,
-        clue: head.flatten(),
+        clue: head.and_then(|h| h.0),
+        program_number: head.and_then(|h| h.1),
     }))
 }
 
@@ -594,9 +666,33 @@ mod clue_tests {
             ("O1000\nG21\nM30\n", None),
             ("$32=1\nG21\n", None),
             ("G21 (O100)\n", None),
+            // Macro B: a control word first, or a G65 word.
+            ("#1 = 0\nWHILE [#1 LT 3] DO1\n", Some(Clue::MacroB)),
+            ("N20 IF [#1 EQ 0] GOTO 10\n", Some(Clue::MacroB)),
+            ("/ goto 30\n", Some(Clue::MacroB)),
+            ("G0 X1 G65 P9010 A2.\n", Some(Clue::MacroB)),
+            ("%\nO1000\nG65 P9010\n", Some(Clue::FanucTape)),
+            // Not Macro B: a comment, another code, LinuxCNC's o-words.
+            ("(IF [#1 EQ 0] GOTO 10) G650 X1\n", None),
+            ("G1 X65 G64 P0.01\n", None),
+            ("o100 if [#1 EQ 0]\no100 endif\n", None),
         ];
         for (text, expected) in cases {
             assert_eq!(clue(text), expected, "{text:?}");
+        }
+    }
+
+    #[test]
+    fn a_program_number_heads_the_program() {
+        let cases = [
+            ("%\nO1234 (PART)\nG21\n", Some(1234)),
+            ("(NOTE)\n:0097\nG21\n", Some(97)),
+            ("G21\nO1234\n", None),
+            ("O1000 G0 X1\n", None),
+            ("O<sub> sub\n", None),
+        ];
+        for (text, expected) in cases {
+            assert_eq!(super::program_number(text), expected, "{text:?}");
         }
     }
 

@@ -27,7 +27,7 @@ fn unsupported_g(t: u32) -> &'static str {
         541 => "extended work offsets (G54.1 P…) are not supported; use G54–G59.3",
         680 | 690 => "coordinate rotation is not supported",
         500 | 510 => "scaling is not supported",
-        650 => "G65 is Fanuc's macro call: pass --from fanuc",
+        650 => "G65 is Fanuc's macro call, read in plain G-code (not in .egc)",
         950 => "feed per revolution (G95) is not supported: use G94 or G93",
         310 | 382..=385 => "a probing move stops where its switch trips, which only the machine knows; what follows it cannot be worked out",
         _ => "ger does not know this code",
@@ -168,8 +168,9 @@ impl Evaluator<'_> {
     }
 
     /// A line with Fanuc's `G65` ([`ast::MacroCall`]): the statements
-    /// before it, then the call ([`Self::macro_call`]). Without `--from
-    /// fanuc` the `G65` is a G code like any other, which says so.
+    /// before it, then the call ([`Self::macro_call`]) in any plain file,
+    /// whatever `--from` says (G65 means nothing else to any controller
+    /// ger reads); in `.egc` a G code like any other, which says so.
     pub(super) fn exec_macro_call(&mut self, call: &ast::MacroCall) -> Flow {
         self.this_line.machine_coordinates = false;
         self.this_line.inverse_feed = false;
@@ -182,9 +183,9 @@ impl Evaluator<'_> {
             }
         }
         if flow == Flow::Next {
-            flow = match self.options.from {
-                Flavour::Fanuc => self.run_macro_call(call),
-                _ => self.exec_line_stmt(LineStmt {
+            flow = match self.options.plain {
+                true => self.run_macro_call(call),
+                false => self.exec_line_stmt(LineStmt {
                     code: Some(&call.code),
                     args: &call.args,
                 }),
@@ -541,11 +542,16 @@ impl Evaluator<'_> {
         let code = Some((b'G', t));
         // A computed `G#1` that is 65 ([`Self::exec_macro_call`] runs a
         // written one): its F, S and T are arguments.
-        if t == 650 && self.options.from == Flavour::Fanuc {
+        if t == 650 && self.options.plain {
             return self.macro_call(w, at);
         }
         self.feed_speed_tool(w, span)?;
-        if let Some(kind) = super::cycle::kind_of(t) {
+        let kind = match (t, self.options.from) {
+            (760, Flavour::Fanuc) => Some(ir::CycleKind::G76),
+            (870, Flavour::Fanuc) => Some(ir::CycleKind::G87Fanuc),
+            _ => super::cycle::kind_of(t),
+        };
+        if let Some(kind) = kind {
             self.cycle_block(kind, Some(at), w, span)?;
             return self.unused_words(w, code).map(|_| Flow::Next);
         }

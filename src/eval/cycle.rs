@@ -49,7 +49,9 @@ fn missing(kind: CycleKind, what: char, help: &'static str, at: Span) -> Diagnos
 fn takes_dwell(kind: CycleKind) -> bool {
     matches!(
         kind,
-        CycleKind::G82
+        CycleKind::G76
+            | CycleKind::G87Fanuc
+            | CycleKind::G82
             | CycleKind::G84
             | CycleKind::G74
             | CycleKind::G86
@@ -75,7 +77,9 @@ fn spindle_needed(kind: CycleKind) -> Option<Option<ir::Spindle>> {
     match kind {
         CycleKind::G84 => Some(Some(ir::Spindle::Clockwise)),
         CycleKind::G74 => Some(Some(ir::Spindle::CounterClockwise)),
-        CycleKind::G86 | CycleKind::G87 | CycleKind::G88 => Some(None),
+        CycleKind::G76 | CycleKind::G86 | CycleKind::G87 | CycleKind::G87Fanuc | CycleKind::G88 => {
+            Some(None)
+        }
         _ => None,
     }
 }
@@ -167,7 +171,7 @@ impl Evaluator<'_> {
         let (ijk, repeats) = self.offsets_and_repeats(kind, w, repeat, at_code)?;
         self.check_machine_for_cycle(kind, r, depth, n, at_code)?;
         let pecks = match q {
-            Some(q) if self.modal.distance == ir::Distance::Absolute => {
+            Some(q) if pecks(kind) && self.modal.distance == ir::Distance::Absolute => {
                 Some(count_pecks(r, depth, q).ok_or_else(|| -> Diagnostic {
                     CycleBlockError::new(CycleBlockErrorKind::TooManyPecks, at_code).into()
                 })?)
@@ -229,7 +233,10 @@ impl Evaluator<'_> {
         n: Axis,
         at_code: Span,
     ) -> Result<(), Diagnostic> {
-        self.check_levels(r, depth, n, at_code)?;
+        match kind {
+            CycleKind::G87Fanuc => self.check_back_bore(r, depth, n, at_code)?,
+            _ => self.check_levels(r, depth, n, at_code)?,
+        }
         if let Some(needed) = spindle_needed(kind) {
             self.check_spindle(kind, needed, at_code)?;
         }
@@ -252,6 +259,9 @@ impl Evaluator<'_> {
         repeat: bool,
         at_code: Span,
     ) -> Result<Option<f64>, Diagnostic> {
+        if matches!(kind, CycleKind::G76 | CycleKind::G87Fanuc) {
+            return self.boring_shift(w, repeat);
+        }
         if !pecks(kind) {
             return Ok(None);
         }
@@ -268,6 +278,18 @@ impl Evaluator<'_> {
         q.map(Some).ok_or_else(|| missing(kind, 'Q', help, at_code))
     }
 
+    /// Fanuc's G76's Q: how far the tool moves off the wall at the bottom
+    /// before it leaves (0 when not given, as on Fanuc).
+    fn boring_shift(&self, w: &mut WordValues, repeat: bool) -> Result<Option<f64>, Diagnostic> {
+        match w.take(b'Q') {
+            Some((q, qspan)) if q < 0.0 => {
+                Err(CycleBlockError::new(CycleBlockErrorKind::NegativeShift, qspan).into())
+            }
+            Some((q, _)) => Ok(Some(q)),
+            None => Ok(Some(if repeat { self.cycles.sticky.q } else { 0.0 })),
+        }
+    }
+
     /// The dwell at the bottom, in seconds, of a cycle that dwells (its P,
     /// or the last block's); `None` for one that does not.
     fn cycle_dwell(
@@ -280,7 +302,20 @@ impl Evaluator<'_> {
         // Fanuc's G86 (and Haas's) has no dwell word: a P there is refused
         // as any unexpected word is.
         let fanuc_g86 = kind == CycleKind::G86 && self.options.from == Flavour::Fanuc;
+        // Haas's G81 and G73 (read as Fanuc's) dwell when given P; rs274
+        // refuses it. Only then, and on a repeat of a block that did.
+        let haas =
+            matches!(kind, CycleKind::G81 | CycleKind::G73) && self.options.from == Flavour::Fanuc;
+        if haas {
+            let p = match w.take_number(b'P') {
+                Some((p, pspan, _)) => Some(self.seconds(p, pspan)?),
+                None => self.cycles.last_dwell.filter(|_| repeat),
+            };
+            self.cycles.last_dwell = p;
+            return Ok(p);
+        }
         if !takes_dwell(kind) || fanuc_g86 {
+            self.cycles.last_dwell = None;
             return Ok(None);
         }
         let p = match w.take_number(b'P') {
@@ -288,6 +323,7 @@ impl Evaluator<'_> {
             None => (repeat || !needs_dwell(kind)).then_some(self.cycles.sticky.p),
         };
         let help = "P is the dwell at the bottom in seconds: `G82 X10 Z-3 R1 P0.5`";
+        self.cycles.last_dwell = p;
         p.map(Some).ok_or_else(|| missing(kind, 'P', help, at_code))
     }
 
@@ -352,6 +388,19 @@ impl Evaluator<'_> {
         Ok((ijk, repeats))
     }
 
+    /// Fanuc's G87: R (where the tool goes down to) below the top of the
+    /// back bore (under G91 measured up from R).
+    fn check_back_bore(&self, r: f64, top: f64, n: Axis, at_code: Span) -> Result<(), Diagnostic> {
+        let incremental = self.modal.distance == ir::Distance::Incremental;
+        if (incremental && top <= 0.0) || (!incremental && r >= top) {
+            let kind = CycleBlockErrorKind::BackBoreLevels {
+                axis: n.letter() as char,
+            };
+            return Err(CycleBlockError::new(kind, at_code).into());
+        }
+        Ok(())
+    }
+
     /// R above the hole's bottom (under G91 the depth goes down from R).
     fn check_levels(&self, r: f64, depth: f64, n: Axis, at_code: Span) -> Result<(), Diagnostic> {
         let axis = n.letter() as char;
@@ -409,6 +458,8 @@ pub enum CycleBlockErrorKind {
         help: &'static str,
     },
     PeckNotPositive,
+    /// G76's Q below 0.
+    NegativeShift,
     BothLAndK,
     RepeatCount,
     RBelowBottom {
@@ -420,6 +471,10 @@ pub enum CycleBlockErrorKind {
     BottomAboveR {
         axis: char,
         depth: f64,
+    },
+    /// Fanuc's G87 with R not below the top of the back bore.
+    BackBoreLevels {
+        axis: char,
     },
     NoFeed,
     /// A cycle under G93.
@@ -466,6 +521,12 @@ impl Wording for CycleBlockErrorKind {
                 at,
                 "Q must be more than 0",
             ),
+            CycleBlockErrorKind::NegativeShift => error(
+                "a negative shift",
+                at,
+                "G76's Q is how far the tool moves off the wall: 0 or more",
+            )
+            .with_note("the direction is the machine's (a parameter): ger shifts along +X in G17"),
             CycleBlockErrorKind::BothLAndK => error(
                 "both L and K",
                 at,
@@ -487,6 +548,12 @@ impl Wording for CycleBlockErrorKind {
                 at,
                 format!("under G91 {axis}{depth} is measured from R, and goes up"),
             ),
+            CycleBlockErrorKind::BackBoreLevels { axis } => error(
+                "G87 with R not below the back bore",
+                at,
+                format!("Fanuc's G87 goes down to R under the part and feeds up to {axis}"),
+            )
+            .with_help("R is the level below the part, the depth word the top of the back bore: `G87 X0 Y0 Z-10 R-25 Q0.5`"),
             CycleBlockErrorKind::NoFeed => error(
                 "a canned cycle before any feed rate",
                 at,

@@ -174,9 +174,12 @@ impl Wording for EvalErrorKind {
                 "#0 is always vacant and #1000 and up are the machine's",
             ),
             EvalErrorKind::Alarm { number, message } => error(
-                format!("alarm {number}: {message}"),
+                match message.is_empty() {
+                    true => format!("alarm {number}"),
+                    false => message.clone(),
+                },
                 at,
-                "the program raises this alarm (#3000)",
+                format!("the program raises alarm {number} (#3000)"),
             )
             .with_note("on the machine the program stops here; ger writes no output"),
             EvalErrorKind::AssignToPi => error("`PI` is a constant", at, "cannot assign to it"),

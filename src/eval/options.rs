@@ -136,6 +136,9 @@ pub enum Chosen {
     GrblCommand,
     /// A `%` tape with an `O` number.
     FanucTape,
+    /// Fanuc's Macro B (`IF`, `WHILE … DO`, `GOTO`, `G65`) in the file's
+    /// first lines.
+    MacroB,
     /// Nothing decided.
     Nothing,
 }
@@ -149,6 +152,7 @@ impl Chosen {
             Chosen::Target => "the --target's controller",
             Chosen::GrblCommand => "the file has grbl's `$` commands",
             Chosen::FanucTape => "the file is a `%` tape with an O number, as Fanuc's are",
+            Chosen::MacroB => "the file has Fanuc's Macro B (`IF`, `WHILE … DO`, `GOTO`, `G65`)",
             Chosen::Nothing => "nothing in the file or the options names a controller",
         }
     }

@@ -333,6 +333,9 @@ pub(super) struct CycleState {
     pub(super) sticky: Sticky,
     /// The program has said G98 or G99.
     pub(super) return_level_stated: bool,
+    /// The last cycle block's dwell: a repeat of a G81 or G73 that gave
+    /// one (Haas's) dwells again.
+    pub(super) last_dwell: Option<f64>,
 }
 
 /// What holds for the line being run only, set as it starts.

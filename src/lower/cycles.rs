@@ -14,6 +14,13 @@
 //!   first hole of a block when that is above R, else to the clear level,
 //!   then down to R), the body of the cycle, and out to the clear level.
 //!
+//! Fanuc's G76 (fine boring) and G87 (back boring) are expanded even when
+//! cycles are kept (LinuxCNC's are threading and another back bore): at
+//! the bottom of a G76, its dwell, M19 (the oriented stop), a rapid of Q
+//! along +a off the wall, out, back over the hole, the spindle on again;
+//! a G87 goes down to R so shifted, and back up the same way from the top
+//! of the back bore (its depth word), to the initial level (G98 only).
+//!
 //! G87 (back boring: oriented spindle stops) and G88 (the operator takes
 //! the tool out by hand) have no expansion ger's output can express; they
 //! are errors unless kept. So is tapping outside G17, where rs274 feeds to
@@ -93,6 +100,8 @@ impl CyclesPass {
                     code: c.kind.code(),
                 }
             }
+            CycleKind::G73 if self.keep && c.dwell.is_some() => CycleError::PeckDwellKept,
+            CycleKind::G87Fanuc if self.level == ReturnLevel::R => CycleError::BackBoreToR,
             CycleKind::G73 | CycleKind::G83 if !self.keep && self.clearance.is_none() => {
                 CycleError::PeckUnits {
                     code: c.kind.code(),
@@ -106,6 +115,9 @@ impl CyclesPass {
     fn cycle(&mut self, c: &ir::Cycle, stmt: &Stmt, out: &mut Out<'_>) -> Result<(), LowerError> {
         let span = stmt.span;
         self.check(c, span)?;
+        // LinuxCNC's G76 is threading: Fanuc's fine boring is always
+        // expanded.
+        let keep = self.keep && !matches!(c.kind, CycleKind::G76 | CycleKind::G87Fanuc);
         let (a, b, n) = self.at.plane.axes();
         let axes = [a, b, n];
         let level = self.current(n, span)?;
@@ -133,8 +145,8 @@ impl CyclesPass {
         };
         let mut old = initial;
         let mut level = level;
-        if old < r {
-            if !self.keep {
+        if old < r && c.kind != CycleKind::G87Fanuc {
+            if !keep {
                 emit.rapid(None, Some(r));
             }
             old = r;
@@ -153,7 +165,7 @@ impl CyclesPass {
         let pecks = self.pecks_within_budget(c, r, bottom, span)?;
         for i in 0..c.repeats {
             hole = [hole[0] + step[0], hole[1] + step[1]];
-            if self.keep {
+            if keep {
                 self.keep_hole(c, &block, hole, i == 0, &mut emit);
                 continue;
             }
@@ -162,7 +174,10 @@ impl CyclesPass {
             } else {
                 emit.rapid(Some(hole), Some(clear));
             }
-            emit.rapid(None, Some(r));
+            // Fanuc's back bore goes down to R off the wall, in its body.
+            if c.kind != CycleKind::G87Fanuc {
+                emit.rapid(None, Some(r));
+            }
             self.body(c, &block, pecks.unwrap_or(0), &mut emit);
         }
         emit.done();
@@ -253,7 +268,13 @@ impl CyclesPass {
             }
         }
         emit.absolute();
+        // Haas's G81 P is everyone's G82.
+        let kind = match (c.kind, c.dwell) {
+            (CycleKind::G81, Some(_)) => CycleKind::G82,
+            (kind, _) => kind,
+        };
         emit.push(Op::Cycle(Box::new(ir::Cycle {
+            kind,
             at,
             r: block.r,
             repeats: 1,
@@ -269,12 +290,34 @@ impl CyclesPass {
         emit.now = [Some(hole[0]), Some(hole[1]), Some(block.clear)];
     }
 
+    /// Fanuc's oriented stop (M19), a rapid of Q off the wall, along the
+    /// plane's first axis plus (Fanuc's default, parameter RD1/RD2 = 0:
+    /// +X in G17), to `level`, back over the hole, the spindle on again.
+    fn shifted_to(&self, c: &ir::Cycle, level: f64, emit: &mut Emitter<'_, '_, '_>) {
+        emit.push(Op::Passthrough(ir::Passthrough::MCode {
+            number: 19,
+            words: Vec::new(),
+        }));
+        let [a, b, _] = emit.now;
+        let shift = c.q.unwrap_or(0.0);
+        if let (Some(a), Some(b)) = (a, b) {
+            emit.rapid(Some([a + shift, b]), None);
+            emit.rapid(None, Some(level));
+            emit.rapid(Some([a, b]), None);
+        }
+        emit.push(Op::Spindle(self.spindle));
+    }
+
     /// One hole's cycle, from R over the hole.
     fn body(&mut self, c: &ir::Cycle, k: &Block, pecks: u32, emit: &mut Emitter<'_, '_, '_>) {
         let dwell = c.dwell.unwrap_or(0.0);
         match c.kind {
             CycleKind::G81 => {
                 emit.feed(k.bottom);
+                // Haas's G81 P dwells as G82 does.
+                if c.dwell.is_some() {
+                    emit.push(Op::Dwell(dwell));
+                }
                 emit.rapid(None, Some(k.clear));
             }
             CycleKind::G82 => {
@@ -295,7 +338,26 @@ impl CyclesPass {
                     depth -= q;
                 }
                 emit.feed(k.bottom);
+                if c.dwell.is_some() {
+                    emit.push(Op::Dwell(dwell));
+                }
                 emit.rapid(None, Some(k.clear));
+            }
+            CycleKind::G76 => {
+                emit.feed(k.bottom);
+                if c.dwell.is_some_and(|d| d > 0.0) {
+                    emit.push(Op::Dwell(dwell));
+                }
+                self.shifted_to(c, k.clear, emit);
+            }
+            CycleKind::G87Fanuc => {
+                // Down past the bore off the wall, fed up to the top.
+                self.shifted_to(c, k.r, emit);
+                emit.feed(k.bottom);
+                if c.dwell.is_some_and(|d| d > 0.0) {
+                    emit.push(Op::Dwell(dwell));
+                }
+                self.shifted_to(c, k.clear, emit);
             }
             CycleKind::G84 | CycleKind::G74 => {
                 let (turn, back) = match c.kind {

@@ -126,6 +126,10 @@ pub enum CycleError {
     PeckUnits { code: u32 },
     /// More pecks in one hole than [`crate::eval::MAX_PECKS`].
     TooManyPecks,
+    /// Haas's G73 with a dwell kept: no other controller reads its P.
+    PeckDwellKept,
+    /// Fanuc's G87 under G99: it returns to the initial level only.
+    BackBoreToR,
     /// The cycles of the program expand to more than `limit` statements
     /// (the cycles pass's `MAX_EXPANDED`).
     TooLarge { limit: u64 },
@@ -445,6 +449,18 @@ fn cycle_diagnostic(e: &CycleError, span: Span) -> Diagnostic {
             "back boring needs oriented spindle stops (M19), which the output cannot express",
         )
         .with_help("keep the cycle for a controller that has it (`--cycles keep`)"),
+        BackBoreToR => error(
+            "Fanuc's G87 under G99",
+            span,
+            "back boring returns to the initial level only: R is below the part",
+        )
+        .with_help("write G98 before the cycle"),
+        PeckDwellKept => error(
+            "G73 with a dwell cannot be kept",
+            span,
+            "only Haas reads a dwell P on G73",
+        )
+        .with_help("leave out `--cycles keep` to have it expanded to moves and a dwell"),
         NeedsOperator { code } => error(
             format!("G{code} cannot be expanded"),
             span,

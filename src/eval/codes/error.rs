@@ -141,7 +141,7 @@ impl Wording for CodeErrorKind {
                 at,
                 "G76 is fine boring on Fanuc and threading on LinuxCNC",
             )
-            .with_help("use G86 or G89 to bore"),
+            .with_help("--from fanuc reads it as fine boring; or use G86 or G89 to bore"),
             K::DiameterMode => warning(
                 "G7: X words are diameters",
                 at,
