@@ -510,3 +510,50 @@ fn a_changed_file_is_redrawn_in_place_and_errors_shown_over_it() {
     server.kill().unwrap();
     server.wait().unwrap();
 }
+
+#[test]
+fn ctrl_c_closes_the_server_and_ends_it_with_status_0() {
+    let mut server = Command::new(env!("CARGO_BIN_EXE_ger"))
+        .args(["view", "--no-open", "--port", "0"])
+        .arg(example("star_pocket.egc"))
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    let mut url = String::new();
+    std::io::BufReader::new(server.stdout.take().unwrap())
+        .read_line(&mut url)
+        .unwrap();
+    let port: u16 = url
+        .trim()
+        .trim_start_matches("http://127.0.0.1:")
+        .trim_end_matches('/')
+        .parse()
+        .unwrap();
+    // Listening: a second listener on the port is refused.
+    assert!(std::net::TcpListener::bind(("127.0.0.1", port)).is_err());
+    let sent = Command::new("kill")
+        .args(["-INT", &server.id().to_string()])
+        .status()
+        .unwrap();
+    assert!(sent.success());
+    let started = std::time::Instant::now();
+    let status = loop {
+        if let Some(status) = server.try_wait().unwrap() {
+            break status;
+        }
+        if started.elapsed().as_secs() > 20 {
+            server.kill().unwrap();
+            panic!("ger view still running 20 s after SIGINT");
+        }
+        std::thread::sleep(std::time::Duration::from_millis(50));
+    };
+    let mut stderr = String::new();
+    std::io::Read::read_to_string(&mut server.stderr.take().unwrap(), &mut stderr).unwrap();
+    assert!(status.success(), "{status:?}\n{stderr}");
+    assert!(
+        stderr.contains(&format!("127.0.0.1:{port} closed")),
+        "{stderr}"
+    );
+    assert!(std::net::TcpListener::bind(("127.0.0.1", port)).is_ok());
+}
