@@ -494,6 +494,7 @@ fn a_changed_file_is_redrawn_in_place_and_errors_shown_over_it() {
     std::fs::write(&part, text.replace("Depth = -6", "Depth = -4")).unwrap();
     browser.wait_for(&page, "document.body.dataset.gerVersion === '2'", 10.0);
     let shallow = number(&mut browser, &page, "data-ger-removed-mm3");
+    let moves = number(&mut browser, &page, "data-ger-moves");
     assert!(
         shallow < deep * 0.9,
         "{shallow} mm³ after, {deep} mm³ before"
@@ -507,6 +508,22 @@ fn a_changed_file_is_redrawn_in_place_and_errors_shown_over_it() {
     let banner = browser.eval(&page, "document.getElementById('banner').textContent");
     assert!(banner.as_str().unwrap().contains("22"), "{banner}");
     assert_eq!(browser.eval(&page, "sourcePane.marks.get(22)"), "error");
+    // Listed, naming its line; the last picture's figures and notes kept.
+    let listed = browser.eval(
+        &page,
+        "[...document.querySelectorAll('#diagnostics .diagnostic.error')].map((e) => e.textContent)",
+    );
+    assert!(
+        listed
+            .as_array()
+            .unwrap()
+            .iter()
+            .any(|e| e.as_str().unwrap().contains("part.egc:22: error:")),
+        "{listed}"
+    );
+    let notes = browser.eval(&page, "document.getElementById('notes').textContent");
+    assert!(notes.as_str().unwrap().contains("chords"), "{notes}");
+    assert_eq!(number(&mut browser, &page, "data-ger-moves"), moves);
     server.kill().unwrap();
     server.wait().unwrap();
 }

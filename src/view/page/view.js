@@ -225,23 +225,20 @@ function project(m, x, y, z, w, h) {
 
 const STOCK_VS = `#version 300 es
 uniform highp sampler2D heights;
+uniform highp sampler2D slopes;
 uniform mat4 mvp;
 uniform vec2 origin, cell;
 uniform int nx;
 out vec3 normal;
 out float depth;
 uniform float top, fullDepth;
-float h(int i, int j) {
-  ivec2 s = textureSize(heights, 0);
-  return texelFetch(heights, ivec2(clamp(i, 0, s.x - 1), clamp(j, 0, s.y - 1)), 0).r;
-}
 void main() {
-  int i = gl_VertexID % nx, j = gl_VertexID / nx;
-  float z = h(i, j);
-  normal = normalize(vec3((h(i - 1, j) - h(i + 1, j)) / (2.0 * cell.x),
-                          (h(i, j - 1) - h(i, j + 1)) / (2.0 * cell.y), 1.0));
+  ivec2 at = ivec2(gl_VertexID % nx, gl_VertexID / nx);
+  float z = texelFetch(heights, at, 0).r;
+  vec2 slope = texelFetch(slopes, at, 0).rg;
+  normal = normalize(vec3(-slope, 1.0));
   depth = (top - z) / max(fullDepth, 1e-6);
-  gl_Position = mvp * vec4(origin + (vec2(i, j) + 0.5) * cell, z, 1.0);
+  gl_Position = mvp * vec4(origin + (vec2(at) + 0.5) * cell, z, 1.0);
 }`;
 const STOCK_FS = `#version 300 es
 precision highp float;
@@ -328,7 +325,7 @@ function setupGl() {
     stock, lines, plain,
     pathVao: gl.createVertexArray(), posBuf: gl.createBuffer(), infoBuf: gl.createBuffer(),
     litBuf: gl.createBuffer(), stockVao: gl.createVertexArray(), indexBuf: gl.createBuffer(),
-    heightTex: gl.createTexture(), plainVao: gl.createVertexArray(), plainBuf: gl.createBuffer(),
+    heightTex: gl.createTexture(), slopeTex: gl.createTexture(), plainVao: gl.createVertexArray(), plainBuf: gl.createBuffer(),
     indexCount: 0,
   };
 }
@@ -377,6 +374,52 @@ function uploadStockMesh(s) {
   gl.texParameteri(gl.TEXTURE_2D, gl.TEXTURE_MIN_FILTER, gl.NEAREST);
   gl.texParameteri(gl.TEXTURE_2D, gl.TEXTURE_MAG_FILTER, gl.NEAREST);
   gl.texImage2D(gl.TEXTURE_2D, 0, gl.R32F, nx, ny, 0, gl.RED, gl.FLOAT, s.heights);
+  s.slopes = new Float32Array(nx * ny * 2);
+  s.rough = new Float32Array(nx * ny * 2);
+  gl.bindTexture(gl.TEXTURE_2D, g.slopeTex);
+  gl.texParameteri(gl.TEXTURE_2D, gl.TEXTURE_MIN_FILTER, gl.NEAREST);
+  gl.texParameteri(gl.TEXTURE_2D, gl.TEXTURE_MAG_FILTER, gl.NEAREST);
+  gl.texImage2D(gl.TEXTURE_2D, 0, gl.RG32F, nx, ny, 0, gl.RG, gl.FLOAT, s.slopes);
+}
+
+// The surface's slope (dz/dx, dz/dy) at each cell for the shading: central
+// differences, then smoothed over 5 x 5 cells (weights 1 2 3 2 1 each
+// way), so that a wall across the grid's rows, a staircase of cells in
+// the heightmap, is lit as one wall and not as a comb of steps. The
+// heights drawn are the cells' own.
+function shadeSlopes(s) {
+  const nx = s.spec.nx, ny = s.spec.ny, h = s.heights, rough = s.rough, out = s.slopes;
+  const c2 = 2 * s.spec.cell_mm;
+  for (let j = 0; j < ny; j++) {
+    const up = Math.min(j + 1, ny - 1) * nx, down = Math.max(j - 1, 0) * nx, row = j * nx;
+    for (let i = 0; i < nx; i++) {
+      rough[2 * (row + i)] = (h[row + Math.min(i + 1, nx - 1)] - h[row + Math.max(i - 1, 0)]) / c2;
+      rough[2 * (row + i) + 1] = (h[up + i] - h[down + i]) / c2;
+    }
+  }
+  const W = [1, 2, 3, 2, 1];
+  // Along the rows into `out`, then along the columns back into `rough`.
+  const blur = (from, to, count, step, lines, lineStep) => {
+    for (let l = 0; l < lines; l++) {
+      const base = l * lineStep;
+      for (let k = 0; k < count; k++) {
+        let gx = 0, gy = 0, w = 0;
+        for (let d = -2; d <= 2; d++) {
+          const q = k + d;
+          if (q < 0 || q >= count) continue;
+          const at = 2 * (base + q * step);
+          gx += W[d + 2] * from[at]; gy += W[d + 2] * from[at + 1]; w += W[d + 2];
+        }
+        const at = 2 * (base + k * step);
+        to[at] = gx / w; to[at + 1] = gy / w;
+      }
+    }
+  };
+  blur(rough, out, nx, 1, ny, nx);
+  blur(out, rough, ny, nx, nx, 1);
+  out.set(rough);
+  gl.bindTexture(gl.TEXTURE_2D, glState.slopeTex);
+  gl.texSubImage2D(gl.TEXTURE_2D, 0, 0, 0, nx, ny, gl.RG, gl.FLOAT, out);
 }
 
 // ---------------------------------------------------------------- stock over time
@@ -662,6 +705,10 @@ function draw() {
     gl.activeTexture(gl.TEXTURE0);
     gl.bindTexture(gl.TEXTURE_2D, g.heightTex);
     gl.uniform1i(g.stock.u.heights, 0);
+    gl.activeTexture(gl.TEXTURE1);
+    gl.bindTexture(gl.TEXTURE_2D, g.slopeTex);
+    gl.uniform1i(g.stock.u.slopes, 1);
+    gl.activeTexture(gl.TEXTURE0);
     gl.bindVertexArray(g.stockVao);
     gl.drawElements(gl.TRIANGLES, g.indexCount, gl.UNSIGNED_INT, 0);
   }
@@ -777,6 +824,7 @@ function setTime(t) {
     body.dataset.gerRemovedMm3 = removed.toFixed(3);
     gl.bindTexture(gl.TEXTURE_2D, glState.heightTex);
     gl.texSubImage2D(gl.TEXTURE_2D, 0, 0, 0, view.stock.spec.nx, view.stock.spec.ny, gl.RED, gl.FLOAT, view.stock.heights);
+    shadeSlopes(view.stock);
   } else {
     body.dataset.gerRemovedMm3 = "0";
   }
@@ -1147,7 +1195,8 @@ async function load(payload, version) {
   if (failed) {
     const errors = (header.diagnostics || []).filter((d) => d.severity === "error");
     $("banner").textContent = errors.map((d) => d.rendered).join("\n") || "the program has errors";
-    showFacts(header);
+    // The last good picture's figures and notes stay with it.
+    showFacts(view.header ? { ...view.header, files: header.files, diagnostics: header.diagnostics } : header);
     sourcePane.render();
     const first = errors.find((d) => d.file === 0 && d.line);
     if (first) sourcePane.reveal(first.line);
