@@ -382,6 +382,32 @@ function uploadStockMesh(s) {
   gl.texImage2D(gl.TEXTURE_2D, 0, gl.RG32F, nx, ny, 0, gl.RG, gl.FLOAT, s.slopes);
 }
 
+// One line of (x, y) pairs from `from` into `to`, smoothed with weights
+// 1 2 3 2 1 (those that fall off the grid left out): `count` cells from
+// cell `base`, `step` cells apart.
+function blurLine(from, to, base, step, count) {
+  const W = [1, 2, 3, 2, 1];
+  for (let k = 0; k < count; k++) {
+    let gx = 0, gy = 0, w = 0;
+    if (k >= 2 && k + 2 < count) {
+      for (let d = 0; d < 5; d++) {
+        const at = 2 * (base + (k + d - 2) * step);
+        gx += W[d] * from[at]; gy += W[d] * from[at + 1];
+      }
+      w = 9;
+    } else {
+      for (let d = -2; d <= 2; d++) {
+        const q = k + d;
+        if (q < 0 || q >= count) continue;
+        const at = 2 * (base + q * step);
+        gx += W[d + 2] * from[at]; gy += W[d + 2] * from[at + 1]; w += W[d + 2];
+      }
+    }
+    const at = 2 * (base + k * step);
+    to[at] = gx / w; to[at + 1] = gy / w;
+  }
+}
+
 // The surface's slope (dz/dx, dz/dy) at each cell for the shading: central
 // differences, then smoothed over 5 x 5 cells (weights 1 2 3 2 1 each
 // way), so that a wall across the grid's rows, a staircase of cells in
@@ -397,29 +423,11 @@ function shadeSlopes(s) {
       rough[2 * (row + i) + 1] = (h[up + i] - h[down + i]) / c2;
     }
   }
-  const W = [1, 2, 3, 2, 1];
   // Along the rows into `out`, then along the columns back into `rough`.
-  const blur = (from, to, count, step, lines, lineStep) => {
-    for (let l = 0; l < lines; l++) {
-      const base = l * lineStep;
-      for (let k = 0; k < count; k++) {
-        let gx = 0, gy = 0, w = 0;
-        for (let d = -2; d <= 2; d++) {
-          const q = k + d;
-          if (q < 0 || q >= count) continue;
-          const at = 2 * (base + q * step);
-          gx += W[d + 2] * from[at]; gy += W[d + 2] * from[at + 1]; w += W[d + 2];
-        }
-        const at = 2 * (base + k * step);
-        to[at] = gx / w; to[at + 1] = gy / w;
-      }
-    }
-  };
-  blur(rough, out, nx, 1, ny, nx);
-  blur(out, rough, ny, nx, nx, 1);
-  out.set(rough);
+  for (let j = 0; j < ny; j++) blurLine(rough, out, j * nx, 1, nx);
+  for (let i = 0; i < nx; i++) blurLine(out, rough, i, nx, ny);
   gl.bindTexture(gl.TEXTURE_2D, glState.slopeTex);
-  gl.texSubImage2D(gl.TEXTURE_2D, 0, 0, 0, nx, ny, gl.RG, gl.FLOAT, out);
+  gl.texSubImage2D(gl.TEXTURE_2D, 0, 0, 0, nx, ny, gl.RG, gl.FLOAT, rough);
 }
 
 // ---------------------------------------------------------------- stock over time
@@ -588,19 +596,20 @@ function sweepLine(st, s) {
   if (s.zMin >= spec.top) return;
   const rows = cellsWithin(spec.y0, spec.cell_mm, spec.ny, s.yMin - r, s.yMax + r);
   if (!rows) return;
-  const nx = -s.vy * s.inv * r, ny = s.vx * s.inv * r;
-  const edges = s.inv > 0 ? [[[s.a[0] + nx, s.a[1] + ny], [s.b[0] + nx, s.b[1] + ny]], [[s.b[0] - nx, s.b[1] - ny], [s.a[0] - nx, s.a[1] - ny]]] : [];
+  const nx = -s.vy * s.inv * r, ny = s.vx * s.inv * r, band = s.inv > 0;
+  const p0 = [s.a[0] + nx, s.a[1] + ny], p1 = [s.b[0] + nx, s.b[1] + ny];
+  const q0 = [s.b[0] - nx, s.b[1] - ny], q1 = [s.a[0] - nx, s.a[1] - ny];
   const lowest = (x, y) => lowestOnLine(s, x, y);
   for (let j = rows[0]; j <= rows[1]; j++) {
     const y = spec.y0 + (j + 0.5) * spec.cell_mm;
     let lo = Infinity, hi = -Infinity;
-    for (const p of [s.a, s.b]) {
-      const w = chordHalf(r, y - p[1]);
-      if (w !== null) { lo = Math.min(lo, p[0] - w); hi = Math.max(hi, p[0] + w); }
-    }
-    for (const [p, q] of edges) {
-      const x = crossing(p, q, y);
+    const wa = chordHalf(r, y - s.a[1]), wb = chordHalf(r, y - s.b[1]);
+    if (wa !== null) { lo = s.a[0] - wa; hi = s.a[0] + wa; }
+    if (wb !== null) { lo = Math.min(lo, s.b[0] - wb); hi = Math.max(hi, s.b[0] + wb); }
+    if (band) {
+      const x = crossing(p0, p1, y), z = crossing(q0, q1, y);
       if (x !== null) { lo = Math.min(lo, x); hi = Math.max(hi, x); }
+      if (z !== null) { lo = Math.min(lo, z); hi = Math.max(hi, z); }
     }
     if (lo <= hi) lower(st, j, lo, hi, lowest);
   }
