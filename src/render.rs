@@ -564,7 +564,7 @@ pub(crate) fn unknown_ends(path: &ToolPath, index: usize) -> ([bool; 3], [bool; 
 }
 
 /// How many chords keep an arc's sag under a quarter cell.
-fn chords(m: &Move, scale: f64, cell: f64) -> usize {
+pub(crate) fn chords(m: &Move, scale: f64, cell: f64) -> usize {
     let MoveKind::Arc(a) = m.kind else {
         return 1;
     };

@@ -3,11 +3,12 @@
 //! The scene holds the moves (end points quantised and delta-encoded, the
 //! tool, the source and output line, the time at each move's end), the
 //! stock carved exactly as `ger render` carves it (the same [`Scene`],
-//! cutters and heightmap) kept as checkpoints over the run, the
+//! cutters and heightmap) kept as checkpoints over the run, with what the
+//! page needs to sweep on from one exactly, the
 //! diagnostics, and the figures `ger stats` gives. Whatever the page
-//! draws simplified (arcs as chords, the stock averaged over display
-//! cells, the cut between checkpoints swept again by the page) is listed
-//! in the scene's notes, which the page shows.
+//! draws simplified (arcs as chords, the stock on a coarser grid than
+//! `ger render`'s default) is listed in the scene's notes, which the page
+//! shows.
 //!
 //! Architecture Invariant: no HTTP, no files, no threads of its own: the
 //! binary serves or writes what this module makes; it calls the driver,
@@ -85,7 +86,8 @@ pub fn studio(job: &mut Job, limits: Option<&Limits>, render: &RenderOptions) ->
     let (stock_json, removed) = match Scene::new(path, &render) {
         Ok(scene) => {
             diagnostics.extend(scene.warnings.iter().map(|w| w.to_diagnostic()));
-            let carved = stock::carve(&scene, path, &mut binary, &mut notes);
+            let quantum = moves_json["quantum_mm"].as_f64().unwrap_or(0.001);
+            let carved = stock::carve(&scene, path, &render, quantum, &mut binary, &mut notes);
             diagnostics.extend(carved.warnings.iter().map(|w| w.to_diagnostic()));
             (carved.json, carved.removed_mm3)
         }

@@ -82,6 +82,110 @@ fn render_volume(part: &Path) -> f64 {
     grid.removed_volume() * ger::ir::Units::mm_per(path.units).powi(3)
 }
 
+/// The volume the library's heightmap loses to the first `upto` moves of
+/// `part`, mm³, on a grid of `cell` (the page's): `ger render
+/// --resolution cell` of the program cut there.
+fn render_volume_upto(part: &Path, upto: usize, cell: f64) -> f64 {
+    use ger::render::{carve, described::described_tools, RenderOptions, Scene};
+    let session = Session::new(&Disk, CompileOptions::default(), Default::default()).unwrap();
+    let mut job = session.load(Program::Path(part)).ok().unwrap();
+    job.options.lower.tip_path = true;
+    let path = job.tool_path().0.unwrap();
+    let options = RenderOptions {
+        resolution: Some(cell),
+        described: described_tools(job.sources.text(job.file), path.units),
+        ..RenderOptions::default()
+    };
+    let scene = Scene::new(&path, &options).unwrap();
+    let mut grid = scene.grid().unwrap();
+    let end = scene.segments.partition_point(|s| s.move_index < upto);
+    carve::carve(
+        &mut grid,
+        &scene.segments[..end],
+        &scene.cutters,
+        &|_, _| {},
+    );
+    grid.removed_volume()
+}
+
+/// A ball end mill's raster over a wavy floor, `rows` rows of 60 moves,
+/// every third row ending in a level arc, a helix down at the start:
+/// lines, arcs, chords and several checkpoints for the page's sweep.
+fn ball_raster(rows: usize) -> String {
+    use std::fmt::Write as _;
+    let mut text = String::from(
+        "G21 G90 G17\n(T1 D=6. CR=3. - ZMIN=-4. - ball end mill)\nT1 M6\nS9000 M3\nG0 Z5\nG0 X3 Y0\nG1 Z0 F300\nG2 X3 Y0 Z-2 I-3 J0 F300\n",
+    );
+    for row in 0..rows {
+        let y = 60.0 * row as f64 / rows as f64;
+        for k in 0..=60 {
+            let x = if row % 2 == 0 { k } else { 60 - k } as f64;
+            let z = -2.0 - (x / 7.0).sin() * (y / 11.0).cos();
+            let _ = writeln!(text, "G1 X{x:.3} Y{y:.3} Z{z:.3} F1200");
+        }
+        if row % 3 == 2 {
+            let _ = writeln!(
+                text,
+                "G0 Z-1\nG3 X{:.3} Y{y:.3} I-2 J0",
+                if row % 2 == 0 { 56 } else { 0 }
+            );
+        }
+    }
+    text.push_str("G0 Z5\nM30\n");
+    text
+}
+
+#[test]
+#[cfg_attr(not(chromium), ignore = "chromium absent")]
+fn the_stock_at_any_time_is_the_librarys_heightmap_of_the_moves_before() {
+    let dir = tempfile::tempdir().unwrap();
+    let raster = dir.path().join("raster.ngc");
+    std::fs::write(&raster, ball_raster(60)).unwrap();
+    let (_one, mut browser, page) = one_browser();
+    for (part, share) in [
+        (example("star_pocket.egc"), 0.5),
+        (raster.clone(), 0.5),
+        (raster.clone(), 0.23),
+    ] {
+        let pages = tempfile::tempdir().unwrap();
+        let url = saved_page(&part, pages.path());
+        browser.navigate(&page, &url);
+        ready(&mut browser, &page);
+        // The end of the move under way at that share of the run.
+        let at = browser.eval(
+            &page,
+            &format!("(() => {{ const a = moveAt(view.total * {share}); return [a.index, String(view.moves.tEnd[a.index]), view.stock.spec.cell_mm, view.stock.spec.checkpoints.length]; }})()"),
+        );
+        let (k, t, cell) = (
+            at[0].as_u64().unwrap() as usize,
+            at[1].as_str().unwrap().to_string(),
+            at[2].as_f64().unwrap(),
+        );
+        browser.navigate(&page, &format!("{url}#t={t}"));
+        browser.wait_for(&page, "location.hash.startsWith('#t=')", 5.0);
+        ready(&mut browser, &page);
+        let shown = number(&mut browser, &page, "data-ger-removed-mm3");
+        let library = render_volume_upto(&part, k + 1, cell);
+        assert!(
+            library > 0.0 && (shown - library).abs() <= 0.005 * library,
+            "{}: {share} of the run (move {k}, t={t}, {} checkpoints): page {shown} mm³, library {library} mm³",
+            part.display(),
+            at[3]
+        );
+        // The last move half done: less than the whole, more than before.
+        browser.eval(
+            &page,
+            &format!("setTime(({t} + (view.moves.tEnd[{k} - 1])) / 2); 1"),
+        );
+        let half = number(&mut browser, &page, "data-ger-removed-mm3");
+        let before = render_volume_upto(&part, k, cell);
+        assert!(
+            half >= before * 0.995 && half <= shown * 1.005,
+            "half way through move {k}: {half} mm³, {before} before it, {shown} after"
+        );
+    }
+}
+
 /// `ger stats --json`'s run time.
 fn stats_time(part: &Path) -> f64 {
     let out = Command::new(env!("CARGO_BIN_EXE_ger"))
@@ -390,6 +494,7 @@ fn a_changed_file_is_redrawn_in_place_and_errors_shown_over_it() {
     std::fs::write(&part, text.replace("Depth = -6", "Depth = -4")).unwrap();
     browser.wait_for(&page, "document.body.dataset.gerVersion === '2'", 10.0);
     let shallow = number(&mut browser, &page, "data-ger-removed-mm3");
+    let moves = number(&mut browser, &page, "data-ger-moves");
     assert!(
         shallow < deep * 0.9,
         "{shallow} mm³ after, {deep} mm³ before"
@@ -403,6 +508,69 @@ fn a_changed_file_is_redrawn_in_place_and_errors_shown_over_it() {
     let banner = browser.eval(&page, "document.getElementById('banner').textContent");
     assert!(banner.as_str().unwrap().contains("22"), "{banner}");
     assert_eq!(browser.eval(&page, "sourcePane.marks.get(22)"), "error");
+    // Listed, naming its line; the last picture's figures and notes kept.
+    let listed = browser.eval(
+        &page,
+        "[...document.querySelectorAll('#diagnostics .diagnostic.error')].map((e) => e.textContent)",
+    );
+    assert!(
+        listed
+            .as_array()
+            .unwrap()
+            .iter()
+            .any(|e| e.as_str().unwrap().contains("part.egc:22: error:")),
+        "{listed}"
+    );
+    let notes = browser.eval(&page, "document.getElementById('notes').textContent");
+    assert!(notes.as_str().unwrap().contains("chords"), "{notes}");
+    assert_eq!(number(&mut browser, &page, "data-ger-moves"), moves);
     server.kill().unwrap();
     server.wait().unwrap();
+}
+
+#[test]
+fn ctrl_c_closes_the_server_and_ends_it_with_status_0() {
+    let mut server = Command::new(env!("CARGO_BIN_EXE_ger"))
+        .args(["view", "--no-open", "--port", "0"])
+        .arg(example("star_pocket.egc"))
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    let mut url = String::new();
+    std::io::BufReader::new(server.stdout.take().unwrap())
+        .read_line(&mut url)
+        .unwrap();
+    let port: u16 = url
+        .trim()
+        .trim_start_matches("http://127.0.0.1:")
+        .trim_end_matches('/')
+        .parse()
+        .unwrap();
+    // Listening: a second listener on the port is refused.
+    assert!(std::net::TcpListener::bind(("127.0.0.1", port)).is_err());
+    let sent = Command::new("kill")
+        .args(["-INT", &server.id().to_string()])
+        .status()
+        .unwrap();
+    assert!(sent.success());
+    let started = std::time::Instant::now();
+    let status = loop {
+        if let Some(status) = server.try_wait().unwrap() {
+            break status;
+        }
+        if started.elapsed().as_secs() > 20 {
+            server.kill().unwrap();
+            panic!("ger view still running 20 s after SIGINT");
+        }
+        std::thread::sleep(std::time::Duration::from_millis(50));
+    };
+    let mut stderr = String::new();
+    std::io::Read::read_to_string(&mut server.stderr.take().unwrap(), &mut stderr).unwrap();
+    assert!(status.success(), "{status:?}\n{stderr}");
+    assert!(
+        stderr.contains(&format!("127.0.0.1:{port} closed")),
+        "{stderr}"
+    );
+    assert!(std::net::TcpListener::bind(("127.0.0.1", port)).is_ok());
 }

@@ -1,53 +1,173 @@
 //! The stock over the run, for the page's playback: `ger render`'s exact
-//! heightmap ([`carve::carve`] over the same [`Scene`]) carved a stretch
-//! of moves at a time, a checkpoint kept after each stretch. A checkpoint
-//! is the grid's depths averaged over display cells (so the removed volume
-//! the page sums is the grid's), quantised to 16 bits and written as the
-//! run-length-coded difference from the checkpoint before. Must not guess
-//! a height: between checkpoints the page sweeps, and says so.
+//! heightmap ([`carve::carve`] over a [`Scene`]) carved a stretch of moves
+//! at a time, a checkpoint kept after each stretch. The page's grid is
+//! `ger render`'s own when it has at most [`PAGE_CELLS`] cells a side,
+//! else `ger render`'s at a coarser `--resolution` (a whole multiple of
+//! the default cell): either way a real heightmap, so that the page,
+//! sweeping the moves after a checkpoint with the same cutters and the
+//! same closed forms, shows at any time exactly what `ger render` gives
+//! for the program cut there. A checkpoint is the grid's depths, quantised
+//! to 16 bits and written as the run-length-coded difference from the one
+//! before. With the checkpoints go the moves the page must sweep other
+//! than as the line between their drawn ends (level arcs, other arcs as
+//! the render's chords, moves of unknown start) — the render's segments.
+//! Must not guess a height.
 
 use super::moves::{varint, zigzag};
-use crate::ir::Units;
+use crate::ir::{Plane, Units};
 use crate::render::carve::{self, Grid};
-use crate::render::{rapid_cuts, RenderWarning, Scene};
-use crate::toolpath::ToolPath;
+use crate::render::{rapid_cuts, unknown_ends, RenderOptions, RenderWarning, Scene};
+use crate::toolpath::{MoveKind, ToolPath};
 use serde_json::{json, Value};
 
-/// The shown grid's longer side, at most.
-const DISPLAY_CELLS: usize = 512;
+/// The page's grid's longer side, at most (cells).
+const PAGE_CELLS: usize = 512;
 
 /// At most this many checkpoints; at least this many moves between two.
-const CHECKPOINTS: usize = 64;
+const CHECKPOINTS: usize = 96;
 const MIN_STRETCH: usize = 1000;
+
+/// The sweep records' kinds and flags (see [`sweeps`]).
+const SWEEP_SKIP: u8 = 1;
+const SWEEP_ARC: u8 = 2;
+const SWEEP_CHORDS: u8 = 3;
+const SWEEP_START: u8 = 1 << 2;
+const SWEEP_CLOCKWISE: u8 = 1 << 3;
 
 pub(super) struct Carved {
     pub json: Value,
+    /// At `ger render`'s own resolution.
     pub removed_mm3: Option<f64>,
     pub warnings: Vec<RenderWarning>,
 }
 
-/// Carve `scene`'s segments, keeping the checkpoints in `binary`.
+/// Carve `scene` (`ger render`'s, made with `render`), keeping the page
+/// grid's checkpoints and the sweep records in `binary`. `quantum`: the
+/// moves' positions' step (mm).
 pub(super) fn carve(
     scene: &Scene,
     path: &ToolPath,
+    render: &RenderOptions,
+    quantum: f64,
     binary: &mut Vec<u8>,
     notes: &mut Vec<String>,
 ) -> Carved {
-    let mut grid = match scene.grid() {
-        Ok(grid) => grid,
-        Err(e) => {
-            notes.push(format!("no stock drawn: {e}"));
-            return Carved {
-                json: Value::Null,
-                removed_mm3: None,
-                warnings: Vec::new(),
-            };
+    let nothing = |notes: &mut Vec<String>, e: &dyn std::fmt::Display| {
+        notes.push(format!("no stock drawn: {e}"));
+        Carved {
+            json: Value::Null,
+            removed_mm3: None,
+            warnings: Vec::new(),
         }
     };
-    let moves = path.moves.len();
+    let mut grid = match scene.grid() {
+        Ok(grid) => grid,
+        Err(e) => return nothing(notes, &e),
+    };
+    let mm_per = Units::mm_per(scene.units);
+    let block = grid.frame.nx.max(grid.frame.ny).div_ceil(PAGE_CELLS).max(1);
+    let (fine, coarse) = if block > 1 {
+        match coarser(scene, path, render, &mut grid, block, notes) {
+            Ok((fine, coarse)) => (Some(fine), Some(coarse)),
+            Err(e) => return nothing(notes, &e),
+        }
+    } else {
+        (None, None)
+    };
+    let page_scene = coarse.as_ref().unwrap_or(scene);
+    let mut page_grid = match page_scene.grid() {
+        Ok(grid) => grid,
+        Err(e) => return nothing(notes, &e),
+    };
+    let (marks, depths, rapid) = checkpoints(page_scene, &mut page_grid, path.moves.len());
+    let cell_mm = page_grid.frame.cell * mm_per;
+    let volumes: Vec<f64> = depths
+        .iter()
+        .map(|d| d.iter().sum::<f64>() * cell_mm * cell_mm * mm_per)
+        .collect();
+    let deepest = depths
+        .iter()
+        .flatten()
+        .fold(page_grid.top - page_grid.bottom, |a, &b| a.max(b))
+        .max(1e-9);
+    let offset = binary.len();
+    encode(&depths, deepest, binary);
+    let length = binary.len() - offset;
+    let scale = 1.0 / mm_per;
+    let sweeps_at = binary.len();
+    let sweep_count = sweeps(path, scale, page_grid.frame.cell, quantum, binary);
+    notes.push(format!(
+        "the stock's heights are kept to 1/65535 of its depth at checkpoints every {} moves; between them the page sweeps the moves as ger render does",
+        marks.first().copied().unwrap_or(0)
+    ));
+    let stock = page_scene.stock;
+    let json = json!({
+        "min": [stock.min[0] * mm_per, stock.min[1] * mm_per],
+        "max": [stock.max[0] * mm_per, stock.max[1] * mm_per],
+        "top": stock.top * mm_per,
+        "bottom": stock.bottom * mm_per,
+        "x0": page_grid.frame.x0 * mm_per,
+        "y0": page_grid.frame.y0 * mm_per,
+        "cell_mm": cell_mm,
+        "nx": page_grid.frame.nx,
+        "ny": page_grid.frame.ny,
+        "depth_mm": deepest * mm_per,
+        "checkpoints": marks.iter().zip(&volumes).map(|(m, v)| json!({"moves": m, "removed_mm3": v})).collect::<Vec<_>>(),
+        "offset": offset,
+        "length": length,
+        "sweeps": {"offset": sweeps_at, "length": binary.len() - sweeps_at, "count": sweep_count},
+    });
+    let (rapid, removed) = match fine {
+        Some((carved, volume)) => (carved.rapid_cuts, Some(volume)),
+        None => (rapid, volumes.last().copied()),
+    };
+    Carved {
+        json,
+        removed_mm3: removed,
+        warnings: rapid_cuts(path, &rapid),
+    }
+}
+
+/// `ger render`'s grid carved whole (its volume, mm³, and the rapids that
+/// cut it) and the scene of the page's coarser grid: `ger render`'s at a
+/// cell `block` times its own.
+fn coarser(
+    scene: &Scene,
+    path: &ToolPath,
+    render: &RenderOptions,
+    grid: &mut Grid,
+    block: usize,
+    notes: &mut Vec<String>,
+) -> Result<((carve::Carved, f64), Scene), crate::render::RenderError> {
+    let carved = carve::carve(grid, &scene.segments, &scene.cutters, &|_, _| {});
+    let asked = RenderOptions {
+        resolution: Some(scene.frame.cell * block as f64),
+        ..render.clone()
+    };
+    let coarse = Scene::new(path, &asked)?;
+    notes.push(format!(
+        "the stock is ger render's heightmap at --resolution {} ({} x {} cells); its default, {} x {} cells of {}, is too fine for the page",
+        crate::render::significant(coarse.frame.cell),
+        coarse.frame.nx,
+        coarse.frame.ny,
+        grid.frame.nx,
+        grid.frame.ny,
+        crate::render::significant(scene.frame.cell),
+    ));
+    let volume = grid.removed_volume() * Units::mm_per(scene.units).powi(3);
+    Ok(((carved, volume), coarse))
+}
+
+/// Carve `scene` into `grid` a stretch at a time: the move counts at the
+/// checkpoints, each checkpoint's depths below the top, the rapids that
+/// cut.
+fn checkpoints(
+    scene: &Scene,
+    grid: &mut Grid,
+    moves: usize,
+) -> (Vec<usize>, Vec<Vec<f64>>, Vec<usize>) {
     let stretch = moves.div_ceil(CHECKPOINTS).max(MIN_STRETCH);
-    let display = Display::of(&grid);
-    let mut depths: Vec<Vec<f64>> = Vec::new();
+    let mut depths = Vec::new();
     let mut marks = Vec::new();
     let mut rapid = Vec::new();
     let mut done = 0;
@@ -55,139 +175,119 @@ pub(super) fn carve(
     while upto < moves || marks.is_empty() {
         upto = (upto + stretch).min(moves);
         let end = done + scene.segments[done..].partition_point(|s| s.move_index < upto);
-        let carved = carve::carve(
-            &mut grid,
-            &scene.segments[done..end],
-            &scene.cutters,
-            &|_, _| {},
-        );
+        let carved = carve::carve(grid, &scene.segments[done..end], &scene.cutters, &|_, _| {});
         rapid.extend(carved.rapid_cuts);
         done = end;
-        depths.push(display.depths(&grid));
+        let top = grid.top as f32;
+        depths.push(
+            grid.z
+                .iter()
+                .map(|&z| f64::from((top - z).max(0.0)))
+                .collect(),
+        );
         marks.push(upto);
     }
-    let mm_per = Units::mm_per(scene.units);
-    let cell_mm = grid.frame.cell * mm_per;
-    let volumes: Vec<f64> = depths
-        .iter()
-        .map(|d| d.iter().sum::<f64>() * grid.frame.cell * grid.frame.cell * mm_per.powi(3))
-        .collect();
-    let deepest = depths
-        .iter()
-        .flat_map(|d| display.means(d))
-        .fold(grid.top - grid.bottom, f64::max)
-        .max(1e-9);
-    let offset = binary.len();
-    display.encode(&depths, deepest, binary);
-    if display.block > 1 {
-        notes.push(format!(
-            "the stock is ger render's heightmap of {} x {} cells of {cell_mm:.4} mm, shown as {} x {} cells, each the mean of {} x {}",
-            grid.frame.nx, grid.frame.ny, display.nx, display.ny, display.block, display.block
-        ));
-    }
-    notes.push(format!(
-        "the stock is exact at checkpoints every {stretch} moves; between them the page sweeps the cut again on the shown cells (approximately)"
-    ));
-    let stock = scene.stock;
-    let json = json!({
-        "min": [stock.min[0] * mm_per, stock.min[1] * mm_per],
-        "max": [stock.max[0] * mm_per, stock.max[1] * mm_per],
-        "top": stock.top * mm_per,
-        "bottom": stock.bottom * mm_per,
-        "exact": {"nx": grid.frame.nx, "ny": grid.frame.ny, "cell_mm": cell_mm},
-        "block": display.block,
-        "nx": display.nx,
-        "ny": display.ny,
-        "depth_mm": deepest * mm_per,
-        "checkpoints": marks.iter().zip(&volumes).map(|(m, v)| json!({"moves": m, "removed_mm3": v})).collect::<Vec<_>>(),
-        "offset": offset,
-        "length": binary.len() - offset,
-    });
-    Carved {
-        json,
-        removed_mm3: volumes.last().copied(),
-        warnings: rapid_cuts(path, &rapid),
-    }
+    (marks, depths, rapid)
 }
 
-/// The shown cells: blocks of `block` x `block` of the grid's.
-struct Display {
-    block: usize,
-    nx: usize,
-    ny: usize,
-    /// The grid's.
-    grid_nx: usize,
-    grid_ny: usize,
-}
-
-impl Display {
-    fn of(grid: &Grid) -> Display {
-        let (nx, ny) = (grid.frame.nx, grid.frame.ny);
-        let block = nx.max(ny).div_ceil(DISPLAY_CELLS).max(1);
-        Display {
-            block,
-            nx: nx.div_ceil(block),
-            ny: ny.div_ceil(block),
-            grid_nx: nx,
-            grid_ny: ny,
+/// Each checkpoint's depths, as 16-bit fractions of `deepest`, run-length
+/// coded against the one before: runs of unchanged cells and runs of
+/// changed ones with their differences.
+fn encode(checkpoints: &[Vec<f64>], deepest: f64, out: &mut Vec<u8>) {
+    let Some(first) = checkpoints.first() else {
+        return;
+    };
+    let mut before = vec![0i64; first.len()];
+    for depths in checkpoints {
+        let now: Vec<i64> = depths
+            .iter()
+            .map(|d| ((d / deepest) * 65535.0).round().clamp(0.0, 65535.0) as i64)
+            .collect();
+        let mut k = 0;
+        while k < now.len() {
+            let same = now[k..]
+                .iter()
+                .zip(&before[k..])
+                .take_while(|(a, b)| a == b)
+                .count();
+            let changed = now[k + same..]
+                .iter()
+                .zip(&before[k + same..])
+                .take_while(|(a, b)| a != b)
+                .count();
+            varint(out, same as u64);
+            varint(out, changed as u64);
+            for c in k + same..k + same + changed {
+                zigzag(out, now[c] - before[c]);
+            }
+            k += same + changed;
         }
+        before = now;
     }
+}
 
-    /// The summed depth below the top of each shown cell's grid cells.
-    fn depths(&self, grid: &Grid) -> Vec<f64> {
-        let mut sums = vec![0.0; self.nx * self.ny];
-        let top = grid.top as f32;
-        for (j, row) in grid.z.chunks(self.grid_nx).enumerate() {
-            let shown = &mut sums[(j / self.block) * self.nx..][..self.nx];
-            for (i, &z) in row.iter().enumerate() {
-                shown[i / self.block] += f64::from((top - z).max(0.0));
+/// The moves the page sweeps other than as the line between their drawn
+/// ends, as the render's segments have them (`scale`: mm to the scene's
+/// units; `cell`: the page grid's, in the scene's units): a record per
+/// such move — the move's index after the record before, a head byte
+/// (kind, flags), the start when it is not the drawn one (a coordinate
+/// unknown before the move), and for a level arc its centre from the
+/// start, its sweep in microradians; for another arc the render's chords.
+/// The count of records.
+fn sweeps(path: &ToolPath, scale: f64, cell: f64, quantum: f64, out: &mut Vec<u8>) -> usize {
+    let q = |v: f64| (v / quantum).round() as i64;
+    let mut count = 0;
+    let mut last = 0;
+    for (index, m) in path.moves.iter().enumerate() {
+        let (before, after) = unknown_ends(path, index);
+        let rapid = matches!(m.kind, MoveKind::Rapid);
+        let guessed = (0..3).any(|i| before[i] || after[i]);
+        let mut start = m.start;
+        let mut moved = false;
+        for i in 0..3 {
+            if before[i] && !after[i] {
+                start[i] = m.end[i];
+                moved = true;
             }
         }
-        sums
-    }
-
-    /// How many grid cells shown cell `k` holds.
-    fn count(&self, k: usize) -> f64 {
-        let (i, j) = (k % self.nx, k / self.nx);
-        let w = self.block.min(self.grid_nx - i * self.block);
-        let h = self.block.min(self.grid_ny - j * self.block);
-        (w * h) as f64
-    }
-
-    fn means<'a>(&'a self, sums: &'a [f64]) -> impl Iterator<Item = f64> + 'a {
-        sums.iter().enumerate().map(|(k, s)| s / self.count(k))
-    }
-
-    /// Each checkpoint's mean depths, as 16-bit fractions of `deepest`,
-    /// run-length coded against the one before: runs of unchanged cells
-    /// and runs of changed ones with their differences.
-    fn encode(&self, checkpoints: &[Vec<f64>], deepest: f64, out: &mut Vec<u8>) {
-        let mut before = vec![0i64; self.nx * self.ny];
-        for sums in checkpoints {
-            let now: Vec<i64> = self
-                .means(sums)
-                .map(|d| ((d / deepest) * 65535.0).round().clamp(0.0, 65535.0) as i64)
-                .collect();
-            let mut k = 0;
-            while k < now.len() {
-                let same = now[k..]
-                    .iter()
-                    .zip(&before[k..])
-                    .take_while(|(a, b)| a == b)
-                    .count();
-                let changed = now[k + same..]
-                    .iter()
-                    .zip(&before[k + same..])
-                    .take_while(|(a, b)| a != b)
-                    .count();
-                varint(out, same as u64);
-                varint(out, changed as u64);
-                for c in k + same..k + same + changed {
-                    zigzag(out, now[c] - before[c]);
+        let mut head = if moved { SWEEP_START } else { 0 };
+        let mut tail = Vec::new();
+        if guessed && rapid {
+            head = SWEEP_SKIP;
+        } else if let MoveKind::Arc(a) = m.kind {
+            let level = a.plane == Plane::XY && ((m.end[2] - start[2]) * scale).abs() < 1e-12;
+            if level {
+                head |= SWEEP_ARC | if a.clockwise { SWEEP_CLOCKWISE } else { 0 };
+                zigzag(&mut tail, q(a.center[0]) - q(start[0]));
+                zigzag(&mut tail, q(a.center[1]) - q(start[1]));
+                varint(&mut tail, (m.sweep() * 1e6).round().max(0.0) as u64);
+            } else {
+                head |= SWEEP_CHORDS;
+                let chords = crate::render::chords(m, scale, cell);
+                varint(&mut tail, chords as u64);
+                let mut at = start.map(q);
+                for k in 1..chords {
+                    let p = m.at(k as f64 / chords as f64).map(q);
+                    for i in 0..3 {
+                        zigzag(&mut tail, p[i] - at[i]);
+                    }
+                    at = p;
                 }
-                k += same + changed;
             }
-            before = now;
         }
+        if head == 0 {
+            continue;
+        }
+        varint(out, (index - last) as u64);
+        out.push(head);
+        if head & SWEEP_START != 0 {
+            for v in start {
+                zigzag(out, q(v));
+            }
+        }
+        out.extend_from_slice(&tail);
+        last = index;
+        count += 1;
     }
+    count
 }

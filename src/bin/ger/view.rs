@@ -17,11 +17,15 @@ use std::io::{BufRead, BufReader, Write};
 use std::net::{TcpListener, TcpStream};
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
+use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::{Arc, Condvar, Mutex};
 use std::time::{Duration, SystemTime};
 
 /// How often the watched files' stamps are read.
 const POLL: Duration = Duration::from_millis(200);
+
+/// How often the listener looks for a connection and at the stop flag.
+const ACCEPT_POLL: Duration = Duration::from_millis(20);
 
 /// How long a `version?after=N` request waits for a change.
 const LONG_POLL: Duration = Duration::from_secs(20);
@@ -145,8 +149,9 @@ struct Current {
 
 type Shared = Arc<(Mutex<Current>, Condvar)>;
 
-/// Serve the page until the process is stopped (Ctrl-C ends it: the
-/// server holds nothing that must be written first).
+/// Serve the page until Ctrl-C (SIGINT): then the listener is
+/// closed and the run ends with status 0. The accept loop and the watcher
+/// look at the stop flag between their waits.
 fn serve(
     input: &str,
     options: &Options,
@@ -177,15 +182,34 @@ fn serve(
         Condvar::new(),
     ));
     let page = Arc::new(page(None));
+    let stop = Arc::new(AtomicBool::new(false));
+    let flag = Arc::clone(&stop);
+    if let Err(e) = ctrlc::set_handler(move || flag.store(true, Ordering::SeqCst)) {
+        eprintln!("note: Ctrl-C cannot be caught here ({e}); it ends the server as it is");
+    }
+    if let Err(e) = listener.set_nonblocking(true) {
+        eprintln!("error: cannot poll 127.0.0.1:{port}: {e}");
+        return ExitCode::from(2);
+    }
     std::thread::scope(|scope| {
-        scope.spawn(|| watch(input, options, render, built.watched, &shared));
-        for stream in listener.incoming().flatten() {
-            let (shared, page) = (Arc::clone(&shared), Arc::clone(&page));
-            std::thread::spawn(move || {
-                let _ = answer(stream, &shared, &page, port);
-            });
+        scope.spawn(|| watch(input, options, render, built.watched, &shared, &stop));
+        while !stop.load(Ordering::SeqCst) {
+            match listener.accept() {
+                Ok((stream, _)) => {
+                    let (shared, page) = (Arc::clone(&shared), Arc::clone(&page));
+                    std::thread::spawn(move || {
+                        stream.set_nonblocking(false)?;
+                        answer(stream, &shared, &page, port)
+                    });
+                }
+                // Nothing to accept (or a connection that failed on the
+                // way): look at the flag again shortly.
+                Err(_) => std::thread::sleep(ACCEPT_POLL),
+            }
         }
+        drop(listener);
     });
+    eprintln!("note: stopped; 127.0.0.1:{port} closed");
     ExitCode::SUCCESS
 }
 
@@ -221,9 +245,10 @@ fn watch(
     render: &RenderOptions,
     mut watched: Vec<PathBuf>,
     shared: &Shared,
+    stop: &AtomicBool,
 ) {
     let mut seen = stamps(&watched);
-    loop {
+    while !stop.load(Ordering::SeqCst) {
         std::thread::sleep(POLL);
         let now = stamps(&watched);
         if now == seen {

@@ -113,37 +113,80 @@ function decodeMoves(spec, binary) {
   return { n, pos: pos.subarray(0, v * 3), vertices: v, kind, tool, file, line, out, tEnd, first };
 }
 
-// Every checkpoint's depths in full (16-bit fractions of depth_mm).
-function decodeStock(spec, binary) {
+// Every checkpoint's depths in full (16-bit fractions of depth_mm), the
+// cutters as the sweep wants them, and the moves swept other than as the
+// line between their drawn ends (src/view/stock.rs, `sweeps`).
+function decodeStock(spec, binary, header) {
   const cells = spec.nx * spec.ny;
   const r = new Reader(binary, spec.offset);
-  const checkpoints = [];
-  let before = new Uint16Array(cells);
+  // One pass over the differences: where each starts, and every
+  // KEEP-th checkpoint kept whole; any other is made from the one kept
+  // before it (at most KEEP - 1 differences again).
+  const starts = [], kept = [];
+  const now = new Uint16Array(cells);
   for (let c = 0; c < spec.checkpoints.length; c++) {
-    const now = before.slice();
-    let k = 0;
-    while (k < cells) {
-      k += r.varint();
-      const changed = r.varint();
-      for (let e = k + changed; k < e; k++) now[k] += r.zigzag();
-    }
-    checkpoints.push(now);
-    before = now;
+    starts.push(r.at);
+    applyDifference(r, now);
+    if (c % KEEP === 0) kept.push(now.slice());
   }
-  const area = new Float64Array(cells);
-  const cell = spec.exact.cell_mm;
-  for (let j = 0; j < spec.ny; j++) {
-    const h = Math.min(spec.block, spec.exact.ny - j * spec.block);
-    for (let i = 0; i < spec.nx; i++) {
-      const w = Math.min(spec.block, spec.exact.nx - i * spec.block);
-      area[j * spec.nx + i] = w * h * cell * cell;
-    }
+  const last = spec.checkpoints.length - 1;
+  const cutters = (header.tools || []).map((t) => ({
+    r: t.radius, profile: t.profile === "ball" ? 1 : t.profile === "cone" ? 2 : 0, rise: t.rise,
+  }));
+  const sweeps = decodeSweeps(spec.sweeps, binary, header.moves.quantum_mm);
+  const size = [spec.cell_mm, spec.cell_mm];
+  return {
+    spec, binary, starts, kept, cutters, sweeps, size, heights: new Float32Array(cells), shownAt: null,
+    lastDepths: last >= 0 ? now : null, work: new Uint16Array(cells),
+  };
+}
+
+// Checkpoints kept whole: one in KEEP.
+const KEEP = 8;
+
+// Add one checkpoint's run-length-coded difference to `depths`.
+function applyDifference(r, depths) {
+  const cells = depths.length;
+  let k = 0;
+  while (k < cells) {
+    k += r.varint();
+    const changed = r.varint();
+    for (let e = k + changed; k < e; k++) depths[k] += r.zigzag();
   }
-  const size = [
-    (spec.max[0] - spec.min[0]) / spec.exact.nx * spec.block,
-    (spec.max[1] - spec.min[1]) / spec.exact.ny * spec.block,
-  ];
-  return { spec, checkpoints, area, size, heights: new Float32Array(cells), shownAt: null };
+}
+
+// Checkpoint c's depths (16-bit fractions of depth_mm).
+function checkpointDepths(s, c) {
+  if (c === s.starts.length - 1) return s.lastDepths;
+  const base = c - c % KEEP;
+  s.work.set(s.kept[base / KEEP]);
+  for (let k = base + 1; k <= c; k++) applyDifference(new Reader(s.binary, s.starts[k]), s.work);
+  return s.work;
+}
+
+function decodeSweeps(spec, binary, quantum) {
+  const r = new Reader(binary, spec.offset);
+  const out = new Map();
+  let index = 0;
+  for (let n = 0; n < spec.count; n++) {
+    index += r.varint();
+    const head = r.b[r.at++];
+    const record = { skip: (head & 3) === 1 };
+    if (head & 4) record.start = [r.zigzag() * quantum, r.zigzag() * quantum, r.zigzag() * quantum];
+    if ((head & 3) === 2) {
+      record.arc = { dx: r.zigzag() * quantum, dy: r.zigzag() * quantum, sweep: r.varint() / 1e6, clockwise: (head & 8) !== 0 };
+    } else if ((head & 3) === 3) {
+      const chords = r.varint();
+      record.chords = [];
+      let d = [0, 0, 0];
+      for (let k = 1; k < chords; k++) {
+        d = [d[0] + r.zigzag(), d[1] + r.zigzag(), d[2] + r.zigzag()];
+        record.chords.push(d);
+      }
+    }
+    out.set(index, record);
+  }
+  return out;
 }
 
 // ---------------------------------------------------------------- maths
@@ -182,23 +225,20 @@ function project(m, x, y, z, w, h) {
 
 const STOCK_VS = `#version 300 es
 uniform highp sampler2D heights;
+uniform highp sampler2D slopes;
 uniform mat4 mvp;
 uniform vec2 origin, cell;
 uniform int nx;
 out vec3 normal;
 out float depth;
 uniform float top, fullDepth;
-float h(int i, int j) {
-  ivec2 s = textureSize(heights, 0);
-  return texelFetch(heights, ivec2(clamp(i, 0, s.x - 1), clamp(j, 0, s.y - 1)), 0).r;
-}
 void main() {
-  int i = gl_VertexID % nx, j = gl_VertexID / nx;
-  float z = h(i, j);
-  normal = normalize(vec3((h(i - 1, j) - h(i + 1, j)) / (2.0 * cell.x),
-                          (h(i, j - 1) - h(i, j + 1)) / (2.0 * cell.y), 1.0));
+  ivec2 at = ivec2(gl_VertexID % nx, gl_VertexID / nx);
+  float z = texelFetch(heights, at, 0).r;
+  vec2 slope = texelFetch(slopes, at, 0).rg;
+  normal = normalize(vec3(-slope, 1.0));
   depth = (top - z) / max(fullDepth, 1e-6);
-  gl_Position = mvp * vec4(origin + (vec2(i, j) + 0.5) * cell, z, 1.0);
+  gl_Position = mvp * vec4(origin + (vec2(at) + 0.5) * cell, z, 1.0);
 }`;
 const STOCK_FS = `#version 300 es
 precision highp float;
@@ -285,7 +325,7 @@ function setupGl() {
     stock, lines, plain,
     pathVao: gl.createVertexArray(), posBuf: gl.createBuffer(), infoBuf: gl.createBuffer(),
     litBuf: gl.createBuffer(), stockVao: gl.createVertexArray(), indexBuf: gl.createBuffer(),
-    heightTex: gl.createTexture(), plainVao: gl.createVertexArray(), plainBuf: gl.createBuffer(),
+    heightTex: gl.createTexture(), slopeTex: gl.createTexture(), plainVao: gl.createVertexArray(), plainBuf: gl.createBuffer(),
     indexCount: 0,
   };
 }
@@ -321,7 +361,8 @@ function uploadStockMesh(s) {
   for (let j = 0; j + 1 < ny; j++)
     for (let i = 0; i + 1 < nx; i++) {
       const a = j * nx + i;
-      index.set([a, a + 1, a + nx, a + 1, a + nx + 1, a + nx], k);
+      index[k] = a; index[k + 1] = a + 1; index[k + 2] = a + nx;
+      index[k + 3] = a + 1; index[k + 4] = a + nx + 1; index[k + 5] = a + nx;
       k += 6;
     }
   gl.bindVertexArray(g.stockVao);
@@ -333,6 +374,60 @@ function uploadStockMesh(s) {
   gl.texParameteri(gl.TEXTURE_2D, gl.TEXTURE_MIN_FILTER, gl.NEAREST);
   gl.texParameteri(gl.TEXTURE_2D, gl.TEXTURE_MAG_FILTER, gl.NEAREST);
   gl.texImage2D(gl.TEXTURE_2D, 0, gl.R32F, nx, ny, 0, gl.RED, gl.FLOAT, s.heights);
+  s.slopes = new Float32Array(nx * ny * 2);
+  s.rough = new Float32Array(nx * ny * 2);
+  gl.bindTexture(gl.TEXTURE_2D, g.slopeTex);
+  gl.texParameteri(gl.TEXTURE_2D, gl.TEXTURE_MIN_FILTER, gl.NEAREST);
+  gl.texParameteri(gl.TEXTURE_2D, gl.TEXTURE_MAG_FILTER, gl.NEAREST);
+  gl.texImage2D(gl.TEXTURE_2D, 0, gl.RG32F, nx, ny, 0, gl.RG, gl.FLOAT, s.slopes);
+}
+
+// One line of (x, y) pairs from `from` into `to`, smoothed with weights
+// 1 2 3 2 1 (those that fall off the grid left out): `count` cells from
+// cell `base`, `step` cells apart.
+function blurLine(from, to, base, step, count) {
+  const W = [1, 2, 3, 2, 1];
+  for (let k = 0; k < count; k++) {
+    let gx = 0, gy = 0, w = 0;
+    if (k >= 2 && k + 2 < count) {
+      for (let d = 0; d < 5; d++) {
+        const at = 2 * (base + (k + d - 2) * step);
+        gx += W[d] * from[at]; gy += W[d] * from[at + 1];
+      }
+      w = 9;
+    } else {
+      for (let d = -2; d <= 2; d++) {
+        const q = k + d;
+        if (q < 0 || q >= count) continue;
+        const at = 2 * (base + q * step);
+        gx += W[d + 2] * from[at]; gy += W[d + 2] * from[at + 1]; w += W[d + 2];
+      }
+    }
+    const at = 2 * (base + k * step);
+    to[at] = gx / w; to[at + 1] = gy / w;
+  }
+}
+
+// The surface's slope (dz/dx, dz/dy) at each cell for the shading: central
+// differences, then smoothed over 5 x 5 cells (weights 1 2 3 2 1 each
+// way), so that a wall across the grid's rows, a staircase of cells in
+// the heightmap, is lit as one wall and not as a comb of steps. The
+// heights drawn are the cells' own.
+function shadeSlopes(s) {
+  const nx = s.spec.nx, ny = s.spec.ny, h = s.heights, rough = s.rough, out = s.slopes;
+  const c2 = 2 * s.spec.cell_mm;
+  for (let j = 0; j < ny; j++) {
+    const up = Math.min(j + 1, ny - 1) * nx, down = Math.max(j - 1, 0) * nx, row = j * nx;
+    for (let i = 0; i < nx; i++) {
+      rough[2 * (row + i)] = (h[row + Math.min(i + 1, nx - 1)] - h[row + Math.max(i - 1, 0)]) / c2;
+      rough[2 * (row + i) + 1] = (h[up + i] - h[down + i]) / c2;
+    }
+  }
+  // Along the rows into `out`, then along the columns back into `rough`.
+  for (let j = 0; j < ny; j++) blurLine(rough, out, j * nx, 1, nx);
+  for (let i = 0; i < nx; i++) blurLine(out, rough, i, nx, ny);
+  gl.bindTexture(gl.TEXTURE_2D, glState.slopeTex);
+  gl.texSubImage2D(gl.TEXTURE_2D, 0, 0, 0, nx, ny, gl.RG, gl.FLOAT, rough);
 }
 
 // ---------------------------------------------------------------- stock over time
@@ -361,86 +456,221 @@ function stockAt(done, fraction) {
   const s = view.stock, spec = s.spec, m = view.moves;
   let c = -1;
   while (c + 1 < spec.checkpoints.length && spec.checkpoints[c + 1].moves <= done) c++;
-  const key = `${c}`;
   let from;
-  if (s.shownAt && s.shownAt.key === key && s.shownAt.done <= done && s.shownAt.partial === 0) {
+  if (s.shownAt && s.shownAt.checkpoint === c && s.shownAt.done <= done && !s.shownAt.partial) {
     from = s.shownAt.done;
   } else {
-    const depths = c >= 0 ? s.checkpoints[c] : null;
+    const depths = c >= 0 ? checkpointDepths(s, c) : null;
     const scale = spec.depth_mm / 65535;
     for (let k = 0; k < s.heights.length; k++) s.heights[k] = spec.top - (depths ? depths[k] * scale : 0);
     from = c >= 0 ? spec.checkpoints[c].moves : 0;
   }
   for (let k = from; k < done; k++) sweepMove(k, 1);
-  const partial = done < m.n && fraction > 0 && fraction < 1 ? fraction : 0;
-  s.shownAt = { key, done, partial };
-  if (partial) {
-    sweepMove(done, partial);
-    s.shownAt = null;
-  }
+  const partial = done < m.n && fraction > 0 && fraction < 1;
+  if (partial) sweepMove(done, fraction);
+  s.shownAt = { checkpoint: c, done, partial };
   let removed = 0;
-  for (let k = 0; k < s.heights.length; k++) removed += Math.max(0, spec.top - s.heights[k]) * s.area[k];
-  return removed;
+  for (let k = 0; k < s.heights.length; k++) removed += Math.max(0, spec.top - s.heights[k]);
+  return removed * spec.cell_mm * spec.cell_mm;
 }
 
-// Lower the shown cells the cutter reaches along move k (its first
-// `fraction`): the lowest of the cutter's underside over each cell centre,
-// at the stretch's ends and its closest point.
+// The cut of move k (its first `fraction`) as `ger render` carves it
+// (src/render.rs' segments, src/render/cutter.rs' closed forms): lines
+// between the drawn ends, level arcs as arcs, other arcs as the
+// render's chords; each cell lowered to the lowest the cutter reaches
+// over its centre.
 function sweepMove(k, fraction) {
-  const m = view.moves, s = view.stock, spec = s.spec;
-  const cutter = view.header.tools[m.tool[k]];
-  if (!cutter) return;
-  const r = cutter.radius;
-  let a = m.first[k], b = m.first[k + 1];
-  const pairs = (b - a) / 2;
-  const upto = fraction >= 1 ? pairs : pairs * fraction;
+  const m = view.moves, s = view.stock;
+  const cutter = s.cutters[m.tool[k]];
+  const record = s.sweeps.get(k);
+  if (!cutter || (record && record.skip)) return;
+  const vertex = (v) => [m.pos[v * 3], m.pos[v * 3 + 1], m.pos[v * 3 + 2]];
+  const a = record && record.start ? record.start : vertex(m.first[k]);
+  const b = vertex(m.first[k + 1] - 1);
+  if (record && record.arc) return sweepArc(s, cutter, levelArc(record.arc, a, b, fraction));
+  const points = [a];
+  if (record && record.chords) {
+    const q = view.header.moves.quantum_mm;
+    for (const d of record.chords) points.push([a[0] + d[0] * q, a[1] + d[1] * q, a[2] + d[2] * q]);
+  }
+  points.push(b);
+  const pieces = points.length - 1, upto = pieces * Math.min(1, fraction);
   for (let p = 0; p < Math.ceil(upto); p++) {
-    const v = (a + p * 2) * 3, w = v + 3;
-    const part = Math.min(1, upto - p);
-    const x0 = m.pos[v], y0 = m.pos[v + 1], z0 = m.pos[v + 2];
-    const x1 = x0 + (m.pos[w] - x0) * part, y1 = y0 + (m.pos[w + 1] - y0) * part, z1 = z0 + (m.pos[w + 2] - z0) * part;
-    sweepLine(spec, s, cutter, r, x0, y0, z0, x1, y1, z1);
+    const part = Math.min(1, upto - p), u = points[p], w = points[p + 1];
+    sweepLine(s, lineSweep(cutter, u, part >= 1 ? w : [0, 1, 2].map((i) => u[i] + (w[i] - u[i]) * part)));
   }
 }
 
-// The cutter's underside above its tip at distance d (d <= radius).
-function lift(profile, r, rise, d) {
-  if (profile === 1) return r - Math.sqrt(Math.max(0, r * r - d * d));
-  if (profile === 2) return rise * d;
+// The height of the underside above the tip at distance d (<= radius).
+function lift(c, d) {
+  if (c.profile === 1) return c.r - Math.sqrt(Math.max(0, c.r * c.r - d * d));
+  if (c.profile === 2) return c.rise * d;
   return 0;
 }
 
-function sweepLine(spec, s, cutter, r, x0, y0, z0, x1, y1, z1) {
-  const [cw, ch] = s.size;
-  const profile = cutter.profile === "ball" ? 1 : cutter.profile === "cone" ? 2 : 0, rise = cutter.rise;
-  const dx = x1 - x0, dy = y1 - y0, dz = z1 - z0, len2 = dx * dx + dy * dy;
-  const i0 = Math.max(0, Math.floor((Math.min(x0, x1) - r - spec.min[0]) / cw - 0.5));
-  const i1 = Math.min(spec.nx - 1, Math.ceil((Math.max(x0, x1) + r - spec.min[0]) / cw - 0.5));
-  const j0 = Math.max(0, Math.floor((Math.min(y0, y1) - r - spec.min[1]) / ch - 0.5));
-  const j1 = Math.min(spec.ny - 1, Math.ceil((Math.max(y0, y1) + r - spec.min[1]) / ch - 0.5));
-  if (Math.min(z0, z1) >= spec.top) return;
-  const heights = s.heights, r2 = r * r, nx = spec.nx;
-  for (let j = j0; j <= j1; j++) {
-    const py = spec.min[1] + (j + 0.5) * ch;
-    for (let i = i0; i <= i1; i++) {
-      const px = spec.min[0] + (i + 0.5) * cw;
-      // The closest point of the line to the cell's centre, and the
-      // stretch within the radius around it: the lowest is at one of them.
-      const tc = len2 > 0 ? Math.min(1, Math.max(0, ((px - x0) * dx + (py - y0) * dy) / len2)) : 0;
-      const cx = x0 + dx * tc - px, cy = y0 + dy * tc - py, dc2 = cx * cx + cy * cy;
-      if (dc2 > r2) continue;
-      const half = len2 > 0 ? Math.sqrt((r2 - dc2) / len2) : 0;
-      let best = Infinity;
-      for (let n = 0; n < 3; n++) {
-        const t = n === 0 ? tc : n === 1 ? Math.max(0, tc - half) : Math.min(1, tc + half);
-        const qx = x0 + dx * t - px, qy = y0 + dy * t - py, d2 = qx * qx + qy * qy;
-        if (d2 <= r2 * (1 + 1e-9)) {
-          const z = z0 + dz * t + (profile === 0 ? 0 : lift(profile, r, rise, Math.sqrt(Math.min(d2, r2))));
-          if (z < best) best = z;
-        }
+// A cutter along the line a-b, what every cell asks worked out once
+// (render/cutter.rs' LineSweep).
+function lineSweep(c, a, b) {
+  const vx = b[0] - a[0], vy = b[1] - a[1], dz = b[2] - a[2], length = Math.hypot(vx, vy);
+  const inv = length > 1e-12 ? 1 / length : 0, slope = length > 1e-12 ? dz / length : 0;
+  let k = null;
+  if (c.profile === 0) k = 0;
+  else if (c.profile === 1) k = -slope / Math.sqrt(1 + slope * slope);
+  else if (Math.abs(slope) < c.rise) k = -slope / Math.sqrt(c.rise * c.rise - slope * slope);
+  const coneSide = c.profile === 2 && k !== null ? slope * k + c.rise * Math.sqrt(1 + k * k) : 0;
+  return {
+    c, a, b, vx, vy, length, inv, slope, k, coneSide, incline: Math.sqrt(1 + slope * slope),
+    r2: c.r * c.r, zMin: Math.min(a[2], b[2]), yMin: Math.min(a[1], b[1]), yMax: Math.max(a[1], b[1]),
+  };
+}
+
+// Whether k * sqrt(q) <= c (q >= 0).
+function atMost(k, q, c) {
+  if (k <= 0) return c >= 0 || k * k * q >= c * c;
+  return c >= 0 && k * k * q <= c * c;
+}
+
+// The lowest the cutter reaches over (x, y) along the line; null where
+// it never passes over it (LineSweep::lowest).
+function lowestOnLine(s, x, y) {
+  const c = s.c, a = s.a;
+  const wx = x - a[0], wy = y - a[1], w2 = wx * wx + wy * wy;
+  if (s.inv === 0) return w2 <= s.r2 ? s.zMin + lift(c, Math.sqrt(w2)) : null;
+  const along = (wx * s.vx + wy * s.vy) * s.inv;
+  const h2 = Math.max(0, w2 - along * along), reach2 = s.r2 - h2;
+  const start = -along, end = s.length - along;
+  if (reach2 < 0 || (start > 0 && start * start > reach2) || (end < 0 && end * end > reach2)) return null;
+  const slope = s.slope;
+  if (c.profile === 1) {
+    if (atMost(s.k, reach2, start)) return a[2] + c.r - Math.sqrt(Math.max(0, s.r2 - w2));
+    if (!atMost(s.k, reach2, end)) {
+      const bx = wx - s.vx, by = wy - s.vy;
+      return s.b[2] + c.r - Math.sqrt(Math.max(0, s.r2 - bx * bx - by * by));
+    }
+    return a[2] + slope * along + c.r - Math.sqrt(reach2) * s.incline;
+  }
+  const reach = Math.sqrt(reach2), u0 = Math.max(start, -reach), u1 = Math.min(end, reach);
+  const zFoot = a[2] + slope * along;
+  if (c.profile === 0) return zFoot + slope * (slope >= 0 ? u0 : u1);
+  const h = Math.sqrt(h2);
+  let u;
+  if (s.k !== null) {
+    const kh = s.k * h;
+    if (kh >= u0 && kh <= u1) return zFoot + h * s.coneSide;
+    u = Math.min(Math.max(kh, u0), u1);
+  } else {
+    u = slope > 0 ? u0 : u1;
+  }
+  return zFoot + slope * u + c.rise * Math.sqrt(h2 + u * u);
+}
+
+function chordHalf(r, dy) {
+  return Math.abs(dy) <= r ? Math.sqrt(r * r - dy * dy) : null;
+}
+
+function crossing(p, q, y) {
+  return (p[1] - y) * (q[1] - y) <= 0 && p[1] !== q[1] ? p[0] + (y - p[1]) * (q[0] - p[0]) / (q[1] - p[1]) : null;
+}
+
+// The cells (first, last) whose centres lie in [lo, hi] along one axis.
+function cellsWithin(origin, cell, n, lo, hi) {
+  const first = Math.max(0, Math.ceil((lo - origin) / cell - 0.5));
+  const last = Math.min(n - 1, Math.floor((hi - origin) / cell - 0.5));
+  return first <= last ? [first, last] : null;
+}
+
+function lower(s, j, lo, hi, lowest) {
+  const spec = s.spec, cols = cellsWithin(spec.x0, spec.cell_mm, spec.nx, lo, hi);
+  if (!cols) return;
+  const y = spec.y0 + (j + 0.5) * spec.cell_mm, row = j * spec.nx, heights = s.heights;
+  for (let i = cols[0]; i <= cols[1]; i++) {
+    const z = lowest(spec.x0 + (i + 0.5) * spec.cell_mm, y);
+    if (z !== null && z < heights[row + i]) heights[row + i] = z;
+  }
+}
+
+// Each row's cells within the radius of the line: the hull of the discs
+// at its ends and the band between them (LineSweep::spans).
+function sweepLine(st, s) {
+  const spec = st.spec, r = s.c.r;
+  if (s.zMin >= spec.top) return;
+  const rows = cellsWithin(spec.y0, spec.cell_mm, spec.ny, s.yMin - r, s.yMax + r);
+  if (!rows) return;
+  const nx = -s.vy * s.inv * r, ny = s.vx * s.inv * r, band = s.inv > 0;
+  const p0 = [s.a[0] + nx, s.a[1] + ny], p1 = [s.b[0] + nx, s.b[1] + ny];
+  const q0 = [s.b[0] - nx, s.b[1] - ny], q1 = [s.a[0] - nx, s.a[1] - ny];
+  const lowest = (x, y) => lowestOnLine(s, x, y);
+  for (let j = rows[0]; j <= rows[1]; j++) {
+    const y = spec.y0 + (j + 0.5) * spec.cell_mm;
+    let lo = Infinity, hi = -Infinity;
+    const wa = chordHalf(r, y - s.a[1]), wb = chordHalf(r, y - s.b[1]);
+    if (wa !== null) { lo = s.a[0] - wa; hi = s.a[0] + wa; }
+    if (wb !== null) { lo = Math.min(lo, s.b[0] - wb); hi = Math.max(hi, s.b[0] + wb); }
+    if (band) {
+      const x = crossing(p0, p1, y), z = crossing(q0, q1, y);
+      if (x !== null) { lo = Math.min(lo, x); hi = Math.max(hi, x); }
+      if (z !== null) { lo = Math.min(lo, z); hi = Math.max(hi, z); }
+    }
+    if (lo <= hi) lower(st, j, lo, hi, lowest);
+  }
+}
+
+// The level arc of a move from a to b (its first `fraction`), as the
+// render keeps it: counter-clockwise from `from` to `to` about the centre.
+function levelArc(arc, a, b, fraction) {
+  const cx = a[0] + arc.dx, cy = a[1] + arc.dy;
+  const s = [a[0] - cx, a[1] - cy];
+  let e = [b[0] - cx, b[1] - cy], sweep = arc.sweep;
+  if (fraction < 1) {
+    sweep *= fraction;
+    const t = arc.clockwise ? -sweep : sweep;
+    e = [s[0] * Math.cos(t) - s[1] * Math.sin(t), s[0] * Math.sin(t) + s[1] * Math.cos(t)];
+  }
+  const [from, to] = arc.clockwise ? [e, s] : [s, e];
+  return { cx, cy, z: a[2], from, to, sweep, radius: Math.hypot(from[0], from[1]) };
+}
+
+// Whether the direction (x, y) from the centre is within the arc.
+function covers(arc, x, y) {
+  const cross = (p, u, v) => p[0] * v - p[1] * u;
+  if (arc.sweep >= 2 * Math.PI - 1e-12) return true;
+  if (arc.sweep <= Math.PI) return cross(arc.from, x, y) >= 0 && -cross(arc.to, x, y) >= 0;
+  return !(cross(arc.to, x, y) > 0 && -cross(arc.from, x, y) > 0);
+}
+
+function arcDistance(arc, x, y) {
+  const dx = x - arc.cx, dy = y - arc.cy;
+  if (covers(arc, dx, dy)) return Math.abs(Math.sqrt(dx * dx + dy * dy) - arc.radius);
+  const f = arc.from, t = arc.to;
+  return Math.min(Math.hypot(dx - f[0], dy - f[1]), Math.hypot(dx - t[0], dy - t[1]));
+}
+
+// Each row's cells within the radius of the arc: the ring about the whole
+// circle and the discs at its ends (Arc::spans).
+function sweepArc(st, c, arc) {
+  const spec = st.spec, r = c.r;
+  if (arc.z >= spec.top) return;
+  const rows = cellsWithin(spec.y0, spec.cell_mm, spec.ny, arc.cy - arc.radius - r, arc.cy + arc.radius + r);
+  if (!rows) return;
+  const lowest = (x, y) => {
+    const d = arcDistance(arc, x, y);
+    return d <= r ? arc.z + lift(c, d) : null;
+  };
+  for (let j = rows[0]; j <= rows[1]; j++) {
+    const dy = spec.y0 + (j + 0.5) * spec.cell_mm - arc.cy;
+    const outer = chordHalf(arc.radius + r, dy);
+    if (outer !== null) {
+      const inner = arc.radius > r ? chordHalf(arc.radius - r, dy) : null;
+      if (inner !== null) {
+        lower(st, j, arc.cx - outer, arc.cx - inner, lowest);
+        lower(st, j, arc.cx + inner, arc.cx + outer, lowest);
+      } else {
+        lower(st, j, arc.cx - outer, arc.cx + outer, lowest);
       }
-      const k = j * nx + i;
-      if (best < heights[k]) heights[k] = best;
+    }
+    for (const end of [arc.from, arc.to]) {
+      const w = chordHalf(r, dy - end[1]);
+      if (w !== null) lower(st, j, arc.cx + end[0] - w, arc.cx + end[0] + w, lowest);
     }
   }
 }
@@ -484,6 +714,10 @@ function draw() {
     gl.activeTexture(gl.TEXTURE0);
     gl.bindTexture(gl.TEXTURE_2D, g.heightTex);
     gl.uniform1i(g.stock.u.heights, 0);
+    gl.activeTexture(gl.TEXTURE1);
+    gl.bindTexture(gl.TEXTURE_2D, g.slopeTex);
+    gl.uniform1i(g.stock.u.slopes, 1);
+    gl.activeTexture(gl.TEXTURE0);
     gl.bindVertexArray(g.stockVao);
     gl.drawElements(gl.TRIANGLES, g.indexCount, gl.UNSIGNED_INT, 0);
   }
@@ -599,6 +833,7 @@ function setTime(t) {
     body.dataset.gerRemovedMm3 = removed.toFixed(3);
     gl.bindTexture(gl.TEXTURE_2D, glState.heightTex);
     gl.texSubImage2D(gl.TEXTURE_2D, 0, 0, 0, view.stock.spec.nx, view.stock.spec.ny, gl.RED, gl.FLOAT, view.stock.heights);
+    shadeSlopes(view.stock);
   } else {
     body.dataset.gerRemovedMm3 = "0";
   }
@@ -799,6 +1034,7 @@ function pickPoint(px, py) {
 
 function bounds() {
   const m = view.moves, s = view.stock;
+  if (m.bounds) return m.bounds;
   const lo = [Infinity, Infinity, Infinity], hi = [-Infinity, -Infinity, -Infinity];
   for (let v = 0; v < m.vertices; v++)
     for (let i = 0; i < 3; i++) {
@@ -812,8 +1048,8 @@ function bounds() {
       lo[i] = Math.min(lo[i], c); hi[i] = Math.max(hi[i], c);
     }));
   }
-  if (!isFinite(lo[0])) return [[-10, -10, -10], [10, 10, 10]];
-  return [lo, hi];
+  m.bounds = isFinite(lo[0]) ? [lo, hi] : [[-10, -10, -10], [10, 10, 10]];
+  return m.bounds;
 }
 
 const PRESETS = {
@@ -968,7 +1204,8 @@ async function load(payload, version) {
   if (failed) {
     const errors = (header.diagnostics || []).filter((d) => d.severity === "error");
     $("banner").textContent = errors.map((d) => d.rendered).join("\n") || "the program has errors";
-    showFacts(header);
+    // The last good picture's figures and notes stay with it.
+    showFacts(view.header ? { ...view.header, files: header.files, diagnostics: header.diagnostics } : header);
     sourcePane.render();
     const first = errors.find((d) => d.file === 0 && d.line);
     if (first) sourcePane.reveal(first.line);
@@ -980,7 +1217,7 @@ async function load(payload, version) {
   $("banner").textContent = "";
   outputPane.set(header.output);
   const moves = decodeMoves(header.moves, binary);
-  const stock = header.stock ? decodeStock(header.stock, binary) : null;
+  const stock = header.stock ? decodeStock(header.stock, binary, header) : null;
   const keepCamera = view.camera !== null;
   view.header = header; view.moves = moves; view.stock = stock;
   // The clock's sum of rounded steps may pass the run time by a hair.
