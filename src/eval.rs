@@ -13,6 +13,7 @@ mod degrees;
 mod error;
 mod evaluator;
 mod options;
+mod polar;
 mod seen;
 mod setup;
 mod state;

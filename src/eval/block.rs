@@ -86,7 +86,7 @@ pub fn in_order(words: &[Word]) -> Option<Vec<Owned>> {
 fn taker(letter: u8, kinds: &[Kind]) -> Option<usize> {
     let find = |wanted: &[Kind]| kinds.iter().position(|k| wanted.contains(k));
     match letter {
-        b'X' | b'Y' | b'Z' | b'A' | b'B' | b'C' | b'U' | b'V' | b'W' => {
+        b'X' | b'Y' | b'Z' | b'A' | b'B' | b'C' | b'U' | b'V' | b'W' | b'@' | b'^' => {
             find(&[Kind::AxisUser]).or_else(|| find(&[Kind::Motion]))
         }
         b'I' | b'J' | b'K' | b'R' => find(&[Kind::AxisUser, Kind::Motion]),

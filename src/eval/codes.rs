@@ -13,7 +13,7 @@ use crate::ir::{self, Arc, ArcGeometry, Axes, Axis, Motion, Op};
 use crate::source::Span;
 use std::rc::Rc;
 
-mod error;
+pub(super) mod error;
 
 use error::{CodeError, CodeErrorKind as K};
 
@@ -401,7 +401,7 @@ impl Evaluator<'_> {
         span: Span,
         code: Code,
     ) -> Result<(), Diagnostic> {
-        let has_axes = w.has_any(b"XYZABCUVW");
+        let has_axes = w.has_any(b"XYZABCUVW@^");
         if let Some(kind) = self
             .cycles
             .kind
@@ -416,6 +416,7 @@ impl Evaluator<'_> {
                 let (_, at) = w.remaining().next().unwrap_or((b'X', span));
                 return Err(CodeError::new(K::MoveWithoutMotion, at).into());
             };
+            self.polar_words(w)?;
             if self.this_line.machine_coordinates {
                 let m = self.motion_move(motion, w, span)?;
                 if m.motion.is_arc() {

@@ -12,8 +12,10 @@
 //! run of cycles starts at the first cycle block after any other motion
 //! code or G80; where the tool is then is the G98 level of the run.
 
+use super::codes::error::{CodeError, CodeErrorKind};
 use super::evaluator::Evaluator;
 use super::options::Flavour;
+use super::polar::PolarStep;
 use super::state::Sticky;
 use super::words::WordValues;
 use crate::diagnostic::{error, warning, Diagnostic, DiagnosticExt, Located, Wording};
@@ -147,6 +149,7 @@ impl Evaluator<'_> {
         self.check_units_in_run(at_code)?;
         // A block of the same cycle may leave out what the last one gave.
         let repeat = self.cycles.kind == Some(kind);
+        let polar = self.polar_words(w)?;
         let mut at = hole_words(kind, w, self.modal.plane, at_code)?;
         let n = Axis::ALL[self.modal.plane.axes().2];
         // A word as given, else the last block's (a repeat may leave it
@@ -204,7 +207,36 @@ impl Evaluator<'_> {
             kept: None,
         };
         self.cycles.kind = Some(kind);
-        self.emit(Op::Cycle(Box::new(cycle)), span)
+        match polar {
+            Some(step) if repeats > 1 => self.polar_repeats(cycle, step, span),
+            _ => self.emit(Op::Cycle(Box::new(cycle)), span),
+        }
+    }
+
+    /// A G91 cycle block with polar words and L repeats: each hole a block
+    /// of its own, one polar step on from the last (rs274 steps the
+    /// radius and angle before each hole, not X and Y).
+    fn polar_repeats(
+        &mut self,
+        cycle: ir::Cycle,
+        step: PolarStep,
+        span: Span,
+    ) -> Result<(), Diagnostic> {
+        let mut from = step.from;
+        for hole in 0..cycle.repeats {
+            let to = step.next(from).ok_or_else(|| -> Diagnostic {
+                let kind = CodeErrorKind::PolarAtOrigin { incremental: true };
+                CodeError::new(kind, span).into()
+            })?;
+            let mut one = cycle;
+            one.repeats = 1;
+            one.starts_run = cycle.starts_run && hole == 0;
+            one.at.set(Axis::X, to.0 - from.0);
+            one.at.set(Axis::Y, to.1 - from.1);
+            self.emit(Op::Cycle(Box::new(one)), span)?;
+            from = to;
+        }
+        Ok(())
     }
 
     /// LinuxCNC keeps the run's G98 level (the Z it started from, and

@@ -18,8 +18,29 @@ pub(super) struct WordValues<'w> {
 /// A value and a word index for every letter.
 #[derive(Default)]
 pub(super) struct WordTable {
-    values: [f64; 26],
-    index: [u16; 26],
+    values: [f64; SLOTS],
+    index: [u16; SLOTS],
+}
+
+/// A slot for each letter, and for LinuxCNC's polar words `@` and `^`.
+const SLOTS: usize = 28;
+
+/// The slot of a word's letter (`A`..`Z`, then `@`, `^`).
+fn slot(letter: u8) -> usize {
+    match letter {
+        b'@' => 26,
+        b'^' => 27,
+        _ => usize::from(letter - b'A'),
+    }
+}
+
+/// The letter of a slot, as [`slot`] numbers them.
+fn letter_of(slot: u32) -> u8 {
+    match slot {
+        26 => b'@',
+        27 => b'^',
+        _ => b'A' + slot as u8,
+    }
 }
 
 impl<'w> WordValues<'w> {
@@ -32,17 +53,17 @@ impl<'w> WordValues<'w> {
     }
 
     pub(super) fn bit(letter: u8) -> u32 {
-        1 << (letter - b'A')
+        1 << slot(letter)
     }
 
     /// The span of the word already given for `letter`, if any.
     pub(super) fn given(&self, letter: u8) -> Option<Span> {
         self.has(letter)
-            .then(|| self.words[self.table.index[(letter - b'A') as usize] as usize].span)
+            .then(|| self.words[self.table.index[slot(letter)] as usize].span)
     }
 
     pub(super) fn set(&mut self, letter: u8, value: f64, word_index: usize) {
-        let i = (letter - b'A') as usize;
+        let i = slot(letter);
         self.present |= Self::bit(letter);
         self.table.values[i] = value;
         self.table.index[i] = word_index.min(u16::MAX as usize) as u16;
@@ -58,7 +79,7 @@ impl<'w> WordValues<'w> {
             return None;
         }
         self.present &= !Self::bit(letter);
-        let i = (letter - b'A') as usize;
+        let i = slot(letter);
         let word = &self.words[self.table.index[i] as usize];
         let written = match &word.value {
             ast::WordValue::Number(n) => *n,
@@ -77,7 +98,25 @@ impl<'w> WordValues<'w> {
             return None;
         }
         self.present &= !Self::bit(letter);
-        Some(self.table.values[(letter - b'A') as usize])
+        Some(self.table.values[slot(letter)])
+    }
+
+    /// The value given for `letter` (present), left in place.
+    pub(super) fn table_value(&self, letter: u8) -> f64 {
+        self.table.values[slot(letter)]
+    }
+
+    /// LinuxCNC's polar words `@` and `^` replaced by the X and Y they
+    /// make, each spanned at the polar word that gave it.
+    pub(super) fn polar_to_xy(&mut self, x: f64, y: f64) {
+        let at = |w: &Self, l: u8| w.has(l).then(|| w.table.index[slot(l)]);
+        let (radius, angle) = (at(self, b'@'), at(self, b'^'));
+        for (letter, value, index) in [(b'X', x, radius.or(angle)), (b'Y', y, angle.or(radius))] {
+            if let Some(index) = index {
+                self.set(letter, value, usize::from(index));
+            }
+        }
+        self.present &= !(Self::bit(b'@') | Self::bit(b'^'));
     }
 
     pub(super) fn has(&self, letter: u8) -> bool {
@@ -96,7 +135,7 @@ impl<'w> WordValues<'w> {
             if left == 0 {
                 return None;
             }
-            let letter = b'A' + left.trailing_zeros() as u8;
+            let letter = letter_of(left.trailing_zeros());
             left &= left - 1;
             self.given(letter).map(|s| (letter, s))
         })

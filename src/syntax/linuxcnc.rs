@@ -6,7 +6,7 @@
 use super::error::SyntaxErrorKind;
 use super::lexer::{expects_value, find_word, Lexer, PendingCall, Raw, Shape};
 use super::token::Tok;
-use super::words::parse_decimal;
+use super::words::{parse_decimal, word_of, WordNumber};
 use crate::ast::{BinaryOp, Function, OName};
 
 /// The name of a LinuxCNC subroutine as written between `o<` and `>`:
@@ -168,6 +168,13 @@ impl Lexer<'_> {
                 Some(end)
             }
             Ok(Raw::Letter) => self.expression_word(start, end),
+            Ok(Raw::Caret) | Err(())
+                if rest.starts_with(['@', '^'])
+                    && self.groups.is_empty()
+                    && self.syms.is_empty() =>
+            {
+                self.polar_word(start)
+            }
             Ok(Raw::Ident) => self.linuxcnc_ident(start, end),
             Ok(Raw::SymOpen) if rest.starts_with(['o', 'O']) && self.first_on_line(start) => {
                 self.named_o_word(start)
@@ -288,6 +295,21 @@ impl Lexer<'_> {
         } else {
             None
         }
+    }
+
+    /// `@1.5`, `^[360/17]`: a polar word (radius or angle), a word whose
+    /// letter is the sign; where to go on.
+    fn polar_word(&mut self, start: usize) -> Option<usize> {
+        let line_end = self.text[start..]
+            .find('\n')
+            .map_or(self.text.len(), |i| start + i);
+        let number = WordNumber::after(self.text.as_bytes(), start + 1, line_end);
+        if number.is_decimal() {
+            let word = word_of(self.text.as_bytes()[start], &self.text[number.range()]);
+            self.push_word(word, start, number.end);
+            return Some(number.end);
+        }
+        self.expression_word(start, start + 1)
     }
 
     /// A word of letters: an operator inside brackets, FIX or FUP, or an

@@ -82,6 +82,19 @@ pub enum CodeErrorKind {
     NotWhole(&'static str),
     WizardLineNotPlain,
     WizardLineVariables,
+    /// A polar word (`@`, `^`) outside the G17 plane.
+    PolarPlane,
+    /// A polar word with an X or Y word.
+    PolarAndAxis(char),
+    /// A polar word with G53.
+    PolarMachine,
+    /// A radius alone (G90) or any polar word (G91) with the tool at the
+    /// program zero, where its angle is undefined.
+    PolarAtOrigin {
+        incremental: bool,
+    },
+    /// A polar word that needs the current X and Y, which ger does not know.
+    PolarPosition,
 }
 
 /// What goes wrong, and where: see [`CodeErrorKind`].
@@ -260,6 +273,39 @@ impl Wording for CodeErrorKind {
                 at,
                 "from this call",
             ),
+            K::PolarPlane => error(
+                "polar coordinates outside the XY plane",
+                at,
+                "`@` and `^` are read in G17 only",
+            ),
+            K::PolarAndAxis(letter) => error(
+                format!("`{letter}` and a polar coordinate in one block"),
+                at,
+                "`@` and `^` give X and Y: write one or the other",
+            ),
+            K::PolarMachine => error(
+                "polar coordinates with G53",
+                at,
+                "`@` and `^` are program coordinates",
+            ),
+            K::PolarAtOrigin { incremental } => {
+                let why = match incremental {
+                    true => "under G91 a polar word steps from the current point's angle",
+                    false => "a radius alone keeps the current point's angle",
+                };
+                error(
+                    "the tool is at the program zero, where the angle is undefined",
+                    at,
+                    why,
+                )
+                .with_help("give the angle `^` (with G90)")
+            }
+            K::PolarPosition => error(
+                "a polar word needs the current X and Y position, which is not known",
+                at,
+                "the radius or angle left out (or stepped from under G91) is the current point's",
+            )
+            .with_help("give both `@` and `^` under G90, or move to a known X and Y first"),
         }
     }
 }
