@@ -712,7 +712,7 @@ impl ProgramPrinter {
                         center,
                         clockwise,
                     };
-                    self.fitted_arc(moves[k].span, run, &arc);
+                    self.fitted_arc(&moves[k..k + segments], run, &arc);
                     if let Some(fitting) = self.fitting.as_deref_mut() {
                         fitting.lines_fitted += segments;
                         fitting.arcs += 1;
@@ -730,10 +730,12 @@ impl ProgramPrinter {
         }
     }
 
-    /// An arc as [`fit`] proved it, numbered by the run's first line;
-    /// under `--arcs fit-r` with R where `--arcs r` would write one and
-    /// the arc about the centre a controller finds from it is proven too.
-    fn fitted_arc(&mut self, span: Span, run: &fit::Run<'_>, arc: &FittedArc) {
+    /// An arc as [`fit`] proved it in place of `moves`, numbered by the
+    /// first one's line; under `--arcs fit-r` with R where `--arcs r`
+    /// would write one and the arc about the centre a controller finds
+    /// from it is proven too.
+    fn fitted_arc(&mut self, moves: &[ir::Stmt], run: &fit::Run<'_>, arc: &FittedArc) {
+        let span = moves[0].span;
         let (start, end) = (run.printed[arc.first], run.printed[arc.last]);
         let (a, b, n) = self.p.plane.axes();
         let r_word = if self.arcs.writes_r() {
@@ -769,7 +771,35 @@ impl ProgramPrinter {
             self.p.word_q(CENTER[b], arc.center[1] - start[1]);
         }
         self.feed_word();
+        if self.fitting.as_ref().is_some_and(|f| f.name_runs) {
+            self.name_run(moves);
+        }
         self.p.end();
+    }
+
+    /// `--stage fit`: a comment naming the moves an arc replaces and
+    /// their lines in the main file (none for moves of a called file).
+    fn name_run(&mut self, moves: &[ir::Stmt]) {
+        let n = moves.len();
+        let lines = moves
+            .first()
+            .zip(moves.last())
+            .map(|(first, last)| (self.p.main_line(first.span), self.p.main_line(last.span)));
+        let text = match lines {
+            Some((Some(first), Some(last))) if first == last => {
+                format!("fit: {n} moves, line {first}")
+            }
+            Some((Some(first), Some(last))) => format!("fit: {n} moves, lines {first}-{last}"),
+            _ => format!("fit: {n} moves"),
+        };
+        self.p.comment(&text);
+    }
+
+    /// `--stage fit`: each fitted arc names the source lines it replaces.
+    pub fn name_fitted_runs(&mut self) {
+        if let Some(fitting) = self.fitting.as_deref_mut() {
+            fitting.name_runs = true;
+        }
     }
 
     /// The R of a fitted arc and its decimals, if [`Self::r_word`] gives
