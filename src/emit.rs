@@ -37,6 +37,20 @@ pub enum ArcFormat {
     Lines,
     /// Chains of lines that lie on an arc written as that arc (I/J).
     Fit,
+    /// [`ArcFormat::Fit`], the arcs (fitted or not) written as `R` does.
+    FitR,
+}
+
+impl ArcFormat {
+    /// Whether chains of lines are fitted.
+    pub fn fits(self) -> bool {
+        matches!(self, ArcFormat::Fit | ArcFormat::FitR)
+    }
+
+    /// Whether arcs are written with R where it is exact enough.
+    pub fn writes_r(self) -> bool {
+        matches!(self, ArcFormat::R | ArcFormat::FitR)
+    }
 }
 
 #[derive(Clone, Debug)]

@@ -65,15 +65,64 @@ fn same_within_tolerance(a: &Path, b: &Path) {
     }
 }
 
-/// Chords of circles and of a helix, CAM style (3 decimals, F on every
-/// line), with a feed change and a kept comment inside a circle, corners,
-/// a block-delete line and a rapid: every arc within the tolerance, and
-/// the runs broken where they must be.
+/// [`chords_program`] fitted: every arc within the tolerance, and the
+/// runs broken where they must be.
 #[test]
 fn chains_of_chords_become_arcs_that_move_as_rs274_moves_the_lines() {
     if !oracle() {
         return;
     }
+    let text = chords_program();
+    let dir = scratch("chords");
+    let input = dir.join("chords.ngc");
+    std::fs::write(&input, &text).unwrap();
+    let out = dir.join("chords.fit.ngc");
+    let note = support::compile_with(&input, &out, &["--arcs", "fit"]).unwrap();
+    assert!(note.contains("lines written as"), "{note}");
+    let printed = std::fs::read_to_string(&out).unwrap();
+    // The comment and the new feed each begin a new arc; the helix is one.
+    assert!(printed.contains("(half way)"), "{printed}");
+    assert!(moves(&out) < 20, "{printed}");
+    assert!(printed.contains("/N"), "{printed}");
+    same_within_tolerance(&input, &out);
+    let _ = std::fs::remove_dir_all(dir);
+}
+
+/// `--arcs fit-r`: the same arcs, written with R where `--arcs r` would
+/// write one and the arc about the centre rs274 finds from it is proven
+/// (else with I/J, and a warning); rs274 moves them as it moves the
+/// lines. 4 decimals, so more R arcs need a 5th or 6th.
+#[test]
+fn fitted_arcs_written_with_r_move_as_rs274_moves_the_lines() {
+    if !oracle() {
+        return;
+    }
+    let dir = scratch("chords-r");
+    let input = dir.join("chords.ngc");
+    std::fs::write(&input, chords_program()).unwrap();
+    for decimals in ["3", "4"] {
+        let out = dir.join(format!("chords.fit-r.{decimals}.ngc"));
+        let args = ["--arcs", "fit-r", "--decimals", decimals];
+        let note = support::compile_with(&input, &out, &args).unwrap();
+        assert!(note.contains("(`--arcs fit-r`"), "{note}");
+        let printed = std::fs::read_to_string(&out).unwrap();
+        let arcs = printed
+            .lines()
+            .filter(|l| l.contains(" G2 ") || l.contains(" G3 "));
+        let (with_r, with_ij): (Vec<&str>, Vec<&str>) = arcs.partition(|l| l.contains(" R"));
+        // The half circles' arcs may need I/J; most arcs are not near one.
+        assert!(with_r.len() > with_ij.len(), "{printed}");
+        assert_eq!(with_ij.is_empty(), !note.contains("not R"), "{note}");
+        assert!(moves(&out) < 20, "{printed}");
+        same_within_tolerance(&input, &out);
+    }
+    let _ = std::fs::remove_dir_all(dir);
+}
+
+/// Chords of circles and of a helix, CAM style (3 decimals, F on every
+/// line), with a feed change and a kept comment inside a circle, corners,
+/// a block-delete line and a rapid.
+fn chords_program() -> String {
     let mut text = String::from("G21 G90 G17\nG0 X20 Y0 Z5\nG1 Z-1 F800\n");
     for k in 1..=360 {
         let a = f64::from(k).to_radians();
@@ -97,19 +146,7 @@ fn chains_of_chords_become_arcs_that_move_as_rs274_moves_the_lines() {
         ));
     }
     text.push_str("G1 X40 Y10\nG1 X40 Y20\n/G1 X30 Y20\nG1 X30 Y30\nG0 Z5\nM30\n");
-    let dir = scratch("chords");
-    let input = dir.join("chords.ngc");
-    std::fs::write(&input, &text).unwrap();
-    let out = dir.join("chords.fit.ngc");
-    let note = support::compile_with(&input, &out, &["--arcs", "fit"]).unwrap();
-    assert!(note.contains("lines written as"), "{note}");
-    let printed = std::fs::read_to_string(&out).unwrap();
-    // The comment and the new feed each begin a new arc; the helix is one.
-    assert!(printed.contains("(half way)"), "{printed}");
-    assert!(moves(&out) < 20, "{printed}");
-    assert!(printed.contains("/N"), "{printed}");
-    same_within_tolerance(&input, &out);
-    let _ = std::fs::remove_dir_all(dir);
+    text
 }
 
 /// `--arcs lines` output of the shipped examples, fitted back: the same

@@ -7,7 +7,7 @@ use super::options::{CompileOptions, Stage};
 use super::scan::{grid_decimals, input_decimals, FileScan};
 use super::travel::TravelCheck;
 use crate::diagnostic::Diagnostic;
-use crate::emit;
+use crate::emit::{self, ArcFormat};
 use crate::ir;
 use crate::lower::{self, Pipeline};
 use crate::source::FileId;
@@ -132,7 +132,7 @@ impl<'s> Backend<'s> {
         match self.options.stage {
             Some(Stage::Lower(pass)) => Some(pass),
             Some(Stage::Parse | Stage::Expand) => None,
-            None => Some(lower::PASSES.len() - 1),
+            Some(Stage::Fit) | None => Some(lower::PASSES.len() - 1),
         }
     }
 
@@ -184,8 +184,7 @@ impl<'s> Backend<'s> {
                 _ if matches!(self.out, Output::Path(_) | Output::Moves(_)) => {
                     Printer::Path(Box::new(ToolPathBuilder::new(units, &start.setup)))
                 }
-                Some(_) => Printer::Stage(emit::StagePrinter::new(units, len, file)),
-                None => {
+                Some(Stage::Fit) | None => {
                     let mut emit = self.options.emit.clone();
                     // A Fanuc user's O1234 stays O1234.
                     if let Some(number) = self.source.program_number() {
@@ -194,8 +193,21 @@ impl<'s> Backend<'s> {
                     if emit.decimals.is_none() {
                         emit.decimals = Some(grid_decimals(self.source.decimals(), units));
                     }
-                    Printer::Program(Box::new(emit::ProgramPrinter::new(&emit, units, len, file)))
+                    let fit = self.options.stage == Some(Stage::Fit);
+                    if fit && !emit.arcs.fits() {
+                        emit.arcs = if emit.arcs.writes_r() {
+                            ArcFormat::FitR
+                        } else {
+                            ArcFormat::Fit
+                        };
+                    }
+                    let mut printer = emit::ProgramPrinter::new(&emit, units, len, file);
+                    if fit {
+                        printer.name_fitted_runs();
+                    }
+                    Printer::Program(Box::new(printer))
                 }
+                Some(_) => Printer::Stage(emit::StagePrinter::new(units, len, file)),
             },
         }
     }

@@ -17,6 +17,9 @@ pub enum Stage {
     Expand,
     /// After the pass of this index in [`lower::PASSES`].
     Lower(usize),
+    /// The final program as `--arcs fit` prints it (`fit-r` if chosen),
+    /// each fitted arc naming the source lines it replaces.
+    Fit,
 }
 
 impl Stage {
@@ -25,12 +28,14 @@ impl Stage {
         ["parse", "expand"]
             .into_iter()
             .chain(lower::PASSES.iter().map(|p| p.name))
+            .chain(["fit"])
     }
 
     pub fn from_name(name: &str) -> Option<Stage> {
         match name.to_ascii_lowercase().as_str() {
             "parse" => Some(Stage::Parse),
             "expand" => Some(Stage::Expand),
+            "fit" => Some(Stage::Fit),
             _ => lower::pass_index(name).map(Stage::Lower),
         }
     }

@@ -73,7 +73,7 @@ keys!(TargetKey { Generic = "generic", Fanuc = "fanuc", Grbl = "grbl", LinuxCnc 
 keys!(FromKey { Generic = "generic", LinuxCnc = "linuxcnc", Fanuc = "fanuc", Grbl = "grbl", Mach3 = "mach3" });
 keys!(InputKey { Egc = "egc", Gcode = "gcode" });
 keys!(UnitsKey { Mm = "mm", Inch = "inch" });
-keys!(ArcsKey { Ij = "ij", R = "r", Lines = "lines", Fit = "fit" });
+keys!(ArcsKey { Ij = "ij", R = "r", Lines = "lines", Fit = "fit", FitR = "fit-r" });
 keys!(CyclesKey { Expand = "expand", Keep = "keep" });
 keys!(CompKey { Resolve = "resolve", Keep = "keep" });
 keys!(CompEntryKey { Rs274 = "rs274", Lookahead = "lookahead" });
@@ -251,6 +251,7 @@ impl CompileTable {
                 ArcsKey::R => ArcFormat::R,
                 ArcsKey::Lines => ArcFormat::Lines,
                 ArcsKey::Fit => ArcFormat::Fit,
+                ArcsKey::FitR => ArcFormat::FitR,
             };
         }
         if let Some(v) = self.tolerance.filter(|_| take("tolerance")) {

@@ -175,15 +175,22 @@ impl Run<'_> {
         let neighbours = [(0, 0), (1, 0), (-1, 0), (0, 1), (0, -1)];
         neighbours.into_iter().find_map(|(da, db)| {
             let q = [base[0] + da, base[1] + db];
-            let printed = PrintedArc::new(self, i, j, q, clockwise)?;
-            printed
-                .within(&self.exact[i..=j], self.tolerance)
-                .then_some(Piece::Arc {
-                    segments: j - i,
-                    center: q,
-                    clockwise,
-                })
+            let center = q.map(|v| v as f64 / self.scale);
+            self.proves(i, j, center, clockwise).then_some(Piece::Arc {
+                segments: j - i,
+                center: q,
+                clockwise,
+            })
         })
+    }
+
+    /// Whether the arc from printed vertex `i` to printed vertex `j`
+    /// about `center` (any point, not only one on the grid: the centre a
+    /// controller finds from an R) is within the tolerance of every
+    /// vertex and segment between.
+    pub(super) fn proves(&self, i: usize, j: usize, center: [f64; 2], clockwise: bool) -> bool {
+        PrintedArc::new(self, i, j, center, clockwise)
+            .is_some_and(|printed| printed.within(&self.exact[i..=j], self.tolerance))
     }
 }
 
@@ -200,10 +207,9 @@ struct PrintedArc {
 }
 
 impl PrintedArc {
-    fn new(run: &Run<'_>, i: usize, j: usize, q: [i64; 2], clockwise: bool) -> Option<Self> {
+    fn new(run: &Run<'_>, i: usize, j: usize, center: [f64; 2], clockwise: bool) -> Option<Self> {
         let unit = |v: i64| v as f64 / run.scale;
         let (s, e) = (run.printed[i].map(unit), run.printed[j].map(unit));
-        let center = q.map(unit);
         let (vs, ve) = (sub(s, center), sub(e, center));
         let radius = [vs[0].hypot(vs[1]), ve[0].hypot(ve[1])];
         // Two radii that differ by more than the grid's rounding is a

@@ -93,12 +93,17 @@ impl Printer {
             self.out.push(b'/');
         }
         match self.numbering {
-            Numbering::Source if span.file == self.main_file && span.line > 0 => {
+            Numbering::Source if self.main_line(span).is_some() => {
                 push_line_word(&mut self.out, span.line);
             }
             Numbering::Seq => self.seq_number(),
             Numbering::Source | Numbering::None => {}
         }
+    }
+
+    /// The line of the main file `span` starts on, if it is there.
+    pub fn main_line(&self, span: Span) -> Option<u32> {
+        (span.file == self.main_file && span.line > 0).then_some(span.line)
     }
 
     pub fn end(&mut self) {

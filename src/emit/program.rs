@@ -87,7 +87,9 @@ impl ProgramPrinter {
             printed: [None; 9],
             pending_feed: None,
             printed_feed: None,
-            fitting: (options.arcs == ArcFormat::Fit)
+            fitting: options
+                .arcs
+                .fits()
                 .then(|| fitting::Fitting::new(options.tolerance, units)),
             refused: Vec::new(),
         }
@@ -206,17 +208,21 @@ impl ProgramPrinter {
     pub fn arcs_not_r(&self) -> Option<Diagnostic> {
         let (first, n) = self.not_r?;
         let arcs = if n == 1 { "an arc" } else { "arcs" };
+        let why = "an R would move the centre a controller finds by more than the output's last \
+                   digit or 0.001 mm: an arc near a half circle, a short arc of a large radius, or \
+                   a centre off the middle of its ends (two radii that differ)";
+        let fitted = if self.fitting.is_some() {
+            "; or, for an arc fitted to lines, take it beyond `--tolerance` of them"
+        } else {
+            ""
+        };
         Some(
             warning(
                 format!("{n} {arcs} written with I/J, not R"),
                 first,
                 "the first of them",
             )
-            .with_note(
-                "an R would move the centre a controller finds by more than the output's last digit \
-                 or 0.001 mm: an arc near a half circle, a short arc of a large radius, or a centre \
-                 off the middle of its ends (two radii that differ)",
-            )
+            .with_note(format!("{why}{fitted}"))
             .with_help("more decimals (`--decimals`) let more arcs be written with R"),
         )
     }
@@ -306,7 +312,7 @@ impl ProgramPrinter {
         }
         let full = start_q[a] == end3[a] && start_q[b] == end3[b];
         // (A full circle, or more than one turn, has no R.)
-        let wants_r = self.arcs == ArcFormat::R && turns == 1 && !full;
+        let wants_r = self.arcs.writes_r() && turns == 1 && !full;
         let r_word = wants_r
             .then(|| self.r_word([start, end, center], start_q, end3, clockwise))
             .flatten();
@@ -529,6 +535,16 @@ impl ProgramPrinter {
 
 const CENTER: [u8; 3] = [b'I', b'J', b'K'];
 
+/// A stretch of a held run that [`fit`] proved an arc: from vertex
+/// `first` to vertex `last`, about `center` (on the grid, in the plane's
+/// first and second axes).
+struct FittedArc {
+    first: usize,
+    last: usize,
+    center: [i64; 2],
+    clockwise: bool,
+}
+
 /// `--arcs fit`: the printer's side of [`fitting::Fitting`].
 impl ProgramPrinter {
     /// `--arcs fit`: hold the statement back if it joins the run (or
@@ -628,16 +644,16 @@ impl ProgramPrinter {
         let moves = std::mem::take(&mut fitting.moves);
         let exact = std::mem::take(&mut fitting.exact);
         let printed = std::mem::take(&mut fitting.printed);
+        let run = fit::Run {
+            exact: &exact,
+            printed: &printed,
+            scale: 1.0 / self.p.unscaled(1),
+            tolerance: fitting.tolerance,
+        };
         let pieces = if moves.len() < fit::MIN_SEGMENTS {
             Vec::new()
         } else {
-            fit::Run {
-                exact: &exact,
-                printed: &printed,
-                scale: 1.0 / self.p.unscaled(1),
-                tolerance: fitting.tolerance,
-            }
-            .fit()
+            run.fit()
         };
         // The position is the run's end already; lines are printed as
         // `final_move` prints them, which reads only the printed state.
@@ -651,7 +667,7 @@ impl ProgramPrinter {
                 self.printed_feed,
                 self.p.seq,
             );
-            self.print_pieces(&moves, &printed, &[]);
+            self.print_pieces(&moves, &run, &[]);
             let lines = self.p.out.len() - from;
             self.p.out.truncate(from);
             (
@@ -660,13 +676,13 @@ impl ProgramPrinter {
                 self.printed_feed,
                 self.p.seq,
             ) = state;
-            self.print_pieces(&moves, &printed, &pieces);
+            self.print_pieces(&moves, &run, &pieces);
             let arcs = self.p.out.len() - from;
             if let Some(fitting) = self.fitting.as_deref_mut() {
                 fitting.bytes_saved += lines - arcs.min(lines);
             }
         } else {
-            self.print_pieces(&moves, &printed, &[]);
+            self.print_pieces(&moves, &run, &[]);
         }
         if let Some(fitting) = self.fitting.as_deref_mut() {
             // The vectors' room is kept for the next run.
@@ -680,7 +696,7 @@ impl ProgramPrinter {
     }
 
     /// The held `moves` as `pieces` say (lines where they say nothing).
-    fn print_pieces(&mut self, moves: &[ir::Stmt], printed: &[[i64; 3]], pieces: &[Piece]) {
+    fn print_pieces(&mut self, moves: &[ir::Stmt], run: &fit::Run<'_>, pieces: &[Piece]) {
         let mut k = 0;
         let mut pieces = pieces.iter();
         while k < moves.len() {
@@ -690,8 +706,13 @@ impl ProgramPrinter {
                     center,
                     clockwise,
                 }) => {
-                    let (start, end) = (printed[k], printed[k + segments]);
-                    self.fitted_arc(moves[k].span, start, end, center, clockwise);
+                    let arc = FittedArc {
+                        first: k,
+                        last: k + segments,
+                        center,
+                        clockwise,
+                    };
+                    self.fitted_arc(&moves[k..k + segments], run, &arc);
                     if let Some(fitting) = self.fitting.as_deref_mut() {
                         fitting.lines_fitted += segments;
                         fitting.arcs += 1;
@@ -709,19 +730,26 @@ impl ProgramPrinter {
         }
     }
 
-    /// An arc as [`fit`] proved it: from `start` to `end` about `center`
-    /// (the grid numbers, in plane order), numbered by the run's first line.
-    fn fitted_arc(
-        &mut self,
-        span: Span,
-        start: [i64; 3],
-        end: [i64; 3],
-        center: [i64; 2],
-        clockwise: bool,
-    ) {
+    /// An arc as [`fit`] proved it in place of `moves`, numbered by the
+    /// first one's line; under `--arcs fit-r` with R where `--arcs r`
+    /// would write one and the arc about the centre a controller finds
+    /// from it is proven too.
+    fn fitted_arc(&mut self, moves: &[ir::Stmt], run: &fit::Run<'_>, arc: &FittedArc) {
+        let span = moves[0].span;
+        let (start, end) = (run.printed[arc.first], run.printed[arc.last]);
         let (a, b, n) = self.p.plane.axes();
+        let r_word = if self.arcs.writes_r() {
+            let r_word = self.fitted_r(run, arc);
+            if r_word.is_none() {
+                let (_, n) = self.not_r.get_or_insert((span, 0));
+                *n += 1;
+            }
+            r_word
+        } else {
+            None
+        };
         self.p.begin(span, false);
-        self.p.code(if clockwise { "G2" } else { "G3" });
+        self.p.code(if arc.clockwise { "G2" } else { "G3" });
         for axis in Axis::ALL {
             let i = axis.index();
             let q = match i {
@@ -736,10 +764,67 @@ impl ProgramPrinter {
             self.p.word_q(axis.letter(), q);
             self.printed[i] = Some(q);
         }
-        self.p.word_q(CENTER[a], center[0] - start[0]);
-        self.p.word_q(CENTER[b], center[1] - start[1]);
+        if let Some((r, decimals)) = r_word {
+            self.p.word_decimals(b'R', r, decimals);
+        } else {
+            self.p.word_q(CENTER[a], arc.center[0] - start[0]);
+            self.p.word_q(CENTER[b], arc.center[1] - start[1]);
+        }
         self.feed_word();
+        if self.fitting.as_ref().is_some_and(|f| f.name_runs) {
+            self.name_run(moves);
+        }
         self.p.end();
+    }
+
+    /// `--stage fit`: a comment naming the moves an arc replaces and
+    /// their lines in the main file (none for moves of a called file).
+    fn name_run(&mut self, moves: &[ir::Stmt]) {
+        let n = moves.len();
+        let lines = moves
+            .first()
+            .zip(moves.last())
+            .map(|(first, last)| (self.p.main_line(first.span), self.p.main_line(last.span)));
+        let text = match lines {
+            Some((Some(first), Some(last))) if first == last => {
+                format!("fit: {n} moves, line {first}")
+            }
+            Some((Some(first), Some(last))) => format!("fit: {n} moves, lines {first}-{last}"),
+            _ => format!("fit: {n} moves"),
+        };
+        self.p.comment(&text);
+    }
+
+    /// `--stage fit`: each fitted arc names the source lines it replaces.
+    pub fn name_fitted_runs(&mut self) {
+        if let Some(fitting) = self.fitting.as_deref_mut() {
+            fitting.name_runs = true;
+        }
+    }
+
+    /// The R of a fitted arc and its decimals, if [`Self::r_word`] gives
+    /// one for the arc as proven (its printed ends and centre) and the
+    /// arc about the centre a controller finds from that R is proven as
+    /// well (it may lie up to a micron off the proven one).
+    fn fitted_r(&self, run: &fit::Run<'_>, arc: &FittedArc) -> Option<(f64, usize)> {
+        let (a, b, n) = self.p.plane.axes();
+        let in_axes = |plane: [i64; 3]| {
+            let mut q = [0; 3];
+            (q[a], q[b], q[n]) = (plane[0], plane[1], plane[2]);
+            q
+        };
+        let (start_q, end_q) = (
+            in_axes(run.printed[arc.first]),
+            in_axes(run.printed[arc.last]),
+        );
+        let center_q = in_axes([arc.center[0], arc.center[1], 0]);
+        let [start, end, center] =
+            [start_q, end_q, center_q].map(|q| q.map(|v| self.p.unscaled(v)));
+        let (r, decimals) = self.r_word([start, end, center], start_q, end_q, arc.clockwise)?;
+        let found =
+            geometry::center_from_radius(start, end, r, self.p.plane, arc.clockwise, 0.0).ok()?;
+        run.proves(arc.first, arc.last, [found[a], found[b]], arc.clockwise)
+            .then_some((r, decimals))
     }
 
     /// `--arcs fit`: a note of how many lines were written as how many arcs.
@@ -748,8 +833,12 @@ impl ProgramPrinter {
         let first = fitting.first?;
         Some(note(
             format!(
-                "{} lines written as {} arcs, {} bytes shorter (`--arcs fit`, within {})",
-                fitting.lines_fitted, fitting.arcs, fitting.bytes_saved, fitting.tolerance
+                "{} lines written as {} arcs, {} bytes shorter (`--arcs {}`, within {})",
+                fitting.lines_fitted,
+                fitting.arcs,
+                fitting.bytes_saved,
+                if self.arcs.writes_r() { "fit-r" } else { "fit" },
+                fitting.tolerance
             ),
             first,
             "the first of them",

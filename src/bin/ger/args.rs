@@ -368,6 +368,7 @@ pub enum ArcsArg {
     R,
     Lines,
     Fit,
+    FitR,
 }
 
 impl Options {
@@ -417,6 +418,7 @@ impl Options {
                     ArcsArg::R => ArcFormat::R,
                     ArcsArg::Lines => ArcFormat::Lines,
                     ArcsArg::Fit => ArcFormat::Fit,
+                    ArcsArg::FitR => ArcFormat::FitR,
                 },
                 decimals: self.decimals,
                 tolerance: self.tolerance,

@@ -38,6 +38,8 @@ pub(super) struct Fitting {
     /// How much shorter the arcs are than the lines they replace.
     pub(super) bytes_saved: usize,
     pub(super) first: Option<Span>,
+    /// `--stage fit`: each arc names the source lines it replaces.
+    pub(super) name_runs: bool,
 }
 
 impl Fitting {
