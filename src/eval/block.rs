@@ -65,8 +65,17 @@ pub fn in_order(words: &[Word]) -> Option<Vec<Owned>> {
         args: Vec::new(),
     };
     for w in words.iter().filter(|w| !w.is_code()) {
-        match taker(w.letter, &kinds) {
-            Some(i) => stmts[i].1.args.push(w.clone()),
+        match taker(w.letter, &codes, &kinds) {
+            Some(i) => {
+                stmts[i].1.args.push(w.clone());
+                // rs274's G64 reads the line's P and Q whoever else does
+                // (`G4 P0.5 G64` dwells 0.5 s and blends within 0.5).
+                let blend = (0..kinds.len())
+                    .find(|&j| j != i && kinds[j] == Kind::PathMode && reads(codes[j], w.letter));
+                if let Some(j) = blend {
+                    stmts[j].1.args.push(w.clone());
+                }
+            }
             None if matches!(w.letter, b'F' | b'S' | b'T' | b'N') => first.args.push(w.clone()),
             None => moves.args.push(w.clone()),
         }
@@ -81,25 +90,51 @@ pub fn in_order(words: &[Word]) -> Option<Vec<Owned>> {
     Some(stmts.into_iter().map(|(_, s)| s).collect())
 }
 
-/// Which code of the line takes a word with this letter: the first that
-/// uses it, in the order of preference of rs274.
-fn taker(letter: u8, kinds: &[Kind]) -> Option<usize> {
-    let find = |wanted: &[Kind]| kinds.iter().position(|k| wanted.contains(k));
-    match letter {
+/// Which code of the line takes a word with this letter: the first, in
+/// rs274's order of preference, that reads it (`G64 P0.25 G40`, `G64 P0.1
+/// G1 X2`: G64's tolerance; `G92.1 G1 X0`: G1's end); with none that
+/// reads it, the first of the kinds that might, whose diagnostic then
+/// names it.
+fn taker(letter: u8, codes: &[&Word], kinds: &[Kind]) -> Option<usize> {
+    let order: &[Kind] = match letter {
         b'X' | b'Y' | b'Z' | b'A' | b'B' | b'C' | b'U' | b'V' | b'W' | b'@' | b'^' => {
-            find(&[Kind::AxisUser]).or_else(|| find(&[Kind::Motion]))
+            &[Kind::AxisUser, Kind::Motion]
         }
-        b'I' | b'J' | b'K' | b'R' => find(&[Kind::AxisUser, Kind::Motion]),
-        b'H' => find(&[Kind::ToolLength]),
-        b'D' => find(&[Kind::Comp]),
-        b'P' | b'Q' | b'L' | b'E' => find(&[
+        b'I' | b'J' | b'K' | b'R' => &[Kind::AxisUser, Kind::Motion],
+        b'H' => &[Kind::ToolLength],
+        b'D' => &[Kind::Comp],
+        b'P' | b'Q' | b'L' | b'E' => &[
             Kind::Dwell,
             Kind::AxisUser,
             Kind::Call,
             Kind::OtherM,
+            Kind::PathMode,
             Kind::Motion,
-        ]),
-        _ => None,
+        ],
+        _ => return None,
+    };
+    let first_of = |reading: bool| {
+        order.iter().find_map(|want| {
+            (0..kinds.len()).find(|&i| kinds[i] == *want && (!reading || reads(codes[i], letter)))
+        })
+    };
+    first_of(true).or_else(|| first_of(false))
+}
+
+/// Does this code read a word with this letter (of those `taker` hands
+/// out)? Not G92.1/G92.2 (no word), G28/G30/G52/G92 (axes only), G0/G1
+/// (axes only), G2/G3 (not Q, L, E), G61/G61.1 (none), G64 (P and Q).
+fn reads(code: &Word, letter: u8) -> bool {
+    let WordValue::Number(n) = &code.value else {
+        return true;
+    };
+    let axis = b"XYZABCUVW@^".contains(&letter);
+    match (code.letter, (n.value * 10.0).round() as i64) {
+        (b'G', 921 | 922 | 610 | 611) => false,
+        (b'G', 0 | 10 | 280 | 300 | 520 | 920) => axis,
+        (b'G', 20 | 30) => axis || b"IJKRP".contains(&letter),
+        (b'G', 640) => matches!(letter, b'P' | b'Q'),
+        _ => true,
     }
 }
 
