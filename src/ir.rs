@@ -548,6 +548,20 @@ pub enum Passthrough {
     Line(String),
 }
 
+/// How S is read: G97 (rpm, where every program starts) or G96.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum SpindleMode {
+    Rpm,
+    /// S (`speed`, on G96's line as rs274 wants it) is the speed of the
+    /// surface at the tool's X radius, in length units per minute (m/min
+    /// in a mm program, ft/min in an inch one); the spindle turns at most
+    /// `max_rpm` (D) when given.
+    SurfaceSpeed {
+        speed: f64,
+        max_rpm: Option<f64>,
+    },
+}
+
 #[derive(Clone, Debug, PartialEq)]
 pub enum Op {
     Move(Move),
@@ -566,8 +580,10 @@ pub enum Op {
     },
     /// F, in length units per minute.
     Feed(f64),
-    /// S, rpm.
+    /// S: rpm, or under G96 the surface speed ([`SpindleMode`]).
     Speed(f64),
+    /// G96 (constant surface speed, D its limit in rpm) / G97 (S in rpm).
+    SpindleMode(SpindleMode),
     /// T: the tool the next M6 loads.
     SelectTool(u32),
     /// M6
@@ -673,6 +689,7 @@ impl Op {
             Op::Move(_)
             | Op::Feed(_)
             | Op::Speed(_)
+            | Op::SpindleMode(_)
             | Op::SelectTool(_)
             | Op::ChangeTool
             | Op::Spindle(_)

@@ -291,7 +291,10 @@ impl Builder {
                 via, incremental, ..
             } => self.home(via, *incremental, stmt),
             Op::Feed(f) => self.state.feed = f * k,
-            Op::Speed(s) => self.state.rpm = *s,
+            // Under G96 the surface speed, as rs274 prints it.
+            Op::Speed(s) | Op::SpindleMode(ir::SpindleMode::SurfaceSpeed { speed: s, .. }) => {
+                self.state.rpm = *s
+            }
             Op::SelectTool(t) => {
                 self.selected = *t;
                 self.state.selected = *t;
@@ -327,8 +330,10 @@ impl Builder {
             Op::Plane(p) => self.plane = *p,
             Op::PathControl(pc) => self.state.path_control = pc.scaled(k),
             // Folded away before the absolute pass, or the machine's own
-            // (taken as zero, see the module doc), or nothing that moves.
-            Op::Distance(_)
+            // (taken as zero, see the module doc), or nothing that moves
+            // (G97: the rpm stays the S given).
+            Op::SpindleMode(_)
+            | Op::Distance(_)
             | Op::ArcCenters(_)
             | Op::InverseTime(_)
             | Op::LocalOffset(_)

@@ -618,10 +618,10 @@ fn run_example(case: &Path) -> Result<(), Failed> {
 /// G54 (the frame known offsets are folded into) and what the passes pass
 /// through because it depends on the machine.
 fn check_allowed_codes(text: &str) -> Result<(), Failed> {
-    const G: [&str; 32] = [
+    const G: [&str; 34] = [
         "0", "1", "2", "3", "4", "17", "18", "19", "20", "21", "90", "00", "01", "54", "55", "56",
         "57", "58", "59", "59.1", "59.2", "59.3", "28", "30", "53", "43", "44", "49", "10", "61",
-        "61.1", "64",
+        "61.1", "64", "96", "97",
     ];
     const M: [&str; 13] = [
         "0", "1", "3", "4", "5", "6", "7", "8", "9", "30", "2", "00", "01",
@@ -652,6 +652,8 @@ fn check_allowed_codes(text: &str) -> Result<(), Failed> {
                     | b'N' | b'O' | b'H' | b'L' | b'A' | b'B' | b'C' | b'U' | b'V' | b'W' => true,
                     // G64's naive-CAM tolerance (path control passes through).
                     b'Q' => code.contains("G64"),
+                    // G96's limit in rpm (the spindle mode passes through).
+                    b'D' => code.contains("G96"),
                     _ => false,
                 };
                 if !ok {

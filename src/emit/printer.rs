@@ -214,6 +214,14 @@ impl Printer {
             } => self.home_words(*home, via, *incremental),
             Op::Feed(f) => self.word(b'F', *f),
             Op::Speed(s) => self.word(b'S', *s),
+            Op::SpindleMode(ir::SpindleMode::Rpm) => self.code("G97"),
+            Op::SpindleMode(ir::SpindleMode::SurfaceSpeed { speed, max_rpm }) => {
+                self.code("G96");
+                if let Some(d) = max_rpm {
+                    self.word(b'D', *d);
+                }
+                self.word(b'S', *speed);
+            }
             Op::SelectTool(t) => {
                 self.selected_tool = Some(*t);
                 self.int_word(b'T', *t);

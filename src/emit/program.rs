@@ -155,6 +155,7 @@ impl ProgramPrinter {
                 | Op::ToolLength { .. }
                 | Op::CancelToolLength => self.forget(stmt.op.unknown_after()),
                 Op::Speed(_)
+                | Op::SpindleMode(_)
                 | Op::SelectTool(_)
                 | Op::Spindle(_)
                 | Op::Coolant(_)

@@ -147,6 +147,8 @@ pub enum Why {
     MCode,
     /// A controller command (grbl's `$H`) for another controller.
     Command,
+    /// G96 D on Fanuc, whose limit is a G50 (lathe) or G92 (mill) S.
+    FanucMaxRpm,
 }
 
 impl Wording for Unrunnable {
@@ -187,6 +189,10 @@ impl Wording for Unrunnable {
             Why::Command => (
                 "a grbl command, not G-code",
                 "leave it out, or compile for grbl (--target grbl)",
+            ),
+            Why::FanucMaxRpm => (
+                "Fanuc's G96 takes no D: its spindle limit is a G50 (lathe) or G92 (mill) S",
+                "leave D out and set the machine's limit, or compile for a target that has G96 D",
             ),
         };
         error(
@@ -258,6 +264,7 @@ fn grbl_cannot_run(op: &Op) -> Option<(String, Why)> {
         }
         Op::ToolLength { .. } => Why::NoToolTable,
         Op::ArcCenters(ir::Distance::Absolute)
+        | Op::SpindleMode(_)
         | Op::LocalOffset(_)
         | Op::Polar(_)
         | Op::DiameterMode(_)
@@ -308,6 +315,9 @@ fn fanuc_cannot_run(op: &Op) -> Option<(String, Why)> {
             ..
         } => Why::CompWithoutD,
         Op::Passthrough(Passthrough::Line(_)) => Why::Command,
+        Op::SpindleMode(ir::SpindleMode::SurfaceSpeed {
+            max_rpm: Some(_), ..
+        }) => Why::FanucMaxRpm,
         _ => return None,
     };
     Some((code_of(op), why))
@@ -369,6 +379,12 @@ mod tests {
             incremental: true,
         };
         let g10 = |index| Op::SetWorkOffset { index, origin: xy };
+        let surface = |max_rpm| {
+            Op::SpindleMode(ir::SpindleMode::SurfaceSpeed {
+                speed: 100.0,
+                max_rpm,
+            })
+        };
         let length = |negative| Op::ToolLength {
             tool: Some(1),
             negative,
@@ -383,6 +399,9 @@ mod tests {
             (home, "gblf"),
             (Op::Feed(100.0), "gblf"),
             (Op::Speed(1000.0), "gblf"),
+            (Op::SpindleMode(ir::SpindleMode::Rpm), "glf"),
+            (surface(None), "glf"),
+            (surface(Some(2500.0)), "gl"),
             (Op::SelectTool(2), "gblf"),
             (Op::ChangeTool, "gblf"),
             (Op::Spindle(ir::Spindle::CounterClockwise), "gblf"),
@@ -438,6 +457,7 @@ mod tests {
             | Op::Home { .. }
             | Op::Feed(_)
             | Op::Speed(_)
+            | Op::SpindleMode(_)
             | Op::SelectTool(_)
             | Op::ChangeTool
             | Op::Spindle(_)

@@ -102,7 +102,12 @@ fn taker(letter: u8, codes: &[&Word], kinds: &[Kind]) -> Option<usize> {
         }
         b'I' | b'J' | b'K' | b'R' => &[Kind::AxisUser, Kind::Motion],
         b'H' => &[Kind::ToolLength],
-        b'D' => &[Kind::Comp],
+        b'D' => &[Kind::Comp, Kind::SpindleMode],
+        // G96's surface speed; else a statement of its own.
+        b'S' => {
+            return (0..kinds.len())
+                .find(|&i| kinds[i] == Kind::SpindleMode && reads(codes[i], letter))
+        }
         b'P' | b'Q' | b'L' | b'E' => &[
             Kind::Dwell,
             Kind::AxisUser,
@@ -130,7 +135,7 @@ fn reads(code: &Word, letter: u8) -> bool {
     };
     let axis = b"XYZABCUVW@^".contains(&letter);
     match (code.letter, (n.value * 10.0).round() as i64) {
-        (b'G', 921 | 922 | 610 | 611) => false,
+        (b'G', 921 | 922 | 610 | 611 | 400 | 970) => false,
         (b'G', 0 | 10 | 280 | 300 | 520 | 920) => axis,
         (b'G', 20 | 30) => axis || b"IJKRP".contains(&letter),
         (b'G', 640) => matches!(letter, b'P' | b'Q'),
@@ -159,6 +164,8 @@ enum Kind {
     ArcDistance,
     /// G93/G94: before the F words of the line.
     FeedMode,
+    /// G96/G97: before the S word of the line.
+    SpindleMode,
     ReturnLevel,
     AxisUser,
     /// G53: the motion of the line is in machine coordinates.
@@ -218,7 +225,7 @@ impl Kind {
             Kind::Distance => 8,
             Kind::ArcDistance => 8,
             // With the F, S and T words (rank 0) and before them.
-            Kind::FeedMode => 0,
+            Kind::FeedMode | Kind::SpindleMode => 0,
             Kind::ReturnLevel => 15,
             Kind::AxisUser => 16,
             Kind::MachineCoordinates => 17,
@@ -258,6 +265,7 @@ fn kind_of(w: &Word) -> Option<Kind> {
         (b'G', 900 | 910) => Kind::Distance,
         (b'G', 901 | 911) => Kind::ArcDistance,
         (b'G', 930 | 940) => Kind::FeedMode,
+        (b'G', 960 | 970) => Kind::SpindleMode,
         (b'G', 980 | 990) => Kind::ReturnLevel,
         (b'G', 100 | 280 | 300 | 520 | 920 | 921 | 922) => Kind::AxisUser,
         (b'G', 0 | 10 | 20 | 30 | 730 | 810..=890) => Kind::Motion,

@@ -546,6 +546,11 @@ impl Evaluator<'_> {
         if t == 650 && self.options.plain {
             return self.macro_call(w, at);
         }
+        if matches!(t, 960 | 970) {
+            // Before the line's S, which it gives its meaning.
+            let op = spindle_mode(t, at, w)?;
+            self.emit(op, span)?;
+        }
         self.feed_speed_tool(w, span)?;
         let kind = match (t, self.options.from) {
             (760, Flavour::Fanuc) => Some(ir::CycleKind::G76),
@@ -558,6 +563,7 @@ impl Evaluator<'_> {
         }
         match t {
             0 | 10 | 20 | 30 => self.select_motion(t),
+            960 | 970 => {}
             _ if self.g_mode(t, at, span)? => {}
             _ => {
                 let op = self.g_statement(t, at, w)?;
@@ -1165,6 +1171,34 @@ fn blend(w: &mut WordValues) -> Result<Op, Diagnostic> {
     Ok(Op::PathControl(ir::PathControl::Blend {
         tolerance: tolerance(b'P')?,
         naive: tolerance(b'Q')?,
+    }))
+}
+
+/// G96 (S its surface speed, D its limit in rpm, positive) or G97.
+fn spindle_mode(t: u32, at: Span, w: &mut WordValues) -> Result<Op, Diagnostic> {
+    if t == 970 {
+        return Ok(Op::SpindleMode(ir::SpindleMode::Rpm));
+    }
+    let speed = match w.take(b'S') {
+        None => return Err(CodeError::new(K::SurfaceSpeedWithoutS, at).into()),
+        Some((s, span)) if s < 0.0 => return Err(CodeError::new(K::NegativeSpeed, span).into()),
+        Some((s, _)) => s,
+    };
+    let max_rpm = match w.take(b'D') {
+        Some((d, span)) if !(d > 0.0 && ir::is_length(d)) => {
+            return Err(super::error::out_of_range(
+                "G96 `D` is out of range".to_string(),
+                "spindle speeds",
+                d,
+                span,
+            ))
+        }
+        Some((d, _)) => Some(d),
+        None => None,
+    };
+    Ok(Op::SpindleMode(ir::SpindleMode::SurfaceSpeed {
+        speed,
+        max_rpm,
     }))
 }
 

@@ -299,6 +299,7 @@ impl Pass for AbsolutePass {
             Op::Cycle(c) => self.follow_kept_cycle(c),
             Op::Feed(_)
             | Op::Speed(_)
+            | Op::SpindleMode(_)
             | Op::SelectTool(_)
             | Op::ChangeTool
             | Op::Spindle(_)

@@ -255,6 +255,7 @@ impl CompPass {
             | Op::CancelToolLength => self.at.forget_after(&stmt.op, span),
             Op::Feed(_)
             | Op::Speed(_)
+            | Op::SpindleMode(_)
             | Op::Spindle(_)
             | Op::Coolant(_)
             | Op::Dwell(_)

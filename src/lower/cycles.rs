@@ -499,6 +499,7 @@ impl Pass for CyclesPass {
             | Op::Home { .. }
             | Op::Feed(_)
             | Op::Speed(_)
+            | Op::SpindleMode(_)
             | Op::SelectTool(_)
             | Op::ChangeTool
             | Op::ReadPosition(_)

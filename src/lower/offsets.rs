@@ -324,6 +324,7 @@ impl Pass for OffsetsPass {
             Op::CancelToolLength => self.cancel_tool_length(),
             Op::Feed(_)
             | Op::Speed(_)
+            | Op::SpindleMode(_)
             | Op::SelectTool(_)
             | Op::ChangeTool
             | Op::Spindle(_)

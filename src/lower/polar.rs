@@ -120,6 +120,7 @@ impl Pass for PolarPass {
             }
             Op::Feed(_)
             | Op::Speed(_)
+            | Op::SpindleMode(_)
             | Op::SelectTool(_)
             | Op::ChangeTool
             | Op::ReadPosition(_)

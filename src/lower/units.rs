@@ -33,6 +33,8 @@ struct UnitsPass {
     machine_feed: Option<crate::source::Span>,
     /// G93: an F is the inverse of a time, not a length a minute.
     inverse_time: bool,
+    /// G96: an S is a surface speed, m/min or ft/min.
+    surface_speed: bool,
 }
 
 impl UnitsPass {
@@ -44,6 +46,7 @@ impl UnitsPass {
             plane: ir::Plane::XY,
             machine_feed: None,
             inverse_time: false,
+            surface_speed: false,
         }
     }
 
@@ -52,6 +55,16 @@ impl UnitsPass {
         match (self.current, self.output) {
             (Some(from), Some(to)) => from.factor(to),
             _ => 1.0,
+        }
+    }
+
+    /// A surface speed in the output's units: m/min in mm, ft/min in
+    /// inch (0.3048 m a foot).
+    fn surface(&self, s: &mut f64) {
+        match (self.current, self.output) {
+            (Some(Units::Inch), Some(Units::Mm)) => *s *= 0.3048,
+            (Some(Units::Mm), Some(Units::Inch)) => *s /= 0.3048,
+            _ => {}
         }
     }
 
@@ -131,6 +144,12 @@ impl Pass for UnitsPass {
                 radius: CompRadius::Diameter(d),
                 ..
             } => scale(d),
+            Op::SpindleMode(ir::SpindleMode::Rpm) => self.surface_speed = false,
+            Op::SpindleMode(ir::SpindleMode::SurfaceSpeed { speed: s, .. }) => {
+                self.surface_speed = true;
+                self.surface(s);
+            }
+            Op::Speed(s) if self.surface_speed => self.surface(s),
             Op::PathControl(ir::PathControl::Blend { tolerance, naive }) => {
                 for v in [tolerance, naive].into_iter().flatten() {
                     scale(v);

@@ -28,6 +28,8 @@ pub enum CodeErrorKind {
         code: Option<String>,
     },
     ZeroTurns,
+    /// G96 without its surface speed (rs274: "S word missing with G96").
+    SurfaceSpeedWithoutS,
     RadiusAndCentre,
     ZeroRadius,
     ArcWithoutCentre,
@@ -136,6 +138,11 @@ impl Wording for CodeErrorKind {
                 error(format!("unexpected `{letter}` word"), at, label)
             }
             K::ZeroTurns => error("zero turns", at, "P counts turns, from 1"),
+            K::SurfaceSpeedWithoutS => error(
+                "G96 without S",
+                at,
+                "G96 needs the surface speed on its line",
+            ),
             K::RadiusAndCentre => error(
                 "an arc with both R and I/J/K",
                 at,
