@@ -81,8 +81,15 @@ pub fn compile_to(
     wizards: Option<&mut dyn WizardHost>,
     out: &mut (dyn Write + Send),
 ) -> Report {
-    attempt(sources, file, options, wizards, out, Cutting::PlainOnly)
-        .unwrap_or_else(|Whole| unreachable_whole())
+    attempt(
+        sources,
+        file,
+        options,
+        wizards,
+        Output::Text(out),
+        Cutting::PlainOnly,
+    )
+    .unwrap_or_else(|Whole| unreachable_whole())
 }
 
 /// [`compile_to`] into `out`, which is cleared first. A program that is
@@ -130,7 +137,7 @@ fn restarting<W: Write + Send>(
     in_parts_else_whole(|cutting| {
         reset(out);
         let wizards = wizards.as_mut().map(|w| &mut **w as &mut dyn WizardHost);
-        attempt(sources, file, options, wizards, out, cutting)
+        attempt(sources, file, options, wizards, Output::Text(out), cutting)
     })
     .unwrap_or_else(|Whole| unreachable_whole())
 }
@@ -144,19 +151,19 @@ fn in_parts_else_whole<T>(
     compile(Cutting::AsItGoes).or_else(|Whole| compile(Cutting::PlainOnly))
 }
 
-/// One compile of the file `file` into `out`, a program that is not plain
-/// read in parts as `cutting` says; `Err`: a part needs the whole program.
-fn attempt(
-    sources: &Sources,
+/// One compile of the file `file` into `out` (text, a path, moves), a
+/// program that is not plain read in parts as `cutting` says; `Err`: a
+/// part needs the whole program.
+fn attempt<'a>(
+    sources: &'a Sources,
     file: FileId,
-    options: &CompileOptions,
+    options: &'a CompileOptions,
     wizards: Option<&mut dyn WizardHost>,
-    out: &mut (dyn Write + Send),
+    out: Output<'a>,
     cutting: Cutting,
 ) -> Result<Report, Whole> {
     let (mut diagnostics, mut clock) = (Vec::new(), Clock::new());
     let input = Input::of(sources, file, options);
-    let out = Output::Text(out);
     let written = run(
         input,
         options,
@@ -173,15 +180,16 @@ fn attempt(
     })
 }
 
+/// What a read that needs the whole program says where it has it.
+const WHOLE_TWICE: &str = "internal: a whole read asked for a whole read";
+
 /// The report of a compile that stopped for the whole program where it
 /// cannot ([`Cutting::PlainOnly`]): none is ever made.
 fn unreachable_whole() -> Report {
     Report {
         diagnostics: Vec::new(),
         timings: Vec::new(),
-        write_error: Some(std::io::Error::other(
-            "internal: a whole read asked for a whole read",
-        )),
+        write_error: Some(std::io::Error::other(WHOLE_TWICE)),
     }
 }
 
@@ -199,27 +207,15 @@ pub fn tool_path(
     };
     let mut wizards = wizards;
     let found = in_parts_else_whole(|cutting| {
-        let (mut path, mut diagnostics) = (None, Vec::new());
-        let input = Input::of(sources, file, &options);
+        let mut path = None;
         let wizards = wizards.as_mut().map(|w| &mut **w as &mut dyn WizardHost);
         let out = Output::Path(&mut path);
-        let clock = &mut Clock::new();
         // Nothing is written: no write can fail.
-        let _ = run(
-            input,
-            &options,
-            wizards,
-            out,
-            &mut diagnostics,
-            clock,
-            cutting,
-        )?;
-        Ok((path, diagnostics))
+        let report = attempt(sources, file, &options, wizards, out, cutting)?;
+        Ok((path, report.diagnostics))
     });
-    let (mut path, diagnostics) = found.unwrap_or_else(|Whole| {
-        let internal = "internal: a whole read asked for a whole read";
-        (None, vec![Diagnostic::error().with_message(internal)])
-    });
+    let (mut path, diagnostics) =
+        found.unwrap_or_else(|Whole| (None, vec![Diagnostic::error().with_message(WHOLE_TWICE)]));
     if diagnostics.iter().any(is_error) {
         path = None;
     }
@@ -247,26 +243,12 @@ pub fn feed_tool_path(
         if std::mem::replace(&mut started, true) {
             sink.restart();
         }
-        let mut diagnostics = Vec::new();
-        let input = Input::of(sources, file, &options);
         let wizards = wizards.as_mut().map(|w| &mut **w as &mut dyn WizardHost);
-        let clock = &mut Clock::new();
         let out = Output::Moves(&mut *sink);
         // Nothing is written: no write can fail.
-        let _ = run(
-            input,
-            &options,
-            wizards,
-            out,
-            &mut diagnostics,
-            clock,
-            cutting,
-        )?;
-        Ok(diagnostics)
+        Ok(attempt(sources, file, &options, wizards, out, cutting)?.diagnostics)
     });
-    found.unwrap_or_else(|Whole| {
-        vec![Diagnostic::error().with_message("internal: a whole read asked for a whole read")]
-    })
+    found.unwrap_or_else(|Whole| vec![Diagnostic::error().with_message(WHOLE_TWICE)])
 }
 
 /// The values the variables of file `file` of `sources` have where the
