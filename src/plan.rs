@@ -427,6 +427,46 @@ mod tests {
     }
 
     #[test]
+    fn a_grbl_buffer_of_16_slots_holds_15_blocks() {
+        // grbl's ring buffer keeps one of its 16 slots free, so the block
+        // running sees 14 after it: 40 moves of 1 mm at 100 mm/s² must
+        // each be able to stop within 14 mm (v² ≤ 2800): 14 blocks up,
+        // 12 from 2800 to 2800 through a peak of 2900 mid-block, 14
+        // down. grbl 1.1h's own planner and stepper (run outside the
+        // repository, tests/data/grbl_times.tsv says how) take 1.283298 s.
+        let axis = crate::driver::machine::Axis {
+            max_velocity: Some(6000.0),
+            max_acceleration: Some(100.0),
+            travel: None,
+        };
+        let machine = crate::driver::machine::Machine {
+            controller: Controller::Grbl,
+            axes: [axis; 3],
+            rapid_rate: None,
+            junction_deviation: None,
+            path_tolerance: None,
+            arc_tolerance: None,
+            planner_blocks: Some(16),
+            tool_change_s: None,
+            spindle_start_s: None,
+        };
+        let stock = Limits::of(&machine).unwrap();
+        assert_eq!(stock.blocks, 15);
+        let points: Vec<[f64; 3]> = (0..=40).map(|i| [i as f64, 0.0, 0.0]).collect();
+        let t = planned(&points, 6000.0, &stock);
+        let cruise = 2.0 * (2900.0_f64.sqrt() - 2800.0_f64.sqrt()) / 100.0;
+        let expected = 2.0 * (2.0_f64 * 14.0 / 100.0).sqrt() + 12.0 * cruise;
+        assert!((t - expected).abs() < 1e-9, "{t} vs {expected}");
+        assert!((t / 1.283298 - 1.0).abs() < 0.001, "{t}");
+        // LinuxCNC's depth is the moves it looks ahead, all of them held.
+        let linuxcnc = crate::driver::machine::Machine {
+            controller: Controller::LinuxCnc,
+            ..machine
+        };
+        assert_eq!(Limits::of(&linuxcnc).unwrap().blocks, 16);
+    }
+
+    #[test]
     fn each_axis_limits_its_share_of_a_diagonal() {
         // Z at 10 mm/s: a 45° XZ move of 100 mm is held to 14.142 mm/s.
         let slow_z = Limits {

@@ -75,7 +75,8 @@ pub struct Machine {
     pub path_tolerance: Option<f64>,
     /// mm (grbl `$12`).
     pub arc_tolerance: Option<f64>,
-    /// Blocks the planner looks ahead (16 on a stock grbl).
+    /// The planner buffer's blocks (grbl's `BLOCK_BUFFER_SIZE`, 16 on a
+    /// stock grbl, which holds one fewer; LinuxCNC's look-ahead depth).
     pub planner_blocks: Option<u32>,
     pub tool_change_s: Option<f64>,
     pub spindle_start_s: Option<f64>,

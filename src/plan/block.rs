@@ -9,6 +9,7 @@ use crate::ir::PathControl;
 /// grbl's defaults where the profile says nothing.
 pub(super) const DEFAULT_JUNCTION_DEVIATION: f64 = 0.01;
 pub(super) const DEFAULT_ARC_TOLERANCE: f64 = 0.002;
+/// grbl's `BLOCK_BUFFER_SIZE` (planner.h) on a stock build.
 pub(super) const DEFAULT_GRBL_BLOCKS: usize = 16;
 /// LinuxCNC's `[TRAJ]ARC_BLEND_OPTIMIZATION_DEPTH` default.
 pub(super) const DEFAULT_LINUXCNC_BLOCKS: usize = 50;
@@ -31,7 +32,8 @@ pub struct Limits {
     pub path_tolerance: f64,
     /// grbl's arc tolerance, mm.
     pub arc_tolerance: f64,
-    /// Blocks the planner holds, the one running included.
+    /// Blocks the planner holds, the one running included (one fewer
+    /// than a grbl profile's `planner-blocks`, its buffer's slots).
     pub blocks: usize,
     pub tool_change_s: f64,
     pub spindle_start_s: f64,
@@ -56,6 +58,13 @@ impl Limits {
             Controller::Grbl => DEFAULT_GRBL_BLOCKS,
             Controller::LinuxCnc => DEFAULT_LINUXCNC_BLOCKS,
         };
+        let blocks = machine.planner_blocks.map_or(blocks, |b| b as usize);
+        let held = match machine.controller {
+            // grbl's ring buffer keeps one slot free to tell full from
+            // empty (plan_check_full_buffer): 16 slots hold 15 blocks.
+            Controller::Grbl => blocks.saturating_sub(1).max(1),
+            Controller::LinuxCnc => blocks,
+        };
         Ok(Limits {
             controller: machine.controller,
             max_rate,
@@ -67,7 +76,7 @@ impl Limits {
                 .unwrap_or(DEFAULT_JUNCTION_DEVIATION),
             path_tolerance: machine.path_tolerance.unwrap_or(0.0),
             arc_tolerance: machine.arc_tolerance.unwrap_or(DEFAULT_ARC_TOLERANCE),
-            blocks: machine.planner_blocks.map_or(blocks, |b| b as usize),
+            blocks: held,
             tool_change_s: machine.tool_change_s.unwrap_or(0.0),
             spindle_start_s: machine.spindle_start_s.unwrap_or(0.0),
         })
