@@ -103,8 +103,15 @@ pub fn plan(path: &ToolPath, limits: Option<&Limits>) -> Figures {
 /// `limits`, else length / feed (rapids untimed); dwells counted where
 /// they stand.
 pub fn clock_per_move(path: &ToolPath, limits: Option<&Limits>) -> Vec<f64> {
+    plan_with_clock(path, limits).1
+}
+
+/// [`plan`]'s figures and [`clock_per_move`]'s clock, the path planned
+/// once for both (the studio shows both).
+pub fn plan_with_clock(path: &ToolPath, limits: Option<&Limits>) -> (Figures, Vec<f64>) {
+    let mut figures = plan(path, limits);
     let mut each = match limits {
-        Some(limits) => plan(path, Some(limits)).move_s,
+        Some(_) => std::mem::take(&mut figures.move_s),
         None => path
             .moves
             .iter()
@@ -125,7 +132,7 @@ pub fn clock_per_move(path: &ToolPath, limits: Option<&Limits>) -> Vec<f64> {
         at += *t;
         *t = at;
     }
-    each
+    (figures, each)
 }
 
 /// A straight move's direction (a zero move's: none).
