@@ -15,12 +15,14 @@
 //! never sees the IR or the program text.
 
 mod block;
+mod chords;
 mod linuxcnc;
 
 pub use block::Limits;
 mod tally;
 
-use block::{along, direction, direction_and_length, dot, rapid_rate, Block};
+use block::{along, direction, dot, Block};
+use chords::Piece;
 pub use tally::Tally;
 
 use crate::driver::machine::Controller;
@@ -101,8 +103,15 @@ pub fn plan(path: &ToolPath, limits: Option<&Limits>) -> Figures {
 /// `limits`, else length / feed (rapids untimed); dwells counted where
 /// they stand.
 pub fn clock_per_move(path: &ToolPath, limits: Option<&Limits>) -> Vec<f64> {
+    plan_with_clock(path, limits).1
+}
+
+/// [`plan`]'s figures and [`clock_per_move`]'s clock, the path planned
+/// once for both (the studio shows both).
+pub fn plan_with_clock(path: &ToolPath, limits: Option<&Limits>) -> (Figures, Vec<f64>) {
+    let mut figures = plan(path, limits);
     let mut each = match limits {
-        Some(limits) => plan(path, Some(limits)).move_s,
+        Some(_) => std::mem::take(&mut figures.move_s),
         None => path
             .moves
             .iter()
@@ -123,66 +132,12 @@ pub fn clock_per_move(path: &ToolPath, limits: Option<&Limits>) -> Vec<f64> {
         at += *t;
         *t = at;
     }
-    each
+    (figures, each)
 }
 
 /// A straight move's direction (a zero move's: none).
 fn unit(m: &Move) -> [f64; 3] {
     direction(m.start, m.end)
-}
-
-/// The planner's blocks of move `m`, the `index`th: arcs cut into chords
-/// as grbl's `mc_arc` cuts them, handed to `out` in order; the first
-/// starts from rest after a sync (`stopped`).
-fn blocks(m: &Move, index: usize, stopped: bool, limits: &Limits, out: &mut dyn FnMut(Block)) {
-    let mut chord = |k: usize, from: [f64; 3], to: [f64; 3]| {
-        let (unit, length) = direction_and_length(from, to);
-        if length <= 0.0 {
-            return;
-        }
-        let nominal = match m.kind {
-            MoveKind::Rapid => rapid_rate(limits, unit),
-            _ => (m.state.feed / 60.0).min(along(limits.max_rate, unit)),
-        };
-        out(Block {
-            length,
-            unit_in: unit,
-            unit_out: unit,
-            nominal: nominal.max(1e-9),
-            accel: along(limits.max_accel, unit),
-            stopped_before: stopped && k == 0,
-            control: m.state.path_control,
-            source: index,
-        });
-    };
-    if !matches!(m.kind, MoveKind::Arc(_)) {
-        return chord(0, m.start, m.end);
-    }
-    let mut points = m.points(arc_segments(m, limits.arc_tolerance));
-    let mut from = points.next().unwrap_or(m.start);
-    for (k, to) in points.enumerate() {
-        chord(k, from, to);
-        from = to;
-    }
-}
-
-/// How many chords grbl's `mc_arc` cuts an arc into: as many as keep each
-/// within the arc tolerance of the arc.
-fn arc_segments(m: &Move, tolerance: f64) -> usize {
-    let MoveKind::Arc(a) = m.kind else {
-        return 1;
-    };
-    let (p, q, _) = a.plane.axes();
-    let radius = (m.start[p] - a.center[p]).hypot(m.start[q] - a.center[q]);
-    let sweep = m.sweep();
-    let chord_angle = 2.0 * (tolerance * (2.0 * radius - tolerance)).max(0.0).sqrt();
-    let segments = match chord_angle > 0.0 {
-        true => ((0.5 * sweep * radius) / (0.5 * chord_angle))
-            .floor()
-            .max(1.0),
-        false => 1.0,
-    };
-    (segments as usize).clamp(1, 1 << 20)
 }
 
 /// The blocks planned as they come, with the look-ahead of the buffer
@@ -193,14 +148,28 @@ fn arc_segments(m: &Move, tolerance: f64) -> usize {
 struct Planner<'l> {
     limits: &'l Limits,
     depth: usize,
-    /// The blocks not yet timed, each with its largest entry speed squared
-    /// at the corner before it, and the largest from which it can still
-    /// slow down to a stop at the end of the buffer (grbl's reverse pass,
-    /// kept from one block to the next: a new block changes it only back
-    /// to the first block whose limit it does not raise).
-    window: VecDeque<(Block, f64, f64)>,
+    /// The blocks not yet timed (a run of chords counts as its chords).
+    window: VecDeque<Slot>,
+    slots: usize,
     previous: Option<Block>,
     entry_sqr: f64,
+}
+
+/// A block not yet timed.
+#[derive(Clone, Copy)]
+struct Slot {
+    block: Block,
+    /// Its largest entry speed squared, at the corner before it.
+    max_entry: f64,
+    /// The largest from which it can still slow down to a stop at the end
+    /// of the buffer (grbl's reverse pass, kept from one block to the
+    /// next: a new block changes it only back to the first block whose
+    /// limit it does not raise).
+    reachable: f64,
+    /// 1, or a run of an arc's middle chords (`chords.rs`), `block`
+    /// their total length: it always enters and leaves at its nominal
+    /// speed, so its limit never changes.
+    chords: usize,
 }
 
 impl<'l> Planner<'l> {
@@ -210,13 +179,34 @@ impl<'l> Planner<'l> {
             limits,
             depth,
             window: VecDeque::with_capacity(depth + 1),
+            slots: 0,
             previous: None,
             entry_sqr: 0.0,
         }
     }
 
-    /// Take `block`; `timed` gets each block timed (its move's index and
+    /// Take `piece`; `timed` gets each block timed (its move's index and
     /// its seconds).
+    fn take(&mut self, piece: Piece, timed: &mut dyn FnMut(usize, f64)) {
+        match piece {
+            Piece::Block(block) => self.push(block, timed),
+            Piece::Cruise { run, chords, last } => {
+                let cruise = run.nominal.powi(2);
+                self.previous = Some(last);
+                self.add(Slot {
+                    block: run,
+                    max_entry: cruise,
+                    reachable: cruise,
+                    chords,
+                });
+                while self.slots >= self.depth {
+                    self.time_first(timed);
+                }
+            }
+        }
+    }
+
+    /// Take `block`; `timed` gets each block timed.
     fn push(&mut self, block: Block, timed: &mut dyn FnMut(usize, f64)) {
         let max_entry = match &self.previous {
             Some(a) if !block.stopped_before => junction(a, &block, self.limits)
@@ -228,34 +218,57 @@ impl<'l> Planner<'l> {
         // The speed must be 0 at the buffer's end (and is before a block
         // after a stop, whose largest entry is 0).
         let reachable = max_entry.min(2.0 * block.accel * block.length);
-        self.window.push_back((block, max_entry, reachable));
-        for j in (1..self.window.len() - 1).rev() {
-            let (b, max_entry, old) = self.window[j];
-            let new = max_entry.min(self.window[j + 1].2 + 2.0 * b.accel * b.length);
-            if new == old {
-                break;
-            }
-            self.window[j].2 = new;
-        }
-        if self.window.len() >= self.depth {
+        self.add(Slot {
+            block,
+            max_entry,
+            reachable,
+            chords: 1,
+        });
+        if self.slots >= self.depth {
             self.time_first(timed);
         }
     }
 
+    /// `slot` at the buffer's end; the reverse pass back from it.
+    fn add(&mut self, slot: Slot) {
+        self.slots += slot.chords;
+        self.window.push_back(slot);
+        for j in (1..self.window.len() - 1).rev() {
+            let Slot {
+                block: b,
+                max_entry,
+                reachable: old,
+                chords,
+            } = self.window[j];
+            let new = max_entry.min(self.window[j + 1].reachable + 2.0 * b.accel * b.length);
+            if new == old || chords > 1 {
+                break;
+            }
+            self.window[j].reachable = new;
+        }
+    }
+
     /// The first block of the window timed: its exit as fast as the
-    /// blocks behind it, up to the buffer's end or a stop, allow.
+    /// blocks behind it, up to the buffer's end or a stop, allow (a run
+    /// of chords: all of them, at their nominal speed).
     fn time_first(&mut self, timed: &mut dyn FnMut(usize, f64)) {
-        let Some(&(b, _, _)) = self.window.front() else {
+        let Some(first) = self.window.pop_front() else {
             return;
         };
-        let exit_sqr = self.window.get(1).map_or(0.0, |next| next.2);
-        let exit_sqr = exit_sqr.min(self.entry_sqr + 2.0 * b.accel * b.length);
+        let b = first.block;
+        let exit_sqr = match first.chords {
+            1 => {
+                let exit_sqr = self.window.front().map_or(0.0, |next| next.reachable);
+                exit_sqr.min(self.entry_sqr + 2.0 * b.accel * b.length)
+            }
+            _ => first.max_entry,
+        };
         timed(
             b.source,
             trapezoid(&b, self.entry_sqr.sqrt(), exit_sqr.sqrt()),
         );
         self.entry_sqr = exit_sqr;
-        self.window.pop_front();
+        self.slots -= first.chords;
     }
 
     fn finish(&mut self, timed: &mut dyn FnMut(usize, f64)) {
@@ -493,7 +506,7 @@ mod tests {
             }),
             ..path(&[[10.0, 0.0, 0.0], [10.0, 0.0, 0.0]], 600.0).moves[0]
         };
-        assert_eq!(arc_segments(&m, 0.002), 157);
+        assert_eq!(chords::arc_segments(&m, 0.002), 157);
     }
 
     /// [`limits`] on LinuxCNC's planner.

@@ -247,3 +247,47 @@ fn a_macro_b_program_needs_no_flag() {
     );
     assert_eq!(plain, flagged);
 }
+
+#[test]
+fn a_tool_path_fed_from_the_file_in_parts_is_the_whole_programs() {
+    // A plain program (read a part at a time) and one whose subprogram
+    // comes after its call (read in parts, then again whole: the sink
+    // starts over): each planned as the whole path is.
+    let dir = std::env::temp_dir().join(format!("ger-session-feed-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let plain = "G21 G90\nG0 X0 Y0 Z5\nG1 Z-1 F600\nG1 X10\nG2 X20 Y0 I5 J0\nG1 Y10\nM30\n";
+    let late = "G21 G90\nG0 X0 Y0 Z5\nG1 Z-1 F600\no100 call [4]\nM2\n\
+                o100 sub\nG1 X#1\nG3 X[#1 * 2] Y0 I[#1 / 2] J0\no100 endsub\n";
+    let limits = ger::plan::Limits {
+        controller: ger::driver::machine::Controller::Grbl,
+        max_rate: [50.0; 3],
+        max_accel: [200.0; 3],
+        rapid_rate: None,
+        junction_deviation: 0.01,
+        path_tolerance: 0.0,
+        arc_tolerance: 0.002,
+        blocks: 16,
+        tool_change_s: 0.0,
+        spindle_start_s: 0.0,
+    };
+    for (name, text) in [("plain.nc", plain), ("late.ngc", late)] {
+        let path = dir.join(name);
+        std::fs::write(&path, text).unwrap();
+        let s = session(&Disk, Search::default());
+        let mut tally = ger::plan::Tally::new(Some(&limits), false);
+        let Ok(finished) = s.feed_tool_path(Program::Path(&path), &mut tally) else {
+            panic!("{name} not loaded");
+        };
+        assert!(finished.report.compiled(), "{name}");
+        let fed = tally.finish();
+        let Ok(mut job) = s.load(Program::Path(&path)) else {
+            panic!("{name} not loaded");
+        };
+        let whole = job.tool_path().0.unwrap();
+        let planned = ger::plan::plan(&whole, Some(&limits));
+        assert!(fed.time_s.unwrap() > 0.0, "{name}");
+        assert_eq!(fed.time_s, planned.time_s, "{name}");
+        assert_eq!(fed.cut_mm, planned.cut_mm, "{name}");
+    }
+    std::fs::remove_dir_all(&dir).unwrap();
+}

@@ -459,11 +459,23 @@ pub fn compile_file(
     wizards: Option<&mut dyn WizardHost>,
     out: &mut (dyn Write + Send),
 ) -> std::io::Result<Streamed> {
+    let source = (reader, name, file, scan);
+    file_to(source, options, wizards, Output::Text(out))
+}
+
+/// [`compile_file`] into `out` (text, or moves: [`feed_tool_path`]'s
+/// stream, for which the options have no stage).
+pub(super) fn file_to<'a>(
+    (reader, name, file, scan): (&mut dyn std::io::BufRead, &str, FileId, FileScan),
+    options: &'a CompileOptions,
+    wizards: Option<&mut dyn WizardHost>,
+    out: Output<'a>,
+) -> std::io::Result<Streamed> {
     let mut diagnostics = Vec::new();
     let mut clock = Clock::new();
     let (from, language) = (options.flavour(name, scan.clue), options.language(name));
     let eval_options = options.eval_options(from, language);
-    let backend = Backend::new(SourceFacts::Known(scan), file, options, Output::Text(out));
+    let backend = Backend::new(SourceFacts::Known(scan), file, options, out);
     let lines = LineReader::new(reader, file, scan);
     // G-code is read as plain until a part is found not to be.
     let mut parts = Parts::new(match language == Language::Gcode {

@@ -10,6 +10,7 @@
 //! does not grow with its length) when it can be, and again, whole, when a
 //! part turns out to need the whole program.
 
+use super::backend::Output;
 use super::compile::{self, Report, Streamed};
 use super::discovery::{self, Search, ToolTableError};
 use super::fs::{FileSystem, Stamp};
@@ -20,7 +21,7 @@ use crate::diagnostic::Diagnostic;
 use crate::eval::WizardHost;
 use crate::source::{self, FileId, Sources, Span};
 use crate::syntax::Language;
-use crate::toolpath::ToolPath;
+use crate::toolpath::{PathSink, ToolPath};
 use crate::wizard::{Library, WizardEngine};
 use std::io::{Seek, Write};
 use std::path::Path;
@@ -335,7 +336,7 @@ impl<'fs> Session<'fs> {
         };
         let (mut read_error, mut again) = (None, None);
         let mut compile = |out: &mut (dyn Write + Send)| {
-            let compiled = self.compile_from_file(path, &streamed, &mut job, out);
+            let compiled = self.compile_from_file(path, &streamed, &mut job, Output::Text(out));
             let why = match compiled {
                 Ok(Streamed::Compiled(report)) => return report,
                 Ok(Streamed::Whole) => {
@@ -380,9 +381,22 @@ impl<'fs> Session<'fs> {
         if held_failed && read_error.is_none() {
             return Err(Again::Whole);
         }
+        let held = held.filter(|_| report.succeeded()).map(Held::File);
+        Ok(Ok(self.shown(path, job, report, held, read_error)))
+    }
+
+    /// What a compile from the file `path` did, the lines its diagnostics
+    /// are about read again to show them.
+    fn shown(
+        &self,
+        path: &Path,
+        mut job: Job,
+        report: Report,
+        held: Option<Held>,
+        read_error: Option<std::io::Error>,
+    ) -> Finished {
         let mut lines_unshown = false;
         if read_error.is_none() && !report.diagnostics.is_empty() {
-            // The diagnostics show the lines they are about, read again.
             let shown = self
                 .fs
                 .open(path)
@@ -392,32 +406,109 @@ impl<'fs> Session<'fs> {
                 Err(_) => lines_unshown = true,
             }
         }
-        let held = held.filter(|_| report.succeeded()).map(Held::File);
-        Ok(Ok(Finished {
+        Finished {
             job,
             report,
             held,
             read_error,
             lines_unshown,
-        }))
+        }
+    }
+
+    /// The tool path of `program` handed to `sink` move by move, never
+    /// held (`ger stats`): read as [`Session::compile`] reads it, from its
+    /// file a part at a time where it can be, else whole (`sink` is
+    /// restarted before a second reading).
+    pub fn feed_tool_path(
+        &self,
+        program: Program<'_>,
+        sink: &mut dyn PathSink,
+    ) -> Result<Finished, LoadError> {
+        if let Program::Path(path) = program {
+            if let Some(first) = self.streamable(path, scan::first_look) {
+                match self.feed_streamed(path, first, sink) {
+                    Ok(finished) => return finished,
+                    Err(Again::Rescan) => {
+                        sink.restart();
+                        let scanned = self.streamable(path, scan::scan_path);
+                        if let Some(Ok(finished)) =
+                            scanned.map(|s| self.feed_streamed(path, s, sink))
+                        {
+                            return finished;
+                        }
+                    }
+                    Err(Again::Whole) => {}
+                }
+                sink.restart();
+            }
+        }
+        let mut job = self.load(program)?;
+        let diagnostics = job.feed_tool_path(sink);
+        Ok(Finished {
+            job,
+            report: Report {
+                diagnostics,
+                timings: Vec::new(),
+                write_error: None,
+            },
+            held: None,
+            read_error: None,
+            lines_unshown: false,
+        })
+    }
+
+    /// [`Session::feed_tool_path`] from the file `path`, a part at a time.
+    fn feed_streamed(
+        &self,
+        path: &Path,
+        streamed: Streamable,
+        sink: &mut dyn PathSink,
+    ) -> Result<Result<Finished, LoadError>, Again> {
+        let shown = path.display().to_string();
+        let mut job = match self.load_text(&shown, Some(path), String::new()) {
+            Ok(job) => job,
+            Err(e) => return Ok(Err(e)),
+        };
+        // A path is the program's whole meaning, whatever stage is asked.
+        job.options.stage = None;
+        let fed = self.compile_from_file(path, &streamed, &mut job, Output::Moves(sink));
+        let (report, read_error) = match fed {
+            Ok(Streamed::Compiled(report)) => (report, None),
+            Ok(Streamed::Whole) => return Err(Again::Whole),
+            Ok(Streamed::Rescan) => return Err(Again::Rescan),
+            Err(e) => {
+                let report = Report {
+                    diagnostics: Vec::new(),
+                    timings: Vec::new(),
+                    write_error: None,
+                };
+                (report, Some(e))
+            }
+        };
+        Ok(Ok(self.shown(path, job, report, None, read_error)))
     }
 
     /// Compile the file `path` from the file a part at a time
     /// ([`Session::streamable`]); an error if it cannot be read or changed
     /// since it was scanned.
-    fn compile_from_file(
+    fn compile_from_file<'o>(
         &self,
         path: &Path,
         (scan, before): &Streamable,
-        job: &mut Job,
-        out: &mut (dyn Write + Send),
+        job: &'o mut Job,
+        out: Output<'o>,
     ) -> std::io::Result<Streamed> {
         let mut reader = self.fs.open(path)?;
         let name = job.sources.name(job.file).to_string();
         let (file, options) = (job.file, &job.options);
         let engine = Some(&mut job.engine as &mut dyn WizardHost);
-        let compiled =
-            compile::compile_file(&mut reader, &name, file, *scan, options, engine, out)?;
+        let source = (
+            &mut reader as &mut dyn std::io::BufRead,
+            name.as_str(),
+            file,
+            *scan,
+        );
+        let compiled = compile::file_to(source, options, engine, out)?;
         let Streamed::Compiled(report) = compiled else {
             return Ok(compiled);
         };

@@ -9,7 +9,7 @@
 //! for the studio's clock).
 
 use super::block::{rapid_rate, Limits};
-use super::{blocks, linuxcnc, unit, widen, Figures, OperationFigures, Planner, ToolFigures};
+use super::{chords, linuxcnc, unit, widen, Figures, OperationFigures, Planner, ToolFigures};
 use crate::driver::machine::Controller;
 use crate::toolpath::{Event, EventKind, Move, MoveKind, PathSink, State};
 use std::collections::VecDeque;
@@ -236,7 +236,9 @@ impl<'l> Tally<'l> {
         let ops = &mut figures.operations;
         let timed = &mut |i, s| ledger.timed(i, s, ops);
         match limits.controller {
-            Controller::Grbl => blocks(m, index, stopped, limits, &mut |b| planner.push(b, timed)),
+            Controller::Grbl => {
+                chords::pieces(m, index, stopped, limits, &mut |p| planner.take(p, timed))
+            }
             Controller::LinuxCnc => {
                 if let Some(b) = linuxcnc::block(m, index, stopped, limits) {
                     planner.push(b, timed);

@@ -2,14 +2,16 @@
 //! (`ger::plan`), lengths and tools, as a table or one JSON object.
 
 use crate::args::Options;
-use crate::load_with_machine;
+use crate::{load_failed, read_stdin, session_and_machine};
 use ger::diagnostic::render;
+use ger::driver::Program;
 use ger::plan::{Figures, Limits, Tally};
+use std::path::Path;
 use std::process::ExitCode;
 
 /// `ger stats INPUT [--json]`.
 pub fn print_stats(input: &str, options: &Options, json: bool) -> ExitCode {
-    let (mut job, machine) = match load_with_machine(input, options, None) {
+    let (session, machine) = match session_and_machine(input, options, None) {
         Ok(loaded) => loaded,
         Err(code) => return code,
     };
@@ -21,10 +23,33 @@ pub fn print_stats(input: &str, options: &Options, json: bool) -> ExitCode {
             return ExitCode::from(2);
         }
     };
-    // Planned as the back end makes the moves: the path is never held.
+    let program = match input {
+        "-" => match read_stdin() {
+            Ok(text) => Program::Text {
+                name: "<stdin>",
+                path: None,
+                text,
+            },
+            Err(code) => return code,
+        },
+        path => Program::Path(Path::new(path)),
+    };
+    // Planned as the back end makes the moves, the file read a part at a
+    // time as a compile reads it: neither the path nor the text is held.
     let mut tally = Tally::new(limits.as_ref(), false);
-    let diagnostics = job.feed_tool_path(&mut tally);
-    eprint!("{}", render(&job.sources, &diagnostics));
+    let finished = match session.feed_tool_path(program, &mut tally) {
+        Ok(finished) => finished,
+        Err(e) => return load_failed(e),
+    };
+    if let Some(e) = finished.read_error {
+        eprintln!("error: cannot read `{input}`: {e}");
+        return ExitCode::from(2);
+    }
+    if finished.lines_unshown {
+        eprintln!("note: `{input}` could not be read again to show its lines");
+    }
+    let diagnostics = &finished.report.diagnostics;
+    eprint!("{}", render(&finished.job.sources, diagnostics));
     if diagnostics.iter().any(ger::diagnostic::is_error) {
         return ExitCode::from(1);
     }
