@@ -394,10 +394,24 @@ impl<'a> Evaluator<'a> {
         if self.reports.errors > 0 {
             return;
         }
+        if !self.output.started && self.out.is_empty() {
+            self.only_subprograms();
+        }
         if !self.output.started {
             self.start(Span::default());
         }
         self.output.sink.batch(&mut self.out);
+    }
+
+    /// A program that made no statement but defines subprograms (a file
+    /// of subroutines): the empty program rs274 runs, its end at the first.
+    fn only_subprograms(&mut self) {
+        let kept = self.macros.kept.first().map(|s| s.span);
+        let Some(first) = self.program.subprograms.first().map(|s| s.span).or(kept) else {
+            return;
+        };
+        self.report(EvalError::new(EvalErrorKind::OnlySubprograms, first));
+        self.out.push(ir::Stmt::new(ir::Op::End, first));
     }
 
     /// Keep the little state wizards can read (SPEC §5).

@@ -6,6 +6,7 @@
 //! `chunk` reads a long program a part at a time. Nothing here evaluates
 //! or knows what a code means.
 
+mod after_end;
 pub mod chunk;
 pub mod egc;
 pub mod error;

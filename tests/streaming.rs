@@ -431,6 +431,54 @@ fn a_subroutine_written_twice_after_the_end_is_an_error_in_parts() {
     }
 }
 
+/// What follows a plain program's end (rs274 reads none of it but the
+/// subprograms): one note, the same whole and in parts, whether the part
+/// with the end is read as plain lines, cut as it goes, or the program
+/// needs a whole read (a call of a subprogram written after the end).
+#[test]
+fn what_follows_the_end_is_read_alike_in_parts() {
+    use ger::syntax::chunk::with_part_size;
+    let prose = "These notes are not G-code: a = b : c\n  EMC_ABORT = 1, // x\n";
+    for text in [
+        format!("G21 G90 F100\nG1 X1\nG1 X2\nM2\n{prose}"),
+        format!("G21 G90 F100\n#1 = 2\nG1 X#1\nM30\n{prose}o<a> sub\nG1 X3\no<a> endsub\n{prose}"),
+        format!("G21 G90 F100\no<a> call\nM2\n{prose}o<a> sub\nG1 X3\no<a> endsub\n%\n{prose}"),
+        format!("G21 G90 F100\nM98 P1000\nM30\n{prose}O1000\nG1 X4\nM99\n"),
+        format!("o<a> sub\nG1 X3\no<a> endsub\nM2\n{prose}"),
+    ] {
+        let dir = std::env::temp_dir().join(format!("ger-ended-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let path = dir.join("ended.ngc");
+        std::fs::write(&path, &text).unwrap();
+        let compile_in = |part: Option<usize>| {
+            with_part_size(part, || {
+                let mut sources = Sources::new();
+                let file = sources.add(path.to_string_lossy(), text.clone());
+                let compiled = compile(&sources, file, &CompileOptions::default(), None);
+                (compiled.output, render(&sources, &compiled.diagnostics))
+            })
+        };
+        let whole = compile_in(None);
+        assert!(whole.0.is_some(), "{text}\n{}", whole.1);
+        assert_eq!(whole.1.matches("not read").count(), 1, "{}", whole.1);
+        for part in [1, 40] {
+            assert_eq!(compile_in(Some(part)), whole, "{text} in parts of {part}");
+        }
+        let options = CompileOptions::default();
+        for part in [1, 4096] {
+            if let Read::Compiled(read) = from_reader(&path, &text, &options, part, false) {
+                let (output, shown) = (whole.0.as_deref().unwrap(), &whole.1);
+                assert_eq!(
+                    read,
+                    format!("{output}\n--- diagnostics ---\n{shown}"),
+                    "{text}"
+                );
+            }
+        }
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
+}
+
 /// `path` (its decoded `text`) compiled from a reader in parts of about
 /// `part` bytes, its text never held, as `ger compile -o` compiles it
 /// (`driver::scan_file`, `driver::compile_file`), with the wizards of

@@ -73,7 +73,7 @@ impl<'a> Parts<'a> {
     /// source takes them).
     pub(super) fn recycle(&mut self, ran: Vec<crate::ast::Stmt>) {
         match self.source {
-            PartSource::Reader(_) => chunk::recycle(ran, &mut self.spare),
+            PartSource::Reader(_) | PartSource::Text { .. } => chunk::recycle(ran, &mut self.spare),
             _ => self.spare.clear(),
         }
     }
@@ -103,9 +103,21 @@ impl<'a> Parts<'a> {
         match &mut self.source {
             PartSource::Text { text, at, ranges } => {
                 let range = ranges.next()?;
-                Some(no_subprograms(chunk::parse_chunk(
-                    text, range, at, language, names,
-                )))
+                let (start, spare) = (range.start, &mut self.spare);
+                match chunk::parse_plain_chunk(text, range, at, language, names, spare) {
+                    Some(parsed) => Some(no_subprograms(parsed)),
+                    None => {
+                        // The program's end: this part and the rest are
+                        // cut where the program allows ([`chunk::cut_part`]).
+                        self.source = PartSource::TextCut {
+                            text,
+                            at,
+                            from: start,
+                            defined: Vec::new(),
+                        };
+                        self.parse_next(language, names)
+                    }
+                }
             }
             PartSource::Reader(reader) => match reader.next_part() {
                 Ok(Some((text, at))) => {

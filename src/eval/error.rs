@@ -34,6 +34,9 @@ pub enum EvalErrorKind {
         directive: &'static str,
         first: Span,
     },
+    /// A note: the file defines subprograms and runs nothing (a file of
+    /// subroutines, rs274's empty program).
+    OnlySubprograms,
     /// A note: a `(DEBUG,…)` or `(PRINT,…)` message, its parameters
     /// written in.
     Message {
@@ -137,6 +140,12 @@ impl Wording for EvalErrorKind {
                 "a pass through it changed no variable, so the condition stays true",
             )
             .with_help("change a variable the condition reads inside the loop"),
+            EvalErrorKind::OnlySubprograms => note(
+                "the file defines subprograms and runs nothing: an empty program",
+                at,
+                "the first subprogram",
+            )
+            .with_note("rs274 runs such a file (a file of subroutines) as an empty program"),
             EvalErrorKind::Message { kind, text } => {
                 note(format!("{kind}: {text}"), at, "the program's message")
             }

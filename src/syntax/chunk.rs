@@ -9,9 +9,10 @@
 //! ([`chunkable`], [`chunks`]), and its lines of plain words are built
 //! straight from their bytes ([`parse_chunk`]).
 
+use super::after_end::end_word;
 use super::gcode::comment_end;
 use super::language::Language;
-use super::parser::{fast_path, parse_program_from};
+use super::parser::{fast_path, parse_program_from, parse_text};
 use super::words::{plain_words, WordNumber};
 use crate::ast::{
     LineEnd, Lines, Names, OName, PlainWord, Stmt, StmtKind, Subprogram, Word, WordValue,
@@ -235,6 +236,12 @@ pub fn cut_part(
     if !clean && (end < text.len() || !complete) {
         return Cut::Grow;
     }
+    // The part with the main program's end is read to the end of the
+    // text, as the whole program is (`parse_program_from`).
+    let ends = language == Language::Gcode && end_word(&program.main).is_some();
+    if ends && (end < text.len() || !complete) {
+        return Cut::Grow;
+    }
     let first = at.span(from, from).line == 1;
     // A part after the first that starts with an `O` line but has no
     // `M99` (the parser takes it for the program's number): a subprogram
@@ -417,7 +424,8 @@ pub fn parse_chunk(
 /// A line of plain words is plain unless it calls (`M98`, `M99`, `G65`,
 /// which [`plain_word`] refuses); only the other lines are looked at again.
 /// Lines of plain words in a row are kept in vectors from `spare` (those of
-/// parts run before, [`recycle`]) while it has any.
+/// parts run before, [`recycle`]) while it has any. `None` too for a part
+/// with the program's end (`M2`, `M30`), which [`cut_part`] reads.
 pub fn parse_plain_chunk(
     text: &str,
     range: std::ops::Range<usize>,
@@ -499,7 +507,7 @@ fn parse_lines(
     let (mut stmts, mut diagnostics) = (Vec::new(), Vec::new());
     let mut parse = |from: usize, to: usize, stmts: &mut Vec<Stmt>| {
         if from < to {
-            let (program, found) = parse_program_from(&text[..to], from, at, language, names);
+            let (program, found) = parse_text(&text[..to], from, at, language, names);
             // A part of a plain program has no subprogram.
             debug_assert!(program.subprograms.is_empty());
             stmts.extend(program.main);
@@ -511,7 +519,7 @@ fn parse_lines(
             return None;
         }
         parse(range.start, range.end, &mut stmts);
-        return Some((stmts, diagnostics));
+        return (!check || end_word(&stmts).is_none()).then_some((stmts, diagnostics));
     }
     // The lines of plain words since the last line for the parser.
     let mut run = spare.pop();
@@ -555,7 +563,9 @@ fn parse_lines(
     }
     end_run(&mut stmts, run, at, spare);
     parse(waiting, range.end, &mut stmts);
-    Some((stmts, diagnostics))
+    // The part with the program's end is read by the parser to the end of
+    // the text ([`cut_part`]), as the whole program is.
+    (!check || end_word(&stmts).is_none()).then_some((stmts, diagnostics))
 }
 
 /// The statement of a run of lines of plain words, if it has any; its span
@@ -580,11 +590,19 @@ mod tests {
 
     /// A part read as plain (`compile_file`) is parsed as plain exactly
     /// when its every line is plain (what a scan of the file said before
-    /// it was read), and then as `parse_chunk` parses it; with the fast
-    /// path and without.
+    /// it was read) and it has no program end, and then as `parse_chunk`
+    /// parses it; with the fast path and without.
     fn reads_as_plain(text: &str) {
         let at = Locator::new(0, text);
-        let plain = text.lines().all(plain_line);
+        // A part with the program's end is read by `cut_part`, not as plain.
+        let (read, _) = parse_chunk(
+            text,
+            0..text.len(),
+            &at,
+            Language::Gcode,
+            &mut Names::default(),
+        );
+        let plain = text.lines().all(plain_line) && end_word(&read).is_none();
         for fast in [true, false] {
             crate::syntax::parser::with_fast_path(fast, || {
                 let range = 0..text.len();

@@ -4,7 +4,7 @@
 //! lives; the code that finds a problem decides its kind, never its words.
 
 use super::language::Language;
-use crate::diagnostic::{error, warning, Diagnostic, DiagnosticExt, Located, Wording};
+use crate::diagnostic::{error, note, warning, Diagnostic, DiagnosticExt, Located, Wording};
 use crate::source::Span;
 
 #[derive(Clone, Debug, PartialEq)]
@@ -97,6 +97,12 @@ pub enum SyntaxErrorKind {
     SubprogramTwice {
         name: String,
         first: Span,
+    },
+    /// Lines after the main program's end (the `M2`/`M30` at `end`) that
+    /// are not subprograms: not read (a note, at the first).
+    NotReadAfterEnd {
+        lines: usize,
+        end: Span,
     },
 }
 
@@ -322,6 +328,19 @@ impl Wording for SyntaxErrorKind {
                 "second definition",
             )
             .with_secondary(*first, "first definition"),
+            NotReadAfterEnd { lines, end } => note(
+                match lines {
+                    1 => "1 line after the program's end is not read".to_string(),
+                    n => format!("{n} lines after the program's end are not read"),
+                },
+                at,
+                "from here on, only subprograms are read",
+            )
+            .with_secondary(*end, "the program ends here")
+            .with_note(
+                "rs274 reads nothing after M2/M30 but the subprograms a call looks for, \
+                 and Fanuc keeps its subprograms there",
+            ),
         }
     }
 }

@@ -4,6 +4,7 @@
 //! splits the top level into the main program and `O…`/`M99` subprograms.
 //! It must not evaluate anything.
 
+use super::after_end;
 use super::error::{ParseHint, SyntaxError, SyntaxErrorKind};
 use super::language::Language;
 use super::lexer::{self, Lexed};
@@ -99,7 +100,8 @@ pub fn program_names(language: Language) -> Names {
 /// Parse `text` from the offset `from` (a line start; the lines before it
 /// are not read; 0 for a whole file), with spans in the whole text,
 /// interning into `names` (left empty in the program: the caller puts them
-/// there).
+/// there). Plain G-code is read to its main program's end, and after it
+/// only its subprograms ([`after_end`]).
 pub fn parse_program_from(
     text: &str,
     from: usize,
@@ -107,6 +109,63 @@ pub fn parse_program_from(
     language: Language,
     names: &mut Names,
 ) -> (Program, Vec<Diagnostic>) {
+    let (program, problems) = parse_problems(text, from, at, language, names);
+    let ended = match language {
+        Language::Gcode => after_end::end_of_main(&program.main, text, at),
+        Language::Egc => None,
+    };
+    let Some((cut, end)) = ended.filter(|&(cut, _)| after_end::has_more(&text[cut..])) else {
+        return (program, drop_cascades(problems));
+    };
+    // Read again to the end: what the lines after it made is not kept.
+    let (mut program, mut problems) = parse_problems(&text[..cut], from, at, language, names);
+    let mut theirs = Vec::new();
+    let mut parse = |range: std::ops::Range<usize>, names: &mut Names| {
+        let (sub, found) = parse_problems(&text[..range.end], range.start, at, language, names);
+        theirs.extend(found);
+        sub
+    };
+    let (subprograms, found) = after_end::read_after_end(
+        text,
+        (cut, end),
+        at,
+        names,
+        &program.subprograms,
+        &mut parse,
+    );
+    program.subprograms.extend(subprograms);
+    problems.extend(theirs);
+    problems.extend(
+        found
+            .into_iter()
+            .map(|e| Problem::new(ProblemKind::Read, e)),
+    );
+    problems.sort_by_key(|p| p.error.span.start);
+    (program, drop_cascades(problems))
+}
+
+/// [`parse_program_from`] without the rule of the end: every line read
+/// (a part of a program, or a subprogram after its end).
+pub(super) fn parse_text(
+    text: &str,
+    from: usize,
+    at: &Locator,
+    language: Language,
+    names: &mut Names,
+) -> (Program, Vec<Diagnostic>) {
+    let (program, problems) = parse_problems(text, from, at, language, names);
+    (program, drop_cascades(problems))
+}
+
+/// Lex, parse and split `text` from `from`: the program and its problems,
+/// sorted by where they are.
+fn parse_problems(
+    text: &str,
+    from: usize,
+    at: &Locator,
+    language: Language,
+    names: &mut Names,
+) -> (Program, Vec<Problem>) {
     let Lexed {
         tokens,
         words,
@@ -179,7 +238,7 @@ pub fn parse_program_from(
             .map(|e| Problem::new(ProblemKind::Read, e)),
     );
     problems.sort_by_key(|p| p.error.span.start);
-    (program, drop_cascades(problems))
+    (program, problems)
 }
 
 /// A syntax problem and where it comes from, which decides whether it is
