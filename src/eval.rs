@@ -8,12 +8,14 @@
 mod block;
 mod codes;
 mod comp;
+mod context;
 mod cycle;
 mod degrees;
 mod error;
 mod evaluator;
 mod options;
 mod polar;
+mod predefined;
 mod seen;
 mod setup;
 mod state;
@@ -33,6 +35,7 @@ use crate::diagnostic::Diagnostic;
 use crate::ir;
 use crate::source::Span;
 use evaluator::{Evaluator, Flow};
+use predefined::Predefined;
 pub(crate) use state::parameter_number;
 use state::{CycleState, JumpLimit, LineState, Macros, Modal, OutputStart, Reports, RunCounts};
 use std::rc::Rc;
@@ -154,7 +157,7 @@ impl<'a> Evaluator<'a> {
         if options.plain {
             names.name_call_parameters();
         }
-        Evaluator {
+        let mut ev = Evaluator {
             program,
             word_table: None,
             line_words: Vec::new(),
@@ -176,8 +179,11 @@ impl<'a> Evaluator<'a> {
             modal: Modal::default(),
             this_line: LineState::default(),
             cycles: CycleState::default(),
+            predefined: Predefined::default(),
             watch: None,
-        }
+        };
+        ev.predefined.add_names(&ev.names, 0, options.from);
+        ev
     }
 
     /// The next part of a program read in parts has added names: their
@@ -188,6 +194,7 @@ impl<'a> Evaluator<'a> {
             let from = self.options.from;
             self.vars.grow(&names, known, |text| first_slot(text, from));
             self.macros.scope.add(&names, known);
+            self.predefined.add_names(&names, known, from);
         }
     }
 
@@ -416,6 +423,7 @@ impl<'a> Evaluator<'a> {
 
     /// Keep the little state wizards can read (SPEC §5).
     fn track(&mut self, op: &ir::Op) {
+        self.follow_predefined(op);
         match op {
             ir::Op::Move(m) => {
                 self.modal.comp_off = None;
@@ -710,6 +718,10 @@ impl<'a> Evaluator<'a> {
     }
 
     fn exec(&mut self, stmt: &ast::Stmt) -> Flow {
+        if self.predefined.named_any() {
+            self.refresh_predefined(Some(stmt.span));
+            self.warn_task(stmt);
+        }
         if self.watch.is_some() {
             self.watch_reads(stmt);
         }
@@ -849,9 +861,17 @@ impl<'a> Evaluator<'a> {
                 Ok((name, used)) => {
                     // A numbered parameter the program never names has
                     // its first value (rs274: 0 for #1–#5000).
-                    let slot = match self.names.find(&name) {
-                        Some(s) => self.vars.get(s.0 as usize).copied(),
-                        None => parameter_number(&name).map(|n| first_value(n, self.options.from)),
+                    let predefined = predefined::Param::of_name(&name)
+                        .filter(|_| self.options.from != Flavour::Fanuc);
+                    let slot = match (self.names.find(&name), predefined) {
+                        (Some(s), _) => self.vars.get(s.0 as usize).copied(),
+                        (None, Some(p)) => Some(match self.predefined_value(p, Some(span)) {
+                            Some(v) => Slot::Set(Value::Number(v)),
+                            None => Slot::Machine,
+                        }),
+                        (None, None) => {
+                            parameter_number(&name).map(|n| first_value(n, self.options.from))
+                        }
                     };
                     let value = slot.and_then(|slot| match slot {
                         Slot::Set(Value::Number(n)) => Some(n),
@@ -936,6 +956,11 @@ impl<'a> Evaluator<'a> {
             self.run.repeating += 1;
             let flow = self.exec_block(&w.body);
             self.run.repeating -= 1;
+            if self.predefined.named_any() {
+                // What the last statement of the pass changed, for the
+                // test below and the condition.
+                self.refresh_predefined(None);
+            }
             match flow {
                 Flow::Next => {}
                 Flow::Break(label, _) if w.label == Some(label) => return Flow::Next,
@@ -1030,6 +1055,12 @@ impl<'a> Evaluator<'a> {
 
     fn target(&mut self, target: &ast::Target, span: Span) -> Option<Symbol> {
         let number = match target {
+            ast::Target::Name(name) if self.read_only(*name) => {
+                let text = self.names.text(*name).to_string();
+                let kind = EvalErrorKind::ReadOnlyParameter(text);
+                self.report(EvalError::new(kind, span));
+                return None;
+            }
             ast::Target::Name(name) => {
                 // rs274 makes a named parameter (0) as it reads its
                 // assignment: the rest of the line reads it as 0 if it had

@@ -751,6 +751,26 @@ impl Evaluator<'_> {
                 };
                 return Err(CodeError::new(kind, at).into());
             }
+            700 | 730 => {
+                if t == 730 && self.macros.calls.is_empty() {
+                    self.report(CodeError::new(K::M73AtTopLevel, at));
+                }
+                self.save_modes(t == 730);
+                self.leftover_move(w, span, code)?;
+                return Ok(Flow::Next);
+            }
+            710 => {
+                self.forget_modes();
+                self.leftover_move(w, span, code)?;
+                return Ok(Flow::Next);
+            }
+            720 => {
+                let Some(saved) = self.saved_modes() else {
+                    return Err(CodeError::new(K::NoSavedModes, at).into());
+                };
+                self.leftover_move(w, span, code)?;
+                return Ok(self.restore_modes(&saved, span));
+            }
             // Any other whole M code is the machine's: passed through.
             _ if t.is_multiple_of(10) => {
                 let number = t / 10;
@@ -986,6 +1006,8 @@ impl Evaluator<'_> {
             return Ok(Flow::Abort);
         }
         self.macros.calls.push((name, at));
+        let level = self.macros.calls.len();
+        self.leave_level(level);
         let saved = enter(self);
         let mut flow = Flow::Next;
         for _ in 0..count {
@@ -1006,8 +1028,12 @@ impl Evaluator<'_> {
         for (i, slot) in saved {
             self.vars[i] = slot;
         }
+        let restore = self.leave_level(level);
         self.macros.calls.pop();
-        Ok(flow)
+        match restore {
+            Some(modes) if flow == Flow::Next => Ok(self.restore_modes(&modes, at)),
+            _ => Ok(flow),
+        }
     }
 
     /// A call of a subprogram neither the program nor a part read before

@@ -58,6 +58,10 @@ pub enum EvalErrorKind {
     BadLabel(f64),
     /// Fanuc's `#0` and system variables cannot be set.
     ReadOnlyVariable(String),
+    /// rs274's predefined parameters (`#<_x>`, `#<_feed>`) cannot be set.
+    ReadOnlyParameter(String),
+    /// A warning: `#<_task>` reads 0, as rs274 run alone (a preview).
+    TaskAsPreview,
     /// Fanuc's `#3000 = n (MESSAGE)`.
     Alarm {
         number: f64,
@@ -182,6 +186,18 @@ impl Wording for EvalErrorKind {
                 at,
                 "#0 is always vacant and #1000 and up are the machine's",
             ),
+            EvalErrorKind::ReadOnlyParameter(name) => error(
+                format!("`{name}` cannot be set"),
+                at,
+                "a parameter rs274 keeps for its own state: read-only",
+            ),
+            EvalErrorKind::TaskAsPreview => warning(
+                "`#<_task>` reads 0 here, as in LinuxCNC's preview",
+                at,
+                "the machine's task reads 1",
+            )
+            .with_note("ger follows rs274 run alone: the output takes the branches a preview takes")
+            .with_help("if the program must run its `#<_task>` branch, write it without the test"),
             EvalErrorKind::Alarm { number, message } => error(
                 match message.is_empty() {
                     true => format!("alarm {number}"),

@@ -4,6 +4,7 @@
 //! not hold code that runs statements.
 
 use super::options::EvalOptions;
+use super::predefined::Predefined;
 use super::seen::Watched;
 use super::setup::SetupBuilder;
 use super::state::{CycleState, LineState, Macros, Modal, OutputStart, Reports, RunCounts};
@@ -63,6 +64,9 @@ pub(super) struct Evaluator<'a> {
     pub(super) modal: Modal,
     /// What a run of canned cycles remembers between blocks.
     pub(super) cycles: CycleState,
+    /// rs274's predefined parameters the program names, and the state
+    /// they read that `modal` does not keep.
+    pub(super) predefined: Predefined,
     /// The values seen where variables are read and set, when a caller
     /// asked ([`super::watch_program`]).
     pub(super) watch: Option<Box<Watched>>,

@@ -179,6 +179,8 @@ pub(super) struct Macros {
     pub(super) scope: CallScope,
     /// Subprograms being run, innermost last: (name, call span).
     pub(super) calls: Vec<(OName, Span)>,
+    /// The modal state M70/M73 saved, by call level (0: the main program).
+    pub(super) contexts: Vec<Option<super::context::Saved>>,
     /// Where each label a `GOTO` looked for is, by block (its address)
     /// and label: found once, not at every jump.
     pub(super) labels: HashMap<(usize, u32), Option<usize>>,
@@ -192,6 +194,7 @@ impl Macros {
             needs_whole: false,
             scope: CallScope::of(names),
             calls: Vec::new(),
+            contexts: Vec::new(),
             labels: HashMap::new(),
         }
     }

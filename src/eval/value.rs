@@ -36,6 +36,9 @@ pub enum Slot {
     /// one; a word given one is left out.
     Vacant,
     Poisoned,
+    /// One of rs274's predefined parameters whose value only the machine
+    /// has here ([`super::predefined`]): an error where it is read.
+    Machine,
     Set(Value),
 }
 
@@ -158,6 +161,11 @@ pub enum ExprError {
         value: f64,
         span: Span,
     },
+    /// A predefined parameter only the machine knows here.
+    MachineOnly {
+        name: Symbol,
+        span: Span,
+    },
     /// Depends on a variable whose own error was already reported.
     Poisoned,
 }
@@ -172,7 +180,8 @@ impl ExprError {
             | ExprError::NotFinite { span, .. }
             | ExprError::Arity { span, .. }
             | ExprError::UnknownFunction { span, .. }
-            | ExprError::NoSuchParameter { span, .. } => Some(*span),
+            | ExprError::NoSuchParameter { span, .. }
+            | ExprError::MachineOnly { span, .. } => Some(*span),
             ExprError::Poisoned => None,
         }
     }
@@ -244,6 +253,17 @@ impl ExprError {
                         "a parameter's number is a whole number from {lowest} to {LAST_PARAMETER}"
                     ),
                 )
+            }
+            ExprError::MachineOnly { name, span } => {
+                let text = names.text(*name);
+                let why = super::predefined::Param::of_name(text)
+                    .map_or("ger does not know this value", |p| p.machine_only());
+                error(
+                    format!("`{text}` is the machine's here"),
+                    *span,
+                    "ger cannot know its value at this line",
+                )
+                .with_note(why)
             }
             ExprError::Poisoned => return None,
         })
@@ -352,6 +372,7 @@ fn read(vars: &Vars, name: Symbol, span: Span) -> Result<Value, ExprError> {
         Some(Slot::Set(v)) => Ok(*v),
         Some(Slot::Vacant) => Ok(Value::Number(0.0)),
         Some(Slot::Poisoned) => Err(ExprError::Poisoned),
+        Some(Slot::Machine) => Err(ExprError::MachineOnly { name, span }),
         _ => Err(ExprError::Undefined { name, span }),
     }
 }
@@ -482,7 +503,7 @@ fn call(f: Function, args: &[Expr], span: Span, vars: &Vars) -> Result<Value, Ex
         // Asks about the parameter, not its value.
         return match &args[0].kind {
             ExprKind::Var(s) => Ok(Value::Number(
-                if matches!(vars.get(s.0 as usize), Some(Slot::Set(_))) {
+                if matches!(vars.get(s.0 as usize), Some(Slot::Set(_) | Slot::Machine)) {
                     1.0
                 } else {
                     0.0

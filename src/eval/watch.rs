@@ -13,48 +13,7 @@ impl Evaluator<'_> {
     /// The variables `stmt` reads, as they are before it runs (the
     /// statements of its blocks are watched as they run).
     pub(super) fn watch_reads(&mut self, stmt: &ast::Stmt) {
-        use ast::StmtKind as K;
-        match &stmt.kind {
-            K::Line(line) => {
-                for w in &line.words {
-                    if let ast::WordValue::Expr(e) = &w.value {
-                        self.watch_expr(e);
-                    }
-                }
-            }
-            K::MacroCall(call) => {
-                for w in call.words() {
-                    if let ast::WordValue::Expr(e) = &w.value {
-                        self.watch_expr(e);
-                    }
-                }
-            }
-            K::Assign(a) => self.watch_assignment(a),
-            K::Assigns(all) => all.iter().for_each(|a| self.watch_assignment(a)),
-            K::Call { args, .. } => args.iter().for_each(|a| self.watch_expr(a)),
-            K::If(if_) => if_.branches.iter().for_each(|(c, _)| self.watch_expr(c)),
-            K::SubCall(call) => call.args.iter().for_each(|a| self.watch_expr(a)),
-            K::Return(r) => r.value.iter().for_each(|v| self.watch_expr(v)),
-            K::Repeat(r) => self.watch_expr(&r.count),
-            K::Goto(target) => self.watch_expr(target),
-            // A `while`'s condition is watched before each test.
-            K::While(_)
-            | K::Lines(_)
-            | K::Sub(_)
-            | K::DefinitionRead { .. }
-            | K::Break(_)
-            | K::Continue(_)
-            | K::Command(_)
-            | K::Comment(_)
-            | K::Error => {}
-        }
-    }
-
-    fn watch_assignment(&mut self, a: &ast::Assignment) {
-        self.watch_expr(&a.value);
-        if let ast::Target::Indirect(e) = &a.target {
-            self.watch_expr(e);
-        }
+        each_read(stmt, &mut |name, at| self.watch_var(name, at));
     }
 
     /// The value `name` was set to, at the place that names it.
@@ -64,18 +23,7 @@ impl Evaluator<'_> {
 
     /// Each variable `e` reads, at its place.
     pub(super) fn watch_expr(&mut self, e: &Expr) {
-        match &e.kind {
-            ExprKind::Var(s) => self.watch_var(*s, e.span),
-            ExprKind::Number(_) | ExprKind::Bool(_) | ExprKind::Str(_) => {}
-            ExprKind::Indirect(inner) | ExprKind::Unary(_, inner) => self.watch_expr(inner),
-            ExprKind::Binary(_, a, b) => {
-                self.watch_expr(a);
-                self.watch_expr(b);
-            }
-            ExprKind::Call(_, args) | ExprKind::UnknownCall(_, args) => {
-                args.iter().for_each(|a| self.watch_expr(a))
-            }
-        }
+        each_read_in(e, &mut |name, at| self.watch_var(name, at));
     }
 
     fn watch_var(&mut self, name: Symbol, at: Span) {
@@ -86,6 +34,64 @@ impl Evaluator<'_> {
         };
         if let Some(watch) = &mut self.watch {
             watch.note(at, value);
+        }
+    }
+}
+
+/// Each variable `stmt` reads, at its place, before it runs (not those of
+/// the statements of its blocks, nor a `while`'s condition, read before
+/// each test).
+pub(super) fn each_read(stmt: &ast::Stmt, f: &mut dyn FnMut(Symbol, Span)) {
+    use ast::StmtKind as K;
+    let mut words = |words: &mut dyn Iterator<Item = &ast::Word>| {
+        for w in words {
+            if let ast::WordValue::Expr(e) = &w.value {
+                each_read_in(e, f);
+            }
+        }
+    };
+    match &stmt.kind {
+        K::Line(line) => words(&mut line.words.iter()),
+        K::MacroCall(call) => words(&mut call.words()),
+        K::Assign(a) => assignment_reads(a, f),
+        K::Assigns(all) => all.iter().for_each(|a| assignment_reads(a, f)),
+        K::Call { args, .. } => args.iter().for_each(|a| each_read_in(a, f)),
+        K::If(if_) => if_.branches.iter().for_each(|(c, _)| each_read_in(c, f)),
+        K::SubCall(call) => call.args.iter().for_each(|a| each_read_in(a, f)),
+        K::Return(r) => r.value.iter().for_each(|v| each_read_in(v, f)),
+        K::Repeat(r) => each_read_in(&r.count, f),
+        K::Goto(target) => each_read_in(target, f),
+        K::While(_)
+        | K::Lines(_)
+        | K::Sub(_)
+        | K::DefinitionRead { .. }
+        | K::Break(_)
+        | K::Continue(_)
+        | K::Command(_)
+        | K::Comment(_)
+        | K::Error => {}
+    }
+}
+
+fn assignment_reads(a: &ast::Assignment, f: &mut dyn FnMut(Symbol, Span)) {
+    each_read_in(&a.value, f);
+    if let ast::Target::Indirect(e) = &a.target {
+        each_read_in(e, f);
+    }
+}
+
+/// Each variable `e` reads, at its place.
+pub(super) fn each_read_in(e: &Expr, f: &mut dyn FnMut(Symbol, Span)) {
+    match &e.kind {
+        ExprKind::Var(s) => f(*s, e.span),
+        ExprKind::Number(_) | ExprKind::Bool(_) | ExprKind::Str(_) => {}
+        ExprKind::Indirect(inner) | ExprKind::Unary(_, inner) => each_read_in(inner, f),
+        ExprKind::Binary(_, a, b) => {
+            each_read_in(a, f);
+            each_read_in(b, f);
+        }
+        ExprKind::Call(_, args) | ExprKind::UnknownCall(_, args) => {
+            args.iter().for_each(|a| each_read_in(a, f))
         }
     }
 }

@@ -45,6 +45,11 @@ pub enum CodeErrorKind {
     HomePassedThrough(String),
     /// A warning: an M code ger does not know is written as it is.
     MCodePassedThrough(u32),
+    /// M72 with no state saved at its call level (rs274: "Cannot restore
+    /// context from invalid stack frame - missing M70/M73?").
+    NoSavedModes,
+    /// A warning: M73 outside a subroutine has nothing to return to.
+    M73AtTopLevel,
     /// A note: the first dwell P, read as `from` reads it, which no flag
     /// chose.
     DwellMeaning {
@@ -175,6 +180,18 @@ impl Wording for CodeErrorKind {
             .with_note(
                 "the position after it is not known to ger: the next moves must be absolute",
             ),
+            K::NoSavedModes => error(
+                "M72 with no modal state saved",
+                at,
+                "no M70 or M73 saved one at this call level, or M71 forgot it",
+            )
+            .with_help("save the state with M70 before restoring it"),
+            K::M73AtTopLevel => warning(
+                "M73 outside a subroutine",
+                at,
+                "nothing returns here: the state is saved as M70 saves it",
+            )
+            .with_note("rs274 says the same and restores it only at an M72"),
             K::MCodePassedThrough(number) => warning(
                 format!("M{number} is passed through"),
                 at,
