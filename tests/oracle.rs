@@ -640,10 +640,10 @@ fn run_example(case: &Path) -> Result<(), Failed> {
 /// G54 (the frame known offsets are folded into) and what the passes pass
 /// through because it depends on the machine.
 fn check_allowed_codes(text: &str) -> Result<(), Failed> {
-    const G: [&str; 34] = [
+    const G: [&str; 36] = [
         "0", "1", "2", "3", "4", "17", "18", "19", "20", "21", "90", "00", "01", "54", "55", "56",
         "57", "58", "59", "59.1", "59.2", "59.3", "28", "30", "53", "43", "44", "49", "10", "61",
-        "61.1", "64", "96", "97",
+        "61.1", "64", "96", "97", "92", "92.1",
     ];
     const M: [&str; 13] = [
         "0", "1", "3", "4", "5", "6", "7", "8", "9", "30", "2", "00", "01",
@@ -664,10 +664,14 @@ fn check_allowed_codes(text: &str) -> Result<(), Failed> {
                 }
                 let num = &code[start..end];
                 let ok = match c {
-                    // `G91 G28 Z0.`: home from an unknown point, passed through.
+                    // `G91 G28 Z0.`: home from an unknown point, passed
+                    // through; `G91 G1 X5.`: steps from one (SPEC §4).
                     b'G' => {
                         G.contains(&num)
-                            || (num == "91" && (code.contains("G28") || code.contains("G30")))
+                            || (num == "91"
+                                && ["G28", "G30", "G0 ", "G1 "]
+                                    .iter()
+                                    .any(|c| code.contains(c)))
                     }
                     b'M' => M.contains(&num),
                     b'X' | b'Y' | b'Z' | b'I' | b'J' | b'K' | b'R' | b'F' | b'S' | b'T' | b'P'
