@@ -568,6 +568,11 @@ pub enum Op {
     /// G53: a straight move in machine coordinates (passed through; the
     /// position is unknown after it).
     MachineMove(Move),
+    /// A straight move by steps from wherever the tool is (G91), made by
+    /// the absolute pass for an incremental move on an axis whose position
+    /// only the machine knows; printed between G91 and G90. The axes it
+    /// moves stay unknown, the others it moves from where they were.
+    IncrementalMove(Move),
     /// G28/G30: to the stored home position through `via`, absolute
     /// (passed through; the position is unknown after it).
     Home {
@@ -682,11 +687,16 @@ impl Op {
                 true
             }
             Op::ToolLength { .. } | Op::CancelToolLength => axis == Axis::Z,
+            // (A G92.1 gets past the offsets pass only where the machine
+            // has a G92 the program passed through.)
+            Op::CancelPosition => true,
             Op::ReadPosition(plane) => {
                 let (u, v, _) = plane.axes();
                 axis.index() == u || axis.index() == v
             }
+            // (An incremental move's unknown axes were unknown before it.)
             Op::Move(_)
+            | Op::IncrementalMove(_)
             | Op::Feed(_)
             | Op::Speed(_)
             | Op::SpindleMode(_)
@@ -704,7 +714,6 @@ impl Op {
             | Op::Plane(_)
             | Op::LocalOffset(_)
             | Op::SetPosition(_)
-            | Op::CancelPosition
             | Op::Polar(_)
             | Op::DiameterMode(_)
             | Op::ReturnLevel(_)

@@ -9,7 +9,10 @@
 //! Where the program leaves an axis unknown (never set, or after a move
 //! the machine makes on its own: G28, G53), it counts as 0, as where
 //! `rs274` starts, and the machine's tables (work offsets, tool lengths,
-//! home) are taken as zero, as in a fresh `rs274` parameter file.
+//! home) are taken as zero, as in a fresh `rs274` parameter file. A move
+//! by steps from an unknown point, and a G92 there, are taken from that
+//! guess: the moves after a G92 are known in its frame (the picture's),
+//! not on the machine.
 
 pub mod compare;
 
@@ -254,6 +257,8 @@ pub struct Builder {
     /// one, whose origin is added to later coordinates.
     tables: [[f64; 9]; 10],
     active: usize,
+    /// The machine's G92 shift (a G92 passed through), mm.
+    g92: [f64; 9],
     /// X Y Z the program has set (and no machine move has lost since).
     known: [bool; 3],
 }
@@ -275,6 +280,7 @@ impl Builder {
             selected: 0,
             tables: [[0.0; 9]; 10],
             active: 1,
+            g92: [0.0; 9],
             known: [false; 3],
         }
     }
@@ -287,6 +293,7 @@ impl Builder {
                 let machine = matches!(stmt.op, Op::MachineMove(_));
                 self.move_to(kind, &m.to, stmt.span, machine);
             }
+            Op::IncrementalMove(m) => self.step(&m.to, stmt.span, m.motion),
             Op::Home {
                 via, incremental, ..
             } => self.home(via, *incremental, stmt),
@@ -327,6 +334,8 @@ impl Builder {
             Op::SetWorkOffsetHere { index, at } => self.set_offset_here(*index, at),
             Op::SetWorkOffset { index, origin } => self.set_offset(*index, origin),
             Op::SelectWorkOffset(index) => self.active = self.table(*index),
+            Op::SetPosition(a) => self.set_position(a),
+            Op::CancelPosition => self.g92 = [0.0; 9],
             Op::Plane(p) => self.plane = *p,
             Op::PathControl(pc) => self.state.path_control = pc.scaled(k),
             // Folded away before the absolute pass, or the machine's own
@@ -337,8 +346,6 @@ impl Builder {
             | Op::ArcCenters(_)
             | Op::InverseTime(_)
             | Op::LocalOffset(_)
-            | Op::SetPosition(_)
-            | Op::CancelPosition
             | Op::ToolLength { .. }
             | Op::CancelToolLength
             | Op::Polar(_)
@@ -396,8 +403,42 @@ impl Builder {
         for (axis, v) in at.iter() {
             let i = axis.index();
             let v = if axis.is_rotary() { v } else { v * self.to_mm };
-            self.tables[table][i] = self.position[i] - v;
+            self.tables[table][i] = self.position[i] - self.g92[i] - v;
         }
+    }
+
+    /// G92 passed through: the tool's point takes the coordinates `a`
+    /// (known from here in that frame).
+    fn set_position(&mut self, a: &ir::Axes) {
+        for (axis, v) in a.iter() {
+            let i = axis.index();
+            let v = if axis.is_rotary() { v } else { v * self.to_mm };
+            self.g92[i] = self.position[i] - self.tables[self.active][i] - v;
+            if let Some(known) = self.known.get_mut(i) {
+                *known = true;
+            }
+        }
+    }
+
+    /// A move by steps from where the tool is (its unknown axes stay
+    /// unknown).
+    fn step(&mut self, by: &ir::Axes, span: Span, motion: ir::Motion) {
+        let start: Point = std::array::from_fn(|i| self.position[i]);
+        for (axis, v) in by.iter() {
+            self.position[axis.index()] += if axis.is_rotary() { v } else { v * self.to_mm };
+        }
+        self.path.moves.push(Move {
+            kind: match motion {
+                ir::Motion::Rapid => MoveKind::Rapid,
+                _ => MoveKind::Feed,
+            },
+            start,
+            end: std::array::from_fn(|i| self.position[i]),
+            extra: std::array::from_fn(|i| self.position[i + 3]),
+            state: self.state,
+            span,
+            guessed: self.known.map(|k| !k),
+        });
     }
 
     /// G10 L2 passed through: work offset `index`'s origin.
@@ -429,7 +470,7 @@ impl Builder {
             let offset = if machine {
                 0.0
             } else {
-                self.tables[self.active][i]
+                self.tables[self.active][i] + self.g92[i]
             };
             self.position[i] = offset + if axis.is_rotary() { v } else { v * self.to_mm };
         }

@@ -198,5 +198,48 @@ fn main() {
         })
         .with_ignored_flag(!have && !required),
     );
+    // A start away from rs274's zero tells a program that leaves its
+    // start to the machine from one that takes the zero for it.
+    trials.push(
+        Trial::test("start_elsewhere_tells_the_machine_s_frame", move || {
+            if !have {
+                return Err(rs274::missing().into());
+            }
+            start_elsewhere()
+        })
+        .with_ignored_flag(!have && !required),
+    );
     libtest_mimic::run(&args, trials).exit();
+}
+
+/// Pairs the same from rs274's zero and different from elsewhere: a G92
+/// at the start against none, steps against the same numbers absolute.
+fn start_elsewhere() -> Result<(), Failed> {
+    let dir = std::env::temp_dir().join(format!("ger-harness-s-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).map_err(|e| e.to_string())?;
+    let pairs = [
+        (
+            "G21 G92 X0 Y0 Z0\nG0 X1 Y2 Z3\nM2\n",
+            "G21 G0 X1 Y2 Z3\nM2\n",
+        ),
+        ("G21 G91 G0 X1 Y2 Z3\nM2\n", "G21 G90 G0 X1 Y2 Z3\nM2\n"),
+    ];
+    for (a, b) in pairs {
+        let (pa, pb) = (dir.join("a.ngc"), dir.join("b.ngc"));
+        std::fs::write(&pa, a).map_err(|e| e.to_string())?;
+        std::fs::write(&pb, b).map_err(|e| e.to_string())?;
+        let (ra, rb) = (rs274::tool_path(&pa, &[])?, rs274::tool_path(&pb, &[])?);
+        rs274::same_path(&ra, &rb, &Options::default())
+            .map_err(|why| format!("from zero, {a:?} and {b:?} differ: {why}"))?;
+        let start = Some([1.5, -2.0, 0.5]);
+        let ra = rs274::tool_path_from(&pa, &[], start)?;
+        let rb = rs274::tool_path_from(&pb, &[], start)?;
+        match rs274::same_path(&ra, &rb, &Options::default()) {
+            Err(why) if why.contains("end point differs") => {}
+            Err(why) => return Err(format!("{a:?} and {b:?}: {why}").into()),
+            Ok(_) => return Err(format!("from elsewhere, {a:?} and {b:?} compared equal").into()),
+        }
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+    Ok(())
 }

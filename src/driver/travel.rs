@@ -87,6 +87,13 @@ impl TravelCheck {
                 }
                 return;
             }
+            Op::IncrementalMove(m) => {
+                for (axis, v) in m.to.iter().filter(|(a, _)| a.index() < 3) {
+                    let p = &mut self.position[axis.index()];
+                    *p = p.map(|p| p + v);
+                }
+                self.at(self.position, stmt.span);
+            }
             Op::MachineMove(m) => {
                 for (axis, v) in m.to.iter().filter(|(a, _)| a.index() < 3) {
                     self.check(axis.index(), v * k, stmt.span);

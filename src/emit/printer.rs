@@ -189,14 +189,19 @@ impl Printer {
         self.end();
         if let Op::Home {
             incremental: true, ..
-        } = &stmt.op
-        {
-            // Back to absolute, on a line of its own (one block cannot
-            // hold both distance modes).
-            self.begin(stmt.span, stmt.block_delete);
-            self.code("G90");
-            self.end();
         }
+        | Op::IncrementalMove(_) = &stmt.op
+        {
+            self.back_to_absolute(stmt);
+        }
+    }
+
+    /// G90 after `stmt`, written under G91, on a line of its own (one
+    /// block cannot hold both distance modes).
+    pub fn back_to_absolute(&mut self, stmt: &ir::Stmt) {
+        self.begin(stmt.span, stmt.block_delete);
+        self.code("G90");
+        self.end();
     }
 
     /// The words of one statement, as written.
@@ -205,6 +210,10 @@ impl Printer {
             Op::Move(m) => self.move_words(m),
             Op::MachineMove(m) => {
                 self.code("G53");
+                self.move_words(m);
+            }
+            Op::IncrementalMove(m) => {
+                self.code("G91");
                 self.move_words(m);
             }
             Op::Home {

@@ -111,6 +111,10 @@ impl ProgramPrinter {
                     m.to.place(&mut self.position, Some);
                     continue;
                 }
+                Op::IncrementalMove(m) => {
+                    self.steps(stmt, m);
+                    continue;
+                }
                 Op::Cycle(c) => {
                     self.kept_cycle(stmt, c);
                     continue;
@@ -153,7 +157,13 @@ impl ProgramPrinter {
                 | Op::SetWorkOffset { .. }
                 | Op::SetWorkOffsetHere { .. }
                 | Op::ToolLength { .. }
-                | Op::CancelToolLength => self.forget(stmt.op.unknown_after()),
+                | Op::CancelToolLength
+                | Op::CancelPosition => self.forget(stmt.op.unknown_after()),
+                // A G92 passed through: the same numbers name other points.
+                Op::SetPosition(a) => {
+                    self.forget(|axis| a.has(axis));
+                    a.place(&mut self.position, Some);
+                }
                 Op::Speed(_)
                 | Op::SpindleMode(_)
                 | Op::SelectTool(_)
@@ -167,8 +177,6 @@ impl ProgramPrinter {
                 | Op::InverseTime(_)
                 | Op::Plane(_)
                 | Op::LocalOffset(_)
-                | Op::SetPosition(_)
-                | Op::CancelPosition
                 | Op::Polar(_)
                 | Op::DiameterMode(_)
                 | Op::ReturnLevel(_)
@@ -267,6 +275,25 @@ impl ProgramPrinter {
                 self.printed[axis.index()] = None;
             }
         }
+    }
+
+    /// An incremental move (`G91 G1 X5.` then `G90`): its axes must be
+    /// written again when next given absolutely.
+    fn steps(&mut self, stmt: &ir::Stmt, m: &ir::Move) {
+        self.p.begin(stmt.span, stmt.block_delete);
+        self.p.code("G91");
+        self.p.code(motion_code(m.motion));
+        for (axis, v) in m.to.iter() {
+            let i = axis.index();
+            self.p.word(axis.letter(), v);
+            self.position[i] = self.position[i].map(|p| p + v);
+            self.printed[i] = None;
+        }
+        if m.motion != Motion::Rapid {
+            self.feed_word();
+        }
+        self.p.end();
+        self.p.back_to_absolute(stmt);
     }
 
     /// A move: the absolute pass guarantees that an arc's plane axes are

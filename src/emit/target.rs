@@ -249,7 +249,7 @@ fn turns(op: &Op) -> bool {
 /// but M6, M30, M56; axes X, Y, Z.
 fn grbl_cannot_run(op: &Op) -> Option<(String, Why)> {
     let why = match op {
-        Op::Move(m) | Op::MachineMove(m) => match not_xyz(&m.to) {
+        Op::Move(m) | Op::MachineMove(m) | Op::IncrementalMove(m) => match not_xyz(&m.to) {
             Some(axis) => return Some(((axis.letter() as char).to_string(), Why::NoSuchAxis)),
             None if turns(op) => Why::Turns,
             None => return None,
@@ -396,6 +396,8 @@ mod tests {
             (Op::Move(line(Motion::ArcCcw, xy, 3)), "gl"),
             (Op::MachineMove(line(Motion::Rapid, xy, 1)), "gblf"),
             (Op::MachineMove(line(Motion::Rapid, xa, 1)), "glf"),
+            (Op::IncrementalMove(line(Motion::Linear, xy, 1)), "gblf"),
+            (Op::IncrementalMove(line(Motion::Rapid, xa, 1)), "glf"),
             (home, "gblf"),
             (Op::Feed(100.0), "gblf"),
             (Op::Speed(1000.0), "gblf"),
@@ -454,6 +456,7 @@ mod tests {
         match op {
             Op::Move(_)
             | Op::MachineMove(_)
+            | Op::IncrementalMove(_)
             | Op::Home { .. }
             | Op::Feed(_)
             | Op::Speed(_)

@@ -9,7 +9,10 @@
 //!
 //! An axis the program never set stays unknown and is not written; so do
 //! the axes a machine move (G28, G30, G53) or a passed-through offset left
-//! unknown. An incremental move or an arc on an unknown axis is an error.
+//! unknown. A straight incremental move on an unknown axis goes on as
+//! steps ([`Op::IncrementalMove`]): the machine knows where it starts. An
+//! arc, or a move under G93 (its length), on an unknown axis is an error.
+//! A G92 passed through makes the point it names known.
 
 use super::error::{LowerError, LowerErrorKind};
 use super::pass::{feed_in_turn, Batch, Context, Out, Pass, PassInfo};
@@ -186,6 +189,16 @@ impl AbsolutePass {
         Ok(())
     }
 
+    /// A move that can only be written as steps: straight, under G91,
+    /// on an axis whose position only the machine knows (under G93 its
+    /// length is needed: an error, as for an arc).
+    fn steps_only(&self, m: &ir::Move) -> bool {
+        self.at.distance == Distance::Incremental
+            && m.arc.is_none()
+            && !self.inverse_time
+            && self.at.unknown_axis(&m.to).is_some()
+    }
+
     /// Only a kept cycle comes this far, absolute already: the tool ends
     /// over its last hole, at the height it says.
     fn follow_kept_cycle(&mut self, c: &ir::Cycle) {
@@ -255,6 +268,14 @@ impl Pass for AbsolutePass {
             }
             Op::Plane(p) => self.at.plane = *p,
             Op::End => self.ended = true,
+            Op::Move(m) if self.steps_only(m) => {
+                let m = *m;
+                if let Err(e) = self.at.step(&m.to, span) {
+                    out.report(e);
+                    return false;
+                }
+                stmt.op = Op::IncrementalMove(m);
+            }
             Op::Move(m) => {
                 let moved = self.timed_move(m, span);
                 self.short_arc.report(out);
@@ -297,6 +318,9 @@ impl Pass for AbsolutePass {
             // the comp pass knows.
             | Op::ReadPosition(_) => self.at.forget_after(&stmt.op, span),
             Op::Cycle(c) => self.follow_kept_cycle(c),
+            Op::SetPosition(a) => self.at.set_position(a),
+            // (G92.1 gets this far only to cancel a G92 passed through.)
+            Op::CancelPosition => self.at.forget_after(&stmt.op, span),
             Op::Feed(_)
             | Op::Speed(_)
             | Op::SpindleMode(_)
@@ -308,8 +332,6 @@ impl Pass for AbsolutePass {
             | Op::Stop(_)
             | Op::Units(_)
             | Op::LocalOffset(_)
-            | Op::SetPosition(_)
-            | Op::CancelPosition
             | Op::Polar(_)
             | Op::DiameterMode(_)
             | Op::ReturnLevel(_)
@@ -318,7 +340,8 @@ impl Pass for AbsolutePass {
             | Op::CompOff
             | Op::PathControl(_)
             | Op::Comment(_)
-            | Op::Passthrough(_) => {}
+            | Op::Passthrough(_)
+            | Op::IncrementalMove(_) => {}
         }
         true
     }

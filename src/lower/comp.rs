@@ -239,6 +239,24 @@ impl CompPass {
                 let (via, incremental) = (*via, *incremental);
                 self.home_after_off(stmt, via, incremental, out);
             }
+            // The tool's path needs where the tool is: known here where a
+            // tool change read it back (after G40), else an error.
+            Op::IncrementalMove(m) if self.on.is_some() || self.after_off.is_some() => {
+                let (mut m, steps) = (*m, m.to);
+                for (axis, v) in steps.iter() {
+                    match self.at.position[axis.index()] {
+                        Some(p) => m.to.set(axis, p + v),
+                        None => {
+                            return Err(self.at.unknown(axis.index(), "cutter compensation", span))
+                        }
+                    }
+                }
+                stmt.op = Op::Move(m);
+                return self.motion(stmt, &m, out);
+            }
+            Op::IncrementalMove(_) => self.at.follow(&stmt.op, span),
+            // (Refused under compensation by the evaluator.)
+            Op::SetPosition(a) => self.at.set_position(a),
             Op::MachineMove(_) if self.after_off.is_some() => {
                 let off = self.after_off.map_or(span, |(off, _)| off);
                 return Err(LowerError::new(
@@ -248,6 +266,7 @@ impl CompPass {
             }
             Op::MachineMove(_)
             | Op::Home { .. }
+            | Op::CancelPosition
             | Op::SelectWorkOffset(_)
             | Op::SetWorkOffset { .. }
             | Op::SetWorkOffsetHere { .. }
@@ -264,8 +283,6 @@ impl CompPass {
             | Op::ArcCenters(_)
             | Op::InverseTime(_)
             | Op::LocalOffset(_)
-            | Op::SetPosition(_)
-            | Op::CancelPosition
             | Op::Polar(_)
             | Op::DiameterMode(_)
             | Op::ReturnLevel(_)

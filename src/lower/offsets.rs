@@ -23,6 +23,12 @@
 //! a system ger knows can then no longer be written in its terms, and is
 //! selected as it is only where the machine was given its values. A
 //! `G10 L20` passed through gets the point with the shifts ger folds.
+//!
+//! A `G92` at a point ger does not know (`G92 X0 Y0 Z0` before any move:
+//! the origin is wherever the tool stands) goes to the machine, with the
+//! shifts ger folds added, so the output's coordinates from there are in
+//! its frame, and the point it names is known in them. The machine then
+//! has a G92 of its own: a `G92.1` goes to it too.
 
 use super::error::{LowerError, LowerErrorKind};
 use super::pass::{feed_in_turn, follows_only, Batch, Context, Out, Pass, PassInfo};
@@ -63,6 +69,8 @@ struct OffsetsPass {
     /// G52 and G92 shifts.
     local: [f64; 9],
     g92: [f64; 9],
+    /// The machine has a G92 the program passed through.
+    passed_g92: bool,
     /// The folded tool length offset (Z).
     tool_length: f64,
     /// A G43/G44 with an unknown length is active in the output.
@@ -104,6 +112,7 @@ impl OffsetsPass {
             frame: Frame::Initial,
             local: [0.0; 9],
             g92: [0.0; 9],
+            passed_g92: false,
             tool_length: 0.0,
             passed_length: false,
             tip_path: cx.options.tip_path,
@@ -308,15 +317,8 @@ impl Pass for OffsetsPass {
                 }
                 false
             }
-            Op::SetPosition(a) => {
-                let a = *a;
-                self.set_position(&a, span, out);
-                false
-            }
-            Op::CancelPosition => {
-                self.g92 = [0.0; 9];
-                false
-            }
+            Op::SetPosition(a) => self.set_position(a),
+            Op::CancelPosition => self.cancel_position(),
             Op::ToolLength { tool, negative } => {
                 let (tool, negative) = (*tool, *negative);
                 self.tool_length_offset(tool, negative, stmt, out)
@@ -341,7 +343,9 @@ impl Pass for OffsetsPass {
             | Op::CompOff
             | Op::PathControl(_)
             | Op::Comment(_)
-            | Op::Passthrough(_) => true,
+            | Op::Passthrough(_)
+            // (Made by the absolute pass, after this one.)
+            | Op::IncrementalMove(_) => true,
         }
     }
 }
@@ -490,7 +494,10 @@ impl OffsetsPass {
         out: &mut Out<'_>,
     ) -> bool {
         let index = self.system(index);
+        // A G92 of the machine's own lies between the output's
+        // coordinates and G54's.
         let known = self.frame == Frame::G54
+            && !self.passed_g92
             && at.iter().all(|(axis, _)| {
                 self.position[axis.index()].is_some() && self.machine[1][axis.index()].is_some()
             });
@@ -541,25 +548,38 @@ impl OffsetsPass {
         false
     }
 
-    /// G92: the G92 shift chosen so that the current point reads `a`.
-    fn set_position(&mut self, a: &Axes, span: Span, out: &mut Out<'_>) {
-        for (axis, v) in a.iter() {
+    /// G92: the G92 shift chosen so that the current point reads `a`,
+    /// where that point is known; else the machine's (module doc).
+    /// Whether the statement goes on.
+    fn set_position(&mut self, a: &mut Axes) -> bool {
+        let known = a
+            .iter()
+            .all(|(axis, _)| self.position[axis.index()].is_some());
+        let given = *a;
+        for (axis, v) in given.iter() {
             let i = axis.index();
-            match self.position[i] {
-                Some(p) => {
-                    self.g92[i] = 0.0;
-                    self.g92[i] = p - v - self.shift(i);
-                }
-                None => out.report(LowerError::new(
-                    LowerErrorKind::UnknownPosition {
-                        axis,
-                        what: "G92",
-                        since: None,
-                    },
-                    span,
-                )),
+            // The machine's G92 replaces the program's on these axes.
+            self.g92[i] = 0.0;
+            if known {
+                self.g92[i] = self.position[i].unwrap_or(0.0) - v - self.shift(i);
+            } else {
+                let value = v + self.shift(i);
+                a.set(axis, value);
+                self.position[i] = Some(value);
             }
         }
+        self.passed_g92 |= !known;
+        !known
+    }
+
+    /// G92.1: whether it goes on (only the machine can cancel its own).
+    fn cancel_position(&mut self) -> bool {
+        self.g92 = [0.0; 9];
+        let passed = std::mem::take(&mut self.passed_g92);
+        if passed {
+            self.position = [None; 9];
+        }
+        passed
     }
 
     /// G43/G44: folded when the tool's length is known, else passed

@@ -140,7 +140,9 @@ impl Pass for PolarPass {
             | Op::CompOff
             | Op::PathControl(_)
             | Op::Comment(_)
-            | Op::Passthrough(_) => {}
+            | Op::Passthrough(_)
+            // (Made by the absolute pass, after this one.)
+            | Op::IncrementalMove(_) => {}
         }
         true
     }

@@ -38,6 +38,38 @@ impl Tracker {
         }
     }
 
+    /// A G92 passed through to the machine: the point it names is where
+    /// the tool is in the output's coordinates from here.
+    pub fn set_position(&mut self, a: &Axes) {
+        a.place(&mut self.position, Some);
+    }
+
+    /// The first axis `to` writes whose position is unknown.
+    pub fn unknown_axis(&self, to: &Axes) -> Option<usize> {
+        to.iter()
+            .map(|(axis, _)| axis.index())
+            .find(|&i| self.position[i].is_none())
+    }
+
+    /// An [`Op::IncrementalMove`]: the axes known move by their steps
+    /// (the error: one out of range), the others stay unknown.
+    pub fn step(&mut self, to: &Axes, span: Span) -> Result<(), LowerError> {
+        let mut end = self.position;
+        for (axis, v) in to.iter() {
+            let i = axis.index();
+            end[i] = self.position[i].map(|p| p + v);
+            let e = end[i].unwrap_or(v);
+            if !ir::is_position(e) {
+                return Err(LowerError::new(
+                    LowerErrorKind::PositionOutOfRange { axis, value: e },
+                    span,
+                ));
+            }
+        }
+        self.position = end;
+        Ok(())
+    }
+
     /// The error for something that needs `axis` where it is unknown.
     pub fn unknown(&self, axis: usize, what: &'static str, span: Span) -> LowerError {
         LowerError::new(
@@ -162,6 +194,13 @@ impl Tracker {
             Op::Distance(d) => self.distance = *d,
             Op::Plane(p) => self.plane = *p,
             Op::Move(m) => self.follow_move(&m.to),
+            Op::IncrementalMove(m) => {
+                for (axis, v) in m.to.iter() {
+                    let p = &mut self.position[axis.index()];
+                    *p = p.map(|p| p + v).filter(|&e| ir::is_position(e));
+                }
+            }
+            Op::SetPosition(a) => self.set_position(a),
             _ => self.forget_after(op, span),
         }
     }

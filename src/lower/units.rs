@@ -109,8 +109,8 @@ impl Pass for UnitsPass {
             Op::Polar(on) => self.polar = *on,
             Op::Plane(p) => self.plane = *p,
             // Times one: as they are (most moves of most programs).
-            Op::Move(_) | Op::MachineMove(_) if k == 1.0 => {}
-            Op::Move(m) | Op::MachineMove(m) => {
+            Op::Move(_) | Op::MachineMove(_) | Op::IncrementalMove(_) if k == 1.0 => {}
+            Op::Move(m) | Op::MachineMove(m) | Op::IncrementalMove(m) => {
                 m.to = self.scale_axes(m.to, k);
                 if let Some(arc) = &mut m.arc {
                     arc.geometry = match arc.geometry {

@@ -77,7 +77,20 @@ pub fn read_tool_table(text: &str) -> Vec<Tool> {
 /// The program's tool path as rs274 runs it, or rs274's error with its
 /// source line.
 pub fn tool_path(program: &Path, tools: &[Tool]) -> Result<Reference, String> {
-    let calls = run(program, tools)?;
+    tool_path_from(program, tools, None)
+}
+
+/// [`tool_path`] with the machine first moved to `start` (machine
+/// coordinates, rs274's units: a `G53 G0` block numbered 0): where a
+/// program leaves its start to the machine (`G92 X0 Y0 Z0` before any
+/// move, steps from where the tool stands), a start other than rs274's
+/// zero shows whether a translation kept that, or took the zero for it.
+pub fn tool_path_from(
+    program: &Path,
+    tools: &[Tool],
+    start: Option<[f64; 3]>,
+) -> Result<Reference, String> {
+    let calls = run(program, tools, start)?;
     let inch = calls
         .iter()
         .any(|c| c.name == "USE_LENGTH_UNITS" && c.args.contains("INCH"));
@@ -125,7 +138,7 @@ struct Call {
     args: String,
 }
 
-fn run(program: &Path, tools: &[Tool]) -> Result<Vec<Call>, String> {
+fn run(program: &Path, tools: &[Tool], start: Option<[f64; 3]>) -> Result<Vec<Call>, String> {
     let bytes = std::fs::read(program).map_err(|e| format!("{}: {e}", program.display()))?;
     let text = String::from_utf8_lossy(&bytes).replace("\r\n", "\n");
     let work = tempdir()?;
@@ -150,7 +163,18 @@ fn run(program: &Path, tools: &[Tool]) -> Result<Vec<Call>, String> {
     std::fs::write(&table, tbl).map_err(|e| e.to_string())?;
     let name = program.file_name().unwrap_or_default();
     let numbered = work.join(name);
-    std::fs::write(&numbered, number_lines(&text)).map_err(|e| e.to_string())?;
+    let mut numbered_text = number_lines(&text);
+    if let Some([x, y, z]) = start {
+        // After a leading `%` line, which must stay first.
+        let at = match numbered_text.trim_start().starts_with('%') {
+            true => numbered_text
+                .find('\n')
+                .map_or(numbered_text.len(), |n| n + 1),
+            false => 0,
+        };
+        numbered_text.insert_str(at, &format!("N0 G53 G0 X{x} Y{y} Z{z}\n"));
+    }
+    std::fs::write(&numbered, numbered_text).map_err(|e| e.to_string())?;
 
     let lock = std::fs::File::create(std::env::temp_dir().join("ger-rs274.lock"))
         .map_err(|e| e.to_string())?;

@@ -178,7 +178,8 @@ impl Wording for CodeErrorKind {
                 "the machine moves to the home position it stores",
             )
             .with_note(
-                "the position after it is not known to ger: the next moves must be absolute",
+                "the position after it is not known to ger: an arc or a cycle needs an absolute \
+                 move first; straight steps (G91) are written as steps",
             ),
             K::NoSavedModes => error(
                 "M72 with no modal state saved",
