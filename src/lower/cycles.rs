@@ -495,6 +495,7 @@ impl Pass for CyclesPass {
             Op::CycleOff if !self.keep => return false,
             Op::Spindle(s) => self.spindle = *s,
             Op::Move(_)
+            | Op::Spline(_)
             | Op::MachineMove(_)
             | Op::Home { .. }
             | Op::Feed(_)

@@ -162,6 +162,7 @@ impl Tracker {
             Op::Distance(d) => self.distance = *d,
             Op::Plane(p) => self.plane = *p,
             Op::Move(m) => self.follow_move(&m.to),
+            Op::Spline(s) => self.follow_move(&s.to),
             _ => self.forget_after(op, span),
         }
     }
