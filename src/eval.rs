@@ -18,6 +18,7 @@ mod polar;
 mod predefined;
 mod seen;
 mod setup;
+mod spline;
 mod state;
 pub mod value;
 mod watch;
@@ -284,6 +285,9 @@ impl<'a> Evaluator<'a> {
                 self.output.feed_before_units |= self.output.first_units.is_none();
                 self.this_line.inverse_feed = self.modal.inverse_time;
             }
+            ir::Op::Spline(_) if self.modal.feed.is_none() => {
+                return Err(EvalError::new(EvalErrorKind::FeedBeforeRate, span).into());
+            }
             ir::Op::Move(m) if m.motion != ir::Motion::Rapid && self.modal.feed.is_none() => {
                 let kind = if self.modal.inverse_time_ended {
                     EvalErrorKind::FeedAfterInverseTime
@@ -425,8 +429,13 @@ impl<'a> Evaluator<'a> {
     fn track(&mut self, op: &ir::Op) {
         self.follow_predefined(op);
         match op {
+            ir::Op::Spline(s) => {
+                self.modal.comp_off = None;
+                self.track_spline(s);
+            }
             ir::Op::Move(m) => {
                 self.modal.comp_off = None;
+                self.modal.after_g5 = false;
                 self.modal.motion = Some(m.motion);
                 for axis in [ir::Axis::X, ir::Axis::Y, ir::Axis::Z] {
                     if let Some(v) = m.to.get(axis) {
@@ -456,6 +465,11 @@ impl<'a> Evaluator<'a> {
             ir::Op::ReturnLevel(level) => self.modal.return_level = Some(*level),
             ir::Op::Cycle(c) => {
                 self.modal.comp_off = None;
+                self.modal.after_g5 = false;
+                if c.kind == ir::CycleKind::G87 {
+                    let [i, j, _] = c.ijk;
+                    self.modal.spline_ij = [i.unwrap_or(0.0), j.unwrap_or(0.0)];
+                }
                 self.track_cycle(c);
             }
             ir::Op::ReadPosition(plane) => {
@@ -465,6 +479,25 @@ impl<'a> Evaluator<'a> {
                 self.modal.position[v] = None;
             }
             _ => {}
+        }
+    }
+
+    /// Where a spline leaves the tool, and what a G5 after it without I J
+    /// takes.
+    fn track_spline(&mut self, s: &ir::Spline) {
+        for axis in [ir::Axis::X, ir::Axis::Y] {
+            if let Some(v) = s.to.get(axis) {
+                let i = axis.index();
+                self.modal.position[i] = match self.modal.distance {
+                    ir::Distance::Absolute => Some(v),
+                    ir::Distance::Incremental => self.modal.position[i].map(|p| p + v),
+                };
+            }
+        }
+        self.modal.after_g5 = matches!(s.kind, ir::SplineKind::Cubic { .. });
+        if let ir::SplineKind::Cubic { end, .. } = s.kind {
+            // (0 - v: no -0 in a message.)
+            self.modal.spline_ij = [0.0 - end[0], 0.0 - end[1]];
         }
     }
 

@@ -2,6 +2,8 @@
 //! Plain functions on points in one unit; they return plain errors and
 //! never see spans or IR statements (the caller attaches the location).
 
+pub mod spline;
+
 use crate::ir::Plane;
 use nalgebra::Vector2;
 use std::f64::consts::TAU;

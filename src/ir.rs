@@ -548,6 +548,39 @@ pub enum Passthrough {
     Line(String),
 }
 
+/// A G5 or G5.1 curve from the current point to `to` (X and Y as
+/// written), in the XY plane at the current Z.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Spline {
+    pub to: Axes,
+    pub kind: SplineKind,
+}
+
+/// The inner control points, each relative to the end it belongs to.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum SplineKind {
+    /// G5, a cubic: I J from the start, P Q from the end.
+    Cubic { start: [f64; 2], end: [f64; 2] },
+    /// G5.1, a quadratic: I J from the start.
+    Quadratic { control: [f64; 2] },
+}
+
+impl SplineKind {
+    /// Its offsets times `k` (a change of units).
+    pub fn scaled(self, k: f64) -> SplineKind {
+        let by = |p: [f64; 2]| [p[0] * k, p[1] * k];
+        match self {
+            SplineKind::Cubic { start, end } => SplineKind::Cubic {
+                start: by(start),
+                end: by(end),
+            },
+            SplineKind::Quadratic { control } => SplineKind::Quadratic {
+                control: by(control),
+            },
+        }
+    }
+}
+
 /// How S is read: G97 (rpm, where every program starts) or G96.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum SpindleMode {
@@ -668,6 +701,9 @@ pub enum Op {
     CompOff,
     /// G61, G61.1, G64 P Q.
     PathControl(PathControl),
+    /// G5/G5.1 (LinuxCNC): a curve in the XY plane, made arcs by the
+    /// absolute pass. Boxed: rare.
+    Spline(Box<Spline>),
     Comment(String),
     Passthrough(Passthrough),
 }
@@ -697,6 +733,7 @@ impl Op {
             // (An incremental move's unknown axes were unknown before it.)
             Op::Move(_)
             | Op::IncrementalMove(_)
+            | Op::Spline(_)
             | Op::Feed(_)
             | Op::Speed(_)
             | Op::SpindleMode(_)

@@ -355,6 +355,8 @@ impl Builder {
             | Op::CycleOff
             | Op::Comp { .. }
             | Op::CompOff
+            // (The absolute pass made splines arcs.)
+            | Op::Spline(_)
             | Op::Comment(_)
             | Op::Passthrough(_) => {}
         }

@@ -110,6 +110,20 @@ const PAIRS: &[(&str, &str, &str, &str)] = &[
         "G21 G0 X0 Y0\nG1 X5 F100\nG1 X10\nM2\n",
         "end point differs by 5.0",
     ),
+    // rs274 prints a spline without its shape: B's moves from its line
+    // (by their N words) stand in for it, and where it ends must agree.
+    (
+        "spline_stands_in",
+        "G21 G0 X0 Y0 F100\nG5.1 X10 Y0 I5 J5\nG91 G1 X1\nM2\n",
+        "G21 G0 X0 Y0 F100\nN2 G1 X5 Y2.5\nN2 G1 X10 Y0\nG91 G1 X1\nM2\n",
+        "",
+    ),
+    (
+        "spline_end_differs",
+        "G21 G0 X0 Y0 F100\nG5.1 X10 Y0 I5 J5\nG91 G1 X1\nM2\n",
+        "G21 G0 X0 Y0 F100\nN2 G1 X5 Y2.5\nN2 G1 X9 Y0\nG91 G1 X1\nM2\n",
+        "end point differs",
+    ),
     (
         "tool_changes_differ",
         "G21 T1 M6\nG0 X1\nM2\n",

@@ -540,17 +540,11 @@ fn run_case(case: &Path, arcs: &str) -> Result<(), Failed> {
         None => &b,
     };
     let own = own_tool_path(&input, &wizards, fanuc)?;
-    let own = rs274::Reference {
-        path: own,
-        inch: b.inch,
-    };
+    let own = rs274::Reference::of(own, b.inch);
     rs274::same_path(b_zero, &own, &Default::default())
         .map_err(|why| format!("ger's tool path is not its output's: {why}"))?;
     // Compiling ger's output again changes nothing.
-    let again = rs274::Reference {
-        path: own_tool_path(&out, &wizards, fanuc)?,
-        inch: b.inch,
-    };
+    let again = rs274::Reference::of(own_tool_path(&out, &wizards, fanuc)?, b.inch);
     rs274::same_path(b_zero, &again, &Default::default())
         .map_err(|why| format!("ger's output compiled again moves differently: {why}"))?;
     let _ = std::fs::remove_dir_all(&work);

@@ -287,6 +287,7 @@ impl Printer {
             Op::ReturnLevel(ir::ReturnLevel::Initial) => self.code("G98"),
             Op::ReturnLevel(ir::ReturnLevel::R) => self.code("G99"),
             Op::Cycle(c) => self.cycle_words(c),
+            Op::Spline(s) => self.spline_words(s),
             Op::CycleOff => self.code("G80"),
             Op::Comp { side, radius } => self.comp_words(*side, *radius),
             Op::CompOff => self.code("G40"),
@@ -326,6 +327,28 @@ impl Printer {
     fn code_axes(&mut self, code: &str, axes: &ir::Axes) {
         self.code(code);
         self.axes(axes);
+    }
+
+    /// G5 X Y I J P Q or G5.1 X Y I J: only a stage before the absolute
+    /// pass, which makes splines arcs, prints one.
+    fn spline_words(&mut self, s: &ir::Spline) {
+        let words: &[(u8, f64)] = match s.kind {
+            ir::SplineKind::Cubic { start, end } => &[
+                (b'I', start[0]),
+                (b'J', start[1]),
+                (b'P', end[0]),
+                (b'Q', end[1]),
+            ],
+            ir::SplineKind::Quadratic { control } => &[(b'I', control[0]), (b'J', control[1])],
+        };
+        let code = match s.kind {
+            ir::SplineKind::Cubic { .. } => "G5",
+            ir::SplineKind::Quadratic { .. } => "G5.1",
+        };
+        self.code_axes(code, &s.to);
+        for &(letter, v) in words {
+            self.word(letter, v);
+        }
     }
 
     /// G43/G44, with H where the tool is named.

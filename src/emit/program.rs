@@ -184,6 +184,8 @@ impl ProgramPrinter {
                 | Op::Comp { .. }
                 | Op::CompOff
                 | Op::PathControl(_)
+                // (The absolute pass made splines arcs.)
+                | Op::Spline(_)
                 | Op::Comment(_)
                 | Op::Passthrough(_) => {}
             }

@@ -270,6 +270,7 @@ fn grbl_cannot_run(op: &Op) -> Option<(String, Why)> {
         | Op::DiameterMode(_)
         | Op::ReturnLevel(_)
         | Op::Cycle(_)
+        | Op::Spline(_)
         | Op::Comp { .. } => Why::NoSuchCode,
         Op::Passthrough(Passthrough::MCode { number: 56, words }) if words.is_empty() => {
             return None
@@ -305,7 +306,9 @@ fn fanuc_cannot_run(op: &Op) -> Option<(String, Why)> {
         Op::SelectWorkOffset(i) if *i > 6 => Why::WorkOffset,
         Op::SetWorkOffset { index, .. } if *index == 0 || *index > 6 => Why::WorkOffset,
         Op::SetWorkOffsetHere { .. } => Why::FanucL20,
-        Op::ArcCenters(_) | Op::DiameterMode(_) | Op::CancelPosition => Why::NoSuchCode,
+        Op::ArcCenters(_) | Op::DiameterMode(_) | Op::CancelPosition | Op::Spline(_) => {
+            Why::NoSuchCode
+        }
         Op::Comp {
             radius: CompRadius::Diameter(_),
             ..
@@ -434,6 +437,15 @@ mod tests {
             (cycle(ir::CycleKind::G81), "glf"),
             (cycle(ir::CycleKind::G87), "glf"),
             (Op::CycleOff, "gblf"),
+            (
+                Op::Spline(Box::new(ir::Spline {
+                    to: xy,
+                    kind: ir::SplineKind::Quadratic {
+                        control: [1.0, 0.0],
+                    },
+                })),
+                "gl",
+            ),
             (comp(CompRadius::Tool(1)), "glf"),
             (comp(CompRadius::LoadedTool), "gl"),
             (comp(CompRadius::Diameter(6.0)), "gl"),
@@ -485,6 +497,7 @@ mod tests {
             | Op::DiameterMode(_)
             | Op::ReturnLevel(_)
             | Op::Cycle(_)
+            | Op::Spline(_)
             | Op::CycleOff
             | Op::Comp { .. }
             | Op::CompOff

@@ -29,6 +29,9 @@ fn unsupported_g(t: u32) -> &'static str {
         500 | 510 => "scaling is not supported",
         650 => "G65 is Fanuc's macro call, read in plain G-code (not in .egc)",
         950 => "feed per revolution (G95) is not supported: use G94 or G93",
+        52 | 53 => "NURBS (G5.2/G5.3) are not supported; G5 and G5.1 splines are",
+        330 | 331 => "spindle-synchronised motion (G33 threading, G33.1 rigid tapping) is not supported",
+        700 | 710..=712 | 720..=722 => "lathe cycles (G70-G72) are outside what ger, a milling compiler, lowers",
         310 | 382..=385 => "a probing move stops where its switch trips, which only the machine knows; what follows it cannot be worked out",
         _ => "ger does not know this code",
     }
@@ -414,7 +417,11 @@ impl Evaluator<'_> {
         if has_axes || (arc_words && self.modal.motion.is_some_and(Motion::is_arc)) {
             let Some(motion) = self.modal.motion else {
                 let (_, at) = w.remaining().next().unwrap_or((b'X', span));
-                return Err(CodeError::new(K::MoveWithoutMotion, at).into());
+                let kind = match self.modal.spline_mode {
+                    true => K::Spline(error::SplineProblem::Again),
+                    false => K::MoveWithoutMotion,
+                };
+                return Err(CodeError::new(kind, at).into());
             };
             self.polar_words(w)?;
             if self.this_line.machine_coordinates {
@@ -563,6 +570,10 @@ impl Evaluator<'_> {
         }
         match t {
             0 | 10 | 20 | 30 => self.select_motion(t),
+            50 | 51 => {
+                self.spline(t, at, w, span)?;
+                return self.unused_words(w, code).map(|_| Flow::Next);
+            }
             960 | 970 => {}
             _ if self.g_mode(t, at, span)? => {}
             _ => {

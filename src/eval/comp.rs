@@ -85,6 +85,7 @@ impl Evaluator<'_> {
             Op::Plane(p) if *p != self.modal.plane => "a change of plane",
             Op::Polar(true) => "polar coordinates (G16)",
             Op::PathControl(_) => "a change of path control (G61, G61.1, G64)",
+            Op::Spline(_) => "a spline (G5, G5.1)",
             _ => return Ok(()),
         };
         Err(CompBlockError::new(

@@ -158,7 +158,9 @@ impl<'a> OutputStart<'a> {
     /// `op` is kept at `span`: the first move and units are noted.
     pub(super) fn note(&mut self, op: &ir::Op, span: Span) {
         match op {
-            ir::Op::Move(_) if self.first_move.is_none() => self.first_move = Some(span),
+            ir::Op::Move(_) | ir::Op::Spline(_) if self.first_move.is_none() => {
+                self.first_move = Some(span)
+            }
             ir::Op::Units(u) if self.first_units.is_none() => self.first_units = Some(*u),
             _ => {}
         }
@@ -293,6 +295,14 @@ pub(super) struct Modal {
     pub(super) cycle_initial: Option<f64>,
     /// G94 after G93, and no F since.
     pub(super) inverse_time_ended: bool,
+    /// The motion mode is G5/G5.1 (`motion` is `None`): axis words alone
+    /// are refused, as rs274 moves nowhere on them.
+    pub(super) spline_mode: bool,
+    /// The last move was a G5; and the I J a G5 without them takes
+    /// (rs274's `cycle_i`/`cycle_j`: the last G5's P Q turned round, or a
+    /// G87's I J).
+    pub(super) after_g5: bool,
+    pub(super) spline_ij: [f64; 2],
 }
 
 impl Default for Modal {
@@ -318,6 +328,9 @@ impl Default for Modal {
             return_level: None,
             cycle_initial: None,
             inverse_time_ended: false,
+            spline_mode: false,
+            after_g5: false,
+            spline_ij: [0.0; 2],
         }
     }
 }

@@ -7,6 +7,9 @@
 //! centre is kept, as LinuxCNC keeps it (a small radius difference is a
 //! slight spiral); the larger radius is what `--arcs r` writes.
 //!
+//! A G5/G5.1 spline becomes here the arcs LinuxCNC cuts it with
+//! (`geometry::spline`), each absolute and carrying the spline's span.
+//!
 //! An axis the program never set stays unknown and is not written; so do
 //! the axes a machine move (G28, G30, G53) or a passed-through offset left
 //! unknown. A straight incremental move on an unknown axis goes on as
@@ -199,6 +202,61 @@ impl AbsolutePass {
             && self.at.unknown_axis(&m.to).is_some()
     }
 
+    /// A spline's arcs and lines, sent in its place, absolute, centres
+    /// relative to their starts. It starts where the tool is, in X and Y,
+    /// which must be known.
+    fn spline(&mut self, s: &ir::Spline, stmt: &Stmt, out: &mut Out<'_>) -> Result<(), LowerError> {
+        const WHAT: &str = "a spline (G5, G5.1)";
+        let span = stmt.span;
+        let end = self.at.end_of(&s.to, WHAT, span)?;
+        let mut ends = [[0.0; 2]; 2];
+        for i in 0..2 {
+            let (Some(from), Some(to)) = (self.at.position[i], end[i]) else {
+                return Err(self.at.unknown(i, WHAT, span));
+            };
+            ends[0][i] = from;
+            ends[1][i] = to;
+        }
+        let [p0, p3] = ends;
+        let plus = |p: [f64; 2], d: [f64; 2]| [p[0] + d[0], p[1] + d[1]];
+        let points = match s.kind {
+            ir::SplineKind::Cubic { start, end } => vec![p0, plus(p0, start), plus(p3, end), p3],
+            ir::SplineKind::Quadratic { control } => vec![p0, plus(p0, control), p3],
+        };
+        let mut from = p0;
+        for piece in geometry::spline::biarcs(&points) {
+            let mut to = Axes::default();
+            to.set(Axis::X, piece.end[0]);
+            to.set(Axis::Y, piece.end[1]);
+            let (motion, arc) = match piece.arc {
+                None => (ir::Motion::Linear, None),
+                Some(a) => {
+                    let center = [
+                        Some(a.center[0] - from[0]),
+                        Some(a.center[1] - from[1]),
+                        None,
+                    ];
+                    let motion = match a.clockwise {
+                        true => ir::Motion::ArcCw,
+                        false => ir::Motion::ArcCcw,
+                    };
+                    (
+                        motion,
+                        Some(ir::Arc {
+                            geometry: ArcGeometry::Center(center),
+                            turns: 1,
+                        }),
+                    )
+                }
+            };
+            out.push(stmt.with_op(Op::Move(ir::Move { motion, to, arc })));
+            from = piece.end;
+        }
+        self.at.position[0] = Some(p3[0]);
+        self.at.position[1] = Some(p3[1]);
+        Ok(())
+    }
+
     /// Only a kept cycle comes this far, absolute already: the tool ends
     /// over its last hole, at the height it says.
     fn follow_kept_cycle(&mut self, c: &ir::Cycle) {
@@ -219,6 +277,7 @@ impl Pass for AbsolutePass {
     fn feed_each(&mut self, input: &mut [Stmt], to: &mut Batch<'_, '_>) -> usize {
         let straight = |s: &Stmt| match &s.op {
             Op::Move(m) => m.arc.is_none() && m.to.all_values(ir::is_position),
+            Op::Spline(_) => false,
             _ => true,
         };
         // (`follow_run` takes only a run under G90.)
@@ -287,6 +346,13 @@ impl Pass for AbsolutePass {
                         return false;
                     }
                 }
+            }
+            Op::Spline(s) => {
+                let s = **s;
+                if let Err(e) = self.spline(&s, stmt, out) {
+                    out.report(e);
+                }
+                return false;
             }
             Op::MachineMove(_) => {
                 if self.at.distance == Distance::Incremental {

@@ -289,6 +289,8 @@ impl CompPass {
             | Op::Cycle(_)
             | Op::CycleOff
             | Op::PathControl(_)
+            // (The absolute pass made splines arcs.)
+            | Op::Spline(_)
             | Op::Comment(_)
             | Op::Passthrough(_) => {}
         }

@@ -496,6 +496,7 @@ impl Pass for CyclesPass {
             Op::Spindle(s) => self.spindle = *s,
             Op::Move(_)
             | Op::IncrementalMove(_)
+            | Op::Spline(_)
             | Op::MachineMove(_)
             | Op::Home { .. }
             | Op::Feed(_)

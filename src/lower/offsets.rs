@@ -262,14 +262,16 @@ impl Pass for OffsetsPass {
         }
         match &mut stmt.op {
             Op::Distance(d) => {
-                self.distance = *d;
-                if *d == Distance::Incremental {
-                    self.incremental_since = Some(span);
-                }
+                self.set_distance(*d, span);
                 true
             }
             Op::Move(m) => {
                 self.place_move(m);
+                true
+            }
+            // Its control points are relative to its ends.
+            Op::Spline(s) => {
+                self.place(&mut s.to);
                 true
             }
             Op::ArcCenters(d) => {
@@ -351,6 +353,14 @@ impl Pass for OffsetsPass {
 }
 
 impl OffsetsPass {
+    /// G90/G91, and where G91 began.
+    fn set_distance(&mut self, d: Distance, span: Span) {
+        self.distance = d;
+        if d == Distance::Incremental {
+            self.incremental_since = Some(span);
+        }
+    }
+
     /// A move's words, and an absolute arc centre's, to the output's
     /// coordinates.
     #[inline]

@@ -118,7 +118,9 @@ impl Pass for PolarPass {
                     });
                 }
             }
-            Op::Feed(_)
+            // (The evaluator refuses a spline under G16.)
+            Op::Spline(_)
+            | Op::Feed(_)
             | Op::Speed(_)
             | Op::SpindleMode(_)
             | Op::SelectTool(_)

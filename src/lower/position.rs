@@ -201,6 +201,7 @@ impl Tracker {
                 }
             }
             Op::SetPosition(a) => self.set_position(a),
+            Op::Spline(s) => self.follow_move(&s.to),
             _ => self.forget_after(op, span),
         }
     }

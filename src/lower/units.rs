@@ -119,6 +119,10 @@ impl Pass for UnitsPass {
                     };
                 }
             }
+            Op::Spline(s) => {
+                s.to = self.scale_axes(s.to, k);
+                s.kind = s.kind.scaled(k);
+            }
             Op::Cycle(c) => {
                 c.at = self.scale_axes(c.at, k);
                 scale(&mut c.r);

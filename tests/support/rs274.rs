@@ -9,6 +9,13 @@
 //! `N<source line>` so the N column of its output names the line, one
 //! rs274 at a time (two at once crash: a file lock serialises them across
 //! test processes), and a time limit.
+//!
+//! A spline (G5, G5.1) rs274 prints as `NURBS_FEED(n, ...)`, without its
+//! shape or its end (LinuxCNC's task layer makes it arcs): compared with a
+//! program that cuts it, the other path's moves from the spline's source
+//! line (the N words ger writes) stand in for it, so that everything
+//! around it is compared, and where it leaves the tool. Its shape is
+//! checked against the curve itself elsewhere (`geometry::spline`).
 
 use ger::ir::{PathControl, Plane, Spindle, Stop};
 use ger::source::Span;
@@ -90,13 +97,16 @@ pub fn tool_path_from(
     tools: &[Tool],
     start: Option<[f64; 3]>,
 ) -> Result<Reference, String> {
-    let calls = run(program, tools, start)?;
+    let (calls, n_words) = run(program, tools, start)?;
     let inch = calls
         .iter()
         .any(|c| c.name == "USE_LENGTH_UNITS" && c.args.contains("INCH"));
+    let (path, splines) = normalize(&calls);
     Ok(Reference {
-        path: normalize(&calls),
+        path,
         inch,
+        splines,
+        n_words,
     })
 }
 
@@ -104,9 +114,57 @@ pub fn tool_path_from(
 pub struct Reference {
     pub path: ToolPath,
     pub inch: bool,
+    /// Each spline: the index of the move that stands for it (its shape
+    /// and end unknown), and its source line.
+    pub splines: Vec<(usize, u32)>,
+    /// The N word each line of the program had (ger's source line).
+    pub n_words: std::collections::HashMap<u32, u32>,
 }
 
 impl Reference {
+    /// A path made otherwise (ger's own), with no spline.
+    pub fn of(path: ToolPath, inch: bool) -> Reference {
+        Reference {
+            path,
+            inch,
+            splines: Vec::new(),
+            n_words: Default::default(),
+        }
+    }
+
+    /// The path with each spline replaced by `other`'s moves from its
+    /// source line (by `other`'s N words), the move after it starting
+    /// where they end.
+    fn with_splines_of(&self, other: &Reference) -> Result<ToolPath, String> {
+        let mut path = self.path.clone();
+        let mut shift = 0usize;
+        for &(at, line) in &self.splines {
+            let run: Vec<Move> = other
+                .path
+                .moves
+                .iter()
+                .filter(|m| other.n_words.get(&m.span.line) == Some(&line))
+                .cloned()
+                .collect();
+            let Some(last) = run.last().map(|m| m.end) else {
+                return Err(format!(
+                    "rs274 cuts a spline at line {line}; the other program has no move from that line"
+                ));
+            };
+            let at = at + shift;
+            let added = run.len() - 1;
+            path.moves.splice(at..=at, run);
+            if let Some(next) = path.moves.get_mut(at + added + 1) {
+                next.start = last;
+            }
+            for e in path.events.iter_mut().filter(|e| e.after_move > at) {
+                e.after_move += added;
+            }
+            shift += added;
+        }
+        Ok(path)
+    }
+
     /// rs274 prints 4 decimals: what a coordinate may be off by, in mm.
     pub fn quantum(&self) -> f64 {
         if self.inch {
@@ -128,7 +186,8 @@ pub fn same_path(
         tol: options.tol + a.quantum() + b.quantum(),
         ..options.clone()
     };
-    ger::toolpath::compare::compare(&a.path, &b.path, &options).map_err(|d| d.to_string())
+    let (pa, pb) = (a.with_splines_of(b)?, b.with_splines_of(a)?);
+    ger::toolpath::compare::compare(&pa, &pb, &options).map_err(|d| d.to_string())
 }
 
 /// One canonical call: the source line (from the N word) and the call.
@@ -138,7 +197,10 @@ struct Call {
     args: String,
 }
 
-fn run(program: &Path, tools: &[Tool], start: Option<[f64; 3]>) -> Result<Vec<Call>, String> {
+/// The calls, and each line's N word as the program had it.
+type Calls = (Vec<Call>, std::collections::HashMap<u32, u32>);
+
+fn run(program: &Path, tools: &[Tool], start: Option<[f64; 3]>) -> Result<Calls, String> {
     let bytes = std::fs::read(program).map_err(|e| format!("{}: {e}", program.display()))?;
     let text = String::from_utf8_lossy(&bytes).replace("\r\n", "\n");
     let work = tempdir()?;
@@ -163,7 +225,7 @@ fn run(program: &Path, tools: &[Tool], start: Option<[f64; 3]>) -> Result<Vec<Ca
     std::fs::write(&table, tbl).map_err(|e| e.to_string())?;
     let name = program.file_name().unwrap_or_default();
     let numbered = work.join(name);
-    let mut numbered_text = number_lines(&text);
+    let (mut numbered_text, n_words) = number_lines(&text);
     if let Some([x, y, z]) = start {
         // After a leading `%` line, which must stay first.
         let at = match numbered_text.trim_start().starts_with('%') {
@@ -224,7 +286,7 @@ fn run(program: &Path, tools: &[Tool], start: Option<[f64; 3]>) -> Result<Vec<Ca
             None => format!("rs274: {message}"),
         });
     }
-    Ok(calls)
+    Ok((calls, n_words))
 }
 
 fn tempdir() -> Result<std::path::PathBuf, String> {
@@ -289,9 +351,10 @@ fn n_word(text: &str) -> Option<u32> {
     digits.parse().ok()
 }
 
-/// Every block prefixed with `N<line>` (an N word it has is replaced);
-/// blank lines and `%` lines are left alone.
-fn number_lines(text: &str) -> String {
+/// Every block prefixed with `N<line>` (an N word it has is replaced, and
+/// kept in the map by line); blank lines and `%` lines are left alone.
+fn number_lines(text: &str) -> (String, std::collections::HashMap<u32, u32>) {
+    let mut n_words = std::collections::HashMap::new();
     let mut out = String::with_capacity(text.len() + text.len() / 4);
     for (i, line) in text.split('\n').enumerate() {
         let n = i + 1;
@@ -305,6 +368,9 @@ fn number_lines(text: &str) -> String {
                 .starts_with(|c: char| c.is_ascii_digit())
         {
             // Replace the N word: N, spaces and digits.
+            if let Some(was) = n_word(rest) {
+                n_words.insert(n as u32, was);
+            }
             let after = rest[1..].trim_start_matches(|c: char| c.is_ascii_digit() || c == ' ');
             out.push_str(&format!("{lead}N{n} {after}"));
         } else {
@@ -313,7 +379,7 @@ fn number_lines(text: &str) -> String {
         out.push('\n');
     }
     out.pop();
-    out
+    (out, n_words)
 }
 
 /// `   12 N0034  STRAIGHT_FEED(1.0000, 2.0000, ...)`
@@ -405,7 +471,9 @@ fn span(line: u32) -> Span {
     }
 }
 
-fn normalize(calls: &[Call]) -> ToolPath {
+/// The path of the calls, and its splines ([`Reference::splines`]).
+fn normalize(calls: &[Call]) -> (ToolPath, Vec<(usize, u32)>) {
+    let mut splines = Vec::new();
     let mut m = Machine {
         scale: 1.0,
         g5x: [0.0; 6],
@@ -429,6 +497,14 @@ fn normalize(calls: &[Call]) -> ToolPath {
                 m.push(MoveKind::Feed, m.to_machine(&v), call.line)
             }
             "ARC_FEED" if v.len() >= 6 => arc(&mut m, &v, call.line),
+            // In the XY plane at the same Z; where it ends, unknown.
+            "NURBS_FEED" => {
+                splines.push((m.path.moves.len(), call.line));
+                let mut end = m.position;
+                end[0] = f64::NAN;
+                end[1] = f64::NAN;
+                m.push(MoveKind::Feed, end, call.line);
+            }
             "USE_LENGTH_UNITS" => {
                 m.scale = if call.args.contains("INCH") {
                     25.4
@@ -482,7 +558,7 @@ fn normalize(calls: &[Call]) -> ToolPath {
             _ => {}
         }
     }
-    m.path
+    (m.path, splines)
 }
 
 /// The path-control calls rs274 wraps each canned cycle in: exact path

@@ -102,6 +102,37 @@ pub enum CodeErrorKind {
     },
     /// A polar word that needs the current X and Y, which ger does not know.
     PolarPosition,
+    /// A G5/G5.1 line rs274 refuses, or ger does not cut.
+    Spline(SplineProblem),
+    /// A warning: a G5 without I J after a move that was not a G5 takes
+    /// these, left by an earlier G5 (or G87), as rs274 does.
+    SplineLeftover([f64; 2]),
+}
+
+/// What a G5/G5.1 line gets wrong (rs274's checks, in its words where it
+/// has them, and what ger does not cut).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum SplineProblem {
+    /// G5 with one of I and J.
+    IOrJ,
+    /// G5.1 without both I and J.
+    NoIJ,
+    /// G5 without both P and Q.
+    NoPQ,
+    /// Not in G17.
+    Plane,
+    /// A word of another axis.
+    Axis(char),
+    /// No X or Y.
+    NoEnd,
+    /// Axis words alone in the spline's motion mode: rs274 moves nowhere
+    /// and takes the point as reached.
+    Again,
+    /// G5.1 I0 J0: a straight line LinuxCNC's planner cannot cut.
+    Straight,
+    Polar,
+    InverseTime,
+    Diameter,
 }
 
 /// What goes wrong, and where: see [`CodeErrorKind`].
@@ -331,6 +362,75 @@ impl Wording for CodeErrorKind {
                 "the radius or angle left out (or stepped from under G91) is the current point's",
             )
             .with_help("give both `@` and `^` under G90, or move to a known X and Y first"),
+            K::Spline(problem) => spline_wording(*problem, at),
+            K::SplineLeftover([i, j]) => warning(
+                "G5 without I and J after a move that was not a G5",
+                at,
+                format!("its first control point is I{i} J{j} from here, left by an earlier G5 (its P Q turned round) or G87, as rs274 takes it"),
+            )
+            .with_help("give I and J on a G5 that does not follow another"),
         }
     }
+}
+
+fn spline_wording(problem: SplineProblem, at: Span) -> Diagnostic {
+    use SplineProblem as P;
+    let (message, label, help): (String, &str, &str) = match problem {
+        P::IOrJ => (
+            "G5 needs both I and J, or neither".into(),
+            "only one of them",
+            "I J is the first control point from the start; without both, a G5 after a G5 joins it smoothly",
+        ),
+        P::NoIJ => (
+            "G5.1 needs both I and J".into(),
+            "the control point from the start is missing",
+            "give I and J",
+        ),
+        P::NoPQ => (
+            "G5 needs both P and Q".into(),
+            "the second control point, from the end, is missing",
+            "give P and Q",
+        ),
+        P::Plane => (
+            "splines must be in the XY plane".into(),
+            "G18 or G19 is active",
+            "select G17 before G5/G5.1",
+        ),
+        P::Axis(letter) => (
+            format!("a spline may not move `{letter}`"),
+            "only X and Y move on G5/G5.1",
+            "move it on a line of its own",
+        ),
+        P::NoEnd => (
+            "a spline without X or Y".into(),
+            "no end point",
+            "give the end point's X and Y",
+        ),
+        P::Again => (
+            "axis words in the G5/G5.1 mode without G5 or G5.1 on the line".into(),
+            "rs274 moves nowhere on these and takes the point as reached",
+            "write G5 (with P and Q) or G5.1 (with I and J) on the line, or G1 for a line",
+        ),
+        P::Straight => (
+            "G5.1 with I0 J0 is a straight line".into(),
+            "LinuxCNC's planner cannot cut it (its biarcs divide by zero)",
+            "write G1",
+        ),
+        P::Polar => (
+            "a spline under G16 polar coordinates".into(),
+            "not supported",
+            "G15 before G5/G5.1",
+        ),
+        P::InverseTime => (
+            "a spline under G93 (inverse time) is not supported".into(),
+            "LinuxCNC would give each of its many arcs the time of the whole",
+            "use G94 (feed per minute) for G5/G5.1",
+        ),
+        P::Diameter => (
+            "a spline under G7 (diameter mode) is not supported".into(),
+            "not supported",
+            "G8 before G5/G5.1",
+        ),
+    };
+    error(message, at, label).with_help(help)
 }
