@@ -8,6 +8,7 @@
 mod block;
 mod codes;
 mod comp;
+mod corner;
 mod cycle;
 mod degrees;
 mod error;

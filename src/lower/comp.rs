@@ -385,6 +385,7 @@ impl CompPass {
                     motion: Motion::Rapid,
                     to,
                     arc: None,
+                    corner: None,
                 })));
             }
         }
@@ -953,6 +954,7 @@ impl CompPass {
             motion,
             to: axes,
             arc: None,
+            corner: None,
         }))
     }
 

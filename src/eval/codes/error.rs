@@ -10,7 +10,7 @@ use crate::source::Span;
 pub enum CodeErrorKind {
     /// A letter given twice; where the first one was.
     WordTwice {
-        letter: char,
+        letter: String,
         first: Span,
     },
     /// `G1.25`: not a whole code or one with a decimal.
@@ -24,7 +24,7 @@ pub enum CodeErrorKind {
     ArcInMachineCoordinates,
     /// A word no code took; the code of the statement, when there is one.
     UnusedWord {
-        letter: char,
+        letter: String,
         code: Option<String>,
     },
     ZeroTurns,
@@ -97,6 +97,12 @@ pub enum CodeErrorKind {
     },
     /// A polar word that needs the current X and Y, which ger does not know.
     PolarPosition,
+    /// `,R` and `,C` on one line.
+    RoundAndChamfer,
+    /// `,R`/`,C` on a move that is not a G1 (the motion or mode named).
+    CornerNotOnG1(&'static str),
+    /// `,R`/`,C` of 0 or less (its spelling).
+    CornerSize(String),
 }
 
 /// What goes wrong, and where: see [`CodeErrorKind`].
@@ -313,6 +319,21 @@ impl Wording for CodeErrorKind {
                 "the radius or angle left out (or stepped from under G91) is the current point's",
             )
             .with_help("give both `@` and `^` under G90, or move to a known X and Y first"),
+            K::RoundAndChamfer => error(
+                "`,R` and `,C` on one move",
+                at,
+                "a corner is rounded or chamfered, not both",
+            ),
+            K::CornerNotOnG1(what) => error(
+                format!("a corner word on {what}"),
+                at,
+                "`,R` and `,C` round and chamfer the corner after a G1 move",
+            ),
+            K::CornerSize(word) => error(
+                format!("`{word}` must be more than 0"),
+                at,
+                "the radius of the round, or the length of the chamfer's legs",
+            ),
         }
     }
 }
