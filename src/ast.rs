@@ -602,6 +602,21 @@ pub struct Word {
 }
 
 impl Word {
+    /// The letter of Fanuc's `,R` (the corner to the next move rounded):
+    /// lower case, so that it is no address letter.
+    pub const ROUND: u8 = b'r';
+    /// The letter of Fanuc's `,C` (the corner chamfered).
+    pub const CHAMFER: u8 = b'c';
+
+    /// How a word's letter is written: `X`, or `,R` for [`Word::ROUND`].
+    pub fn spelling(letter: u8) -> String {
+        match letter {
+            Word::ROUND => ",R".into(),
+            Word::CHAMFER => ",C".into(),
+            _ => char::from(letter).into(),
+        }
+    }
+
     /// G and M words start statements; every other letter is an argument.
     pub fn is_code(&self) -> bool {
         matches!(self.letter, b'G' | b'M')

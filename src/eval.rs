@@ -9,6 +9,7 @@ mod block;
 mod codes;
 mod comp;
 mod context;
+mod corner;
 mod cycle;
 mod degrees;
 mod error;

@@ -263,6 +263,30 @@ pub struct Move {
     pub to: Axes,
     /// Present exactly when `motion` is an arc.
     pub arc: Option<Arc>,
+    /// Fanuc's `,R`/`,C` on a G1: the corner to the next move is rounded
+    /// or chamfered. Only before the corners pass, which lowers it.
+    pub corner: Option<Corner>,
+}
+
+/// How the corner at the end of a G1 is cut (Fanuc's "chamfering and
+/// corner R"), its size in the IR's length units.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Corner {
+    /// `,R`: an arc of this radius, tangent to both moves.
+    Round(f64),
+    /// `,C`: a straight cut from this far back along the G1 to this far
+    /// along the next move.
+    Chamfer(f64),
+}
+
+impl Corner {
+    /// Its size times `k` (a change of units).
+    pub fn scaled(self, k: f64) -> Corner {
+        match self {
+            Corner::Round(r) => Corner::Round(r * k),
+            Corner::Chamfer(c) => Corner::Chamfer(c * k),
+        }
+    }
 }
 
 #[derive(Clone, Copy, Debug, PartialEq)]

@@ -8,15 +8,17 @@
 //! batch and by what the passes hold back, and a statement every pass lets
 //! go on is never copied. Passes never see the AST and never print.
 //!
-//! Order: units → polar → offsets → cycles → absolute → comp. Polar runs
+//! Order: units → polar → offsets → cycles → absolute → corners → comp. Polar runs
 //! before offsets (SPEC §4 lists it after): a G90 polar point is relative
 //! to the program zero, so it must become a Cartesian program point before
 //! the offsets pass folds the program zero away. Cycles run before
-//! absolute because their G91 words are not plain increments; comp runs
-//! last, on absolute machine coordinates.
+//! absolute because their G91 words are not plain increments; corners
+//! before comp, which offsets the rounded contour; comp runs last, on
+//! absolute machine coordinates.
 
 mod absolute;
 mod comp;
+mod corners;
 mod cycles;
 mod error;
 mod offsets;
@@ -42,6 +44,7 @@ pub const PASSES: &[PassInfo] = &[
     offsets::PASS,
     cycles::PASS,
     absolute::PASS,
+    corners::PASS,
     comp::PASS,
 ];
 
@@ -313,6 +316,7 @@ mod tests {
             motion,
             to,
             arc: arc.map(|geometry| ir::Arc { geometry, turns: 1 }),
+            corner: None,
         })
     }
 

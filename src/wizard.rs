@@ -232,7 +232,12 @@ impl Session {
             geometry: ArcGeometry::Center(c),
             turns: 1,
         });
-        self.push(Action::Op(Op::Move(ir::Move { motion, to, arc })))
+        self.push(Action::Op(Op::Move(ir::Move {
+            motion,
+            to,
+            arc,
+            corner: None,
+        })))
     }
 }
 

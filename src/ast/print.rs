@@ -187,8 +187,8 @@ impl AstPrinter<'_> {
 
     fn word(&self, w: &Word) -> String {
         match &w.value {
-            WordValue::Number(n) => format!("{}{}", w.letter as char, n.value),
-            WordValue::Expr(e) => format!("{}<{}>", w.letter as char, self.expr(e)),
+            WordValue::Number(n) => format!("{}{}", Word::spelling(w.letter), n.value),
+            WordValue::Expr(e) => format!("{}<{}>", Word::spelling(w.letter), self.expr(e)),
         }
     }
 

@@ -380,6 +380,16 @@ impl Printer {
     fn move_words(&mut self, m: &ir::Move) {
         self.code(motion_code(m.motion));
         self.axes(&m.to);
+        // Only a stage before the corners pass has one (`--stage units`).
+        if let Some(corner) = m.corner {
+            let (letter, size) = match corner {
+                ir::Corner::Round(r) => (b'R', r),
+                ir::Corner::Chamfer(c) => (b'C', c),
+            };
+            self.separate();
+            self.out.extend_from_slice(&[b',', letter]);
+            push_fixed_bytes(&mut self.out, size, self.decimals);
+        }
         let Some(arc) = &m.arc else { return };
         match arc.geometry {
             ArcGeometry::Center(c) => {

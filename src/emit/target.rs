@@ -344,7 +344,12 @@ mod tests {
             geometry: ir::ArcGeometry::Center([Some(1.0), Some(0.0), None]),
             turns,
         });
-        ir::Move { motion, to, arc }
+        ir::Move {
+            motion,
+            to,
+            arc,
+            corner: None,
+        }
     }
 
     /// One statement of every kind ger can write, and which of generic,

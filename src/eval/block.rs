@@ -101,6 +101,7 @@ fn taker(letter: u8, codes: &[&Word], kinds: &[Kind]) -> Option<usize> {
             &[Kind::AxisUser, Kind::Motion]
         }
         b'I' | b'J' | b'K' | b'R' => &[Kind::AxisUser, Kind::Motion],
+        Word::ROUND | Word::CHAMFER => &[Kind::Motion],
         b'H' => &[Kind::ToolLength],
         b'D' => &[Kind::Comp, Kind::SpindleMode],
         // G96's surface speed; else a statement of its own.

@@ -3,6 +3,7 @@
 //! words it takes, what is modal, what is refused. Subprogram calls
 //! (`M98`/`M99`) are run here too.
 
+use super::corner;
 use super::evaluator::{Evaluator, Flow};
 use super::options::{Chosen, Flavour};
 use super::value::Slot;
@@ -161,7 +162,7 @@ impl Evaluator<'_> {
                 value /= 2.0;
             }
             if let Some(first) = words.given(w.letter) {
-                let letter = w.letter as char;
+                let letter = ast::Word::spelling(w.letter);
                 self.report(CodeError::new(K::WordTwice { letter, first }, w.span));
                 return None;
             }
@@ -336,7 +337,7 @@ impl Evaluator<'_> {
         let value = match &w.value {
             WordValue::Number(n) => n.value,
             WordValue::Expr(e) => {
-                let what = || format!("the `{}` word", w.letter as char);
+                let what = || format!("the `{}` word", ast::Word::spelling(w.letter));
                 match super::value::number(e, &self.vars, &what) {
                     Ok(v) => v,
                     Err(err) => {
@@ -349,7 +350,16 @@ impl Evaluator<'_> {
         // A length, feed or speed no machine has is a typo.
         let length = matches!(
             w.letter,
-            b'X' | b'Y' | b'Z' | b'I' | b'J' | b'K' | b'R' | b'F' | b'S'
+            b'X' | b'Y'
+                | b'Z'
+                | b'I'
+                | b'J'
+                | b'K'
+                | b'R'
+                | b'F'
+                | b'S'
+                | ast::Word::ROUND
+                | ast::Word::CHAMFER
         );
         if length && !ir::is_length(value) {
             self.report(super::error::out_of_range(
@@ -405,11 +415,18 @@ impl Evaluator<'_> {
         code: Code,
     ) -> Result<(), Diagnostic> {
         let has_axes = w.has_any(b"XYZABCUVW@^");
+        let corner = match w.has_any(&[ast::Word::ROUND, ast::Word::CHAMFER]) {
+            true => corner::take_corner(w)?,
+            false => None,
+        };
         if let Some(kind) = self
             .cycles
             .kind
             .filter(|_| has_axes && !self.this_line.machine_coordinates)
         {
+            if let Some((_, at)) = corner {
+                return Err(CodeError::new(K::CornerNotOnG1("a canned cycle's block"), at).into());
+            }
             self.cycle_block(kind, None, w, span)?;
             return self.unused_words(w, code);
         }
@@ -423,6 +440,9 @@ impl Evaluator<'_> {
                 };
                 return Err(CodeError::new(kind, at).into());
             };
+            if let Some((_, at)) = corner {
+                corner::check_motion(motion, self.this_line.machine_coordinates, at)?;
+            }
             self.polar_words(w)?;
             if self.this_line.machine_coordinates {
                 let m = self.motion_move(motion, w, span)?;
@@ -431,8 +451,10 @@ impl Evaluator<'_> {
                 }
                 self.emit(Op::MachineMove(m), span)?;
             } else {
-                self.emit_move(motion, w, span)?;
+                self.emit_move(motion, w, span, corner.map(|(c, _)| c))?;
             }
+        } else if let Some((_, at)) = corner {
+            return Err(CodeError::new(K::CornerNotOnG1("a line without a move"), at).into());
         }
         self.unused_words(w, code)
     }
@@ -441,7 +463,7 @@ impl Evaluator<'_> {
     fn unused_words(&self, w: &WordValues, code: Code) -> Result<(), Diagnostic> {
         if let Some((letter, at)) = w.remaining().next() {
             let kind = K::UnusedWord {
-                letter: letter as char,
+                letter: ast::Word::spelling(letter),
                 code: code.map(|(l, t)| code_name(l, t)),
             };
             return Err(CodeError::new(kind, at).into());
@@ -464,7 +486,12 @@ impl Evaluator<'_> {
             }
             false => None,
         };
-        Ok(ir::Move { motion, to, arc })
+        Ok(ir::Move {
+            motion,
+            to,
+            arc,
+            corner: None,
+        })
     }
 
     /// A move of `motion` to the axis words of `w` (and its arc words), as
@@ -476,6 +503,7 @@ impl Evaluator<'_> {
         motion: Motion,
         w: &mut WordValues,
         span: Span,
+        corner: Option<ir::Corner>,
     ) -> Result<(), Diagnostic> {
         self.emit_move_with(motion, span, |m| {
             // Its words first: an error in them comes before any other.
@@ -483,6 +511,7 @@ impl Evaluator<'_> {
                 arc_words(w, span, m.arc.insert(Arc::BLANK))?;
             }
             axis_words_into(w, &mut m.to);
+            m.corner = corner;
             Ok(())
         })
     }
@@ -502,6 +531,7 @@ impl Evaluator<'_> {
                 motion: Motion::Rapid,
                 to: Axes::NONE,
                 arc: None,
+                corner: None,
             }),
             span: Span {
                 file: 0,
@@ -975,7 +1005,7 @@ impl Evaluator<'_> {
     /// o-word is a word no code uses.
     pub(super) fn misplaced_sub(&mut self, at: Span) -> Flow {
         let kind = K::UnusedWord {
-            letter: 'O',
+            letter: "O".into(),
             code: None,
         };
         self.reported(CodeError::new(kind, at).into())

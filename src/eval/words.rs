@@ -22,14 +22,17 @@ pub(super) struct WordTable {
     index: [u16; SLOTS],
 }
 
-/// A slot for each letter, and for LinuxCNC's polar words `@` and `^`.
-const SLOTS: usize = 28;
+/// A slot for each letter, for LinuxCNC's polar words `@` and `^`, and
+/// for Fanuc's corner words `,R` and `,C`.
+const SLOTS: usize = 30;
 
-/// The slot of a word's letter (`A`..`Z`, then `@`, `^`).
+/// The slot of a word's letter (`A`..`Z`, then `@`, `^`, `,R`, `,C`).
 fn slot(letter: u8) -> usize {
     match letter {
         b'@' => 26,
         b'^' => 27,
+        ast::Word::ROUND => 28,
+        ast::Word::CHAMFER => 29,
         _ => usize::from(letter - b'A'),
     }
 }
@@ -39,6 +42,8 @@ fn letter_of(slot: u32) -> u8 {
     match slot {
         26 => b'@',
         27 => b'^',
+        28 => ast::Word::ROUND,
+        29 => ast::Word::CHAMFER,
         _ => b'A' + slot as u8,
     }
 }

@@ -249,7 +249,12 @@ impl AbsolutePass {
                     )
                 }
             };
-            out.push(stmt.with_op(Op::Move(ir::Move { motion, to, arc })));
+            out.push(stmt.with_op(Op::Move(ir::Move {
+                motion,
+                to,
+                arc,
+                corner: None,
+            })));
             from = piece.end;
         }
         self.at.position[0] = Some(p3[0]);

@@ -404,6 +404,7 @@ impl CompPass {
                     motion: Motion::Rapid,
                     to,
                     arc: None,
+                    corner: None,
                 })));
             }
         }
@@ -972,6 +973,7 @@ impl CompPass {
             motion,
             to: axes,
             arc: None,
+            corner: None,
         }))
     }
 

@@ -450,6 +450,7 @@ impl Emitter<'_, '_, '_> {
             motion,
             to,
             arc: None,
+            corner: None,
         }));
     }
 

@@ -30,6 +30,8 @@ pub enum LowerErrorKind {
     Cycle(CycleError),
     /// Compensation ger cannot compute (the comp pass).
     Comp(CompError),
+    /// A corner (`,R`, `,C`) ger cannot cut (the corners pass).
+    Corner(CornerError),
     /// R smaller than half the chord.
     ArcRadiusTooSmall {
         radius: f64,
@@ -168,6 +170,30 @@ pub enum CompError {
     Spiral { start: f64, end: f64 },
 }
 
+/// The corners pass's errors, each at the line of the G1 with the corner
+/// word; `next`, the line of the statement after it that decides.
+#[derive(Clone, Debug, PartialEq)]
+pub enum CornerError {
+    /// What comes after the G1 is not a G1 (what it is); `None`: the
+    /// program ends.
+    NextNotG1 {
+        what: &'static str,
+        next: Option<Span>,
+    },
+    /// The G1 (`next` is `None`) or the move after it leaves the plane.
+    OutOfPlane { next: Option<Span> },
+    /// The round or chamfer takes `need` of a move only `room` long.
+    TooShort { need: f64, room: f64, next: Span },
+    /// The two moves are in line: no corner to cut.
+    InLine { next: Span },
+}
+
+impl From<CornerError> for LowerErrorKind {
+    fn from(e: CornerError) -> LowerErrorKind {
+        LowerErrorKind::Corner(e)
+    }
+}
+
 impl From<CycleError> for LowerErrorKind {
     fn from(e: CycleError) -> LowerErrorKind {
         LowerErrorKind::Cycle(e)
@@ -207,6 +233,7 @@ impl LowerError {
         match &self.kind {
             Cycle(e) => cycle_diagnostic(e, span),
             Comp(e) => comp_diagnostic(e, span),
+            Corner(e) => corner_diagnostic(e, span),
             UnknownPosition { axis, what, since } => {
                 let letter = axis.letter() as char;
                 let d = error(
@@ -496,6 +523,66 @@ fn cycle_diagnostic(e: &CycleError, span: Span) -> Diagnostic {
 }
 
 /// The wording of the comp pass's errors.
+fn corner_diagnostic(e: &CornerError, span: Span) -> Diagnostic {
+    const HELP: &str =
+        "`,R` and `,C` join a G1 to the G1 right after it, in the plane (G17, G18, G19)";
+    let (d, next) = match e {
+        CornerError::NextNotG1 { what, next } => (
+            error(
+                "a corner word needs a G1 move after it",
+                span,
+                format!("{what} comes next"),
+            ),
+            *next,
+        ),
+        CornerError::OutOfPlane { next } => (
+            error(
+                "a corner word on a move that leaves the plane",
+                span,
+                match next {
+                    None => "this move",
+                    Some(_) => "the move after this one",
+                }
+                .to_string()
+                    + " moves along an axis outside the plane",
+            ),
+            *next,
+        ),
+        CornerError::TooShort { need, room, next } => (
+            error(
+                "a move too short for its corner",
+                span,
+                format!(
+                    "the corner takes {} of a move {} long",
+                    fmt_len(*need),
+                    fmt_len(*room)
+                ),
+            ),
+            Some(*next),
+        ),
+        CornerError::InLine { next } => (
+            error(
+                "a corner word between two moves in line",
+                span,
+                "the next move goes on straight (or straight back): there is no corner",
+            ),
+            Some(*next),
+        ),
+    };
+    let d = d.with_help(HELP);
+    match next {
+        Some(at) if at != span => d.with_secondary(at, "what comes next"),
+        _ => d,
+    }
+}
+
+/// A length in a message: at most 6 decimals, no trailing zeros.
+fn fmt_len(v: f64) -> String {
+    let s = format!("{v:.6}");
+    let s = s.trim_end_matches('0').trim_end_matches('.');
+    s.to_string()
+}
+
 fn comp_diagnostic(e: &CompError, span: Span) -> Diagnostic {
     use CompError::*;
     match e {

@@ -244,6 +244,7 @@ mod tests {
                     motion: Motion::Linear,
                     to,
                     arc: None,
+                    corner: None,
                 };
                 let op = match next(40) {
                     0 => Op::Feed(100.0),

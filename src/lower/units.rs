@@ -112,6 +112,7 @@ impl Pass for UnitsPass {
             Op::Move(_) | Op::MachineMove(_) | Op::IncrementalMove(_) if k == 1.0 => {}
             Op::Move(m) | Op::MachineMove(m) | Op::IncrementalMove(m) => {
                 m.to = self.scale_axes(m.to, k);
+                m.corner = m.corner.map(|c| c.scaled(k));
                 if let Some(arc) = &mut m.arc {
                     arc.geometry = match arc.geometry {
                         ArcGeometry::Center(c) => ArcGeometry::Center(c.map(|v| v.map(|v| v * k))),

@@ -12,8 +12,39 @@
 use super::error::SyntaxErrorKind;
 use super::lexer::{Lexer, Raw, Shape};
 use super::token::Tok;
+use super::words::{word_of, WordNumber};
+use crate::ast::Word;
 
 impl Lexer<'_> {
+    /// Fanuc's corner words `,R` (round) and `,C` (chamfer) at `start`
+    /// (the comma), outside any bracket: a word whose letter is
+    /// [`Word::ROUND`] or [`Word::CHAMFER`]; where the text goes on. No
+    /// other language ger reads writes a comma between words, so they are
+    /// read in any plain program.
+    pub(super) fn corner_word(&mut self, start: usize, end: usize) -> Option<usize> {
+        if !self.groups.is_empty() || !self.syms.is_empty() {
+            return None;
+        }
+        let line_end = self.text[start..]
+            .find('\n')
+            .map_or(self.text.len(), |i| start + i);
+        let after = self.text[end..line_end].trim_start_matches([' ', '\t']);
+        let at = line_end - after.len();
+        let letter = match after.as_bytes().first()?.to_ascii_uppercase() {
+            b'R' => Word::ROUND,
+            b'C' => Word::CHAMFER,
+            _ => return None,
+        };
+        let number = WordNumber::after(self.text.as_bytes(), at + 1, line_end);
+        if !number.is_decimal() {
+            return self.expression_word_of(letter, start, at + 1);
+        }
+        let mut word = word_of(b'R', &self.text[number.range()]);
+        word.letter = letter;
+        self.push_word(word, start, number.end);
+        Some(number.end)
+    }
+
     /// A Macro B word at `start..end`: where the text goes on, if it was
     /// one.
     pub(super) fn fanuc(

@@ -23,6 +23,11 @@ impl Lexer<'_> {
         if let Some(skip_to) = self.fanuc(&raw, start, end) {
             return Some(skip_to);
         }
+        if raw == Ok(Raw::Comma) {
+            if let Some(skip_to) = self.corner_word(start, end) {
+                return Some(skip_to);
+            }
+        }
         if let Some(skip_to) = self.linuxcnc(raw, start, end) {
             return Some(skip_to);
         }

@@ -259,9 +259,20 @@ impl Lexer<'_> {
     /// `X[…]`, `X#1`, `Z-#2`, `Z-[…]`: a word whose value is an expression. Where
     /// it took the text, the offset to go on from.
     pub(super) fn expression_word(&mut self, start: usize, end: usize) -> Option<usize> {
+        let letter = self.text.as_bytes()[start].to_ascii_uppercase();
+        self.expression_word_of(letter, start, end)
+    }
+
+    /// [`Self::expression_word`] of a word whose letter is `letter`
+    /// (Fanuc's `,R[#1]` is spelled with two characters).
+    pub(super) fn expression_word_of(
+        &mut self,
+        letter: u8,
+        start: usize,
+        end: usize,
+    ) -> Option<usize> {
         let after = self.text[end..].trim_start_matches([' ', '\t']);
         let at = self.text.len() - after.len();
-        let letter = self.text.as_bytes()[start].to_ascii_uppercase();
         if after.starts_with('[') {
             self.open_sym(start, '[', false);
             self.push(start, Tok::SymOpen(letter), at + 1);

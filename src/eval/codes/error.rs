@@ -10,7 +10,7 @@ use crate::source::Span;
 pub enum CodeErrorKind {
     /// A letter given twice; where the first one was.
     WordTwice {
-        letter: char,
+        letter: String,
         first: Span,
     },
     /// `G1.25`: not a whole code or one with a decimal.
@@ -24,7 +24,7 @@ pub enum CodeErrorKind {
     ArcInMachineCoordinates,
     /// A word no code took; the code of the statement, when there is one.
     UnusedWord {
-        letter: char,
+        letter: String,
         code: Option<String>,
     },
     ZeroTurns,
@@ -107,6 +107,12 @@ pub enum CodeErrorKind {
     /// A warning: a G5 without I J after a move that was not a G5 takes
     /// these, left by an earlier G5 (or G87), as rs274 does.
     SplineLeftover([f64; 2]),
+    /// `,R` and `,C` on one line.
+    RoundAndChamfer,
+    /// `,R`/`,C` on a move that is not a G1 (the motion or mode named).
+    CornerNotOnG1(&'static str),
+    /// `,R`/`,C` of 0 or less (its spelling).
+    CornerSize(String),
 }
 
 /// What a G5/G5.1 line gets wrong (rs274's checks, in its words where it
@@ -369,6 +375,21 @@ impl Wording for CodeErrorKind {
                 format!("its first control point is I{i} J{j} from here, left by an earlier G5 (its P Q turned round) or G87, as rs274 takes it"),
             )
             .with_help("give I and J on a G5 that does not follow another"),
+            K::RoundAndChamfer => error(
+                "`,R` and `,C` on one move",
+                at,
+                "a corner is rounded or chamfered, not both",
+            ),
+            K::CornerNotOnG1(what) => error(
+                format!("a corner word on {what}"),
+                at,
+                "`,R` and `,C` round and chamfer the corner after a G1 move",
+            ),
+            K::CornerSize(word) => error(
+                format!("`{word}` must be more than 0"),
+                at,
+                "the radius of the round, or the length of the chamfer's legs",
+            ),
         }
     }
 }

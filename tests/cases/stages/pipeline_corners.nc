@@ -1,0 +1,12 @@
+N1 (stages of a small Fanuc program with corner words: an inch program)
+N2 G17
+N3 G0 X0. Y0. Z0.5
+N4 F10.
+N4 G1 Z-0.1
+N5 G1 X1.75 Y0.
+N5 G3 X2. Y0.25 I0. J0.25
+N6 G1 X2. Y0.9
+N6 G1 X1.9 Y1.
+N7 G1 X0.
+N8 G0 Z0.5
+N9 M30
