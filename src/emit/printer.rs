@@ -21,7 +21,8 @@ pub(super) struct Printer {
     /// 10^decimals.
     scale: f64,
     main_file: u32,
-    /// The last `--numbers seq` number (`--arcs fit` rewinds it).
+    /// The last `--numbers seq` number (`--arcs fit` rewinds it); under
+    /// `--numbers keep`, the last source line whose N was written.
     pub seq: u64,
     /// The arc plane as printed so far.
     pub plane: ir::Plane,
@@ -86,8 +87,14 @@ impl Printer {
         self.out.push(b' ');
     }
 
-    /// Start the line of a statement from `span`.
-    pub fn begin(&mut self, span: Span, block_delete: bool) {
+    /// Start the line of `stmt`.
+    pub fn begin_stmt(&mut self, stmt: &ir::Stmt) {
+        self.begin(stmt.span, stmt.block_delete, stmt.number);
+    }
+
+    /// Start the line of a statement from `span`, whose source line has
+    /// the N word `number`.
+    pub fn begin(&mut self, span: Span, block_delete: bool, number: Option<u32>) {
         self.line_start = self.out.len();
         if block_delete {
             self.out.push(b'/');
@@ -97,7 +104,22 @@ impl Printer {
                 push_line_word(&mut self.out, span.line);
             }
             Numbering::Seq => self.seq_number(),
-            Numbering::Source | Numbering::None => {}
+            // Once per source line: on the first output line it makes, the
+            // first time it runs (a loop's next turns, a jump back, repeat
+            // no N).
+            Numbering::Keep
+                if self
+                    .main_line(span)
+                    .is_some_and(|l| u64::from(l) > self.seq) =>
+            {
+                if let Some(n) = number {
+                    self.seq = u64::from(span.line);
+                    self.out.push(b'N');
+                    push_int(&mut self.out, i64::from(n));
+                    self.out.push(b' ');
+                }
+            }
+            Numbering::Source | Numbering::Keep | Numbering::None => {}
         }
     }
 
@@ -184,7 +206,7 @@ impl Printer {
             self.out.extend_from_slice(text.as_bytes());
             return self.end();
         }
-        self.begin(stmt.span, stmt.block_delete);
+        self.begin_stmt(stmt);
         self.op(&stmt.op);
         self.end();
         if let Op::Home {
@@ -193,7 +215,7 @@ impl Printer {
         {
             // Back to absolute, on a line of its own (one block cannot
             // hold both distance modes).
-            self.begin(stmt.span, stmt.block_delete);
+            self.begin(stmt.span, stmt.block_delete, None);
             self.code("G90");
             self.end();
         }

@@ -122,7 +122,7 @@ impl ProgramPrinter {
                 // waiting for a move was given before it, in the units before
                 // it, so it is written on the switch's line, before it.
                 Op::Units(_) if self.pending_feed.is_some() => {
-                    self.p.begin(stmt.span, stmt.block_delete);
+                    self.p.begin_stmt(stmt);
                     self.feed_word();
                     self.p.op(&stmt.op);
                     self.p.end();
@@ -291,7 +291,7 @@ impl ProgramPrinter {
         let start_q: [i64; 3] =
             std::array::from_fn(|i| self.printed[i].unwrap_or_else(|| self.p.scaled(start[i])));
         let end3: [i64; 3] = std::array::from_fn(|i| end_q[i].unwrap_or(start_q[i]));
-        self.p.begin(stmt.span, stmt.block_delete);
+        self.p.begin_stmt(stmt);
         self.p.code(motion_code(m.motion));
         let (a, b, _) = self.p.plane.axes();
         for axis in Axis::ALL {
@@ -376,7 +376,7 @@ impl ProgramPrinter {
     /// feed; the controller leaves the tool over the hole at the level
     /// the cycle ends at, and the next move writes every axis again.
     fn kept_cycle(&mut self, stmt: &ir::Stmt, c: &ir::Cycle) {
-        self.p.begin(stmt.span, stmt.block_delete);
+        self.p.begin_stmt(stmt);
         self.p.op(&stmt.op);
         self.feed_word();
         self.p.end();
@@ -517,7 +517,7 @@ impl ProgramPrinter {
         if changed == 0 {
             return;
         }
-        self.p.begin(stmt.span, stmt.block_delete);
+        self.p.begin_stmt(stmt);
         self.p.code(motion_code(motion));
         while changed != 0 {
             let i = changed.trailing_zeros() as usize;
@@ -749,7 +749,7 @@ impl ProgramPrinter {
         } else {
             None
         };
-        self.p.begin(span, false);
+        self.p.begin(span, false, moves[0].number);
         self.p.code(if arc.clockwise { "G2" } else { "G3" });
         for axis in Axis::ALL {
             let i = axis.index();
