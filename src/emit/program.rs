@@ -65,6 +65,7 @@ impl ProgramPrinter {
             main_file,
             source_len * 2,
         );
+        p.joins = true;
         if let Some(prologue) = options.target.prologue(options.program_number) {
             p.raw(&prologue);
         }
@@ -254,6 +255,7 @@ impl ProgramPrinter {
 
     pub fn finish(mut self) -> Vec<u8> {
         self.print_held();
+        self.p.close();
         if let Some(epilogue) = self.p.target.epilogue() {
             self.p.raw(epilogue);
         }
@@ -291,7 +293,7 @@ impl ProgramPrinter {
         let start_q: [i64; 3] =
             std::array::from_fn(|i| self.printed[i].unwrap_or_else(|| self.p.scaled(start[i])));
         let end3: [i64; 3] = std::array::from_fn(|i| end_q[i].unwrap_or(start_q[i]));
-        self.p.begin_stmt(stmt);
+        self.p.begin_move(stmt);
         self.p.code(motion_code(m.motion));
         let (a, b, _) = self.p.plane.axes();
         for axis in Axis::ALL {
@@ -376,7 +378,7 @@ impl ProgramPrinter {
     /// feed; the controller leaves the tool over the hole at the level
     /// the cycle ends at, and the next move writes every axis again.
     fn kept_cycle(&mut self, stmt: &ir::Stmt, c: &ir::Cycle) {
-        self.p.begin_stmt(stmt);
+        self.p.begin_move(stmt);
         self.p.op(&stmt.op);
         self.feed_word();
         self.p.end();
@@ -517,7 +519,7 @@ impl ProgramPrinter {
         if changed == 0 {
             return;
         }
-        self.p.begin_stmt(stmt);
+        self.p.begin_move(stmt);
         self.p.code(motion_code(motion));
         while changed != 0 {
             let i = changed.trailing_zeros() as usize;
@@ -662,21 +664,12 @@ impl ProgramPrinter {
             // The lines first, to count what the arcs save; then the run
             // again, from the same state, with its arcs.
             let from = self.p.out.len();
-            let state = (
-                self.printed,
-                self.pending_feed,
-                self.printed_feed,
-                self.p.seq,
-            );
+            let mark = self.p.mark();
+            let state = (self.printed, self.pending_feed, self.printed_feed);
             self.print_pieces(&moves, &run, &[]);
             let lines = self.p.out.len() - from;
-            self.p.out.truncate(from);
-            (
-                self.printed,
-                self.pending_feed,
-                self.printed_feed,
-                self.p.seq,
-            ) = state;
+            self.p.rewind(mark);
+            (self.printed, self.pending_feed, self.printed_feed) = state;
             self.print_pieces(&moves, &run, &pieces);
             let arcs = self.p.out.len() - from;
             if let Some(fitting) = self.fitting.as_deref_mut() {

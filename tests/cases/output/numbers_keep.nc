@@ -1,9 +1,7 @@
 G21 G90 G17
 (--numbers keep: the program's own N words, each once)
-N20 T1
-M6
-N30 S1000.
-M3
+N20 T1 M6
+N30 S1000. M3
 G0 X0. Y0.
 (a line without N gets none)
 N160 G0 Z5.
