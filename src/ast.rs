@@ -652,6 +652,20 @@ pub fn whole_number(value: f64) -> Option<u32> {
     (value >= 0.0 && value.fract() == 0.0 && value <= f64::from(u32::MAX)).then_some(value as u32)
 }
 
+/// The value of the first `N` word of a line's `words`, where it is a
+/// whole number as written (`--numbers keep`).
+pub fn line_number(words: &[Word]) -> Option<u32> {
+    match &words.iter().find(|w| w.letter == b'N')?.value {
+        WordValue::Number(n) => whole_number(n.value),
+        WordValue::Expr(_) => None,
+    }
+}
+
+/// [`line_number`] of a plain-word line.
+pub fn plain_line_number(words: &[PlainWord]) -> Option<u32> {
+    whole_number(words.iter().find(|w| w.letter == b'N')?.value)
+}
+
 impl Number {
     /// The program number and repeat count of `M98 P<p>`, `p` this number
     /// made whole: Fanuc's `P31000` (more than four digits, no point) is

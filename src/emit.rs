@@ -26,6 +26,11 @@ pub enum Numbering {
     Source,
     /// N10, N20, …
     Seq,
+    /// The program's own N words: on the first output line of a line that
+    /// has one, the first time it runs (see [`ir::Stmt::number`]).
+    ///
+    /// [`ir::Stmt::number`]: crate::ir::Stmt::number
+    Keep,
     None,
 }
 

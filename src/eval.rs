@@ -260,9 +260,19 @@ impl<'a> Evaluator<'a> {
             op,
             span,
             block_delete: self.this_line.block_delete,
+            number: self.kept_number(),
         });
         self.kept();
         Ok(())
+    }
+
+    /// The source line's N word for the statements it makes, unless a
+    /// called subprogram makes them (its N words would repeat at every
+    /// call, and clash with the caller's).
+    pub(super) fn kept_number(&self) -> Option<u32> {
+        self.this_line
+            .number
+            .filter(|_| self.macros.calls.is_empty())
     }
 
     /// The checks and the state of [`Self::emit`] for `op`, before it is
@@ -669,7 +679,9 @@ impl<'a> Evaluator<'a> {
     /// first flow that is not [`Flow::Next`] ends them.
     fn exec_lines(&mut self, lines: &ast::Lines) -> Flow {
         for (words, line) in lines.each() {
+            self.this_line.number = ast::plain_line_number(words);
             let flow = self.plain_line(words, lines.file, line);
+            self.this_line.number = None;
             if flow != Flow::Next {
                 return flow;
             }
@@ -714,8 +726,10 @@ impl<'a> Evaluator<'a> {
         self.this_line.machine_coordinates = false;
         self.this_line.inverse_feed = false;
         self.this_line.block_delete = block_delete;
+        self.this_line.number = ast::line_number(words);
         let flow = self.exec_line_in_order(words);
         self.this_line.block_delete = false;
+        self.this_line.number = None;
         flow
     }
 

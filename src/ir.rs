@@ -58,6 +58,9 @@ pub struct Stmt {
     pub span: Span,
     /// Written on a block-delete line (`/`): printed with its `/`.
     pub block_delete: bool,
+    /// The N word of its source line, for `--numbers keep`; `None` for
+    /// statements ger makes and those a called subprogram makes.
+    pub number: Option<u32>,
 }
 
 impl Stmt {
@@ -66,6 +69,7 @@ impl Stmt {
             op,
             span,
             block_delete: false,
+            number: None,
         }
     }
 
@@ -75,6 +79,7 @@ impl Stmt {
             op,
             span: self.span,
             block_delete: self.block_delete,
+            number: self.number,
         }
     }
 }

@@ -930,3 +930,22 @@ fn the_help_lists_every_stage_target_and_wizard() {
         );
     }
 }
+
+/// `numbers = "keep"` in `ger.toml`: the program's own N words stay
+/// (`N160` is not renumbered by its source line), and a line without one
+/// gets none.
+#[test]
+fn the_project_file_keeps_the_programs_numbers() {
+    let dir = scratch("project_numbers");
+    std::fs::write(dir.join("ger.toml"), "[compile]\nnumbers = \"keep\"\n").unwrap();
+    let program = "N10 G21 G90\nN160 G0 X1 Y0\nG1 X10 F100\nN170 M30\n";
+    std::fs::write(dir.join("a.nc"), program).unwrap();
+    let r = ger(&["compile", "a.nc"], &dir);
+    assert_success(&r);
+    let text = String::from_utf8(r.stdout).unwrap();
+    assert!(
+        text.contains("\nN160 G0 X1. Y0.\nG1 X10. F100.\nN170 M30\n"),
+        "{text}"
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}

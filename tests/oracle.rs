@@ -42,11 +42,20 @@ fn main() {
         };
         for case in cases {
             // Each again with `--arcs r`: R words must place every centre
-            // as I/J do (or the arc keeps I/J).
-            for arcs in ["ij", "r"] {
+            // as I/J do (or the arc keeps I/J); one with N words again with
+            // `--numbers keep` (`keep`).
+            let numbered = std::fs::read_to_string(&case)
+                .is_ok_and(|text| text.lines().any(|l| l.trim_start().starts_with('N')));
+            let variants: &[&str] = if numbered {
+                &["ij", "r", "keep"]
+            } else {
+                &["ij", "r"]
+            };
+            for &arcs in variants {
                 let stem = case.file_stem().unwrap().to_string_lossy().into_owned();
                 let name = match arcs {
                     "ij" => format!("{area}/{stem}"),
+                    "keep" => format!("numbers-keep/{area}/{stem}"),
                     _ => format!("arcs-r/{area}/{stem}"),
                 };
                 let case = case.clone();
@@ -486,6 +495,7 @@ fn scratch_name(case: &Path) -> String {
 /// coordinates, rs274's units), away from zero on every axis.
 const START: [f64; 3] = [1.375, -2.625, 0.875];
 
+/// `arcs`: `ij` or `r`, or `keep` for `--numbers keep`.
 fn run_case(case: &Path, arcs: &str) -> Result<(), Failed> {
     let stem = format!("{}-{arcs}", scratch_name(case));
     let work = std::env::temp_dir().join(format!("ger-oracle-{}-{stem}", std::process::id()));
@@ -510,7 +520,10 @@ fn run_case(case: &Path, arcs: &str) -> Result<(), Failed> {
     let wizards = case.parent().unwrap().join("wizards");
     let fanuc = case.parent().unwrap().ends_with("fanuc");
     let dir = wizards.to_string_lossy().into_owned();
-    let mut args = vec!["--arcs", arcs];
+    let mut args = match arcs {
+        "keep" => vec!["--numbers", "keep"],
+        _ => vec!["--arcs", arcs],
+    };
     if wizards.is_dir() {
         args.extend(["--wizards", &dir]);
     } else if fanuc {

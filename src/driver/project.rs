@@ -77,7 +77,7 @@ keys!(ArcsKey { Ij = "ij", R = "r", Lines = "lines", Fit = "fit", FitR = "fit-r"
 keys!(CyclesKey { Expand = "expand", Keep = "keep" });
 keys!(CompKey { Resolve = "resolve", Keep = "keep" });
 keys!(CompEntryKey { Rs274 = "rs274", Lookahead = "lookahead" });
-keys!(NumbersKey { Source = "source", Seq = "seq", None = "none" });
+keys!(NumbersKey { Source = "source", Seq = "seq", Keep = "keep", None = "none" });
 keys!(CommentsKey { Keep = "keep", Drop = "drop" });
 
 /// The whole file, for serde.
@@ -264,6 +264,7 @@ impl CompileTable {
             options.emit.numbering = match v {
                 NumbersKey::Source => Numbering::Source,
                 NumbersKey::Seq => Numbering::Seq,
+                NumbersKey::Keep => Numbering::Keep,
                 NumbersKey::None => Numbering::None,
             };
         }

@@ -13,7 +13,8 @@ pub(super) struct Printer {
     /// whole: the text is UTF-8.
     pub out: Vec<u8>,
     /// Where the line being written starts in `out` (lines are written in
-    /// place: each is whole before `out` is taken).
+    /// place: each is whole before `out` is taken, but for the line end of
+    /// an open line).
     line_start: usize,
     numbering: Numbering,
     pub target: Target,
@@ -21,12 +22,44 @@ pub(super) struct Printer {
     /// 10^decimals.
     scale: f64,
     main_file: u32,
-    /// The last `--numbers seq` number (`--arcs fit` rewinds it).
+    /// The last `--numbers seq` number (`--arcs fit` rewinds it); under
+    /// `--numbers keep`, the last source line whose N was written.
     pub seq: u64,
     /// The arc plane as printed so far.
     pub plane: ir::Plane,
     /// The tool of the last T word, for targets that name it at M6.
     selected_tool: Option<u32>,
+    /// Whether codes share the line of their source line's move (the
+    /// final program; `--stage` prints a statement a line).
+    pub joins: bool,
+    /// The line just written, while the next statements of its source
+    /// line may still join it.
+    open: Option<OpenLine>,
+}
+
+/// A line of codes that run before the motion of their block: the rest
+/// of its source line may join it (codes later in rs274's order of
+/// execution, then the move).
+#[derive(Clone, Copy, PartialEq, Eq)]
+struct OpenLine {
+    file: u32,
+    line: u32,
+    block_delete: bool,
+    /// The last code's place in rs274's order ([`Target::before_motion`]).
+    rank: u8,
+}
+
+/// The motion's place in a block: after every code that may share its line.
+const MOTION: u8 = u8::MAX;
+
+/// Where the printer is, to go back to: the text and the numbering as
+/// they were (`--arcs fit` prints a run twice).
+#[derive(Clone, Copy)]
+pub(super) struct Mark {
+    len: usize,
+    line_start: usize,
+    open: Option<OpenLine>,
+    seq: u64,
 }
 
 impl Printer {
@@ -61,11 +94,68 @@ impl Printer {
             seq: 0,
             plane: ir::Plane::XY,
             selected_tool: None,
+            joins: false,
+            open: None,
         }
+    }
+
+    pub fn mark(&self) -> Mark {
+        Mark {
+            len: self.out.len(),
+            line_start: self.line_start,
+            open: self.open,
+            seq: self.seq,
+        }
+    }
+
+    /// Back to `mark`.
+    pub fn rewind(&mut self, mark: Mark) {
+        self.out.truncate(mark.len);
+        (self.line_start, self.open, self.seq) = (mark.line_start, mark.open, mark.seq);
+    }
+
+    /// End the open line. Its line end waits for what comes next (which
+    /// may join it): the caller may take the text written so far at any
+    /// statement, and what it writes must not depend on where.
+    pub fn close(&mut self) {
+        if self.open.take().is_some() {
+            self.out.push(b'\n');
+        }
+    }
+
+    /// Go on with the open line if `stmt` may join it (same source line,
+    /// and after all of it in rs274's order: `rank`, or the motion); the
+    /// line is open after it with `rank`, or closed.
+    fn join_or_begin(&mut self, stmt: &ir::Stmt, rank: u8) {
+        let line = OpenLine {
+            file: stmt.span.file,
+            line: stmt.span.line,
+            block_delete: stmt.block_delete,
+            rank,
+        };
+        let joins = self.open.is_some_and(|open| {
+            open.rank < line.rank && OpenLine { rank: 0, ..open } == OpenLine { rank: 0, ..line }
+        });
+        if joins {
+            // (The line may have been taken: its words go on after a
+            // space, measured from here.)
+            self.line_start = self.out.len();
+            self.out.push(b' ');
+        } else {
+            self.begin_stmt(stmt);
+        }
+        self.open = (self.joins && rank != MOTION && stmt.span.line > 0).then_some(line);
+    }
+
+    /// Start the line of a move from `stmt`, on the codes of its source
+    /// line written before it where they may share it.
+    pub fn begin_move(&mut self, stmt: &ir::Stmt) {
+        self.join_or_begin(stmt, MOTION);
     }
 
     /// A line ger makes up (the header): numbered only by `seq`.
     pub fn raw_line(&mut self, text: &str) {
+        self.close();
         self.line_start = self.out.len();
         if self.numbering == Numbering::Seq {
             self.seq_number();
@@ -76,6 +166,7 @@ impl Printer {
 
     /// Text written as it is, outside the numbering (tape marks).
     pub fn raw(&mut self, text: &str) {
+        self.close();
         self.out.extend_from_slice(text.as_bytes());
     }
 
@@ -86,8 +177,15 @@ impl Printer {
         self.out.push(b' ');
     }
 
-    /// Start the line of a statement from `span`.
-    pub fn begin(&mut self, span: Span, block_delete: bool) {
+    /// Start the line of `stmt`.
+    pub fn begin_stmt(&mut self, stmt: &ir::Stmt) {
+        self.begin(stmt.span, stmt.block_delete, stmt.number);
+    }
+
+    /// Start the line of a statement from `span`, whose source line has
+    /// the N word `number`.
+    pub fn begin(&mut self, span: Span, block_delete: bool, number: Option<u32>) {
+        self.close();
         self.line_start = self.out.len();
         if block_delete {
             self.out.push(b'/');
@@ -97,7 +195,22 @@ impl Printer {
                 push_line_word(&mut self.out, span.line);
             }
             Numbering::Seq => self.seq_number(),
-            Numbering::Source | Numbering::None => {}
+            // Once per source line: on the first output line it makes, the
+            // first time it runs (a loop's next turns, a jump back, repeat
+            // no N).
+            Numbering::Keep
+                if self
+                    .main_line(span)
+                    .is_some_and(|l| u64::from(l) > self.seq) =>
+            {
+                if let Some(n) = number {
+                    self.seq = u64::from(span.line);
+                    self.out.push(b'N');
+                    push_int(&mut self.out, i64::from(n));
+                    self.out.push(b' ');
+                }
+            }
+            Numbering::Source | Numbering::Keep | Numbering::None => {}
         }
     }
 
@@ -110,7 +223,9 @@ impl Printer {
         if self.out.len() > self.line_start && self.out.last() == Some(&b' ') {
             self.out.pop();
         }
-        self.out.push(b'\n');
+        if self.open.is_none() {
+            self.out.push(b'\n');
+        }
     }
 
     /// A space before the next word, unless the line is empty or has one.
@@ -177,6 +292,7 @@ impl Printer {
         }
         if let Op::Passthrough(Passthrough::Line(text)) = &stmt.op {
             // A controller command (`$H`) takes no N word.
+            self.close();
             self.line_start = self.out.len();
             if stmt.block_delete {
                 self.out.push(b'/');
@@ -184,7 +300,10 @@ impl Printer {
             self.out.extend_from_slice(text.as_bytes());
             return self.end();
         }
-        self.begin(stmt.span, stmt.block_delete);
+        match self.target.before_motion(&stmt.op) {
+            Some(rank) => self.join_or_begin(stmt, rank),
+            None => self.begin_stmt(stmt),
+        }
         self.op(&stmt.op);
         self.end();
         if let Op::Home {
@@ -199,7 +318,7 @@ impl Printer {
     /// G90 after `stmt`, written under G91, on a line of its own (one
     /// block cannot hold both distance modes).
     pub fn back_to_absolute(&mut self, stmt: &ir::Stmt) {
-        self.begin(stmt.span, stmt.block_delete);
+        self.begin(stmt.span, stmt.block_delete, None);
         self.code("G90");
         self.end();
     }

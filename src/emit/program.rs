@@ -65,6 +65,7 @@ impl ProgramPrinter {
             main_file,
             source_len * 2,
         );
+        p.joins = true;
         if let Some(prologue) = options.target.prologue(options.program_number) {
             p.raw(&prologue);
         }
@@ -126,7 +127,7 @@ impl ProgramPrinter {
                 // waiting for a move was given before it, in the units before
                 // it, so it is written on the switch's line, before it.
                 Op::Units(_) if self.pending_feed.is_some() => {
-                    self.p.begin(stmt.span, stmt.block_delete);
+                    self.p.begin_stmt(stmt);
                     self.feed_word();
                     self.p.op(&stmt.op);
                     self.p.end();
@@ -264,6 +265,7 @@ impl ProgramPrinter {
 
     pub fn finish(mut self) -> Vec<u8> {
         self.print_held();
+        self.p.close();
         if let Some(epilogue) = self.p.target.epilogue() {
             self.p.raw(epilogue);
         }
@@ -282,7 +284,7 @@ impl ProgramPrinter {
     /// An incremental move (`G91 G1 X5.` then `G90`): its axes must be
     /// written again when next given absolutely.
     fn steps(&mut self, stmt: &ir::Stmt, m: &ir::Move) {
-        self.p.begin(stmt.span, stmt.block_delete);
+        self.p.begin_move(stmt);
         self.p.code("G91");
         self.p.code(motion_code(m.motion));
         for (axis, v) in m.to.iter() {
@@ -320,7 +322,7 @@ impl ProgramPrinter {
         let start_q: [i64; 3] =
             std::array::from_fn(|i| self.printed[i].unwrap_or_else(|| self.p.scaled(start[i])));
         let end3: [i64; 3] = std::array::from_fn(|i| end_q[i].unwrap_or(start_q[i]));
-        self.p.begin(stmt.span, stmt.block_delete);
+        self.p.begin_move(stmt);
         self.p.code(motion_code(m.motion));
         let (a, b, _) = self.p.plane.axes();
         for axis in Axis::ALL {
@@ -405,7 +407,7 @@ impl ProgramPrinter {
     /// feed; the controller leaves the tool over the hole at the level
     /// the cycle ends at, and the next move writes every axis again.
     fn kept_cycle(&mut self, stmt: &ir::Stmt, c: &ir::Cycle) {
-        self.p.begin(stmt.span, stmt.block_delete);
+        self.p.begin_move(stmt);
         self.p.op(&stmt.op);
         self.feed_word();
         self.p.end();
@@ -546,7 +548,7 @@ impl ProgramPrinter {
         if changed == 0 {
             return;
         }
-        self.p.begin(stmt.span, stmt.block_delete);
+        self.p.begin_move(stmt);
         self.p.code(motion_code(motion));
         while changed != 0 {
             let i = changed.trailing_zeros() as usize;
@@ -691,21 +693,12 @@ impl ProgramPrinter {
             // The lines first, to count what the arcs save; then the run
             // again, from the same state, with its arcs.
             let from = self.p.out.len();
-            let state = (
-                self.printed,
-                self.pending_feed,
-                self.printed_feed,
-                self.p.seq,
-            );
+            let mark = self.p.mark();
+            let state = (self.printed, self.pending_feed, self.printed_feed);
             self.print_pieces(&moves, &run, &[]);
             let lines = self.p.out.len() - from;
-            self.p.out.truncate(from);
-            (
-                self.printed,
-                self.pending_feed,
-                self.printed_feed,
-                self.p.seq,
-            ) = state;
+            self.p.rewind(mark);
+            (self.printed, self.pending_feed, self.printed_feed) = state;
             self.print_pieces(&moves, &run, &pieces);
             let arcs = self.p.out.len() - from;
             if let Some(fitting) = self.fitting.as_deref_mut() {
@@ -778,7 +771,7 @@ impl ProgramPrinter {
         } else {
             None
         };
-        self.p.begin(span, false);
+        self.p.begin(span, false, moves[0].number);
         self.p.code(if arc.clockwise { "G2" } else { "G3" });
         for axis in Axis::ALL {
             let i = axis.index();

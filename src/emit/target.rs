@@ -89,6 +89,29 @@ impl Target {
         }
     }
 
+    /// Where `op` runs in a block, when it shares the line of its source
+    /// line's move: its place in rs274's order of execution (SPEC §2.2),
+    /// every one before the motion; `None` where it keeps a line of its
+    /// own. Fanuc gives an M, S or T code written with a move to the
+    /// machine with the move or after it (the machine builder's choice),
+    /// not before: they keep their lines there. Grbl's M6 is a stop.
+    pub fn before_motion(self, op: &Op) -> Option<u8> {
+        let (fanuc, grbl) = (self == Target::Fanuc, self == Target::Grbl);
+        match op {
+            Op::Speed(_) if !fanuc => Some(4),
+            Op::SelectTool(_) if !fanuc && !grbl => Some(5),
+            Op::ChangeTool if !fanuc && !grbl => Some(6),
+            Op::Spindle(_) if !fanuc => Some(7),
+            Op::Coolant(_) if !fanuc => Some(8),
+            Op::Plane(_) => Some(11),
+            Op::Comp { .. } | Op::CompOff => Some(13),
+            Op::ToolLength { .. } | Op::CancelToolLength => Some(14),
+            Op::SelectWorkOffset(_) => Some(15),
+            Op::PathControl(_) => Some(16),
+            _ => None,
+        }
+    }
+
     /// The controller's name in messages.
     pub fn controller(self) -> &'static str {
         match self {

@@ -179,6 +179,7 @@ impl Evaluator<'_> {
         self.this_line.machine_coordinates = false;
         self.this_line.inverse_feed = false;
         self.this_line.block_delete = call.block_delete;
+        self.this_line.number = ast::line_number(&call.before);
         let mut flow = Flow::Next;
         for s in ast::statements(&call.before) {
             flow = self.exec_line_stmt(s);
@@ -196,6 +197,7 @@ impl Evaluator<'_> {
             };
         }
         self.this_line.block_delete = false;
+        self.this_line.number = None;
         flow
     }
 
@@ -540,6 +542,7 @@ impl Evaluator<'_> {
                 end: 0,
             },
             block_delete: false,
+            number: None,
         };
         let mut out = std::mem::take(&mut self.out);
         out.push(BLANK);
@@ -547,6 +550,7 @@ impl Evaluator<'_> {
         if let Some(stmt) = out.last_mut() {
             stmt.span = span;
             stmt.block_delete = self.this_line.block_delete;
+            stmt.number = self.kept_number();
             if let Op::Move(m) = &mut stmt.op {
                 m.motion = motion;
                 filled = fill(m);

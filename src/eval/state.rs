@@ -363,4 +363,6 @@ pub(super) struct LineState {
     pub(super) machine_coordinates: bool,
     /// An F under G93 in the line (a feed move needs one on its own line).
     pub(super) inverse_feed: bool,
+    /// The line's own N word (`--numbers keep`).
+    pub(super) number: Option<u32>,
 }

@@ -109,7 +109,8 @@ pub enum Command {
 
 #[derive(clap::Args)]
 pub struct Options {
-    /// Line numbers: the source line (default), a sequence, or none.
+    /// Line numbers: the source line (default), a sequence, the program's
+    /// own N words (keep), or none.
     #[arg(long, value_enum, default_value_t = NumbersArg::Source)]
     pub numbers: NumbersArg,
     /// The output flavour.
@@ -306,6 +307,7 @@ pub enum RapidsArg {
 pub enum NumbersArg {
     Source,
     Seq,
+    Keep,
     None,
 }
 
@@ -405,6 +407,7 @@ impl Options {
                 numbering: match self.numbers {
                     NumbersArg::Source => Numbering::Source,
                     NumbersArg::Seq => Numbering::Seq,
+                    NumbersArg::Keep => Numbering::Keep,
                     NumbersArg::None => Numbering::None,
                 },
                 target: match self.target {

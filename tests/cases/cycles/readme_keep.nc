@@ -1,7 +1,6 @@
 G21 G90 G17
 N1 (the drilling program of README's Canned cycles section)
-N3 S1500.
-N3 M3
+N3 S1500. M3
 N4 G0 X0. Y0. Z10.
 N5 G98 G81 X10. Y10. Z-3. R2. F120.
 N6 G99 G83 X20. Y10. Z-12. R2. Q4.

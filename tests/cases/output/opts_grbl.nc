@@ -1,8 +1,7 @@
 G21 G90 G17
 T2
 M0 (change to tool 2)
-S12000.
-M3
+S12000. M3
 G0 X0. Y0. Z5.
 G1 Z-1. F200.
 G2 X20. Y0. I10. J0.
