@@ -379,8 +379,9 @@ impl Evaluator<'_> {
         let m = &self.modal;
         let p = &mut self.predefined;
         match op {
-            // Only the predefined parameters read the position.
-            ir::Op::Move(_) if p.named.is_empty() => {}
+            // Followed even before a predefined name is seen: a program
+            // read in parts meets its names part by part, and must read
+            // them as the whole program does.
             ir::Op::Move(mv) => self.follow_move(mv),
             ir::Op::Cycle(c) => {
                 p.motion = f64::from(c.kind.code()) * 10.0;
