@@ -167,6 +167,13 @@ fn serve(
             return ExitCode::from(2);
         }
     };
+    // The handler is in place before the address is printed: whoever
+    // reads it may send SIGINT at once.
+    let stop = Arc::new(AtomicBool::new(false));
+    let flag = Arc::clone(&stop);
+    if let Err(e) = ctrlc::set_handler(move || flag.store(true, Ordering::SeqCst)) {
+        eprintln!("note: Ctrl-C cannot be caught here ({e}); it ends the server as it is");
+    }
     let port = listener.local_addr().map_or(port, |a| a.port());
     let url = format!("http://127.0.0.1:{port}/");
     println!("{url}");
@@ -182,11 +189,6 @@ fn serve(
         Condvar::new(),
     ));
     let page = Arc::new(page(None));
-    let stop = Arc::new(AtomicBool::new(false));
-    let flag = Arc::clone(&stop);
-    if let Err(e) = ctrlc::set_handler(move || flag.store(true, Ordering::SeqCst)) {
-        eprintln!("note: Ctrl-C cannot be caught here ({e}); it ends the server as it is");
-    }
     if let Err(e) = listener.set_nonblocking(true) {
         eprintln!("error: cannot poll 127.0.0.1:{port}: {e}");
         return ExitCode::from(2);
