@@ -14,6 +14,7 @@ mod cycle;
 mod degrees;
 mod error;
 mod evaluator;
+mod known;
 mod options;
 mod polar;
 mod predefined;
@@ -37,7 +38,7 @@ use crate::diagnostic::Diagnostic;
 use crate::ir;
 use crate::source::Span;
 use evaluator::{Evaluator, Flow};
-use predefined::Predefined;
+use known::Predefined;
 pub(crate) use state::parameter_number;
 use state::{CycleState, JumpLimit, LineState, Macros, Modal, OutputStart, Reports, RunCounts};
 use std::rc::Rc;
@@ -909,7 +910,7 @@ impl<'a> Evaluator<'a> {
                 Ok((name, used)) => {
                     // A numbered parameter the program never names has
                     // its first value (rs274: 0 for #1–#5000).
-                    let predefined = predefined::Param::of_name(&name)
+                    let predefined = known::Param::of_name(&name)
                         .filter(|_| self.options.from != Flavour::Fanuc);
                     let slot = match (self.names.find(&name), predefined) {
                         (Some(s), _) => self.vars.get(s.0 as usize).copied(),

@@ -8,37 +8,10 @@
 //! what rs274 does not (the motion mode, the tool, G92).
 
 use super::evaluator::{Evaluator, Flow};
+use super::state::{Modes, Saved};
 use crate::ast::{self, Number, WordValue};
 use crate::ir;
 use crate::source::Span;
-
-/// The modal state M70 and M73 keep, as rs274 collates it.
-#[derive(Clone, Debug, PartialEq)]
-pub(super) struct Modes {
-    units: Option<ir::Units>,
-    plane: ir::Plane,
-    comp: Option<ir::Side>,
-    distance: ir::Distance,
-    inverse_time: bool,
-    work_offset: u8,
-    tool_offset: Option<bool>,
-    return_level: ir::ReturnLevel,
-    arc_centers: ir::Distance,
-    diameter_mode: bool,
-    feed: Option<f64>,
-    speed: f64,
-    spindle: ir::Spindle,
-    mist: bool,
-    flood: bool,
-}
-
-/// A saved state at one call level; `on_return` (M73): restored when the
-/// subroutine of that level returns.
-#[derive(Clone, Debug)]
-pub(super) struct Saved {
-    modes: Modes,
-    on_return: bool,
-}
 
 impl Evaluator<'_> {
     /// M70 (`on_return` false) or M73: save the state at this call level.

@@ -3,8 +3,8 @@
 //! (`eval.rs` and its children). The struct and its parts only: it must
 //! not hold code that runs statements.
 
+use super::known::Predefined;
 use super::options::EvalOptions;
-use super::predefined::Predefined;
 use super::seen::Watched;
 use super::setup::SetupBuilder;
 use super::state::{CycleState, LineState, Macros, Modal, OutputStart, Reports, RunCounts};

@@ -182,7 +182,7 @@ pub(super) struct Macros {
     /// Subprograms being run, innermost last: (name, call span).
     pub(super) calls: Vec<(OName, Span)>,
     /// The modal state M70/M73 saved, by call level (0: the main program).
-    pub(super) contexts: Vec<Option<super::context::Saved>>,
+    pub(super) contexts: Vec<Option<Saved>>,
     /// Where each label a `GOTO` looked for is, by block (its address)
     /// and label: found once, not at every jump.
     pub(super) labels: HashMap<(usize, u32), Option<usize>>,
@@ -365,4 +365,32 @@ pub(super) struct LineState {
     pub(super) inverse_feed: bool,
     /// The line's own N word (`--numbers keep`).
     pub(super) number: Option<u32>,
+}
+
+/// The modal state M70 and M73 keep, as rs274 collates it.
+#[derive(Clone, Debug, PartialEq)]
+pub(super) struct Modes {
+    pub(super) units: Option<ir::Units>,
+    pub(super) plane: ir::Plane,
+    pub(super) comp: Option<ir::Side>,
+    pub(super) distance: ir::Distance,
+    pub(super) inverse_time: bool,
+    pub(super) work_offset: u8,
+    pub(super) tool_offset: Option<bool>,
+    pub(super) return_level: ir::ReturnLevel,
+    pub(super) arc_centers: ir::Distance,
+    pub(super) diameter_mode: bool,
+    pub(super) feed: Option<f64>,
+    pub(super) speed: f64,
+    pub(super) spindle: ir::Spindle,
+    pub(super) mist: bool,
+    pub(super) flood: bool,
+}
+
+/// A saved state at one call level; `on_return` (M73): restored when the
+/// subroutine of that level returns.
+#[derive(Clone, Debug)]
+pub(super) struct Saved {
+    pub(super) modes: Modes,
+    pub(super) on_return: bool,
 }

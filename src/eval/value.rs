@@ -256,7 +256,7 @@ impl ExprError {
             }
             ExprError::MachineOnly { name, span } => {
                 let text = names.text(*name);
-                let why = super::predefined::Param::of_name(text)
+                let why = super::known::Param::of_name(text)
                     .map_or("ger does not know this value", |p| p.machine_only());
                 error(
                     format!("`{text}` is the machine's here"),

@@ -192,6 +192,37 @@ impl AbsolutePass {
         Ok(())
     }
 
+    /// A move: steps where only the machine knows where it starts, else
+    /// absolute (an inverse-time F made the feed per minute before it).
+    fn feed_move(&mut self, stmt: &mut Stmt, out: &mut Out<'_>) -> bool {
+        let span = stmt.span;
+        let Op::Move(m) = &mut stmt.op else {
+            return true;
+        };
+        if self.steps_only(m) {
+            let m = *m;
+            if let Err(e) = self.at.step(&m.to, span) {
+                out.report(e);
+                return false;
+            }
+            stmt.op = Op::IncrementalMove(m);
+            return true;
+        }
+        let moved = self.timed_move(m, span);
+        self.short_arc.report(out);
+        match moved {
+            Ok(None) => true,
+            Ok(Some(rate)) => {
+                out.push(stmt.with_op(Op::Feed(rate)));
+                true
+            }
+            Err(e) => {
+                out.report(e);
+                false
+            }
+        }
+    }
+
     /// A move that can only be written as steps: straight, under G91,
     /// on an axis whose position only the machine knows (under G93 its
     /// length is needed: an error, as for an arc).
@@ -332,26 +363,7 @@ impl Pass for AbsolutePass {
             }
             Op::Plane(p) => self.at.plane = *p,
             Op::End => self.ended = true,
-            Op::Move(m) if self.steps_only(m) => {
-                let m = *m;
-                if let Err(e) = self.at.step(&m.to, span) {
-                    out.report(e);
-                    return false;
-                }
-                stmt.op = Op::IncrementalMove(m);
-            }
-            Op::Move(m) => {
-                let moved = self.timed_move(m, span);
-                self.short_arc.report(out);
-                match moved {
-                    Ok(None) => {}
-                    Ok(Some(rate)) => out.push(stmt.with_op(Op::Feed(rate))),
-                    Err(e) => {
-                        out.report(e);
-                        return false;
-                    }
-                }
-            }
+            Op::Move(_) => return self.feed_move(stmt, out),
             Op::Spline(s) => {
                 let s = **s;
                 if let Err(e) = self.spline(&s, stmt, out) {
