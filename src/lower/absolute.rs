@@ -411,6 +411,7 @@ impl Pass for AbsolutePass {
             | Op::CompOff
             | Op::PathControl(_)
             | Op::Comment(_)
+            | Op::SetToolData(_)
             | Op::Passthrough(_)
             | Op::IncrementalMove(_) => {}
         }
