@@ -178,7 +178,7 @@ impl<'a> Evaluator<'a> {
             ),
             names: Rc::new(names),
             out: Vec::with_capacity(options.batch.clamp(1, 1 << 16)),
-            setup: setup::SetupBuilder::with_tools(&options.tools),
+            setup: setup::SetupBuilder::with_tools(&options.tools, options.tool_units),
             modal: Modal::default(),
             this_line: LineState::default(),
             cycles: CycleState::default(),
@@ -373,14 +373,19 @@ impl<'a> Evaluator<'a> {
     /// machine's own, with a warning (SPEC §3).
     fn start(&mut self, at: Span) {
         self.output.started = true;
-        let setup = self.setup.get().clone();
         // With `--units` the F is in those units, and the G20/G21 may fix
         // the output's as usual.
         let first_units = self
             .output
             .first_units
             .filter(|_| !self.output.feed_before_units || self.options.units.is_some());
-        let output_units = setup.units.or(first_units).or(self.options.units);
+        let output_units = self
+            .setup
+            .get()
+            .units
+            .or(first_units)
+            .or(self.options.units);
+        let setup = self.setup.in_units(output_units);
         if output_units.is_none() && self.output.first_units.is_none() && at != Span::default() {
             self.report(EvalError::new(EvalErrorKind::UnitsUnstated, at));
         }

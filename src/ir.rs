@@ -685,6 +685,8 @@ pub enum Op {
     Plane(Plane),
     /// G54..G59.3 as 1..=9.
     SelectWorkOffset(u8),
+    /// G10 L1: a tool's radius and length from here on.
+    SetToolData(ToolData),
     /// G10 L2 P`index` (1 = G54): the origin of that system.
     SetWorkOffset {
         index: u8,
@@ -789,6 +791,7 @@ impl Op {
             | Op::CompOff
             | Op::PathControl(_)
             | Op::Comment(_)
+            | Op::SetToolData(_)
             | Op::Passthrough(_) => false,
         }
     }
@@ -825,6 +828,39 @@ pub struct Tool {
     /// `None`: unknown (a G43 with it passes through).
     pub length: Option<f64>,
     pub shape: ToolShape,
+}
+
+/// G10 L1 P`tool` R`radius` Z`length`: each value only where given (the
+/// rest of the tool's entry stays).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ToolData {
+    pub tool: u32,
+    pub radius: Option<f64>,
+    pub length: Option<f64>,
+}
+
+impl ToolData {
+    /// These values written into `tools`. A tool not in the table is
+    /// added when R gives its diameter; with only Z it is added when
+    /// `length_only` (the offsets pass, which reads lengths alone), else
+    /// left out, so that a radius ger does not know stays an error where
+    /// compensation needs it.
+    pub fn apply(&self, tools: &mut BTreeMap<u32, Tool>, length_only: bool) {
+        if self.radius.is_none() && !length_only && !tools.contains_key(&self.tool) {
+            return;
+        }
+        let entry = tools.entry(self.tool).or_insert(Tool {
+            diameter: 0.0,
+            length: None,
+            shape: ToolShape::Flat,
+        });
+        if let Some(r) = self.radius {
+            entry.diameter = 2.0 * r;
+        }
+        if self.length.is_some() {
+            entry.length = self.length;
+        }
+    }
 }
 
 #[derive(Clone, Copy, Debug, PartialEq)]

@@ -1,9 +1,10 @@
 //! `--tool-table FILE`: LinuxCNC's tool table format, one tool a line:
 //! `T1 P1 D6.35 Z75 ;comment` — T the tool number, D its diameter, Z its
 //! length; P (the pocket) and the other words LinuxCNC writes (X Y A B C
-//! U V W I J Q) are read and ignored. It fills the table `SetTool` fills,
-//! in the same units (the output's, SPEC §3); a `SetTool` in the program
-//! for the same tool wins.
+//! U V W I J Q) are read and ignored. It fills the table `SetTool` fills
+//! (in the output's units, SPEC §3, unless `--tool-units` names the
+//! table's: the evaluator converts at the start); a `SetTool` in the
+//! program for the same tool wins.
 
 use crate::diagnostic::{error, Diagnostic, DiagnosticExt, Located, Wording};
 use crate::ir::{Tool, ToolShape};

@@ -294,6 +294,8 @@ impl Builder {
                 self.move_to(kind, &m.to, stmt.span, machine);
             }
             Op::IncrementalMove(m) => self.step(&m.to, stmt.span, m.motion),
+            // The pictures draw each tool with the last radius given.
+            Op::SetToolData(data) => data.apply(&mut self.path.setup.tools, false),
             Op::Home {
                 via, incremental, ..
             } => self.home(via, *incremental, stmt),

@@ -334,6 +334,46 @@ fn tool_table() {
     assert_eq!(out.status.code(), Some(2));
 }
 
+/// `--tool-units` (or `tool_units` in ger.toml): the table is in those
+/// units, whatever the program's (a LinuxCNC table is in the machine's);
+/// a `SetTool` stays in the output's.
+#[test]
+fn tool_table_units() {
+    let dir = scratch("tool-units");
+    std::fs::write(dir.join("inch.tbl"), "T2 P2 D0.125 Z2\n").unwrap();
+    let program = "G21 G90\nT2 M6\nG43 H2\nG0 X0 Y0 Z10\nM30\n";
+    std::fs::write(dir.join("tl.nc"), program).unwrap();
+    std::fs::write(dir.join("own.egc"), format!("SetTool 2 3 5\n{program}")).unwrap();
+    let z = |args: &[&str]| {
+        let out = ger(args, &dir);
+        let text = String::from_utf8_lossy(&out.stdout).into_owned();
+        assert!(
+            out.status.success(),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        text.lines()
+            .find(|l| l.contains("G0"))
+            .unwrap_or_default()
+            .to_string()
+    };
+    let table = ["--tool-table", "inch.tbl"];
+    // Today's reading without the option: the output's units.
+    assert!(z(&[&["compile", "tl.nc"][..], &table].concat()).contains("Z12."));
+    let inch = [&["compile", "tl.nc", "--tool-units", "inch"][..], &table].concat();
+    assert!(z(&inch).contains("Z60.8"), "{}", z(&inch));
+    let own = [&["compile", "own.egc", "--tool-units", "inch"][..], &table].concat();
+    assert!(z(&own).contains("Z15."), "{}", z(&own));
+    std::fs::write(
+        dir.join("ger.toml"),
+        "[compile]\ntool-table = \"inch.tbl\"\ntool_units = \"inch\"\n",
+    )
+    .unwrap();
+    assert!(z(&["compile", "tl.nc"]).contains("Z60.8"));
+    // The command line wins over the file.
+    assert!(z(&["compile", "tl.nc", "--tool-units", "mm"]).contains("Z12."));
+}
+
 /// Compensation with a tool ger has no diameter for is an error, and each
 /// way out its help names compiles the program: the diameter given, or
 /// the compensation left to the controller.

@@ -42,6 +42,9 @@ pub struct CompileTable {
     pub units: Option<UnitsKey>,
     #[serde(alias = "tool_table")]
     pub tool_table: Option<PathBuf>,
+    /// The tool table's units (a LinuxCNC table is in the machine's).
+    #[serde(alias = "tool_units")]
+    pub tool_units: Option<UnitsKey>,
     pub arcs: Option<ArcsKey>,
     pub tolerance: Option<f64>,
     pub decimals: Option<usize>,
@@ -222,11 +225,15 @@ impl CompileTable {
                 InputKey::Gcode => Language::Gcode,
             });
         }
+        let units = |v: UnitsKey| match v {
+            UnitsKey::Mm => Units::Mm,
+            UnitsKey::Inch => Units::Inch,
+        };
         if let Some(v) = self.units.filter(|_| take("units")) {
-            options.eval.units = Some(match v {
-                UnitsKey::Mm => Units::Mm,
-                UnitsKey::Inch => Units::Inch,
-            });
+            options.eval.units = Some(units(v));
+        }
+        if let Some(v) = self.tool_units.filter(|_| take("tool-units")) {
+            options.eval.tool_units = Some(units(v));
         }
         self.apply_output(options, &take);
         if let Some(v) = self.max_iterations.filter(|_| take("max-iterations")) {

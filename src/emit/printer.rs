@@ -290,6 +290,12 @@ impl Printer {
             // Not a code: what the source's controller does at a tool change.
             return;
         }
+        if let (Op::SetToolData(_), Target::Grbl) = (&stmt.op, self.target) {
+            // grbl keeps no tool table: ger has folded the values where
+            // they are used, and a G43 or G41 left to the machine is
+            // refused at its own line.
+            return;
+        }
         if let Op::Passthrough(Passthrough::Line(text)) = &stmt.op {
             // A controller command (`$H`) takes no N word.
             self.close();
@@ -392,6 +398,7 @@ impl Printer {
                 })
             }
             Op::SelectWorkOffset(i) => self.code(ir::work_offset_code(*i).unwrap_or_default()),
+            Op::SetToolData(data) => self.g10_l1(data),
             Op::SetWorkOffset { index, origin } => self.g10_words("G10 L2", *index, origin),
             Op::SetWorkOffsetHere { index, at } => self.g10_words("G10 L20", *index, at),
             Op::LocalOffset(a) => self.code_axes("G52", a),
@@ -440,6 +447,17 @@ impl Printer {
         self.code(code);
         self.int_word(b'P', index as u32);
         self.axes(axes);
+    }
+
+    /// G10 L1 P`tool` and the values given.
+    fn g10_l1(&mut self, data: &ir::ToolData) {
+        self.code("G10 L1");
+        self.int_word(b'P', data.tool);
+        for (letter, v) in [(b'R', data.radius), (b'Z', data.length)] {
+            if let Some(v) = v {
+                self.word(letter, v);
+            }
+        }
     }
 
     /// A code followed by axis words (G52, G92).

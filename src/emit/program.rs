@@ -188,6 +188,7 @@ impl ProgramPrinter {
                 // (The absolute pass made splines arcs.)
                 | Op::Spline(_)
                 | Op::Comment(_)
+                | Op::SetToolData(_)
                 | Op::Passthrough(_) => {}
             }
             self.p.stmt(stmt);

@@ -172,6 +172,8 @@ pub enum Why {
     Command,
     /// G96 D on Fanuc, whose limit is a G50 (lathe) or G92 (mill) S.
     FanucMaxRpm,
+    /// G10 L1 on Fanuc, whose tool data are offset registers (G10 L10–L13).
+    FanucToolData,
 }
 
 impl Wording for Unrunnable {
@@ -196,6 +198,10 @@ impl Wording for Unrunnable {
             Why::WorkOffset => (
                 "the controller has no such work coordinate system",
                 "use G54–G59 (P1–P6)",
+            ),
+            Why::FanucToolData => (
+                "Fanuc's tool data are offset registers (G10 L10–L13 P register R value), not LinuxCNC's G10 L1 tool entry",
+                "give the tool with `SetTool` or --tool-table so that ger folds its length and radius, or compile for linuxcnc or generic",
             ),
             Why::FanucL20 => (
                 "Fanuc's G10 L20 sets its extra systems (G54.1 P), not G54–G59",
@@ -329,6 +335,7 @@ fn fanuc_cannot_run(op: &Op) -> Option<(String, Why)> {
         Op::SelectWorkOffset(i) if *i > 6 => Why::WorkOffset,
         Op::SetWorkOffset { index, .. } if *index == 0 || *index > 6 => Why::WorkOffset,
         Op::SetWorkOffsetHere { .. } => Why::FanucL20,
+        Op::SetToolData(_) => Why::FanucToolData,
         Op::ArcCenters(_) | Op::DiameterMode(_) | Op::CancelPosition | Op::Spline(_) => {
             Why::NoSuchCode
         }
@@ -410,6 +417,11 @@ mod tests {
             incremental: true,
         };
         let g10 = |index| Op::SetWorkOffset { index, origin: xy };
+        let tool_data = Op::SetToolData(ir::ToolData {
+            tool: 1,
+            radius: Some(3.0),
+            length: Some(25.0),
+        });
         let surface = |max_rpm| {
             Op::SpindleMode(ir::SpindleMode::SurfaceSpeed {
                 speed: 100.0,
@@ -451,6 +463,8 @@ mod tests {
             (Op::SelectWorkOffset(6), "gblf"),
             (Op::SelectWorkOffset(7), "gl"),
             (g10(2), "gblf"),
+            // grbl's printer leaves it out: ger folds the values.
+            (tool_data, "gbl"),
             (g10(0), "gbl"),
             (Op::SetWorkOffsetHere { index: 1, at: xy }, "gbl"),
             (Op::LocalOffset(xy), "glf"),
@@ -516,6 +530,7 @@ mod tests {
             | Op::SelectWorkOffset(_)
             | Op::SetWorkOffset { .. }
             | Op::SetWorkOffsetHere { .. }
+            | Op::SetToolData(_)
             | Op::LocalOffset(_)
             | Op::SetPosition(_)
             | Op::CancelPosition

@@ -894,9 +894,10 @@ impl Evaluator<'_> {
         // The form first: P and R mean other things in the others (L1's
         // P is a tool, its R the tool's radius).
         let here = match l as i64 {
+            1 if l == 1.0 => return tool_data(w, at),
             2 if l == 2.0 => false,
             20 if l == 20.0 => true,
-            1 | 10 | 11 if l.fract() == 0.0 => {
+            10 | 11 if l.fract() == 0.0 => {
                 return Err(CodeError::new(K::G10ToolTable, lspan).into());
             }
             _ => return Err(CodeError::new(K::G10Form, lspan).into()),
@@ -929,7 +930,7 @@ impl Evaluator<'_> {
         })
     }
 
-    /// X/Y/Z of a code that takes axes itself (G52, G92, G10).
+    /// X/Y/Z of a code that takes axes itself (G52, G92, G10 L2/L20).
     fn take_axes(
         &mut self,
         w: &mut WordValues,
@@ -1270,6 +1271,36 @@ fn spindle_mode(t: u32, at: Span, w: &mut WordValues) -> Result<Op, Diagnostic> 
     Ok(Op::SpindleMode(ir::SpindleMode::SurfaceSpeed {
         speed,
         max_rpm,
+    }))
+}
+
+/// `G10 L1 P<tool> R<radius> Z<length>` (rs274's convert_setup_tool):
+/// only the values given change. Q, I and J (a lathe tool's orientation
+/// and angles) do not change a mill's path and are dropped; an offset on
+/// another axis is refused, as ger keeps a tool's radius and Z length only.
+fn tool_data(w: &mut WordValues, at: Span) -> Result<Op, Diagnostic> {
+    let Some((p, pspan)) = w.take(b'P') else {
+        return Err(CodeError::new(K::ToolDataWithoutP, at).into());
+    };
+    for letter in *b"QIJ" {
+        w.take(letter);
+    }
+    for letter in *b"XYABCUVW" {
+        if let Some((_, span)) = w.take(letter) {
+            return Err(CodeError::new(K::ToolDataAxis(letter as char), span).into());
+        }
+    }
+    let tool = whole(p, pspan, "a tool number")?;
+    let radius = w.take(b'R');
+    if let Some((r, rspan)) = radius {
+        if r < 0.0 {
+            return Err(CodeError::new(K::NegativeToolRadius, rspan).into());
+        }
+    }
+    Ok(Op::SetToolData(ir::ToolData {
+        tool,
+        radius: radius.map(|(r, _)| r),
+        length: w.take(b'Z').map(|(z, _)| z),
     }))
 }
 

@@ -31,6 +31,9 @@ pub struct EvalOptions {
     pub chosen: Chosen,
     /// `--tool-table`: tools known before the program's `SetTool`s.
     pub tools: std::collections::BTreeMap<u32, ir::Tool>,
+    /// `--tool-units`: the units of `tools` (a LinuxCNC table is in the
+    /// machine's); `None`: the output's, as `SetTool`'s.
+    pub tool_units: Option<ir::Units>,
     /// `--comments keep` (the default): a plain program's comments go to
     /// the output in their place.
     pub keep_comments: bool,
@@ -116,6 +119,7 @@ impl Default for EvalOptions {
             plain: false,
             keep_comments: true,
             tools: Default::default(),
+            tool_units: None,
             cancel: None,
         }
     }

@@ -64,6 +64,9 @@ const DEFAULT_TOOL_DIAMETER_INCH: f64 = 0.25;
 #[derive(Default)]
 pub struct SetupBuilder {
     setup: ir::Setup,
+    /// `--tool-units`: the units of the `--tool-table` entries no
+    /// `SetTool` redefined; `None`: the output's.
+    table_units: Option<Units>,
     /// Where each thing was defined, for "defined twice".
     defined: HashMap<(Directive, u32), Span>,
 }
@@ -71,10 +74,32 @@ pub struct SetupBuilder {
 impl SetupBuilder {
     /// A setup whose tool table starts with `tools` (`--tool-table`); the
     /// program's `SetTool` may redefine them.
-    pub fn with_tools(tools: &std::collections::BTreeMap<u32, ir::Tool>) -> SetupBuilder {
+    /// `table_units`: theirs (`--tool-units`), else the output's.
+    pub fn with_tools(
+        tools: &std::collections::BTreeMap<u32, ir::Tool>,
+        table_units: Option<Units>,
+    ) -> SetupBuilder {
         let mut builder = SetupBuilder::default();
         builder.setup.tools = tools.clone();
+        builder.table_units = table_units;
         builder
+    }
+
+    /// The setup with the table's tools in `output` units (the setup's,
+    /// SPEC §3); where those are unknown, as the table gives them.
+    pub fn in_units(&self, output: Option<Units>) -> ir::Setup {
+        let mut setup = self.setup.clone();
+        let (Some(from), Some(to)) = (self.table_units, output) else {
+            return setup;
+        };
+        let k = from.factor(to);
+        for (number, tool) in setup.tools.iter_mut() {
+            if !self.defined.contains_key(&(Directive::Tool, *number)) {
+                tool.diameter *= k;
+                tool.length = tool.length.map(|l| l * k);
+            }
+        }
+        setup
     }
 
     /// The setup as defined so far.
@@ -84,8 +109,12 @@ impl SetupBuilder {
 
     /// Diameter of a tool in the program's current units (for wizards).
     pub fn tool_diameter(&self, tool: u32, program_units: Option<Units>) -> f64 {
-        let table_units = self.setup.units.or(program_units).unwrap_or(Units::Inch);
-        let to = program_units.unwrap_or(table_units);
+        let setup_units = self.setup.units.or(program_units).unwrap_or(Units::Inch);
+        let to = program_units.unwrap_or(setup_units);
+        let table_units = match self.defined.contains_key(&(Directive::Tool, tool)) {
+            true => setup_units,
+            false => self.table_units.unwrap_or(setup_units),
+        };
         match self.setup.tools.get(&tool) {
             Some(t) => t.diameter * table_units.factor(to),
             None => DEFAULT_TOOL_DIAMETER_INCH * Units::Inch.factor(to),

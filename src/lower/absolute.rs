@@ -423,6 +423,7 @@ impl Pass for AbsolutePass {
             | Op::CompOff
             | Op::PathControl(_)
             | Op::Comment(_)
+            | Op::SetToolData(_)
             | Op::Passthrough(_)
             | Op::IncrementalMove(_) => {}
         }

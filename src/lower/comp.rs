@@ -207,6 +207,7 @@ impl CompPass {
     fn feed(&mut self, stmt: &mut Stmt, out: &mut Out<'_>) -> Result<bool, LowerError> {
         let span = stmt.span;
         match &stmt.op {
+            Op::SetToolData(data) => data.apply(&mut self.tools, false),
             Op::Comp { side, radius } => {
                 self.turn_on(*side, *radius, span)?;
                 return Ok(false);

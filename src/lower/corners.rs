@@ -365,6 +365,7 @@ fn between(op: &Op) -> Option<&'static str> {
         | Op::Comp { .. }
         | Op::CompOff
         | Op::PathControl(_)
+        | Op::SetToolData(_)
         | Op::Passthrough(_) => None,
         Op::MachineMove(_) => Some("a G53 move"),
         Op::IncrementalMove(_) => Some("a step on an axis only the machine knows"),

@@ -530,6 +530,7 @@ impl Pass for CyclesPass {
             | Op::CompOff
             | Op::PathControl(_)
             | Op::Comment(_)
+            | Op::SetToolData(_)
             | Op::Passthrough(_) => {}
         }
         self.at.follow(&stmt.op, stmt.span);

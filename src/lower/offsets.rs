@@ -265,6 +265,10 @@ impl Pass for OffsetsPass {
                 self.set_distance(*d, span);
                 true
             }
+            Op::SetToolData(data) => {
+                data.apply(&mut self.tools, true);
+                true
+            }
             Op::Move(m) => {
                 self.place_move(m);
                 true

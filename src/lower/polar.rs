@@ -142,6 +142,7 @@ impl Pass for PolarPass {
             | Op::CompOff
             | Op::PathControl(_)
             | Op::Comment(_)
+            | Op::SetToolData(_)
             | Op::Passthrough(_)
             // (Made by the absolute pass, after this one.)
             | Op::IncrementalMove(_) => {}

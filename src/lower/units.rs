@@ -137,6 +137,11 @@ impl Pass for UnitsPass {
             | Op::SetWorkOffsetHere { at: a, .. }
             | Op::LocalOffset(a)
             | Op::SetPosition(a) => *a = a.map_lengths(|v| v * k),
+            Op::SetToolData(data) => data
+                .radius
+                .iter_mut()
+                .chain(data.length.iter_mut())
+                .for_each(scale),
             Op::InverseTime(on) => self.inverse_time = *on,
             Op::Feed(_) if self.inverse_time => {}
             Op::Feed(f) => {

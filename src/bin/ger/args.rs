@@ -128,10 +128,14 @@ pub struct Options {
     /// lines, else generic (P in seconds).
     #[arg(long, value_enum)]
     pub from: Option<FromArg>,
-    /// A LinuxCNC tool table (`T1 P1 D6.35 Z75`), in the output's units;
-    /// the program's `SetTool` lines win over it.
+    /// A LinuxCNC tool table (`T1 P1 D6.35 Z75`), in --tool-units (else
+    /// the output's units); the program's `SetTool` lines win over it.
     #[arg(long = "tool-table", value_name = "FILE")]
     pub tool_table: Option<PathBuf>,
+    /// The units of the --tool-table (a LinuxCNC table is in the
+    /// machine's units, its INI's); default: the output's.
+    #[arg(long = "tool-units", value_enum)]
+    pub tool_units: Option<UnitsArg>,
     /// The units of a program that states none (no G20/G21, no SetUnits).
     #[arg(long, value_enum)]
     pub units: Option<UnitsArg>,
@@ -184,12 +188,13 @@ pub enum MachineCommand {
 }
 
 /// Each `ger.toml` key of `[compile]` and the id of its flag.
-const FLAGS: [(&str, &str); 16] = [
+const FLAGS: [(&str, &str); 17] = [
     ("target", "target"),
     ("from", "from"),
     ("input", "language"),
     ("units", "units"),
     ("tool-table", "tool_table"),
+    ("tool-units", "tool_units"),
     ("arcs", "arcs"),
     ("tolerance", "tolerance"),
     ("decimals", "decimals"),
@@ -338,6 +343,15 @@ pub enum UnitsArg {
     Inch,
 }
 
+impl UnitsArg {
+    fn units(self) -> Units {
+        match self {
+            UnitsArg::Mm => Units::Mm,
+            UnitsArg::Inch => Units::Inch,
+        }
+    }
+}
+
 #[derive(Clone, Copy, ValueEnum)]
 pub enum TargetArg {
     Generic,
@@ -380,10 +394,8 @@ impl Options {
             eval: ger::eval::EvalOptions {
                 max_iterations: self.max_iterations,
                 keep_comments: self.comments == CommentsArg::Keep,
-                units: self.units.map(|u| match u {
-                    UnitsArg::Mm => Units::Mm,
-                    UnitsArg::Inch => Units::Inch,
-                }),
+                units: self.units.map(UnitsArg::units),
+                tool_units: self.tool_units.map(UnitsArg::units),
                 ..Default::default()
             },
             from: self.from.map(|f| match f {

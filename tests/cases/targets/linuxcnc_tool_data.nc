@@ -1,0 +1,12 @@
+G21 G90 G17
+N1 (G10 L1: tool 1 radius 3, length 25; G43 H1 folds the length)
+N3 G10 L1 P1 R3. Z25.
+N4 T1 M6
+N6 G0 X-20. Y-20. Z30.
+N7 G1 Z24. F300.
+N8 G41 G1 X0. Y0.
+N9 G1 X40.
+N10 G1 Y30.
+N11 G40 G1 X60. Y40.
+N12 G0 Z10.
+N13 M30
