@@ -147,7 +147,7 @@ fn start_of_subprogram(line: &str) -> Option<Start> {
     let (label, rest) = o_label(line)?;
     let rest = rest.trim_start();
     if let Some(after) = keyword(rest, "sub") {
-        return ends_here(after).then(|| Start::Named(label));
+        return ends_here(after).then_some(Start::Named(label));
     }
     let numbered = label.bytes().all(|b| b.is_ascii_digit()) && !label.is_empty();
     (numbered && ends_here(rest)).then_some(Start::Numbered)

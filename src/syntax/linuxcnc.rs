@@ -6,7 +6,7 @@
 use super::error::SyntaxErrorKind;
 use super::lexer::{expects_value, find_word, Lexer, PendingCall, Raw, Shape};
 use super::token::Tok;
-use super::words::{parse_decimal, word_of, WordNumber};
+use super::words::{parse_decimal, WordNumber};
 use crate::ast::{BinaryOp, Function, OName};
 
 /// The name of a LinuxCNC subroutine as written between `o<` and `>`:
@@ -314,9 +314,9 @@ impl Lexer<'_> {
         let line_end = self.text[start..]
             .find('\n')
             .map_or(self.text.len(), |i| start + i);
-        let number = WordNumber::after(self.text.as_bytes(), start + 1, line_end);
+        let number = WordNumber::after(self.text, start + 1, line_end);
         if number.is_decimal() {
-            let word = word_of(self.text.as_bytes()[start], &self.text[number.range()]);
+            let word = number.word(self.text.as_bytes()[start]);
             self.push_word(word, start, number.end);
             return Some(number.end);
         }
@@ -391,6 +391,9 @@ impl Lexer<'_> {
     /// the parameter or the `[` it reads. Where it ends.
     pub(super) fn parameter(&mut self, mut start: usize) -> usize {
         loop {
+            if let Some(end) = self.spaced_parameter(start) {
+                return end;
+            }
             match parameter_name(&self.text[start + 1..]) {
                 Ok((name, used)) => {
                     let end = start + 1 + used;
@@ -424,6 +427,29 @@ impl Lexer<'_> {
                 }
             }
         }
+    }
+
+    /// `#1 2` at `start`, a parameter's number with blanks inside, pushed
+    /// as its name (`#12`: rs274 reads a line without its blanks); where
+    /// it ends.
+    fn spaced_parameter(&mut self, start: usize) -> Option<usize> {
+        let line_end = self.text[start..]
+            .find('\n')
+            .map_or(self.text.len(), |i| start + i);
+        let number = WordNumber::after(self.text, start + 1, line_end);
+        let written = &self.text[start + 1..number.end];
+        if !number.spaced
+            || !written
+                .bytes()
+                .all(|b| matches!(b, b'0'..=b'9' | b' ' | b'\t'))
+        {
+            return None;
+        }
+        let digits = written.replace([' ', '\t'], "");
+        let (name, _) = parameter_name(&digits).ok()?;
+        let symbol = self.names.intern(&name);
+        self.push(start, Tok::Name(symbol), number.end);
+        Some(number.end)
     }
 
     /// Every numbered parameter a `#[…]` may reach gets its name (once):
