@@ -273,18 +273,25 @@ impl Lexer<'_> {
     ) -> Option<usize> {
         let after = self.text[end..].trim_start_matches([' ', '\t']);
         let at = self.text.len() - after.len();
+        // After a minus (and blanks: `X - #1`), the value it negates.
+        let negated = after
+            .strip_prefix('-')
+            .map(|r| r.trim_start_matches([' ', '\t']));
         if after.starts_with('[') {
             self.open_sym(start, '[', false);
             self.push(start, Tok::SymOpen(letter), at + 1);
             Some(at + 1)
-        } else if after.starts_with('#') || after.starts_with("-#") {
+        } else if after.starts_with('#') || negated.is_some_and(|r| r.starts_with('#')) {
             // `Z-#2` is the parameter's negative, as rs274 reads it.
             self.push(start, Tok::SymOpen(letter), end);
-            let minus = usize::from(after.starts_with('-'));
-            if minus == 1 {
-                self.push(at, Tok::NegTight, at + 1);
-            }
-            let name_end = self.parameter(at + minus);
+            let hash = match negated {
+                Some(rest) => {
+                    self.push(at, Tok::NegTight, at + 1);
+                    self.text.len() - rest.len()
+                }
+                None => at,
+            };
+            let name_end = self.parameter(hash);
             let bracket = self.text[name_end..].starts_with('[');
             if bracket && matches!(self.out.last(), Some((_, Tok::Hash, _))) {
                 // `X#[…]`: the word ends where the group does.
@@ -293,11 +300,7 @@ impl Lexer<'_> {
                 self.push(name_end, Tok::SymClose, name_end);
             }
             Some(name_end)
-        } else if let Some(group) = after
-            .strip_prefix('-')
-            .map(|r| r.trim_start_matches([' ', '\t']))
-            .filter(|r| r.starts_with('['))
-        {
+        } else if let Some(group) = negated.filter(|r| r.starts_with('[')) {
             // `X-[#1*2]`: the group's negative; the word ends with it.
             self.push(start, Tok::SymOpen(letter), end);
             self.push(at, Tok::NegTight, at + 1);
