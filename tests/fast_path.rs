@@ -84,7 +84,7 @@ fn plain_word_lines(corpus: support::Corpus, edges: bool) -> (usize, usize) {
     // Lines near the edge of the fast path, one program read in parts.
     let edge_lines = "G 1 X - 1\nx+.5y-.5 f 100\nG1X1.5.3\nN10G1X1\n  \t\x0c\r\nG1 X1e5\nGX1\nX.\n\
                  G1 X1 (c)\nX1-2\nD01\nDO1\ng0z  0.1\r\nX12345678901234567.5\n/G1 X2\n$H\n\
-                 % tape\nM3S1000\nG1 X1;c\nX1 Y\n";
+                 % tape\nM3S1000\nG1 X1;c\nX1 Y\nG 0 1 X 1 0 . 5\nX1 0.5.\nX1 .5 Y- 2\tF1\t0\n";
     let mut plain = match edges {
         true => vec![("edges".to_string(), edge_lines.to_string())],
         false => Vec::new(),

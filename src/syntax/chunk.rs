@@ -89,7 +89,7 @@ pub fn plain_line(line: &str) -> bool {
                 }
                 i += 1;
             }
-            b'A'..=b'Z' | b'a'..=b'z' => match plain_word(bytes, i) {
+            b'A'..=b'Z' | b'a'..=b'z' => match plain_word(line, i) {
                 Some(end) => i = end,
                 None => return false,
             },
@@ -99,16 +99,17 @@ pub fn plain_line(line: &str) -> bool {
     true
 }
 
-/// The end of the word whose letter is `bytes[at]`, when it is a plain
-/// word (a letter, spaces, a signed decimal number) that is none of `O`,
-/// `M98`, `M99`, `G65`.
-fn plain_word(bytes: &[u8], at: usize) -> Option<usize> {
-    let letter = bytes[at].to_ascii_uppercase();
+/// The end of the word whose letter is `line[at]`, when it is a plain
+/// word (a letter, spaces, a signed decimal number without blanks inside)
+/// that is none of `O`, `M98`, `M99`, `G65`.
+fn plain_word(line: &str, at: usize) -> Option<usize> {
+    let letter = line.as_bytes()[at].to_ascii_uppercase();
     if letter == b'O' {
         return None;
     }
-    let number = WordNumber::after(bytes, at + 1, bytes.len());
-    if !number.has_digits() {
+    let number = WordNumber::after(line, at + 1, line.len());
+    // `M 9 8` calls too: a number with blanks inside is read whole.
+    if !number.has_digits() || number.spaced {
         return None;
     }
     if !matches!(letter, b'M' | b'G') {

@@ -12,7 +12,7 @@
 use super::error::SyntaxErrorKind;
 use super::lexer::{Lexer, Raw, Shape};
 use super::token::Tok;
-use super::words::{word_of, WordNumber};
+use super::words::WordNumber;
 use crate::ast::Word;
 
 impl Lexer<'_> {
@@ -35,11 +35,11 @@ impl Lexer<'_> {
             b'C' => Word::CHAMFER,
             _ => return None,
         };
-        let number = WordNumber::after(self.text.as_bytes(), at + 1, line_end);
+        let number = WordNumber::after(self.text, at + 1, line_end);
         if !number.is_decimal() {
             return self.expression_word_of(letter, start, at + 1);
         }
-        let mut word = word_of(b'R', &self.text[number.range()]);
+        let mut word = number.word(b'R');
         word.letter = letter;
         self.push_word(word, start, number.end);
         Some(number.end)

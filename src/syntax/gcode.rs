@@ -31,6 +31,9 @@ impl Lexer<'_> {
         if let Some(skip_to) = self.linuxcnc(raw, start, end) {
             return Some(skip_to);
         }
+        if matches!(raw, Ok(Raw::Word | Raw::Number)) {
+            return self.spaced_number(raw, start, end);
+        }
         // Words, numbers and line ends (nearly every token) are as in
         // `.egc`: decided before the line is looked at.
         let dollar_or_colon = raw.is_err() && self.text[start..].starts_with(['$', ':']);
@@ -86,18 +89,60 @@ impl Lexer<'_> {
                 Some(digits)
             }
             // `G0Z  0.1`: spaces between a letter and its number.
-            Ok(Raw::Letter) => {
-                let number = WordNumber::after(self.text.as_bytes(), end, line_end);
-                if !number.is_decimal() {
-                    return None;
-                }
-                let letter = self.text.as_bytes()[start];
-                let word = word_of(letter, &self.text[number.range()]);
-                self.push_word(word, start, number.end);
-                Some(number.end)
-            }
+            Ok(Raw::Letter) => self.word_after(start, line_end),
             _ => None,
         }
+    }
+
+    /// The word whose letter is at `start`, its number read to `line_end`
+    /// at the latest, with any blanks inside it (`G 0 1`, `X - 1 0 . 5`);
+    /// where the text goes on. A number of two points is an error; no
+    /// number, `None`.
+    fn word_after(&mut self, start: usize, line_end: usize) -> Option<usize> {
+        let number = WordNumber::after(self.text, start + 1, line_end);
+        if number.has_points() {
+            let written = self.text[start..number.end].to_string();
+            self.report(SyntaxErrorKind::MalformedNumber(written), start, number.end);
+        } else if number.is_decimal() {
+            let word = number.word(self.text.as_bytes()[start]);
+            self.push_word(word, start, number.end);
+        } else {
+            return None;
+        }
+        Some(number.end)
+    }
+
+    /// A word or a number (`raw`) at `start..end` that goes on after
+    /// blanks (`X1 0.5`, `#1 = 2 5`): rs274 reads a line without its
+    /// blanks, so it is read to its last digit or point; where the text
+    /// goes on. Any other: `None`, as the lexer found it.
+    fn spaced_number(&mut self, raw: Result<Raw, ()>, start: usize, end: usize) -> Option<usize> {
+        let bytes = self.text.as_bytes();
+        let mut next = end;
+        while let Some(b' ' | b'\t') = bytes.get(next) {
+            next += 1;
+        }
+        let goes_on = next > end
+            && bytes
+                .get(next)
+                .is_some_and(|b| b.is_ascii_digit() || *b == b'.');
+        if !goes_on {
+            return None;
+        }
+        let line_end = self.text[next..]
+            .find('\n')
+            .map_or(self.text.len(), |i| next + i);
+        if raw == Ok(Raw::Word) {
+            return self.word_after(start, line_end);
+        }
+        let number = WordNumber::after(self.text, start, line_end);
+        if number.has_points() {
+            let written = self.text[start..number.end].to_string();
+            self.report(SyntaxErrorKind::MalformedNumber(written), start, number.end);
+        } else {
+            self.push(start, Tok::Number(number.value()), number.end);
+        }
+        Some(number.end)
     }
 
     /// A `( … )` comment of plain G-code, which may hold parentheses of its

@@ -6,7 +6,7 @@
 use super::error::SyntaxErrorKind;
 use super::lexer::{expects_value, find_word, Lexer, PendingCall, Raw, Shape};
 use super::token::Tok;
-use super::words::{parse_decimal, word_of, WordNumber};
+use super::words::{parse_decimal, WordNumber};
 use crate::ast::{BinaryOp, Function, OName};
 
 /// The name of a LinuxCNC subroutine as written between `o<` and `>`:
@@ -273,18 +273,25 @@ impl Lexer<'_> {
     ) -> Option<usize> {
         let after = self.text[end..].trim_start_matches([' ', '\t']);
         let at = self.text.len() - after.len();
+        // After a minus (and blanks: `X - #1`), the value it negates.
+        let negated = after
+            .strip_prefix('-')
+            .map(|r| r.trim_start_matches([' ', '\t']));
         if after.starts_with('[') {
             self.open_sym(start, '[', false);
             self.push(start, Tok::SymOpen(letter), at + 1);
             Some(at + 1)
-        } else if after.starts_with('#') || after.starts_with("-#") {
+        } else if after.starts_with('#') || negated.is_some_and(|r| r.starts_with('#')) {
             // `Z-#2` is the parameter's negative, as rs274 reads it.
             self.push(start, Tok::SymOpen(letter), end);
-            let minus = usize::from(after.starts_with('-'));
-            if minus == 1 {
-                self.push(at, Tok::NegTight, at + 1);
-            }
-            let name_end = self.parameter(at + minus);
+            let hash = match negated {
+                Some(rest) => {
+                    self.push(at, Tok::NegTight, at + 1);
+                    self.text.len() - rest.len()
+                }
+                None => at,
+            };
+            let name_end = self.parameter(hash);
             let bracket = self.text[name_end..].starts_with('[');
             if bracket && matches!(self.out.last(), Some((_, Tok::Hash, _))) {
                 // `X#[…]`: the word ends where the group does.
@@ -293,11 +300,7 @@ impl Lexer<'_> {
                 self.push(name_end, Tok::SymClose, name_end);
             }
             Some(name_end)
-        } else if let Some(group) = after
-            .strip_prefix('-')
-            .map(|r| r.trim_start_matches([' ', '\t']))
-            .filter(|r| r.starts_with('['))
-        {
+        } else if let Some(group) = negated.filter(|r| r.starts_with('[')) {
             // `X-[#1*2]`: the group's negative; the word ends with it.
             self.push(start, Tok::SymOpen(letter), end);
             self.push(at, Tok::NegTight, at + 1);
@@ -314,9 +317,9 @@ impl Lexer<'_> {
         let line_end = self.text[start..]
             .find('\n')
             .map_or(self.text.len(), |i| start + i);
-        let number = WordNumber::after(self.text.as_bytes(), start + 1, line_end);
+        let number = WordNumber::after(self.text, start + 1, line_end);
         if number.is_decimal() {
-            let word = word_of(self.text.as_bytes()[start], &self.text[number.range()]);
+            let word = number.word(self.text.as_bytes()[start]);
             self.push_word(word, start, number.end);
             return Some(number.end);
         }
@@ -391,6 +394,9 @@ impl Lexer<'_> {
     /// the parameter or the `[` it reads. Where it ends.
     pub(super) fn parameter(&mut self, mut start: usize) -> usize {
         loop {
+            if let Some(end) = self.spaced_parameter(start) {
+                return end;
+            }
             match parameter_name(&self.text[start + 1..]) {
                 Ok((name, used)) => {
                     let end = start + 1 + used;
@@ -424,6 +430,29 @@ impl Lexer<'_> {
                 }
             }
         }
+    }
+
+    /// `#1 2` at `start`, a parameter's number with blanks inside, pushed
+    /// as its name (`#12`: rs274 reads a line without its blanks); where
+    /// it ends.
+    fn spaced_parameter(&mut self, start: usize) -> Option<usize> {
+        let line_end = self.text[start..]
+            .find('\n')
+            .map_or(self.text.len(), |i| start + i);
+        let number = WordNumber::after(self.text, start + 1, line_end);
+        let written = &self.text[start + 1..number.end];
+        if !number.spaced
+            || !written
+                .bytes()
+                .all(|b| matches!(b, b'0'..=b'9' | b' ' | b'\t'))
+        {
+            return None;
+        }
+        let digits = written.replace([' ', '\t'], "");
+        let (name, _) = parameter_name(&digits).ok()?;
+        let symbol = self.names.intern(&name);
+        self.push(start, Tok::Name(symbol), number.end);
+        Some(number.end)
     }
 
     /// Every numbered parameter a `#[…]` may reach gets its name (once):

@@ -74,7 +74,9 @@ pub(crate) fn plain_words(
 /// The decimal number after a word's letter in `text[from..end]`, read as
 /// [`WordNumber::after`] finds it and [`scan_decimal`] reads it, in one
 /// pass: its value, integer digits, whether it has a point, and its end.
-/// `None` where [`WordNumber::is_decimal`] is false.
+/// `None` where [`WordNumber::is_decimal`] is false; where blanks stand
+/// inside the number, `None` or an end before them (the line is then
+/// the lexer's).
 fn decimal_after(text: &str, from: usize, end: usize) -> Option<(f64, u8, bool, usize)> {
     // One bounds check a byte: the slice ends where the number must.
     let bytes = &text.as_bytes()[..end];
@@ -132,60 +134,97 @@ const POW10: [f64; 16] = [
 ];
 
 /// The number after a word's letter, as plain G-code writes it: spaces
-/// or tabs, a sign, then digits and points (`G0Z  0.1`, `X -1.5`).
+/// or tabs, a sign, then digits and points (`G0Z  0.1`, `X -1.5`), with
+/// spaces or tabs anywhere between them (`X - 1 0 . 5` is `X-10.5`: rs274
+/// reads a line without its spaces and tabs).
 pub(crate) struct WordNumber<'a> {
-    bytes: &'a [u8],
+    text: &'a str,
     /// Where its sign (or its first digit) is.
     sign: usize,
-    /// Where its digits and points start, and its end.
+    /// Where its digits and points start, and its end (after its last
+    /// digit or point; after its sign if it has none).
     digits: usize,
     pub end: usize,
+    /// Its digits and its points.
+    figures: usize,
     points: usize,
+    /// Spaces or tabs between its sign, digits and points.
+    pub spaced: bool,
 }
 
 impl WordNumber<'_> {
-    /// The number in `bytes[from..end]`, `from` just after the letter.
-    pub(crate) fn after(bytes: &[u8], from: usize, end: usize) -> WordNumber<'_> {
-        let mut i = from;
-        while i < end && matches!(bytes[i], b' ' | b'\t') {
-            i += 1;
-        }
-        let sign = i;
-        if i < end && matches!(bytes[i], b'+' | b'-') {
-            i += 1;
-        }
-        let (digits, mut points) = (i, 0);
-        while i < end && matches!(bytes[i], b'0'..=b'9' | b'.') {
-            points += usize::from(bytes[i] == b'.');
-            i += 1;
+    /// The number in `text[from..end]`, `from` just after the letter.
+    pub(crate) fn after(text: &str, from: usize, end: usize) -> WordNumber<'_> {
+        let bytes = text.as_bytes();
+        let blanks_from = |mut i: usize| {
+            while i < end && matches!(bytes[i], b' ' | b'\t') {
+                i += 1;
+            }
+            i
+        };
+        let sign = blanks_from(from);
+        let digits = sign + usize::from(sign < end && matches!(bytes[sign], b'+' | b'-'));
+        let (mut i, mut figures, mut points, mut spaced) = (digits, 0, 0, false);
+        loop {
+            let next = blanks_from(i);
+            if next == end || !matches!(bytes[next], b'0'..=b'9' | b'.') {
+                break;
+            }
+            spaced |= next > i;
+            figures += 1;
+            points += usize::from(bytes[next] == b'.');
+            i = next + 1;
         }
         WordNumber {
-            bytes,
+            text,
             sign,
             digits,
             end: i,
+            figures,
             points,
+            spaced,
         }
-    }
-
-    /// The sign and digits, without the blanks before them.
-    pub(crate) fn range(&self) -> std::ops::Range<usize> {
-        self.sign..self.end
     }
 
     /// Some digits and points.
     pub(crate) fn has_digits(&self) -> bool {
-        self.end > self.digits
+        self.figures > 0
     }
 
-    /// The digits and points of the number (after its sign).
+    /// The digits and points of the number (after its sign), spaces and
+    /// tabs between them included.
     pub(crate) fn body(&self) -> &[u8] {
-        &self.bytes[self.digits..self.end]
+        &self.text.as_bytes()[self.digits..self.end]
     }
 
     /// A decimal number the lexer reads: a digit, and one point at most.
     pub(crate) fn is_decimal(&self) -> bool {
-        self.has_digits() && self.body() != b"." && self.points <= 1
+        self.figures > self.points && self.points <= 1
+    }
+
+    /// More than one point: a malformed number.
+    pub(crate) fn has_points(&self) -> bool {
+        self.points > 1
+    }
+
+    /// The sign, digits and points, without blanks.
+    fn written(&self) -> std::borrow::Cow<'_, str> {
+        let written = &self.text[self.sign..self.end];
+        match self.spaced {
+            // Rare: a copy without its blanks.
+            true => written.replace([' ', '\t'], "").into(),
+            false => written.into(),
+        }
+    }
+
+    /// The word of `letter` and this number (a decimal).
+    pub(crate) fn word(&self, letter: u8) -> WordTok {
+        word_of(letter, &self.written())
+    }
+
+    /// Its value (a decimal).
+    pub(crate) fn value(&self) -> f64 {
+        parse_decimal(&self.written())
     }
 }
 
@@ -246,13 +285,29 @@ mod tests {
 
     /// `decimal_after` reads what `WordNumber::after` finds and
     /// `scan_decimal` reads, bit for bit.
+    /// A number with blanks inside is for the lexer: `decimal_after`
+    /// gives `None`, or stops where more of the number follows, a line
+    /// [`plain_words`] refuses.
     fn reads_alike(text: &str) {
-        let found = WordNumber::after(text.as_bytes(), 0, text.len());
-        let expected = found.is_decimal().then(|| {
-            let (v, digits, point) = scan_decimal(&text[found.range()]);
-            (v.to_bits(), digits, point, found.end)
-        });
+        let found = WordNumber::after(text, 0, text.len());
         let got = decimal_after(text, 0, text.len()).map(|(v, d, p, e)| (v.to_bits(), d, p, e));
+        if found.spaced {
+            let refused = got.is_none_or(|(_, _, _, end)| {
+                let rest = text[end..].trim_start_matches([' ', '\t']);
+                rest.starts_with(|c: char| c.is_ascii_digit() || c == '.')
+            });
+            assert!(refused, "{text:?}");
+            return;
+        }
+        let expected = found.is_decimal().then(|| {
+            let word = found.word(b'X');
+            (
+                word.value.to_bits(),
+                word.int_digits,
+                word.has_point,
+                found.end,
+            )
+        });
         assert_eq!(got, expected, "{text:?}");
     }
 
@@ -273,6 +328,10 @@ mod tests {
             "-",
             "1.",
             "007.50",
+            "1 0 . 5",
+            "- 1",
+            "1 .",
+            " 1.5 2.",
         ] {
             reads_alike(text);
         }
