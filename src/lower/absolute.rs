@@ -254,6 +254,7 @@ impl AbsolutePass {
                 to,
                 arc,
                 corner: None,
+                lead: None,
             })));
             from = piece.end;
         }

@@ -405,6 +405,7 @@ impl CompPass {
                     to,
                     arc: None,
                     corner: None,
+                    lead: None,
                 })));
             }
         }
@@ -974,6 +975,7 @@ impl CompPass {
             to: axes,
             arc: None,
             corner: None,
+            lead: None,
         }))
     }
 
