@@ -24,7 +24,7 @@ mod support;
 use support::rs274;
 
 /// Samples without `#` parameters or o-words that must give rs274's path.
-const FLOOR_PLAIN: usize = 23;
+const FLOOR_PLAIN: usize = 24;
 /// Samples with `#` parameters or o-words that must give rs274's path.
 const FLOOR_MACRO: usize = 110;
 
