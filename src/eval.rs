@@ -22,6 +22,7 @@ mod seen;
 mod setup;
 mod spline;
 mod state;
+mod thread;
 pub mod value;
 mod watch;
 mod wizard_api;
@@ -300,6 +301,8 @@ impl<'a> Evaluator<'a> {
             ir::Op::Spline(_) if self.modal.feed.is_none() => {
                 return Err(EvalError::new(EvalErrorKind::FeedBeforeRate, span).into());
             }
+            // A G33's speed is the spindle's: it needs no F (and takes none).
+            ir::Op::Move(ir::Move { lead: Some(_), .. }) => {}
             ir::Op::Move(m) if m.motion != ir::Motion::Rapid && self.modal.feed.is_none() => {
                 let kind = if self.modal.inverse_time_ended {
                     EvalErrorKind::FeedAfterInverseTime

@@ -271,6 +271,9 @@ pub struct Move {
     /// Fanuc's `,R`/`,C` on a G1: the corner to the next move is rounded
     /// or chamfered. Only before the corners pass, which lowers it.
     pub corner: Option<Corner>,
+    /// LinuxCNC's G33: a straight feed locked to the spindle, this far
+    /// along the path per revolution (K, in the IR's length units).
+    pub lead: Option<f64>,
 }
 
 /// How the corner at the end of a G1 is cut (Fanuc's "chamfering and

@@ -317,6 +317,7 @@ mod tests {
             to,
             arc: arc.map(|geometry| ir::Arc { geometry, turns: 1 }),
             corner: None,
+            lead: None,
         })
     }
 

@@ -65,6 +65,9 @@ pub struct State {
     pub selected: u32,
     /// G61, G61.1, G64 (tolerances in mm).
     pub path_control: ir::PathControl,
+    /// A G33 move's K, mm along the path per spindle revolution: its
+    /// speed is the spindle's, not `feed`. `None` on every other move.
+    pub lead: Option<f64>,
 }
 
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -291,9 +294,13 @@ impl Builder {
             Op::Move(m) | Op::MachineMove(m) => {
                 let kind = self.move_kind(m);
                 let machine = matches!(stmt.op, Op::MachineMove(_));
+                self.state.lead = m.lead.map(|l| l * k);
                 self.move_to(kind, &m.to, stmt.span, machine);
             }
-            Op::IncrementalMove(m) => self.step(&m.to, stmt.span, m.motion),
+            Op::IncrementalMove(m) => {
+                self.state.lead = m.lead.map(|l| l * k);
+                self.step(&m.to, stmt.span, m.motion);
+            }
             // The pictures draw each tool with the last radius given.
             Op::SetToolData(data) => data.apply(&mut self.path.setup.tools, false),
             Op::Home {

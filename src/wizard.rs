@@ -237,6 +237,7 @@ impl Session {
             to,
             arc,
             corner: None,
+            lead: None,
         })))
     }
 }

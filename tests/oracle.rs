@@ -647,10 +647,10 @@ fn run_example(case: &Path) -> Result<(), Failed> {
 /// G54 (the frame known offsets are folded into) and what the passes pass
 /// through because it depends on the machine.
 fn check_allowed_codes(text: &str) -> Result<(), Failed> {
-    const G: [&str; 36] = [
+    const G: [&str; 37] = [
         "0", "1", "2", "3", "4", "17", "18", "19", "20", "21", "90", "00", "01", "54", "55", "56",
         "57", "58", "59", "59.1", "59.2", "59.3", "28", "30", "53", "43", "44", "49", "10", "61",
-        "61.1", "64", "96", "97", "92", "92.1",
+        "61.1", "64", "96", "97", "92", "92.1", "33",
     ];
     const M: [&str; 13] = [
         "0", "1", "3", "4", "5", "6", "7", "8", "9", "30", "2", "00", "01",
@@ -676,7 +676,7 @@ fn check_allowed_codes(text: &str) -> Result<(), Failed> {
                     b'G' => {
                         G.contains(&num)
                             || (num == "91"
-                                && ["G28", "G30", "G0 ", "G1 "]
+                                && ["G28", "G30", "G0 ", "G1 ", "G33 "]
                                     .iter()
                                     .any(|c| code.contains(c)))
                     }

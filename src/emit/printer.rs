@@ -515,8 +515,11 @@ impl Printer {
     }
 
     fn move_words(&mut self, m: &ir::Move) {
-        self.code(motion_code(m.motion));
+        self.code(move_code(m));
         self.axes(&m.to);
+        if let Some(lead) = m.lead {
+            self.lead_word(lead);
+        }
         // Only a stage before the corners pass has one (`--stage units`).
         if let Some(corner) = m.corner {
             let (letter, size) = match corner {
@@ -576,6 +579,13 @@ impl Printer {
         }
     }
 
+    /// G33's K: two digits more than positions, as a pitch's error grows
+    /// with every turn of the thread.
+    pub fn lead_word(&mut self, lead: f64) {
+        let decimals = self.decimals + 2;
+        self.word_decimals(b'K', lead, decimals);
+    }
+
     /// G61, G61.1, G64 P Q; on Fanuc G61 (its exact stop) and a bare
     /// G64 (it has no tolerance words). Grbl has none: the program
     /// printer leaves them out.
@@ -615,6 +625,14 @@ impl Printer {
                 self.word(b'D', d);
             }
         }
+    }
+}
+
+/// A move's code: G33 for a thread, else its motion's.
+pub(super) fn move_code(m: &ir::Move) -> &'static str {
+    match m.lead {
+        Some(_) => "G33",
+        None => motion_code(m.motion),
     }
 }
 

@@ -2,7 +2,7 @@
 //! out, F on the cutting move it applies to, arc centres relative to the
 //! start point as printed, and the target's prologue and epilogue.
 
-use super::printer::{motion_code, Printer};
+use super::printer::{motion_code, move_code, Printer};
 use super::{ArcFormat, EmitOptions, Target, Unrunnable, Why};
 use crate::diagnostic::{warning, Diagnostic, DiagnosticExt, Located};
 use crate::geometry::{self, Point};
@@ -287,15 +287,17 @@ impl ProgramPrinter {
     fn steps(&mut self, stmt: &ir::Stmt, m: &ir::Move) {
         self.p.begin_move(stmt);
         self.p.code("G91");
-        self.p.code(motion_code(m.motion));
+        self.p.code(move_code(m));
         for (axis, v) in m.to.iter() {
             let i = axis.index();
             self.p.word(axis.letter(), v);
             self.position[i] = self.position[i].map(|p| p + v);
             self.printed[i] = None;
         }
-        if m.motion != Motion::Rapid {
-            self.feed_word();
+        match m.lead {
+            Some(lead) => self.p.lead_word(lead),
+            None if m.motion != Motion::Rapid => self.feed_word(),
+            None => {}
         }
         self.p.end();
         self.p.back_to_absolute(stmt);
@@ -307,6 +309,9 @@ impl ProgramPrinter {
         let mut end_q: [Option<i64>; 9] = [None; 9];
         for (axis, v) in m.to.iter() {
             end_q[axis.index()] = Some(self.p.scaled(v));
+        }
+        if let Some(lead) = m.lead {
+            return self.thread(stmt, &end_q, lead);
         }
         let arc = m.arc.filter(|_| m.motion.is_arc());
         let Some(ArcGeometry::Center(c)) = arc.map(|a| a.geometry) else {
@@ -537,20 +542,33 @@ impl ProgramPrinter {
         })
     }
 
-    /// A straight move to the known axes of `end_q`; nothing if none changed.
-    fn linear(&mut self, stmt: &ir::Stmt, motion: Motion, end_q: &[Option<i64>; 9]) {
-        // The axes to write, a bit each, in printing order.
+    /// A G33 to the known axes of `end_q`; nothing if none changed. No F:
+    /// its feed is the spindle's, and rs274 refuses one.
+    fn thread(&mut self, stmt: &ir::Stmt, end_q: &[Option<i64>; 9], lead: f64) {
+        if self.changed_axes(end_q) == 0 {
+            return;
+        }
+        self.p.begin_move(stmt);
+        self.p.code("G33");
+        self.axis_words(end_q);
+        self.p.lead_word(lead);
+        self.p.end();
+    }
+
+    /// Which axes of `end_q` differ from what was printed, a bit each.
+    fn changed_axes(&self, end_q: &[Option<i64>; 9]) -> u16 {
         let mut changed = 0u16;
         for (i, q) in end_q.iter().enumerate() {
             if q.is_some() && *q != self.printed[i] {
                 changed |= 1 << i;
             }
         }
-        if changed == 0 {
-            return;
-        }
-        self.p.begin_move(stmt);
-        self.p.code(motion_code(motion));
+        changed
+    }
+
+    /// The words of the axes of `end_q` that changed, in printing order.
+    fn axis_words(&mut self, end_q: &[Option<i64>; 9]) {
+        let mut changed = self.changed_axes(end_q);
         while changed != 0 {
             let i = changed.trailing_zeros() as usize;
             changed &= changed - 1;
@@ -559,6 +577,16 @@ impl ProgramPrinter {
                 self.printed[i] = Some(q);
             }
         }
+    }
+
+    /// A straight move to the known axes of `end_q`; nothing if none changed.
+    fn linear(&mut self, stmt: &ir::Stmt, motion: Motion, end_q: &[Option<i64>; 9]) {
+        if self.changed_axes(end_q) == 0 {
+            return;
+        }
+        self.p.begin_move(stmt);
+        self.p.code(motion_code(motion));
+        self.axis_words(end_q);
         if motion != Motion::Rapid {
             self.feed_word();
         }
@@ -619,6 +647,7 @@ impl ProgramPrinter {
         let (a, b, n) = self.p.plane.axes();
         let plane_axes = (1 << a) | (1 << b) | (1 << n);
         m.motion == Motion::Linear
+            && m.lead.is_none()
             && m.arc.is_none()
             && !stmt.block_delete
             && !fitting.inverse_time

@@ -174,6 +174,11 @@ pub enum Why {
     FanucMaxRpm,
     /// G10 L1 on Fanuc, whose tool data are offset registers (G10 L10–L13).
     FanucToolData,
+    /// G33, a feed locked to the spindle, which grbl does not have.
+    NoThread,
+    /// G33 on Fanuc, whose thread cutting (G32/G33 F) takes the lead
+    /// along the long axis, not along the path as LinuxCNC's K.
+    FanucThread,
 }
 
 impl Wording for Unrunnable {
@@ -219,6 +224,14 @@ impl Wording for Unrunnable {
                 "a grbl command, not G-code",
                 "leave it out, or compile for grbl (--target grbl)",
             ),
+            Why::NoThread => (
+                "grbl has no spindle-synchronised motion",
+                "cut the thread with a thread mill (helical G2/G3), or compile for linuxcnc",
+            ),
+            Why::FanucThread => (
+                "Fanuc's thread cutting takes F, the lead along the long axis; LinuxCNC's K is along the path",
+                "compile for linuxcnc (or generic), or write the thread in Fanuc's own terms",
+            ),
             Why::FanucMaxRpm => (
                 "Fanuc's G96 takes no D: its spindle limit is a G50 (lathe) or G92 (mill) S",
                 "leave D out and set the machine's limit, or compile for a target that has G96 D",
@@ -236,6 +249,9 @@ impl Wording for Unrunnable {
 /// The code that names `op` in a message: its first words as printed
 /// (`G43 H1`, `G10 L2`), an M code's number alone.
 fn code_of(op: &Op) -> String {
+    if let Op::Move(ir::Move { lead: Some(_), .. }) = op {
+        return "G33".into();
+    }
     if let Op::Move(ir::Move {
         motion,
         arc: Some(arc),
@@ -278,6 +294,7 @@ fn turns(op: &Op) -> bool {
 /// but M6, M30, M56; axes X, Y, Z.
 fn grbl_cannot_run(op: &Op) -> Option<(String, Why)> {
     let why = match op {
+        Op::Move(m) | Op::IncrementalMove(m) if m.lead.is_some() => Why::NoThread,
         Op::Move(m) | Op::MachineMove(m) | Op::IncrementalMove(m) => match not_xyz(&m.to) {
             Some(axis) => return Some(((axis.letter() as char).to_string(), Why::NoSuchAxis)),
             None if turns(op) => Why::Turns,
@@ -332,6 +349,7 @@ fn linuxcnc_cannot_run(op: &Op) -> Option<(String, Why)> {
 fn fanuc_cannot_run(op: &Op) -> Option<(String, Why)> {
     let why = match op {
         _ if turns(op) => Why::Turns,
+        Op::Move(m) | Op::IncrementalMove(m) if m.lead.is_some() => Why::FanucThread,
         Op::SelectWorkOffset(i) if *i > 6 => Why::WorkOffset,
         Op::SetWorkOffset { index, .. } if *index == 0 || *index > 6 => Why::WorkOffset,
         Op::SetWorkOffsetHere { .. } => Why::FanucL20,
@@ -379,6 +397,7 @@ mod tests {
             to,
             arc,
             corner: None,
+            lead: None,
         }
     }
 
@@ -432,7 +451,13 @@ mod tests {
             tool: Some(1),
             negative,
         };
+        let thread = ir::Move {
+            lead: Some(1.5),
+            ..line(Motion::Linear, axes(&[(Axis::Z, -10.0)]), 1)
+        };
         vec![
+            (Op::Move(thread), "gl"),
+            (Op::IncrementalMove(thread), "gl"),
             (Op::Move(line(Motion::Rapid, xy, 1)), "gblf"),
             (Op::Move(line(Motion::Linear, xa, 1)), "glf"),
             (Op::Move(line(Motion::ArcCw, xy, 1)), "gblf"),

@@ -31,7 +31,7 @@ fn unsupported_g(t: u32) -> &'static str {
         650 => "G65 is Fanuc's macro call, read in plain G-code (not in .egc)",
         950 => "feed per revolution (G95) is not supported: use G94 or G93",
         52 | 53 => "NURBS (G5.2/G5.3) are not supported; G5 and G5.1 splines are",
-        330 | 331 => "spindle-synchronised motion (G33 threading, G33.1 rigid tapping) is not supported",
+        331 => "rigid tapping (G33.1) is not supported; G33 threading is",
         700 | 710..=712 | 720..=722 => "lathe cycles (G70-G72) are outside what ger, a milling compiler, lowers",
         310 | 382..=385 => "a probing move stops where its switch trips, which only the machine knows; what follows it cannot be worked out",
         _ => "ger does not know this code",
@@ -403,6 +403,9 @@ impl Evaluator<'_> {
     /// Words with no G/M code before them: F, S, T, and a move in the
     /// current motion mode.
     fn plain_words(&mut self, w: &mut WordValues, span: Span) -> Result<Flow, Diagnostic> {
+        if self.modal.thread_mode && w.has_any(b"XYZABCUVW@^") {
+            self.thread_feed_word(w)?;
+        }
         self.feed_speed_tool(w, span)?;
         self.leftover_move(w, span, None)?;
         Ok(Flow::Next)
@@ -433,6 +436,10 @@ impl Evaluator<'_> {
             return self.unused_words(w, code);
         }
         let arc_words = w.has_any(b"IJKR");
+        if has_axes && self.modal.motion.is_none() && self.modal.thread_mode {
+            self.thread(span, w, span)?;
+            return self.unused_words(w, code);
+        }
         if has_axes || (arc_words && self.modal.motion.is_some_and(Motion::is_arc)) {
             let Some(motion) = self.modal.motion else {
                 let (_, at) = w.remaining().next().unwrap_or((b'X', span));
@@ -493,6 +500,7 @@ impl Evaluator<'_> {
             to,
             arc,
             corner: None,
+            lead: None,
         })
     }
 
@@ -534,6 +542,7 @@ impl Evaluator<'_> {
                 to: Axes::NONE,
                 arc: None,
                 corner: None,
+                lead: None,
             }),
             span: Span {
                 file: 0,
@@ -592,6 +601,9 @@ impl Evaluator<'_> {
             let op = spindle_mode(t, at, w)?;
             self.emit(op, span)?;
         }
+        if t == 330 {
+            self.thread_feed_word(w)?;
+        }
         self.feed_speed_tool(w, span)?;
         let kind = match (t, self.options.from) {
             (760, Flavour::Fanuc) => Some(ir::CycleKind::G76),
@@ -604,6 +616,10 @@ impl Evaluator<'_> {
         }
         match t {
             0 | 10 | 20 | 30 => self.select_motion(t),
+            330 => {
+                self.thread(at, w, span)?;
+                return self.unused_words(w, code).map(|_| Flow::Next);
+            }
             50 | 51 => {
                 self.spline(t, at, w, span)?;
                 return self.unused_words(w, code).map(|_| Flow::Next);
@@ -623,6 +639,7 @@ impl Evaluator<'_> {
     /// ends a canned cycle's run.
     #[inline]
     fn select_motion(&mut self, t: u32) {
+        self.modal.thread_mode = false;
         self.modal.motion = Some(match t {
             0 => Motion::Rapid,
             10 => Motion::Linear,
@@ -725,6 +742,7 @@ impl Evaluator<'_> {
             591..=593 => Op::SelectWorkOffset((t - 584) as u8),
             760 => return Err(CodeError::new(K::G76, at).into()),
             800 => {
+                self.modal.thread_mode = false;
                 self.cycles.kind = None;
                 self.cycles.run_open = false;
                 Op::CycleOff
@@ -1188,7 +1206,7 @@ fn arc_words(w: &mut WordValues, span: Span, arc: &mut Arc) -> Result<(), Diagno
 
 /// [`axis_words`] into `axes` (empty).
 #[inline(always)]
-fn axis_words_into(w: &mut WordValues, axes: &mut Axes) {
+pub(super) fn axis_words_into(w: &mut WordValues, axes: &mut Axes) {
     for axis in Axis::ALL {
         if let Some(v) = w.take_value(axis.letter()) {
             axes.set(axis, v);

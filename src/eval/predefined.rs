@@ -235,6 +235,7 @@ impl Evaluator<'_> {
         let p = &mut self.predefined;
         p.motion = match mv.motion {
             ir::Motion::Rapid => 0.0,
+            ir::Motion::Linear if mv.lead.is_some() => 330.0,
             ir::Motion::Linear => 10.0,
             ir::Motion::ArcCw => 20.0,
             ir::Motion::ArcCcw => 30.0,

@@ -81,6 +81,7 @@ impl Evaluator<'_> {
         // alone move nowhere: refused ([`SplineProblem::Again`]).
         self.modal.motion = None;
         self.modal.spline_mode = true;
+        self.modal.thread_mode = false;
         self.cycles.kind = None;
         self.cycles.run_open = false;
         Ok(())

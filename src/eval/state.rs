@@ -298,6 +298,9 @@ pub(super) struct Modal {
     /// The motion mode is G5/G5.1 (`motion` is `None`): axis words alone
     /// are refused, as rs274 moves nowhere on them.
     pub(super) spline_mode: bool,
+    /// The motion mode is G33 (`motion` is `None`): axis words alone are
+    /// a G33 move, K on each.
+    pub(super) thread_mode: bool,
     /// The last move was a G5; and the I J a G5 without them takes
     /// (rs274's `cycle_i`/`cycle_j`: the last G5's P Q turned round, or a
     /// G87's I J).
@@ -329,6 +332,7 @@ impl Default for Modal {
             cycle_initial: None,
             inverse_time_ended: false,
             spline_mode: false,
+            thread_mode: false,
             after_g5: false,
             spline_ij: [0.0; 2],
         }

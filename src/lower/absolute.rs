@@ -285,6 +285,7 @@ impl AbsolutePass {
                 to,
                 arc,
                 corner: None,
+                lead: None,
             })));
             from = piece.end;
         }

@@ -406,6 +406,7 @@ impl CompPass {
                     to,
                     arc: None,
                     corner: None,
+                    lead: None,
                 })));
             }
         }
@@ -975,6 +976,7 @@ impl CompPass {
             to: axes,
             arc: None,
             corner: None,
+            lead: None,
         }))
     }
 

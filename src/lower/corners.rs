@@ -325,6 +325,7 @@ fn send_cut(held: Held, cut: &Cut, plane: Plane, out: &mut Out<'_>) {
                     turns: 1,
                 }),
                 corner: None,
+                lead: None,
             }
         }
         None => ir::Move {
@@ -332,6 +333,7 @@ fn send_cut(held: Held, cut: &Cut, plane: Plane, out: &mut Out<'_>) {
             to,
             arc: None,
             corner: None,
+            lead: None,
         },
     };
     let corner = g1.with_op(Op::Move(corner));

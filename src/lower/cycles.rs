@@ -451,6 +451,7 @@ impl Emitter<'_, '_, '_> {
             to,
             arc: None,
             corner: None,
+            lead: None,
         }));
     }
 

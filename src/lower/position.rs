@@ -245,6 +245,7 @@ mod tests {
                     to,
                     arc: None,
                     corner: None,
+                    lead: None,
                 };
                 let op = match next(40) {
                     0 => Op::Feed(100.0),

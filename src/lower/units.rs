@@ -113,6 +113,7 @@ impl Pass for UnitsPass {
             Op::Move(m) | Op::MachineMove(m) | Op::IncrementalMove(m) => {
                 m.to = self.scale_axes(m.to, k);
                 m.corner = m.corner.map(|c| c.scaled(k));
+                m.lead = m.lead.map(|l| l * k);
                 if let Some(arc) = &mut m.arc {
                     arc.geometry = match arc.geometry {
                         ArcGeometry::Center(c) => ArcGeometry::Center(c.map(|v| v.map(|v| v * k))),

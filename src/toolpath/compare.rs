@@ -259,7 +259,19 @@ fn state_difference(a: &Move, b: &Move, o: &Options) -> Option<String> {
     }
     let (sa, sb) = (a.state, b.state);
     let differs = |x: f64, y: f64| (x - y).abs() > o.feed_tol * x.abs().max(y.abs()).max(1.0);
-    if !o.ignore_feed && differs(sa.feed, sb.feed) {
+    // A pitch is small: compared relative to itself, not to 1 mm.
+    let same_lead = match (sa.lead, sb.lead) {
+        (Some(x), Some(y)) => (x - y).abs() <= o.feed_tol * x.abs().max(y.abs()),
+        (x, y) => x == y,
+    };
+    if !same_lead {
+        return Some(format!(
+            "spindle-synchronised K {:?} vs {:?} (mm/rev)",
+            sa.lead, sb.lead
+        ));
+    }
+    // A thread's speed is the spindle's: the F in force does not matter.
+    if !o.ignore_feed && sa.lead.is_none() && differs(sa.feed, sb.feed) {
         return Some(format!("feed F{} vs F{} (mm/min)", sa.feed, sb.feed));
     }
     if !o.ignore_spindle {

@@ -497,6 +497,12 @@ fn normalize(calls: &[Call]) -> (ToolPath, Vec<(usize, u32)>) {
                 m.push(MoveKind::Feed, m.to_machine(&v), call.line)
             }
             "ARC_FEED" if v.len() >= 6 => arc(&mut m, &v, call.line),
+            // G33.1: down to the point and back, reversing the spindle.
+            "RIGID_TAP" => {
+                let back = m.position;
+                m.push(MoveKind::Feed, m.to_machine(&v), call.line);
+                m.push(MoveKind::Feed, back, call.line);
+            }
             // In the XY plane at the same Z; where it ends, unknown.
             "NURBS_FEED" => {
                 splines.push((m.path.moves.len(), call.line));
@@ -522,6 +528,9 @@ fn normalize(calls: &[Call]) -> (ToolPath, Vec<(usize, u32)>) {
                     _ => Plane::XY,
                 }
             }
+            // G33: the feeds between are K (mm) per spindle revolution.
+            "START_SPEED_FEED_SYNC" => m.state.lead = v.first().map(|k| k * m.scale),
+            "STOP_SPEED_FEED_SYNCH" => m.state.lead = None,
             "SET_FEED_RATE" => m.state.feed = v.first().copied().unwrap_or(0.0) * m.scale,
             "SELECT_TOOL" => m.selected = v.first().map(|&t| t as u32),
             "CHANGE_TOOL" | "CHANGE_TOOL_NUMBER" => {

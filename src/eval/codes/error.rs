@@ -119,6 +119,19 @@ pub enum CodeErrorKind {
     CornerNotOnG1(&'static str),
     /// `,R`/`,C` of 0 or less (its spelling).
     CornerSize(String),
+    /// A G33 line rs274 refuses, or ger does not cut.
+    Thread(ThreadProblem),
+}
+
+/// What a G33 line gets wrong (rs274's checks, and what ger does not cut).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum ThreadProblem {
+    NoK,
+    /// An F word: the feed is the spindle's.
+    Feed,
+    SpindleOff,
+    /// Under G41/G42.
+    Comp,
 }
 
 /// What a G5/G5.1 line gets wrong (rs274's checks, in its words where it
@@ -404,6 +417,7 @@ impl Wording for CodeErrorKind {
                 at,
                 "the radius of the round, or the length of the chamfer's legs",
             ),
+            K::Thread(problem) => thread_wording(*problem, at),
         }
     }
 }
@@ -465,6 +479,33 @@ fn spline_wording(problem: SplineProblem, at: Span) -> Diagnostic {
             "a spline under G7 (diameter mode) is not supported".into(),
             "not supported",
             "G8 before G5/G5.1",
+        ),
+    };
+    error(message, at, label).with_help(help)
+}
+
+fn thread_wording(problem: ThreadProblem, at: Span) -> Diagnostic {
+    use ThreadProblem as P;
+    let (message, label, help) = match problem {
+        P::NoK => (
+            "G33 without K",
+            "K, the distance per spindle revolution, is missing",
+            "give K on every G33 move (the thread's pitch along the move)",
+        ),
+        P::Feed => (
+            "an F word with G33",
+            "a G33 move's feed is the spindle's: K per revolution",
+            "set F on a line of its own, before or after the thread",
+        ),
+        P::SpindleOff => (
+            "spindle not turning in G33",
+            "the move is locked to the spindle, which is off here",
+            "start the spindle (M3 or M4) before the thread",
+        ),
+        P::Comp => (
+            "G33 under cutter compensation",
+            "ger does not offset a spindle-synchronised move",
+            "turn compensation off (G40) before the thread",
         ),
     };
     error(message, at, label).with_help(help)
