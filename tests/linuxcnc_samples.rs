@@ -26,7 +26,7 @@ use support::rs274;
 /// Samples without `#` parameters or o-words that must give rs274's path.
 const FLOOR_PLAIN: usize = 24;
 /// Samples with `#` parameters or o-words that must give rs274's path.
-const FLOOR_MACRO: usize = 113;
+const FLOOR_MACRO: usize = 114;
 
 /// The diameter (mm) of every tool a compensating sample names: LinuxCNC's
 /// sim table has 1/8 in and 1/16 in end mills; one size keeps every
