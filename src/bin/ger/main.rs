@@ -202,6 +202,18 @@ fn read_stdin() -> Result<String, ExitCode> {
     ger::driver::session::program_text(bytes, "-").map_err(load_failed)
 }
 
+/// The program `input` names: standard input for `-`, else a file.
+fn program(input: &str) -> Result<Program<'_>, ExitCode> {
+    Ok(match input {
+        "-" => Program::Text {
+            name: "<stdin>",
+            path: None,
+            text: read_stdin()?,
+        },
+        path => Program::Path(Path::new(path)),
+    })
+}
+
 /// `input` loaded as a whole job (for the picture); the problem printed.
 fn load(input: &str, options: &Options, stage: Option<Stage>) -> Result<Job, ExitCode> {
     load_with_machine(input, options, stage).map(|(job, _)| job)
@@ -214,15 +226,10 @@ fn load_with_machine(
     stage: Option<Stage>,
 ) -> Result<(Job, Option<Machine>), ExitCode> {
     let (session, machine) = session_and_machine(input, options, stage)?;
-    let loaded = match input {
-        "-" => session.load(Program::Text {
-            name: "<stdin>",
-            path: None,
-            text: read_stdin()?,
-        }),
-        path => session.load(Program::Path(Path::new(path))),
-    };
-    loaded.map(|job| (job, machine)).map_err(load_failed)
+    session
+        .load(program(input)?)
+        .map(|job| (job, machine))
+        .map_err(load_failed)
 }
 
 /// `ger compile` (`write`) and `ger check`.
@@ -249,16 +256,9 @@ fn run(
         (true, None) => Destination::Held,
         (false, _) => Destination::Nowhere,
     };
-    let program = match input {
-        "-" => match read_stdin() {
-            Ok(text) => Program::Text {
-                name: "<stdin>",
-                path: None,
-                text,
-            },
-            Err(code) => return code,
-        },
-        path => Program::Path(Path::new(path)),
+    let program = match program(input) {
+        Ok(program) => program,
+        Err(code) => return code,
     };
     let finished = match session.compile(program, destination) {
         Ok(finished) => finished,

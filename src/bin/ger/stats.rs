@@ -2,11 +2,9 @@
 //! (`ger::plan`), lengths and tools, as a table or one JSON object.
 
 use crate::args::Options;
-use crate::{load_failed, read_stdin, session_and_machine};
+use crate::{load_failed, session_and_machine};
 use ger::diagnostic::render;
-use ger::driver::Program;
 use ger::plan::{Figures, Limits, Tally};
-use std::path::Path;
 use std::process::ExitCode;
 
 /// `ger stats INPUT [--json]`.
@@ -23,16 +21,9 @@ pub fn print_stats(input: &str, options: &Options, json: bool) -> ExitCode {
             return ExitCode::from(2);
         }
     };
-    let program = match input {
-        "-" => match read_stdin() {
-            Ok(text) => Program::Text {
-                name: "<stdin>",
-                path: None,
-                text,
-            },
-            Err(code) => return code,
-        },
-        path => Program::Path(Path::new(path)),
+    let program = match crate::program(input) {
+        Ok(program) => program,
+        Err(code) => return code,
     };
     // Planned as the back end makes the moves, the file read a part at a
     // time as a compile reads it: neither the path nor the text is held.
