@@ -834,12 +834,39 @@ pub struct Tool {
 }
 
 /// G10 L1 P`tool` R`radius` Z`length`: each value only where given (the
-/// rest of the tool's entry stays).
+/// rest of the tool's entry stays). G10 L10/L11 give, instead of the
+/// length, the Z the current point is to read (`measured`); the offsets
+/// pass works the length out and makes them L1.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct ToolData {
     pub tool: u32,
     pub radius: Option<f64>,
+    /// The length (L1), or the Z the current point is to read (L10, L11).
     pub length: Option<f64>,
+    pub measured: Measured,
+}
+
+/// How a G10's Z sets a tool's length.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Measured {
+    /// G10 L1: Z is the length.
+    Given,
+    /// G10 L10: the length that makes the current point read Z, with the
+    /// offsets in force.
+    Here,
+    /// G10 L11: the same in G59.3 (a fixture) without G92 or G52.
+    InFixture,
+}
+
+impl Measured {
+    /// G10's L number.
+    pub fn l_number(self) -> u32 {
+        match self {
+            Measured::Given => 1,
+            Measured::Here => 10,
+            Measured::InFixture => 11,
+        }
+    }
 }
 
 impl ToolData {
@@ -847,7 +874,8 @@ impl ToolData {
     /// added when R gives its diameter; with only Z it is added when
     /// `length_only` (the offsets pass, which reads lengths alone), else
     /// left out, so that a radius ger does not know stays an error where
-    /// compensation needs it.
+    /// compensation needs it. A Z still to be measured (L10, L11: the
+    /// offsets pass works it out) is not a length, and is left out.
     pub fn apply(&self, tools: &mut BTreeMap<u32, Tool>, length_only: bool) {
         if self.radius.is_none() && !length_only && !tools.contains_key(&self.tool) {
             return;
@@ -860,7 +888,7 @@ impl ToolData {
         if let Some(r) = self.radius {
             entry.diameter = 2.0 * r;
         }
-        if self.length.is_some() {
+        if self.measured == Measured::Given && self.length.is_some() {
             entry.length = self.length;
         }
     }

@@ -398,7 +398,7 @@ impl Printer {
                 })
             }
             Op::SelectWorkOffset(i) => self.code(ir::work_offset_code(*i).unwrap_or_default()),
-            Op::SetToolData(data) => self.g10_l1(data),
+            Op::SetToolData(data) => self.g10_tool(data),
             Op::SetWorkOffset { index, origin } => self.g10_words("G10 L2", *index, origin),
             Op::SetWorkOffsetHere { index, at } => self.g10_words("G10 L20", *index, at),
             Op::LocalOffset(a) => self.code_axes("G52", a),
@@ -449,9 +449,14 @@ impl Printer {
         self.axes(axes);
     }
 
-    /// G10 L1 P`tool` and the values given.
-    fn g10_l1(&mut self, data: &ir::ToolData) {
-        self.code("G10 L1");
+    /// G10 L1 P`tool` and the values given (L10/L11: in a stage before
+    /// the offsets pass, which makes them L1).
+    fn g10_tool(&mut self, data: &ir::ToolData) {
+        self.code(match data.measured {
+            ir::Measured::Given => "G10 L1",
+            ir::Measured::Here => "G10 L10",
+            ir::Measured::InFixture => "G10 L11",
+        });
         self.int_word(b'P', data.tool);
         for (letter, v) in [(b'R', data.radius), (b'Z', data.length)] {
             if let Some(v) = v {

@@ -440,6 +440,7 @@ mod tests {
             tool: 1,
             radius: Some(3.0),
             length: Some(25.0),
+            measured: ir::Measured::Given,
         });
         let surface = |max_rpm| {
             Op::SpindleMode(ir::SpindleMode::SurfaceSpeed {

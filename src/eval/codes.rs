@@ -912,12 +912,14 @@ impl Evaluator<'_> {
         // The form first: P and R mean other things in the others (L1's
         // P is a tool, its R the tool's radius).
         let here = match l as i64 {
-            1 if l == 1.0 => return tool_data(w, at),
+            1 if l == 1.0 => return tool_data(w, at, ir::Measured::Given),
             2 if l == 2.0 => false,
             20 if l == 20.0 => true,
-            10 | 11 if l.fract() == 0.0 => {
-                return Err(CodeError::new(K::G10ToolTable, lspan).into());
+            10 | 11 if l.fract() == 0.0 && self.options.from == Flavour::Fanuc => {
+                return Err(CodeError::new(K::FanucOffsetMemory, lspan).into());
             }
+            10 if l == 10.0 => return tool_data(w, at, ir::Measured::Here),
+            11 if l == 11.0 => return tool_data(w, at, ir::Measured::InFixture),
             _ => return Err(CodeError::new(K::G10Form, lspan).into()),
         };
         let Some((p, pspan)) = w.take(b'P') else {
@@ -1292,13 +1294,14 @@ fn spindle_mode(t: u32, at: Span, w: &mut WordValues) -> Result<Op, Diagnostic> 
     }))
 }
 
-/// `G10 L1 P<tool> R<radius> Z<length>` (rs274's convert_setup_tool):
-/// only the values given change. Q, I and J (a lathe tool's orientation
+/// `G10 L1 P<tool> R<radius> Z<length>` (rs274's convert_setup_tool),
+/// or L10/L11 with the Z the current point is to read (`measured`): only
+/// the values given change. Q, I and J (a lathe tool's orientation
 /// and angles) do not change a mill's path and are dropped; an offset on
 /// another axis is refused, as ger keeps a tool's radius and Z length only.
-fn tool_data(w: &mut WordValues, at: Span) -> Result<Op, Diagnostic> {
+fn tool_data(w: &mut WordValues, at: Span, measured: ir::Measured) -> Result<Op, Diagnostic> {
     let Some((p, pspan)) = w.take(b'P') else {
-        return Err(CodeError::new(K::ToolDataWithoutP, at).into());
+        return Err(CodeError::new(K::ToolDataWithoutP(measured.l_number()), at).into());
     };
     for letter in *b"QIJ" {
         w.take(letter);
@@ -1319,6 +1322,7 @@ fn tool_data(w: &mut WordValues, at: Span) -> Result<Op, Diagnostic> {
         tool,
         radius: radius.map(|(r, _)| r),
         length: w.take(b'Z').map(|(z, _)| z),
+        measured,
     }))
 }
 

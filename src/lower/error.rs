@@ -12,6 +12,26 @@ pub struct LowerError {
     pub span: Span,
 }
 
+/// What a G10 L10/L11 needs that only the machine knows.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Unmeasurable {
+    /// Where the tool is in Z.
+    Position,
+    /// The tool length offset in force (a G43 of a length ger was not given).
+    LengthInForce,
+    /// Compensation on in a plane with Z: the tool's Z is the comp pass's.
+    CompOnZ,
+    /// G59.3's origin (L11 measures from it).
+    Fixture,
+    /// G54's origin, set by a `G10 L20 P1` passed to the machine.
+    MachineG54,
+    /// A G92 of the machine's own.
+    MachineG92,
+    /// The work offset in force is the machine's (none selected, or one
+    /// whose values ger does not know).
+    MachineFrame,
+}
+
 #[derive(Clone, Debug, PartialEq)]
 pub enum LowerErrorKind {
     /// `what` needs the position of `axis`, which no move has set (or a
@@ -79,6 +99,11 @@ pub enum LowerErrorKind {
     /// Warning: G43 H`tool` with no known length is passed through.
     ToolLengthUnknown {
         tool: u32,
+    },
+    /// G10 L10/L11 (`l`) whose length needs what only the machine knows.
+    ToolLengthNotMeasurable {
+        l: u32,
+        unknown: Unmeasurable,
     },
     /// Warning: a work offset with unknown values is passed through.
     WorkOffsetUnknown {
@@ -373,6 +398,7 @@ impl LowerError {
             .with_help(format!(
                 "to fold it into the coordinates, give `SetTool {tool} diameter length` or --tool-table"
             )),
+            ToolLengthNotMeasurable { l, unknown } => tool_length_not_measurable(*l, *unknown, span),
             WorkOffsetSetByMachine { index } => warning(
                 format!(
                     "G10 L20 sets {} where the tool is, which ger does not know: passed through",
@@ -661,4 +687,23 @@ fn comp_diagnostic(e: &CompError, span: Span) -> Diagnostic {
             )
             .with_help("LinuxCNC makes a spiral here; make the corner sharper or tangent"),
         }
+}
+
+/// G10 L10/L11 (`l`) that needs `unknown`.
+fn tool_length_not_measurable(l: u32, unknown: Unmeasurable, span: Span) -> Diagnostic {
+    let needs = match unknown {
+        Unmeasurable::Position => "where the tool is in Z, which no absolute Z move has set here (or a machine move, a cycle or an offset left to the machine made unknown)",
+        Unmeasurable::LengthInForce => "the tool length offset in force, a G43 of a length ger was not given",
+        Unmeasurable::CompOnZ => "the tool's Z under compensation in a plane with Z, which the compensated path decides",
+        Unmeasurable::Fixture => "G59.3's origin (`G10 L2 P9` sets it), which the program has not given",
+        Unmeasurable::MachineG54 => "G54's origin, set by a `G10 L20 P1` left to the machine",
+        Unmeasurable::MachineG92 => "the machine position, under a G92 left to the machine",
+        Unmeasurable::MachineFrame => "the machine position, in a work offset whose values are the machine's",
+    };
+    error(
+        format!("G10 L{l} sets a tool's length from what only the machine knows here"),
+        span,
+        format!("it needs {needs}"),
+    )
+    .with_help("give the length itself with `G10 L1 P… Z…`, `SetTool` or --tool-table")
 }

@@ -30,7 +30,7 @@
 //! its frame, and the point it names is known in them. The machine then
 //! has a G92 of its own: a `G92.1` goes to it too.
 
-use super::error::{LowerError, LowerErrorKind};
+use super::error::{LowerError, LowerErrorKind, Unmeasurable};
 use super::pass::{feed_in_turn, follows_only, Batch, Context, Out, Pass, PassInfo};
 use crate::ir::{self, Axes, Axis, Distance, Op, Position, Stmt};
 use crate::source::Span;
@@ -75,6 +75,11 @@ struct OffsetsPass {
     tool_length: f64,
     /// A G43/G44 with an unknown length is active in the output.
     passed_length: bool,
+    /// The tool length offset rs274 has in force (G44's negative), even
+    /// where `tip_path` folds none; `None`: the machine's.
+    length_in_force: Option<f64>,
+    /// G41/G42 is on: the point in its plane is the comp pass's.
+    comp: bool,
     /// `LowerOptions::tip_path`: tool lengths are taken as zero.
     tip_path: bool,
     plane: ir::Plane,
@@ -115,6 +120,8 @@ impl OffsetsPass {
             passed_g92: false,
             tool_length: 0.0,
             passed_length: false,
+            length_in_force: Some(0.0),
+            comp: false,
             tip_path: cx.options.tip_path,
             plane: ir::Plane::XY,
             tools: cx.start.setup.tools.clone(),
@@ -265,10 +272,7 @@ impl Pass for OffsetsPass {
                 self.set_distance(*d, span);
                 true
             }
-            Op::SetToolData(data) => {
-                data.apply(&mut self.tools, true);
-                true
-            }
+            Op::SetToolData(data) => self.set_tool_data(data, span, out),
             Op::Move(m) => {
                 self.place_move(m);
                 true
@@ -330,6 +334,10 @@ impl Pass for OffsetsPass {
                 self.tool_length_offset(tool, negative, stmt, out)
             }
             Op::CancelToolLength => self.cancel_tool_length(),
+            Op::Comp { .. } | Op::CompOff => {
+                self.comp = matches!(stmt.op, Op::Comp { .. });
+                true
+            }
             Op::Feed(_)
             | Op::Speed(_)
             | Op::SpindleMode(_)
@@ -345,8 +353,6 @@ impl Pass for OffsetsPass {
             | Op::DiameterMode(_)
             | Op::ReturnLevel(_)
             | Op::CycleOff
-            | Op::Comp { .. }
-            | Op::CompOff
             | Op::PathControl(_)
             | Op::Comment(_)
             | Op::Passthrough(_)
@@ -409,6 +415,7 @@ impl OffsetsPass {
     /// cancelling there.
     fn cancel_tool_length(&mut self) -> bool {
         self.tool_length = 0.0;
+        self.length_in_force = Some(0.0);
         let passed = self.passed_length;
         if passed {
             self.passed_length = false;
@@ -606,6 +613,7 @@ impl OffsetsPass {
         out: &mut Out<'_>,
     ) -> bool {
         let length = tool.and_then(|t| self.tools.get(&t)).and_then(|t| t.length);
+        self.length_in_force = length.map(|l| if negative { -l } else { l });
         if self.tip_path {
             // The tip's path: whatever the length, the tip is where the
             // program says.
@@ -632,5 +640,71 @@ impl OffsetsPass {
         self.passed_length = true;
         self.position[2] = None;
         true
+    }
+}
+
+impl OffsetsPass {
+    /// G10 L1/L10/L11: the tool's data from here on. An L10 or L11 Z is
+    /// made the length it sets (rs274's convert_setup_tool), so that what
+    /// goes on is an L1; where that needs what only the machine knows, an
+    /// error. Whether the statement goes on.
+    fn set_tool_data(&mut self, data: &mut ir::ToolData, span: Span, out: &mut Out<'_>) -> bool {
+        if let (Some(z), true) = (data.length, data.measured != ir::Measured::Given) {
+            match self.measured_length(data.measured, z) {
+                Ok(length) => data.length = Some(length),
+                Err(unknown) => {
+                    let l = data.measured.l_number();
+                    out.report(LowerError::new(
+                        LowerErrorKind::ToolLengthNotMeasurable { l, unknown },
+                        span,
+                    ));
+                    return false;
+                }
+            }
+        }
+        data.measured = ir::Measured::Given;
+        data.apply(&mut self.tools, true);
+        true
+    }
+
+    /// The length with which the current point reads `z`: with the
+    /// offsets in force (L10; L1 is not measured), or in G59.3 without G92 and G52 (L11: the
+    /// machine position less G59.3's origin). Both start from the point
+    /// without the tool length offset in force.
+    fn measured_length(&self, measured: ir::Measured, z: f64) -> Result<f64, Unmeasurable> {
+        let z_axis = Axis::Z.index();
+        let Some(in_force) = self.length_in_force else {
+            return Err(Unmeasurable::LengthInForce);
+        };
+        if self.comp && self.plane != ir::Plane::XY {
+            return Err(Unmeasurable::CompOnZ);
+        }
+        let Some(at) = self.position[z_axis] else {
+            return Err(Unmeasurable::Position);
+        };
+        // The output's coordinate with rs274's length in force, not the
+        // folded one (they differ under `tip_path`).
+        let bare = at - self.tool_length + in_force;
+        match measured {
+            ir::Measured::Given | ir::Measured::Here => {
+                Ok(bare - (self.shift(z_axis) - self.tool_length) - z)
+            }
+            ir::Measured::InFixture => {
+                if self.passed_g92 {
+                    return Err(Unmeasurable::MachineG92);
+                }
+                let fixture = match self.frame {
+                    // The output's coordinates are measured from G59.3.
+                    Frame::Passed(9) => 0.0,
+                    Frame::G54 => {
+                        let g59_3 = self.systems[9][z_axis].ok_or(Unmeasurable::Fixture)?;
+                        let g54 = self.machine[1][z_axis].ok_or(Unmeasurable::MachineG54)?;
+                        g59_3 - g54
+                    }
+                    Frame::Initial | Frame::Passed(_) => return Err(Unmeasurable::MachineFrame),
+                };
+                Ok(bare - fixture - z)
+            }
+        }
     }
 }

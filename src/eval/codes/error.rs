@@ -65,13 +65,13 @@ pub enum CodeErrorKind {
     WorkOffsetNumber,
     RotatedWorkOffset,
     G10Form,
-    /// G10 L10, L11: a tool's length from where the tool is.
-    G10ToolTable,
-    /// G10 L1 without P (the tool).
-    ToolDataWithoutP,
-    /// G10 L1 R below zero.
+    /// G10 L10, L11 read as Fanuc's: its offset memory.
+    FanucOffsetMemory,
+    /// G10 L1/L10/L11 (the number) without P (the tool).
+    ToolDataWithoutP(u32),
+    /// G10 L1/L10/L11 R below zero.
     NegativeToolRadius,
-    /// G10 L1 with an offset on an axis other than Z.
+    /// G10 L1/L10/L11 with an offset on an axis other than Z.
     ToolDataAxis(char),
     /// G52/G92/G10 with no axis word.
     WithoutAxes(&'static str),
@@ -279,7 +279,7 @@ impl Wording for CodeErrorKind {
             K::DwellWithoutTime => error("G4 without a time", at, "no P or X here")
                 .with_help("`G4 P500` dwells 500 ms, `G4 P0.5` or `G4 X0.5` half a second"),
             K::NegativeDwell => error("negative dwell", at, "a dwell time is positive"),
-            K::G10WithoutL => error("G10 without L", at, "ger knows G10 L1, L2 and L20")
+            K::G10WithoutL => error("G10 without L", at, "ger knows G10 L1, L10, L11, L2 and L20")
                 .with_help("`G10 L2 P2 X… Y… Z…` sets the origin of G55"),
             K::G10WithoutP => error(
                 "G10 without P",
@@ -296,22 +296,26 @@ impl Wording for CodeErrorKind {
                 at,
                 "G10 R rotates the coordinate system",
             ),
-            K::G10Form => error("unsupported G10 form", at, "ger knows G10 L1, L2 and L20"),
-            K::G10ToolTable => error(
-                "G10 L10 and L11 are not supported",
+            K::G10Form => error("unsupported G10 form", at, "ger knows G10 L1, L10, L11, L2 and L20"),
+            K::FanucOffsetMemory => error(
+                "Fanuc's G10 L10–L13 are not supported",
                 at,
-                "they set a tool's length from where the tool stands",
+                "on Fanuc they write the offset memory (tool lengths and radii by H and D number)",
             )
-            .with_note("ger knows G10 L1 (a tool's radius and length as given), L2 and L20")
-            .with_help("give the length itself with `G10 L1 P… Z…`, `SetTool` or --tool-table"),
-            K::ToolDataWithoutP => error("G10 L1 without P", at, "P names the tool: `G10 L1 P1 R3 Z50`"),
+            .with_note("ger reads G10 L10 and L11 as LinuxCNC's (a tool's length from where the tool stands), not under --from fanuc")
+            .with_help("give the tool with `SetTool` or --tool-table"),
+            K::ToolDataWithoutP(l) => error(
+                format!("G10 L{l} without P"),
+                at,
+                "P names the tool: `G10 L1 P1 R3 Z50`",
+            ),
             K::ToolDataAxis(axis) => error(
                 format!("a tool offset along {axis} is not supported"),
                 at,
                 "ger keeps a tool's radius (R) and length (Z) only",
             )
             .with_help("leave the offset out, or give it to the machine's tool table"),
-            K::NegativeToolRadius => error("negative tool radius", at, "G10 L1's R is the tool's radius"),
+            K::NegativeToolRadius => error("negative tool radius", at, "G10's R is the tool's radius"),
             K::WithoutAxes(code) => error(format!("{code} without axes"), at, "give X, Y or Z"),
             K::M98WithoutP => error("M98 without P", at, "P names the subprogram: `M98 P1000`"),
             K::G65WithoutP => error("G65 without P", at, "P names the macro: `G65 P9010 A… B…`"),
