@@ -329,6 +329,10 @@ impl<'a> Evaluator<'a> {
             ir::Op::Units(u) if self.cycles.run_open && self.modal.units != Some(*u) => {
                 self.cycles.units_changed_at = Some(span);
             }
+            ir::Op::SetToolData(data) => {
+                let units = self.modal.units.or(self.options.units);
+                self.setup.set_tool_data(data, units);
+            }
             _ => {}
         }
         self.track(op);

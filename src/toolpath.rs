@@ -31,6 +31,10 @@ pub struct ToolPath {
     pub units: Option<Units>,
     /// The setup directives (stock, zero, tools), in the output units.
     pub setup: ir::Setup,
+    /// A tool's length was given (by the table, `SetTool` or a G10, even
+    /// of a tool `setup` leaves out for want of its radius): the tip's
+    /// path may not be the machine's.
+    pub lengths_given: bool,
 }
 
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -273,6 +277,7 @@ impl Builder {
             path: ToolPath {
                 units,
                 setup: setup.clone(),
+                lengths_given: setup.tools.values().any(|t| t.length.is_some()),
                 ..ToolPath::default()
             },
             drained: 0,
@@ -302,7 +307,10 @@ impl Builder {
                 self.step(&m.to, stmt.span, m.motion);
             }
             // The pictures draw each tool with the last radius given.
-            Op::SetToolData(data) => data.apply(&mut self.path.setup.tools, false),
+            Op::SetToolData(data) => {
+                self.path.lengths_given |= data.length.is_some();
+                data.apply(&mut self.path.setup.tools, false)
+            }
             Op::Home {
                 via, incremental, ..
             } => self.home(via, *incremental, stmt),

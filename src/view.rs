@@ -162,7 +162,7 @@ pub fn page(payload: Option<&str>) -> String {
 /// The tool path of the tip, when tool lengths move the machine's away
 /// from it (the picture draws the tip, as `ger render` does).
 fn tip_path(job: &mut Job, machine: &ToolPath) -> Option<ToolPath> {
-    if machine.setup.tools.values().all(|t| t.length.is_none()) {
+    if !machine.lengths_given {
         return None;
     }
     let before = job.options.lower.tip_path;

@@ -291,3 +291,75 @@ fn a_tool_path_fed_from_the_file_in_parts_is_the_whole_programs() {
     }
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+/// Each move's kind and end, and each tool's cutter as the picture draws it.
+type MovesAndCutters = (
+    Vec<(MoveKind, [f64; 3])>,
+    Vec<(u32, ger::render::cutter::Cutter)>,
+);
+
+/// The moves of `text` (a program in memory) and its cutters.
+fn path_and_cutters(text: &str) -> MovesAndCutters {
+    let fs = Memory::new();
+    let mut job = session(&fs, Search::default())
+        .load(Program::Text {
+            name: "part.egc",
+            path: None,
+            text: text.into(),
+        })
+        .unwrap_or_else(|e| panic!("{e}"));
+    let outcome = job.outcome();
+    let path = outcome
+        .tool_path
+        .unwrap_or_else(|| panic!("{:?}", outcome.diagnostics));
+    let cutters = ger::render::cutters_by_tool(&path, 1.0, &[]);
+    let moves = path.moves.iter().map(|m| (m.kind, m.end)).collect();
+    (moves, cutters)
+}
+
+#[test]
+fn a_tool_set_by_g10_is_the_tool_wizards_and_pictures_see() {
+    let program = |tool: &str| {
+        format!("{tool}\nG21 G90 G17\nT1 M6\nG0 X50 Y40 Z10\nF400\nPocket 40 30 5 2\nM30\n")
+    };
+    let cases = [
+        ("SetTool 1 6", "G10 L1 P1 R3"),
+        ("SetTool 1 6\nG21 G0 Z10", "G21 G0 Z10\nG10 L10 P1 R3 Z0"),
+        // Under G20 in a metric program: R is in inches where it is given
+        // (not the default tool's 1/4 in).
+        ("SetTool 1 3.175", "G21\nG20 G10 L1 P1 R0.0625\nG21"),
+    ];
+    for (set_tool, g10) in cases {
+        let (table_moves, table_cutters) = path_and_cutters(&program(set_tool));
+        let (moves, cutters) = path_and_cutters(&program(g10));
+        // The pocket's stepover and wall offset follow the diameter.
+        assert_eq!(moves.len(), table_moves.len(), "{g10}");
+        for (a, b) in moves.iter().zip(&table_moves) {
+            assert_eq!(a.0, b.0, "{g10}");
+            assert!(
+                (0..3).all(|i| (a.1[i] - b.1[i]).abs() < 1e-9),
+                "{g10}: {a:?} {b:?}"
+            );
+        }
+        assert_eq!(cutters, table_cutters, "{g10}");
+    }
+}
+
+#[test]
+fn a_length_set_by_g10_alone_makes_the_studio_draw_the_tips_path() {
+    let lengths_given = |text: &str| {
+        let fs = Memory::new();
+        let mut job = session(&fs, Search::default())
+            .load(Program::Text {
+                name: "part.ngc",
+                path: None,
+                text: text.into(),
+            })
+            .unwrap_or_else(|e| panic!("{e}"));
+        job.tool_path().0.expect("compiles").lengths_given
+    };
+    let program = |g10: &str| format!("G21 G90\n{g10}\nT1 M6\nG43 H1\nG0 X0 Y0 Z5\nM2\n");
+    assert!(lengths_given(&program("G10 L1 P1 Z50")));
+    assert!(lengths_given(&program("G0 Z10\nG10 L10 P1 Z0")));
+    assert!(!lengths_given(&program("G10 L1 P1 R3")));
+}

@@ -197,10 +197,7 @@ impl Evaluator<'_> {
             ir::Op::SetWorkOffset { index, .. } if *index != 0 && *index != m.work_offset => {}
             ir::Op::SelectWorkOffset(index) if *index == m.work_offset => {}
             ir::Op::ToolLength { tool, .. } => {
-                let length = tool
-                    .and_then(|t| self.setup.get().tools.get(&t))
-                    .and_then(|t| t.length);
-                let zero = length.map(|l| l == 0.0);
+                let zero = tool.and_then(|t| self.setup.tool_length_is_zero(t));
                 if p.tool_offset != Some(false) || zero != Some(true) {
                     p.here[Axis::Z.index()] = None;
                 }

@@ -7,7 +7,7 @@ use crate::ast::Names;
 use crate::diagnostic::{error, Diagnostic, DiagnosticExt, Located, Wording};
 use crate::ir::{self, Tool, ToolShape, Units};
 use crate::source::Span;
-use std::collections::HashMap;
+use std::collections::{BTreeMap, HashMap};
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum Directive {
@@ -69,6 +69,20 @@ pub struct SetupBuilder {
     table_units: Option<Units>,
     /// Where each thing was defined, for "defined twice".
     defined: HashMap<(Directive, u32), Span>,
+    /// What `G10 L1`/`L10`/`L11` set at run time, over the above (kept
+    /// apart: the output's start holds the setup before them).
+    set_by_g10: BTreeMap<u32, SetByG10>,
+}
+
+/// A tool's values a G10 set.
+#[derive(Clone, Copy, Debug, Default)]
+struct SetByG10 {
+    /// The diameter, in the units in force at the G10 (`None`: the
+    /// program's numbers, its units unstated).
+    diameter: Option<(f64, Option<Units>)>,
+    /// The length; `Some(None)`: an L10/L11's, which only the offsets pass
+    /// works out.
+    length: Option<Option<f64>>,
 }
 
 impl SetupBuilder {
@@ -107,10 +121,34 @@ impl SetupBuilder {
         &self.setup
     }
 
+    /// A `G10 L1`/`L10`/`L11`'s values from here on (`units`: those in
+    /// force at it), as the passes and the tool path apply it.
+    pub fn set_tool_data(&mut self, data: &ir::ToolData, units: Option<Units>) {
+        let entry = self.set_by_g10.entry(data.tool).or_default();
+        if let Some(r) = data.radius {
+            entry.diameter = Some((2.0 * r, units));
+        }
+        if let Some(length) = data.length {
+            entry.length = Some((data.measured == ir::Measured::Given).then_some(length));
+        }
+    }
+
+    /// Whether a tool's length is zero (`None`: not known here).
+    pub fn tool_length_is_zero(&self, tool: u32) -> Option<bool> {
+        let length = match self.set_by_g10.get(&tool).and_then(|t| t.length) {
+            Some(length) => length,
+            None => self.setup.tools.get(&tool)?.length,
+        };
+        length.map(|l| l == 0.0)
+    }
+
     /// Diameter of a tool in the program's current units (for wizards).
     pub fn tool_diameter(&self, tool: u32, program_units: Option<Units>) -> f64 {
         let setup_units = self.setup.units.or(program_units).unwrap_or(Units::Inch);
         let to = program_units.unwrap_or(setup_units);
+        if let Some((d, units)) = self.set_by_g10.get(&tool).and_then(|t| t.diameter) {
+            return d * units.map_or(1.0, |from| from.factor(to));
+        }
         let table_units = match self.defined.contains_key(&(Directive::Tool, tool)) {
             true => setup_units,
             false => self.table_units.unwrap_or(setup_units),
