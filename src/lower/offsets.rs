@@ -29,6 +29,11 @@
 //! shifts ger folds added, so the output's coordinates from there are in
 //! its frame, and the point it names is known in them. The machine then
 //! has a G92 of its own: a `G92.1` goes to it too.
+//!
+//! A `G10 L10`/`L11` (a tool's length from where the tool stands) is made
+//! the `G10 L1` it amounts to, from the position, the shifts and the
+//! length in force; one that needs what only the machine knows is an
+//! error.
 
 use super::error::{LowerError, LowerErrorKind, Unmeasurable};
 use super::pass::{feed_in_turn, follows_only, Batch, Context, Out, Pass, PassInfo};
@@ -668,7 +673,7 @@ impl OffsetsPass {
     }
 
     /// The length with which the current point reads `z`: with the
-    /// offsets in force (L10; L1 is not measured), or in G59.3 without G92 and G52 (L11: the
+    /// offsets in force (L10), or in G59.3 without G92 and G52 (L11: the
     /// machine position less G59.3's origin). Both start from the point
     /// without the tool length offset in force.
     fn measured_length(&self, measured: ir::Measured, z: f64) -> Result<f64, Unmeasurable> {
