@@ -187,7 +187,7 @@ impl<'l> Planner<'l> {
 
     /// Take `piece`; `timed` gets each block timed (its move's index and
     /// its seconds).
-    fn take(&mut self, piece: Piece, timed: &mut dyn FnMut(usize, f64)) {
+    fn take(&mut self, piece: Piece, timed: &mut impl FnMut(usize, f64)) {
         match piece {
             Piece::Block(block) => self.push(block, timed),
             Piece::Cruise { run, chords, last } => {
@@ -207,7 +207,7 @@ impl<'l> Planner<'l> {
     }
 
     /// Take `block`; `timed` gets each block timed.
-    fn push(&mut self, block: Block, timed: &mut dyn FnMut(usize, f64)) {
+    fn push(&mut self, block: Block, timed: &mut impl FnMut(usize, f64)) {
         let max_entry = match &self.previous {
             Some(a) if !block.stopped_before => junction(a, &block, self.limits)
                 .min(a.nominal.powi(2))
@@ -251,7 +251,7 @@ impl<'l> Planner<'l> {
     /// The first block of the window timed: its exit as fast as the
     /// blocks behind it, up to the buffer's end or a stop, allow (a run
     /// of chords: all of them, at their nominal speed).
-    fn time_first(&mut self, timed: &mut dyn FnMut(usize, f64)) {
+    fn time_first(&mut self, timed: &mut impl FnMut(usize, f64)) {
         let Some(first) = self.window.pop_front() else {
             return;
         };
@@ -271,7 +271,7 @@ impl<'l> Planner<'l> {
         self.slots -= first.chords;
     }
 
-    fn finish(&mut self, timed: &mut dyn FnMut(usize, f64)) {
+    fn finish(&mut self, timed: &mut impl FnMut(usize, f64)) {
         while !self.window.is_empty() {
             self.time_first(timed);
         }
@@ -506,7 +506,8 @@ mod tests {
             }),
             ..path(&[[10.0, 0.0, 0.0], [10.0, 0.0, 0.0]], 600.0).moves[0]
         };
-        assert_eq!(chords::arc_segments(&m, 0.002), 157);
+        let (sweep, radius, _) = m.along().arc_shape().unwrap();
+        assert_eq!(chords::arc_segments(radius, sweep, 0.002), 157);
     }
 
     /// [`limits`] on LinuxCNC's planner.
