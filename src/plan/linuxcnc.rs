@@ -116,21 +116,26 @@ pub(super) fn junction_sqr(a: &Block, b: &Block, limits: &Limits) -> f64 {
 /// tolerance and half of each move allow, its speed that at which the
 /// normal acceleration stays within its share.
 fn blend_speed(a: &Block, b: &Block, cos: f64, tolerance: f64, limits: &Limits) -> f64 {
-    // Half the angle between the two moves' lines at the corner: π/2
-    // straight on, 0 straight back.
-    let theta = (-cos).clamp(-1.0, 1.0).acos() / 2.0;
-    if theta <= 1e-9 {
+    // θ, half the angle between the two moves' lines at the corner (π/2
+    // straight on, 0 straight back), by its sine and cosine from the
+    // half-angle formulas: cos 2θ = x. Straight back (θ = 0): a stop.
+    let x = (-cos).clamp(-1.0, 1.0);
+    if x >= 1.0 {
         return 0.0;
     }
+    let cos_sqr = 0.5 * (1.0 + x);
+    let (sin, cos) = ((0.5 * (1.0 - x)).sqrt(), cos_sqr.sqrt());
     let quarter = TOLERANCE_RATIO * a.length.min(b.length);
     let tolerance = match tolerance > 0.0 {
         true => tolerance.min(quarter),
         false => quarter,
     };
-    let h = tolerance / (1.0 - theta.sin());
-    let d_tol = theta.cos() * h;
+    // tolerance / (1 − sin θ), without the cancellation near straight on:
+    // 1 − sin θ = cos² θ / (1 + sin θ).
+    let h = tolerance * (1.0 + sin) / cos_sqr;
+    let d_tol = cos * h;
     let d_lengths = BLEND_DIST_FRACTION * a.length.min(b.length);
-    let radius = theta.tan() * d_tol.min(d_lengths);
+    let radius = sin / cos * d_tol.min(d_lengths);
     let a_max = along(limits.max_accel, a.unit_out).min(along(limits.max_accel, b.unit_in));
     (acc_ratio_normal() * a_max * radius).sqrt()
 }
