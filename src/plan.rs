@@ -14,6 +14,7 @@
 //! [`Machine`](crate::driver::machine::Machine) only;
 //! never sees the IR or the program text.
 
+mod apart;
 mod block;
 mod chords;
 mod linuxcnc;
@@ -21,6 +22,7 @@ mod linuxcnc;
 pub use block::Limits;
 mod tally;
 
+pub use apart::tally_apart;
 use block::{along, direction, dot, Block};
 use chords::Piece;
 pub use tally::Tally;
