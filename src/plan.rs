@@ -353,7 +353,7 @@ mod tests {
 
     /// A machine of 1000 mm/s² and 200 mm/s on every axis, grbl's
     /// junction deviation (0.01 mm).
-    fn limits() -> Limits {
+    pub(super) fn limits() -> Limits {
         Limits {
             controller: Controller::Grbl,
             max_rate: [200.0; 3],
@@ -369,7 +369,7 @@ mod tests {
     }
 
     /// Feed moves through `points` at `feed` mm/min.
-    fn path(points: &[[f64; 3]], feed: f64) -> ToolPath {
+    pub(super) fn path(points: &[[f64; 3]], feed: f64) -> ToolPath {
         let moves = points
             .windows(2)
             .map(|p| Move {

@@ -118,43 +118,17 @@ impl PathSink for Handoff {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::driver::machine::Controller;
-    use crate::toolpath::{EventKind, MoveKind, State, ToolPath};
+    use crate::toolpath::EventKind;
 
     #[test]
     fn figures_apart_are_those_planned_here() {
         // 5,000 moves (several batches) with dwells between them and a
         // restart after the first 100: the same figures, to the bit.
-        let limits = Limits {
-            controller: Controller::Grbl,
-            max_rate: [100.0; 3],
-            max_accel: [500.0; 3],
-            rapid_rate: None,
-            junction_deviation: 0.01,
-            path_tolerance: 0.0,
-            arc_tolerance: 0.002,
-            blocks: 15,
-            tool_change_s: 0.0,
-            spindle_start_s: 0.0,
-        };
-        let moves: Vec<Move> = (0..5000)
-            .map(|i| {
-                let at = |k: usize| [(k % 7) as f64, (k % 11) as f64 * 0.5, 0.0];
-                Move {
-                    kind: MoveKind::Feed,
-                    start: at(i),
-                    end: at(i + 1),
-                    extra: [0.0; 6],
-                    state: State {
-                        feed: 1000.0 + i as f64,
-                        tool: 1,
-                        ..State::default()
-                    },
-                    span: crate::source::Span::new(0, 1, 0, 0),
-                    guessed: [false; 3],
-                }
-            })
+        let limits = crate::plan::tests::limits();
+        let points: Vec<[f64; 3]> = (0..=5000)
+            .map(|k| [(k % 7) as f64, (k % 11) as f64 * 0.5, 0.0])
             .collect();
+        let mut path = crate::plan::tests::path(&points, 1200.0);
         let events = (0..50)
             .map(|k| Event {
                 kind: EventKind::Dwell(0.5),
@@ -162,11 +136,7 @@ mod tests {
                 span: crate::source::Span::new(0, 2, 0, 0),
             })
             .collect();
-        let path = ToolPath {
-            moves,
-            events,
-            ..ToolPath::default()
-        };
+        path.events = events;
         let feed = |sink: &mut dyn PathSink| {
             for m in &path.moves[..100] {
                 sink.feed_move(m);
