@@ -14,6 +14,7 @@
 //! [`Machine`](crate::driver::machine::Machine) only;
 //! never sees the IR or the program text.
 
+mod apart;
 mod block;
 mod chords;
 mod linuxcnc;
@@ -21,6 +22,7 @@ mod linuxcnc;
 pub use block::Limits;
 mod tally;
 
+pub use apart::tally_apart;
 use block::{along, direction, dot, Block};
 use chords::Piece;
 pub use tally::Tally;
@@ -155,10 +157,18 @@ struct Planner<'l> {
     entry_sqr: f64,
 }
 
-/// A block not yet timed.
+/// A block not yet timed: what timing it needs of it (the window holds
+/// no more, so that it moves little).
 #[derive(Clone, Copy)]
 struct Slot {
-    block: Block,
+    /// mm; mm/s; mm/s².
+    length: f64,
+    nominal: f64,
+    accel: f64,
+    /// What it adds to a speed squared from end to end: 2 · accel · length.
+    gain: f64,
+    /// The move it is part of.
+    source: usize,
     /// Its largest entry speed squared, at the corner before it.
     max_entry: f64,
     /// The largest from which it can still slow down to a stop at the end
@@ -166,10 +176,26 @@ struct Slot {
     /// next: a new block changes it only back to the first block whose
     /// limit it does not raise).
     reachable: f64,
-    /// 1, or a run of an arc's middle chords (`chords.rs`), `block`
+    /// 1, or a run of an arc's middle chords (`chords.rs`), `length`
     /// their total length: it always enters and leaves at its nominal
     /// speed, so its limit never changes.
     chords: usize,
+}
+
+impl Slot {
+    /// `block`'s slot, alone in the window: entered and left at rest.
+    fn of(block: &Block) -> Slot {
+        Slot {
+            length: block.length,
+            nominal: block.nominal,
+            accel: block.accel,
+            gain: 2.0 * block.accel * block.length,
+            source: block.source,
+            max_entry: 0.0,
+            reachable: 0.0,
+            chords: 1,
+        }
+    }
 }
 
 impl<'l> Planner<'l> {
@@ -187,17 +213,17 @@ impl<'l> Planner<'l> {
 
     /// Take `piece`; `timed` gets each block timed (its move's index and
     /// its seconds).
-    fn take(&mut self, piece: Piece, timed: &mut dyn FnMut(usize, f64)) {
+    fn take(&mut self, piece: Piece, timed: &mut impl FnMut(usize, f64)) {
         match piece {
             Piece::Block(block) => self.push(block, timed),
             Piece::Cruise { run, chords, last } => {
                 let cruise = run.nominal.powi(2);
                 self.previous = Some(last);
                 self.add(Slot {
-                    block: run,
                     max_entry: cruise,
                     reachable: cruise,
                     chords,
+                    ..Slot::of(&run)
                 });
                 while self.slots >= self.depth {
                     self.time_first(timed);
@@ -207,7 +233,7 @@ impl<'l> Planner<'l> {
     }
 
     /// Take `block`; `timed` gets each block timed.
-    fn push(&mut self, block: Block, timed: &mut dyn FnMut(usize, f64)) {
+    fn push(&mut self, block: Block, timed: &mut impl FnMut(usize, f64)) {
         let max_entry = match &self.previous {
             Some(a) if !block.stopped_before => junction(a, &block, self.limits)
                 .min(a.nominal.powi(2))
@@ -217,12 +243,11 @@ impl<'l> Planner<'l> {
         self.previous = Some(block);
         // The speed must be 0 at the buffer's end (and is before a block
         // after a stop, whose largest entry is 0).
-        let reachable = max_entry.min(2.0 * block.accel * block.length);
+        let slot = Slot::of(&block);
         self.add(Slot {
-            block,
             max_entry,
-            reachable,
-            chords: 1,
+            reachable: max_entry.min(slot.gain),
+            ..slot
         });
         if self.slots >= self.depth {
             self.time_first(timed);
@@ -235,12 +260,13 @@ impl<'l> Planner<'l> {
         self.window.push_back(slot);
         for j in (1..self.window.len() - 1).rev() {
             let Slot {
-                block: b,
+                gain,
                 max_entry,
                 reachable: old,
                 chords,
+                ..
             } = self.window[j];
-            let new = max_entry.min(self.window[j + 1].reachable + 2.0 * b.accel * b.length);
+            let new = max_entry.min(self.window[j + 1].reachable + gain);
             if new == old || chords > 1 {
                 break;
             }
@@ -251,27 +277,26 @@ impl<'l> Planner<'l> {
     /// The first block of the window timed: its exit as fast as the
     /// blocks behind it, up to the buffer's end or a stop, allow (a run
     /// of chords: all of them, at their nominal speed).
-    fn time_first(&mut self, timed: &mut dyn FnMut(usize, f64)) {
+    fn time_first(&mut self, timed: &mut impl FnMut(usize, f64)) {
         let Some(first) = self.window.pop_front() else {
             return;
         };
-        let b = first.block;
         let exit_sqr = match first.chords {
             1 => {
                 let exit_sqr = self.window.front().map_or(0.0, |next| next.reachable);
-                exit_sqr.min(self.entry_sqr + 2.0 * b.accel * b.length)
+                exit_sqr.min(self.entry_sqr + first.gain)
             }
             _ => first.max_entry,
         };
         timed(
-            b.source,
-            trapezoid(&b, self.entry_sqr.sqrt(), exit_sqr.sqrt()),
+            first.source,
+            trapezoid(&first, self.entry_sqr.sqrt(), exit_sqr.sqrt()),
         );
         self.entry_sqr = exit_sqr;
         self.slots -= first.chords;
     }
 
-    fn finish(&mut self, timed: &mut dyn FnMut(usize, f64)) {
+    fn finish(&mut self, timed: &mut impl FnMut(usize, f64)) {
         while !self.window.is_empty() {
             self.time_first(timed);
         }
@@ -309,7 +334,7 @@ fn junction_sqr(a: &Block, b: &Block, limits: &Limits) -> f64 {
 /// The time of a block entered at `entry` and left at `exit` (mm/s):
 /// accelerate to its nominal speed, cruise, slow down; a triangle where
 /// it is too short to reach it.
-fn trapezoid(b: &Block, entry: f64, exit: f64) -> f64 {
+fn trapezoid(b: &Slot, entry: f64, exit: f64) -> f64 {
     let (a, d, v) = (b.accel, b.length, b.nominal);
     let up = (v * v - entry * entry).max(0.0) / (2.0 * a);
     let down = (v * v - exit * exit).max(0.0) / (2.0 * a);
@@ -328,7 +353,7 @@ mod tests {
 
     /// A machine of 1000 mm/s² and 200 mm/s on every axis, grbl's
     /// junction deviation (0.01 mm).
-    fn limits() -> Limits {
+    pub(super) fn limits() -> Limits {
         Limits {
             controller: Controller::Grbl,
             max_rate: [200.0; 3],
@@ -344,7 +369,7 @@ mod tests {
     }
 
     /// Feed moves through `points` at `feed` mm/min.
-    fn path(points: &[[f64; 3]], feed: f64) -> ToolPath {
+    pub(super) fn path(points: &[[f64; 3]], feed: f64) -> ToolPath {
         let moves = points
             .windows(2)
             .map(|p| Move {
@@ -506,7 +531,8 @@ mod tests {
             }),
             ..path(&[[10.0, 0.0, 0.0], [10.0, 0.0, 0.0]], 600.0).moves[0]
         };
-        assert_eq!(chords::arc_segments(&m, 0.002), 157);
+        let (sweep, radius, _) = m.along().arc_shape().unwrap();
+        assert_eq!(chords::arc_segments(radius, sweep, 0.002), 157);
     }
 
     /// [`limits`] on LinuxCNC's planner.

@@ -114,7 +114,7 @@ impl Move {
             MoveKind::Arc(a) => {
                 let (p, q, n) = a.plane.axes();
                 let r = (self.start[p] - a.center[p]).hypot(self.start[q] - a.center[q]);
-                (r * self.sweep()).hypot(self.end[n] - self.start[n])
+                arc_length(r, self.sweep(), self.end[n] - self.start[n])
             }
             MoveKind::Rapid | MoveKind::Feed => distance(self.start, self.end),
         }
@@ -180,6 +180,25 @@ struct ArcAlong {
 }
 
 impl Along {
+    /// An arc's sweep (radians, unsigned, [`Move::sweep`]'s) and its
+    /// radius at the start and at the end; `None`: a line.
+    pub fn arc_shape(&self) -> Option<(f64, f64, f64)> {
+        self.arc
+            .as_ref()
+            .map(|a| (a.sweep.abs(), a.radius, a.end_radius))
+    }
+
+    /// [`Move::length`], from the constants already found.
+    pub fn length(&self) -> f64 {
+        match &self.arc {
+            Some(a) => {
+                let (_, _, n) = a.arc.plane.axes();
+                arc_length(a.radius, a.sweep.abs(), self.end[n] - self.start[n])
+            }
+            None => distance(self.start, self.end),
+        }
+    }
+
     pub fn at(&self, t: f64) -> Point {
         let Some(a) = &self.arc else {
             return std::array::from_fn(|i| self.start[i] + (self.end[i] - self.start[i]) * t);
@@ -193,6 +212,12 @@ impl Along {
         out[n] = self.start[n] + (self.end[n] - self.start[n]) * t;
         out
     }
+}
+
+/// An arc's length: `sweep` radians at `radius` in the plane, `rise`
+/// along its normal.
+fn arc_length(radius: f64, sweep: f64, rise: f64) -> f64 {
+    (radius * sweep).hypot(rise)
 }
 
 pub fn distance(a: Point, b: Point) -> f64 {

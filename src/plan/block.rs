@@ -5,6 +5,7 @@
 
 use crate::driver::machine::{Controller, Machine};
 use crate::ir::PathControl;
+use crate::toolpath::{Move, MoveKind, Point};
 
 /// grbl's defaults where the profile says nothing.
 pub(super) const DEFAULT_JUNCTION_DEVIATION: f64 = 0.01;
@@ -136,4 +137,41 @@ pub(super) fn direction_and_length(a: [f64; 3], b: [f64; 3]) -> ([f64; 3], f64) 
 pub(super) fn rapid_rate(limits: &Limits, unit: [f64; 3]) -> f64 {
     let axes = along(limits.max_rate, unit);
     limits.rapid_rate.map_or(axes, |r| r.min(axes))
+}
+
+/// The straight block of move `m` from `from` to `to` (grbl's chord, or a
+/// line's LinuxCNC segment): a rapid at the rapid rate, else at the
+/// move's feed within each axis's rate; `None`: no length. It is not
+/// after a stop and belongs to move 0 until the caller says otherwise.
+pub(super) fn line_block(m: &Move, from: Point, to: Point, limits: &Limits) -> Option<Block> {
+    let (unit, length) = direction_and_length(from, to);
+    if length <= 0.0 {
+        return None;
+    }
+    let nominal = match m.kind {
+        MoveKind::Rapid => rapid_rate(limits, unit),
+        _ => feed_rate(m.state.feed / 60.0, limits, unit),
+    };
+    Some(Block {
+        length,
+        unit_in: unit,
+        unit_out: unit,
+        nominal: nominal.max(1e-9),
+        accel: along(limits.max_accel, unit),
+        stopped_before: false,
+        control: m.state.path_control,
+        source: 0,
+    })
+}
+
+/// `feed` (mm/s) within each axis's rate along `unit`. A feed within every
+/// axis's rate needs no division: no component of a unit vector exceeds
+/// 1 (`direction_and_length` divides each by a norm at least as large),
+/// so each axis allows at least its own rate.
+fn feed_rate(feed: f64, limits: &Limits, unit: [f64; 3]) -> f64 {
+    let [x, y, z] = limits.max_rate;
+    match feed <= x.min(y).min(z) {
+        true => feed,
+        false => feed.min(along(limits.max_rate, unit)),
+    }
 }

@@ -22,8 +22,8 @@
 //! Architecture Invariant: planner arithmetic only, on the blocks and
 //! limits of `block.rs`; never sees the IR.
 
-use super::block::{along, direction_and_length, dot, rapid_rate, Block, Limits};
-use crate::toolpath::{Move, MoveKind, Point};
+use super::block::{dot, line_block, Block, Limits};
+use crate::toolpath::{Along, Move, MoveKind, Point};
 
 /// What the planner takes: a block, or a run of an arc's middle chords.
 pub(super) enum Piece {
@@ -38,50 +38,68 @@ pub(super) enum Piece {
     },
 }
 
-/// The pieces of move `m`, the `index`th, handed to `out` in order; the
-/// first chord starts from rest after a sync (`stopped`).
+/// The pieces of move `m`, the `index`th (its points `along`), handed to
+/// `out` in order; the first chord starts from rest after a sync
+/// (`stopped`).
 pub(super) fn pieces(
     m: &Move,
+    along: &Along,
     index: usize,
     stopped: bool,
     limits: &Limits,
-    out: &mut dyn FnMut(Piece),
+    out: &mut impl FnMut(Piece),
 ) {
     let chord = |k: usize, from: Point, to: Point| {
-        chord_block(m, index, stopped && k == 0, from, to, limits)
+        line_block(m, from, to, limits).map(|b| Block {
+            stopped_before: stopped && k == 0,
+            source: index,
+            ..b
+        })
     };
-    if !matches!(m.kind, MoveKind::Arc(_)) {
+    let Some((sweep, r0, r1)) = along.arc_shape() else {
         if let Some(b) = chord(0, m.start, m.end) {
             out(Piece::Block(b));
         }
         return;
-    }
-    let n = arc_segments(m, limits.arc_tolerance);
-    let along = m.along();
+    };
+    let n = arc_segments(r0, sweep, limits.arc_tolerance);
     let point = |k: usize| along.at(k as f64 / n as f64);
-    // The ends' points, which the check and the end chords both need.
-    let ends = (n >= 4).then(|| [0, 1, 2, n - 2, n - 1, n].map(point));
-    let at = |k: usize| match (ends, k) {
-        (Some(ends), 0..=2) => ends[k],
-        (Some(ends), _) if k + 2 >= n => ends[k + 5 - n],
+    if n < 4 {
+        return (0..n).for_each(|k| out_chord(chord(k, point(k), point(k + 1)), out));
+    }
+    // The ends' points and chords, which the check and the end chords
+    // both need, each found once.
+    let ends = [
+        point(0),
+        point(1),
+        point(2),
+        point(n - 2),
+        point(n - 1),
+        point(n),
+    ];
+    let at = |k: usize| match k {
+        0..=2 => ends[k],
+        _ if k + 2 >= n => ends[k + 5 - n],
         _ => point(k),
     };
-    let each = |range: std::ops::Range<usize>, out: &mut dyn FnMut(Piece)| {
-        let mut from = at(range.start);
-        for k in range {
-            let to = at(k + 1);
-            if let Some(b) = chord(k, from, to) {
-                out(Piece::Block(b));
-            }
-            from = to;
-        }
+    let end_chords = [
+        chord(0, ends[0], ends[1]),
+        chord(1, ends[1], ends[2]),
+        chord(n - 2, ends[3], ends[4]),
+        chord(n - 1, ends[4], ends[5]),
+    ];
+    let block = |k: usize| match k {
+        0 | 1 => end_chords[k],
+        _ if k + 2 >= n => end_chords[k + 4 - n],
+        _ => chord(k, at(k), at(k + 1)),
     };
-    let Some(Cruise { ends: h, length }) = cruise(m, n, limits, &at) else {
-        return each(0..n, out);
+    let Some(Cruise { ends: h, length }) = cruise(m, n, (sweep, r0, r1), limits, &end_chords)
+    else {
+        return (0..n).for_each(|k| out_chord(block(k), out));
     };
-    each(0..h, out);
+    (0..h).for_each(|k| out_chord(block(k), out));
     // Chords of some length (`cruise` checked the shortest).
-    if let Some(last) = chord(n - h - 1, at(n - h - 1), at(n - h)) {
+    if let Some(last) = block(n - h - 1) {
         let run = Block { length, ..last };
         let accel = least(m, limits.max_accel);
         out(Piece::Cruise {
@@ -90,48 +108,20 @@ pub(super) fn pieces(
             last,
         });
     }
-    each(n - h..n, out);
+    (n - h..n).for_each(|k| out_chord(block(k), out));
 }
 
-/// The chord from `from` to `to` of move `m`, the `index`th, as a block
-/// (`None`: no length).
-fn chord_block(
-    m: &Move,
-    index: usize,
-    stopped: bool,
-    from: Point,
-    to: Point,
-    limits: &Limits,
-) -> Option<Block> {
-    let (unit, length) = direction_and_length(from, to);
-    if length <= 0.0 {
-        return None;
+/// A chord with some length to `out`.
+fn out_chord(chord: Option<Block>, out: &mut impl FnMut(Piece)) {
+    if let Some(b) = chord {
+        out(Piece::Block(b));
     }
-    let nominal = match m.kind {
-        MoveKind::Rapid => rapid_rate(limits, unit),
-        _ => (m.state.feed / 60.0).min(along(limits.max_rate, unit)),
-    };
-    Some(Block {
-        length,
-        unit_in: unit,
-        unit_out: unit,
-        nominal: nominal.max(1e-9),
-        accel: along(limits.max_accel, unit),
-        stopped_before: stopped,
-        control: m.state.path_control,
-        source: index,
-    })
 }
 
-/// How many chords grbl's `mc_arc` cuts an arc into: as many as keep each
-/// within the arc tolerance of the arc.
-pub(super) fn arc_segments(m: &Move, tolerance: f64) -> usize {
-    let MoveKind::Arc(a) = m.kind else {
-        return 1;
-    };
-    let (p, q, _) = a.plane.axes();
-    let radius = (m.start[p] - a.center[p]).hypot(m.start[q] - a.center[q]);
-    let sweep = m.sweep();
+/// How many chords grbl's `mc_arc` cuts an arc of `radius` through
+/// `sweep` radians into: as many as keep each within the arc `tolerance`
+/// of the arc.
+pub(super) fn arc_segments(radius: f64, sweep: f64, tolerance: f64) -> usize {
     let chord_angle = 2.0 * (tolerance * (2.0 * radius - tolerance)).max(0.0).sqrt();
     let segments = match chord_angle > 0.0 {
         true => ((0.5 * sweep * radius) / (0.5 * chord_angle))
@@ -171,12 +161,16 @@ const CORNER_MARGIN: f64 = 1e-6;
 /// radian are spirals whose corners the end corners may not bound.
 const SPIRAL_LIMIT: f64 = 1e-3;
 
-/// The run of arc `m`'s `n` chords (their ends at `point(k)`), if the
-/// middle ones provably cruise (the module's note).
-fn cruise(m: &Move, n: usize, limits: &Limits, point: &dyn Fn(usize) -> Point) -> Option<Cruise> {
-    let MoveKind::Arc(a) = m.kind else {
-        return None;
-    };
+/// The run of arc `m`'s `n` chords (its sweep and its radii at the start
+/// and the end in `shape`, its first two and last two chords in
+/// `end_chords`), if the middle ones provably cruise (the module's note).
+fn cruise(
+    m: &Move,
+    n: usize,
+    shape: (f64, f64, f64),
+    limits: &Limits,
+    end_chords: &[Option<Block>; 4],
+) -> Option<Cruise> {
     let feed = m.state.feed / 60.0;
     let within_rates = feed > 0.0 && feed <= least(m, limits.max_rate);
     if n < 4 || limits.blocks < 2 || !within_rates {
@@ -184,19 +178,16 @@ fn cruise(m: &Move, n: usize, limits: &Limits, point: &dyn Fn(usize) -> Point) -
     }
     let v2 = feed.max(1e-9).powi(2);
     let accel = least(m, limits.max_accel);
-    let (p, q, _) = a.plane.axes();
-    let r0 = (m.start[p] - a.center[p]).hypot(m.start[q] - a.center[q]);
-    let r1 = (m.end[p] - a.center[p]).hypot(m.end[q] - a.center[q]);
-    let sweep = m.sweep();
+    let (sweep, r0, r1) = shape;
     let turn = r0.min(r1) * sweep;
     let circle_like = turn > 0.0 && (r1 - r0).abs() <= SPIRAL_LIMIT * turn;
     if !circle_like {
         return None;
     }
-    let chord = |k: usize| direction_and_length(point(k), point(k + 1));
-    let (first, second) = (chord(0), chord(1));
-    let (before_last, last) = (chord(n - 2), chord(n - 1));
-    let shortest = first.1.min(last.1) * (1.0 - SUM_MARGIN);
+    let [Some(first), Some(second), Some(before_last), Some(last)] = *end_chords else {
+        return None;
+    };
+    let shortest = first.length.min(last.length) * (1.0 - SUM_MARGIN);
     let per_chord = 2.0 * accel * shortest;
     if per_chord.is_nan() || per_chord <= 0.0 {
         return None;
@@ -207,7 +198,7 @@ fn cruise(m: &Move, n: usize, limits: &Limits, point: &dyn Fn(usize) -> Point) -
     }
     // grbl's corner (`junction_sqr`) at the sharpest end corner, at the
     // least acceleration: no corner between two chords is slower.
-    let cos = (-dot(first.0, second.0)).max(-dot(before_last.0, last.0));
+    let cos = (-dot(first.unit_out, second.unit_in)).max(-dot(before_last.unit_out, last.unit_in));
     if cos > 0.999_999 {
         return None;
     }
@@ -223,20 +214,20 @@ fn cruise(m: &Move, n: usize, limits: &Limits, point: &dyn Fn(usize) -> Point) -
     let ends = ends as usize;
     Some(Cruise {
         ends,
-        length: middle_length(m, n, ends, (r0, r1)),
+        length: middle_length(m, n, ends, shape),
     })
 }
 
 /// The total length of chords `ends .. n - ends` of arc `m` cut into `n`
-/// (radius `r0` at the start, `r1` at the end, as [`Move::along`] has
-/// it): each from its radii and the angle between them, without their
-/// points.
-fn middle_length(m: &Move, n: usize, ends: usize, (r0, r1): (f64, f64)) -> f64 {
+/// (its `sweep`, radius `r0` at the start, `r1` at the end, as
+/// [`Move::along`] has them): each from its radii and the angle between
+/// them, without their points.
+fn middle_length(m: &Move, n: usize, ends: usize, (sweep, r0, r1): (f64, f64, f64)) -> f64 {
     let MoveKind::Arc(a) = m.kind else {
         return 0.0;
     };
     let (_, _, l) = a.plane.axes();
-    let half = (0.5 * m.sweep() / n as f64).sin();
+    let half = (0.5 * sweep / n as f64).sin();
     let rise = (m.end[l] - m.start[l]) / n as f64;
     let radius = |k: usize| r0 + (r1 - r0) * (k as f64 / n as f64);
     let length = |k: usize| {
@@ -304,7 +295,8 @@ mod tests {
         };
         let into = feed_move(MoveKind::Feed, [r - 3.0, -4.0, 0.0], start, feed);
         let out = feed_move(MoveKind::Feed, end, [-(r + grow) - 5.0, 2.0, rise], feed);
-        let n = arc_segments(&arc, 0.002);
+        let (sweep, radius, _) = arc.along().arc_shape().unwrap();
+        let n = arc_segments(radius, sweep, 0.002);
         let points: Vec<Point> = arc.points(n).collect();
         let mut lines = vec![into];
         lines.extend(
@@ -324,7 +316,7 @@ mod tests {
     fn runs(path: &ToolPath, limits: &Limits) -> usize {
         let mut count = 0;
         for (i, m) in path.moves.iter().enumerate() {
-            pieces(m, i, i == 0, limits, &mut |p| {
+            pieces(m, &m.along(), i, i == 0, limits, &mut |p| {
                 count += usize::from(matches!(p, Piece::Cruise { .. }))
             });
         }

@@ -18,9 +18,9 @@
 //! Architecture Invariant: planner arithmetic only, on the blocks and
 //! limits of `plan.rs`; never sees the IR.
 
-use super::block::{along, direction, direction_and_length, dot, rapid_rate, Block, Limits};
+use super::block::{along, direction, dot, line_block, Block, Limits};
 use crate::ir::PathControl;
-use crate::toolpath::{Move, MoveKind};
+use crate::toolpath::{Along, Move, MoveKind};
 
 /// `BLEND_ACC_RATIO_TANGENTIAL`: the share of the acceleration an arc
 /// keeps for speeding up and slowing down at its speed limit.
@@ -39,12 +39,18 @@ fn acc_ratio_normal() -> f64 {
     (1.0 - ACC_RATIO_TANGENTIAL * ACC_RATIO_TANGENTIAL).sqrt()
 }
 
-/// The segment of move `m`, the `index`th, if it has some length; it
-/// starts from rest after a sync (`stopped`).
-pub(super) fn block(m: &Move, index: usize, stopped: bool, limits: &Limits) -> Option<Block> {
+/// The segment of move `m`, the `index`th (its points `along`), if it
+/// has some length; it starts from rest after a sync (`stopped`).
+pub(super) fn block(
+    m: &Move,
+    along: &Along,
+    index: usize,
+    stopped: bool,
+    limits: &Limits,
+) -> Option<Block> {
     let block = match m.kind {
-        MoveKind::Arc(_) => arc_block(m, limits),
-        MoveKind::Rapid | MoveKind::Feed => line_block(m, limits),
+        MoveKind::Arc(_) => arc_block(m, along, limits),
+        MoveKind::Rapid | MoveKind::Feed => line_block(m, m.start, m.end, limits),
     };
     block.map(|b| Block {
         stopped_before: stopped,
@@ -53,39 +59,17 @@ pub(super) fn block(m: &Move, index: usize, stopped: bool, limits: &Limits) -> O
     })
 }
 
-fn line_block(m: &Move, limits: &Limits) -> Option<Block> {
-    let (unit, length) = direction_and_length(m.start, m.end);
-    if length <= 0.0 {
-        return None;
-    }
-    let nominal = match m.kind {
-        MoveKind::Rapid => rapid_rate(limits, unit),
-        _ => (m.state.feed / 60.0).min(along(limits.max_rate, unit)),
-    };
-    Some(Block {
-        length,
-        unit_in: unit,
-        unit_out: unit,
-        nominal: nominal.max(1e-9),
-        accel: along(limits.max_accel, unit),
-        stopped_before: false,
-        control: m.state.path_control,
-        source: 0,
-    })
-}
-
 /// An arc: its speed held where the normal acceleration `v²/r` would pass
 /// its share of the plane's acceleration (`tcUpdateArcLimits`).
-fn arc_block(m: &Move, limits: &Limits) -> Option<Block> {
-    let MoveKind::Arc(a) = m.kind else {
+fn arc_block(m: &Move, along: &Along, limits: &Limits) -> Option<Block> {
+    let (MoveKind::Arc(a), Some((_, radius, _))) = (m.kind, along.arc_shape()) else {
         return None;
     };
-    let length = m.length();
+    let length = along.length();
     if length <= 0.0 {
         return None;
     }
     let (p, q, _) = a.plane.axes();
-    let radius = (m.start[p] - a.center[p]).hypot(m.start[q] - a.center[q]);
     let a_max = limits.max_accel[p].min(limits.max_accel[q]);
     let v_axes = limits.max_rate[p].min(limits.max_rate[q]);
     let v_cutoff = (acc_ratio_normal() * a_max * radius).sqrt();
@@ -98,7 +82,6 @@ fn arc_block(m: &Move, limits: &Limits) -> Option<Block> {
         }
     };
     let step = 1e-6;
-    let along = m.along();
     Some(Block {
         length,
         unit_in: direction(m.start, along.at(step)),
@@ -133,21 +116,26 @@ pub(super) fn junction_sqr(a: &Block, b: &Block, limits: &Limits) -> f64 {
 /// tolerance and half of each move allow, its speed that at which the
 /// normal acceleration stays within its share.
 fn blend_speed(a: &Block, b: &Block, cos: f64, tolerance: f64, limits: &Limits) -> f64 {
-    // Half the angle between the two moves' lines at the corner: π/2
-    // straight on, 0 straight back.
-    let theta = (-cos).clamp(-1.0, 1.0).acos() / 2.0;
-    if theta <= 1e-9 {
+    // θ, half the angle between the two moves' lines at the corner (π/2
+    // straight on, 0 straight back), by its sine and cosine from the
+    // half-angle formulas: cos 2θ = x. Straight back (θ = 0): a stop.
+    let x = (-cos).clamp(-1.0, 1.0);
+    if x >= 1.0 {
         return 0.0;
     }
+    let cos_sqr = 0.5 * (1.0 + x);
+    let (sin, cos) = ((0.5 * (1.0 - x)).sqrt(), cos_sqr.sqrt());
     let quarter = TOLERANCE_RATIO * a.length.min(b.length);
     let tolerance = match tolerance > 0.0 {
         true => tolerance.min(quarter),
         false => quarter,
     };
-    let h = tolerance / (1.0 - theta.sin());
-    let d_tol = theta.cos() * h;
+    // tolerance / (1 − sin θ), without the cancellation near straight on:
+    // 1 − sin θ = cos² θ / (1 + sin θ).
+    let h = tolerance * (1.0 + sin) / cos_sqr;
+    let d_tol = cos * h;
     let d_lengths = BLEND_DIST_FRACTION * a.length.min(b.length);
-    let radius = theta.tan() * d_tol.min(d_lengths);
+    let radius = sin / cos * d_tol.min(d_lengths);
     let a_max = along(limits.max_accel, a.unit_out).min(along(limits.max_accel, b.unit_in));
     (acc_ratio_normal() * a_max * radius).sqrt()
 }

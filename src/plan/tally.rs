@@ -11,7 +11,7 @@
 use super::block::{rapid_rate, Limits};
 use super::{chords, linuxcnc, unit, widen, Figures, OperationFigures, Planner, ToolFigures};
 use crate::driver::machine::Controller;
-use crate::toolpath::{Event, EventKind, Move, MoveKind, PathSink, State};
+use crate::toolpath::{Along, Event, EventKind, Move, MoveKind, PathSink, State};
 use std::collections::VecDeque;
 
 /// A tool path's [`Figures`], fed a move and an event at a time.
@@ -163,9 +163,8 @@ impl<'l> Tally<'l> {
 
     /// Lengths and length / feed of `m`, into the whole's, its tool's and
     /// its operation's figures.
-    fn measure(&mut self, m: &Move, tool: usize) {
+    fn measure(&mut self, m: &Move, length: f64, tool: usize) {
         let figures = &mut self.figures;
-        let length = m.length();
         let on = m.state.spindle.is_some();
         figures.spindle_starts += usize::from(on && !self.spindle_on);
         self.spindle_on = on;
@@ -208,8 +207,8 @@ impl<'l> Tally<'l> {
         widen(&mut tool.bounds, m);
     }
 
-    /// `m`'s blocks to the planner.
-    fn plan_move(&mut self, m: &Move, index: usize, tool: usize) {
+    /// `m`'s blocks (its points `along`) to the planner.
+    fn plan_move(&mut self, m: &Move, along: &Along, index: usize, tool: usize) {
         let state = (m.state.spindle, m.state.rpm, m.state.flood, m.state.mist);
         let changed = self
             .previous
@@ -236,11 +235,11 @@ impl<'l> Tally<'l> {
         let ops = &mut figures.operations;
         let timed = &mut |i, s| ledger.timed(i, s, ops);
         match limits.controller {
-            Controller::Grbl => {
-                chords::pieces(m, index, stopped, limits, &mut |p| planner.take(p, timed))
-            }
+            Controller::Grbl => chords::pieces(m, along, index, stopped, limits, &mut |p| {
+                planner.take(p, timed)
+            }),
             Controller::LinuxCnc => {
-                if let Some(b) = linuxcnc::block(m, index, stopped, limits) {
+                if let Some(b) = linuxcnc::block(m, along, index, stopped, limits) {
                     planner.push(b, timed);
                 }
             }
@@ -253,8 +252,10 @@ impl PathSink for Tally<'_> {
         let index = self.moves;
         self.moves += 1;
         let tool = self.tool_slot(m.state.tool);
-        self.measure(m, tool);
-        self.plan_move(m, index, tool);
+        // An arc's sweep and radii found once for its length and its chords.
+        let along = m.along();
+        self.measure(m, along.length(), tool);
+        self.plan_move(m, &along, index, tool);
     }
 
     /// A tool change starts an operation; a dwell adds to the one running.

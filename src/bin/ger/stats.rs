@@ -4,7 +4,7 @@
 use crate::args::Options;
 use crate::{load_failed, session_and_machine};
 use ger::diagnostic::render;
-use ger::plan::{Figures, Limits, Tally};
+use ger::plan::{tally_apart, Figures, Limits};
 use std::process::ExitCode;
 
 /// `ger stats INPUT [--json]`.
@@ -25,10 +25,13 @@ pub fn print_stats(input: &str, options: &Options, json: bool) -> ExitCode {
         Ok(program) => program,
         Err(code) => return code,
     };
-    // Planned as the back end makes the moves, the file read a part at a
-    // time as a compile reads it: neither the path nor the text is held.
-    let mut tally = Tally::new(limits.as_ref(), false);
-    let finished = match session.feed_tool_path(program, &mut tally) {
+    // Planned as the back end makes the moves (on a thread of its own),
+    // the file read a part at a time as a compile reads it: neither the
+    // path nor the text is held.
+    let (finished, figures) = tally_apart(limits.as_ref(), |sink| {
+        session.feed_tool_path(program, sink)
+    });
+    let finished = match finished {
         Ok(finished) => finished,
         Err(e) => return load_failed(e),
     };
@@ -44,7 +47,6 @@ pub fn print_stats(input: &str, options: &Options, json: bool) -> ExitCode {
     if diagnostics.iter().any(ger::diagnostic::is_error) {
         return ExitCode::from(1);
     }
-    let figures = tally.finish();
     let controller = machine.map(|m| match m.controller {
         ger::driver::machine::Controller::Grbl => "grbl",
         ger::driver::machine::Controller::LinuxCnc => "linuxcnc",
