@@ -268,22 +268,22 @@ pub struct Move {
     pub to: Axes,
     /// Present exactly when `motion` is an arc.
     pub arc: Option<Arc>,
-    /// Fanuc's `,R`/`,C` on a G1: the corner to the next move is rounded
-    /// or chamfered. Only before the corners pass, which lowers it.
+    /// Fanuc's `,R`/`,C` on a G1, G2 or G3: the corner to the next move is
+    /// rounded or chamfered. Only before the corners pass, which lowers it.
     pub corner: Option<Corner>,
     /// LinuxCNC's G33: a straight feed locked to the spindle, this far
     /// along the path per revolution (K, in the IR's length units).
     pub lead: Option<f64>,
 }
 
-/// How the corner at the end of a G1 is cut (Fanuc's "chamfering and
-/// corner R"), its size in the IR's length units.
+/// How the corner at the end of a G1, G2 or G3 is cut (Fanuc's
+/// "chamfering and corner R"), its size in the IR's length units.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Corner {
     /// `,R`: an arc of this radius, tangent to both moves.
     Round(f64),
-    /// `,C`: a straight cut from this far back along the G1 to this far
-    /// along the next move.
+    /// `,C`: a straight cut from this far back along the move to this far
+    /// along the next one (on an arc, the chord from the corner).
     Chamfer(f64),
 }
 

@@ -567,3 +567,172 @@ proptest! {
         prop_assert!(checked > 9 * corners.len());
     }
 }
+
+/// A random contour of lines and arcs (I/J centres) from X0 Y0, each move
+/// but the last with `,R` or `,C`: the program, and per source line the
+/// move as written (end, and an arc's centre and direction) and its corner.
+#[allow(clippy::type_complexity)]
+fn cornered_contour(
+    next: &mut impl FnMut() -> f64,
+) -> (
+    String,
+    Vec<(
+        u32,
+        [f64; 2],
+        [f64; 2],
+        Option<([f64; 2], bool)>,
+        Option<(bool, f64)>,
+    )>,
+) {
+    let read = |v: f64| format!("{v:.6}").parse::<f64>().unwrap();
+    let mut text = String::from("G21 G90 G17\nG0 X0 Y0 Z0\nG1 Z-1 F100\n");
+    let (mut at, mut moves) = ([0.0, 0.0], Vec::new());
+    let count = 2 + (next() * 5.0) as usize;
+    for k in 0..count {
+        let line = 4 + k as u32;
+        let corner = (k + 1 < count).then(|| (next() < 0.5, read(0.5 + next() * 4.5)));
+        let word = match corner {
+            Some((true, r)) => format!(" ,R{r:.6}"),
+            Some((false, c)) => format!(" ,C{c:.6}"),
+            None => String::new(),
+        };
+        if next() < 0.5 {
+            let (len, angle) = (5.0 + next() * 45.0, next() * std::f64::consts::TAU);
+            let end = [
+                read(at[0] + len * angle.cos()),
+                read(at[1] + len * angle.sin()),
+            ];
+            text += &format!("G1 X{:.6} Y{:.6}{word}\n", end[0], end[1]);
+            moves.push((line, at, end, None, corner));
+            at = end;
+        } else {
+            let (radius, angle) = (3.0 + next() * 27.0, next() * std::f64::consts::TAU);
+            let ij = [read(radius * angle.cos()), read(radius * angle.sin())];
+            let centre = [at[0] + ij[0], at[1] + ij[1]];
+            let ccw = next() < 0.5;
+            let turn = (0.2 + next() * 5.5) * if ccw { 1.0 } else { -1.0 };
+            let (s, c) = turn.sin_cos();
+            let v = [at[0] - centre[0], at[1] - centre[1]];
+            let end = [
+                read(centre[0] + v[0] * c - v[1] * s),
+                read(centre[1] + v[0] * s + v[1] * c),
+            ];
+            let code = if ccw { "G3" } else { "G2" };
+            text += &format!(
+                "{code} X{:.6} Y{:.6} I{:.6} J{:.6}{word}\n",
+                end[0], end[1], ij[0], ij[1]
+            );
+            moves.push((line, at, end, Some((centre, ccw)), corner));
+            at = end;
+        }
+    }
+    text += "G0 Z5\nM30\n";
+    (text, moves)
+}
+
+/// Random contours of lines and arcs with `,R`/`,C` through the whole
+/// compiler: each arc as written keeps its centre, and its ends their
+/// distance from it (cut or not); each round has its radius and is tangent
+/// to the moves before and after it; each chamfer's ends are c from the
+/// corner. Within 1e-9 mm (the tool path is not rounded to the output's
+/// decimals).
+#[test]
+fn corners_into_and_on_arcs_keep_arcs_and_touch_both_moves() {
+    let mut seed = 0x2545_f491_4f6c_dd1d_u64;
+    let mut next = move || {
+        seed ^= seed << 13;
+        seed ^= seed >> 7;
+        seed ^= seed << 17;
+        (seed >> 11) as f64 / (1u64 << 53) as f64
+    };
+    let (mut programs, mut rounds, mut chamfers, mut arcs) = (0, 0, 0, 0);
+    let dist = |a: [f64; 3], b: [f64; 2]| (a[0] - b[0]).hypot(a[1] - b[1]);
+    for _ in 0..3000 {
+        let (text, written) = cornered_contour(&mut next);
+        let mut sources = Sources::new();
+        let file = sources.add("corners.nc", text.clone());
+        let (path, _) = ger::driver::tool_path(&sources, file, &CompileOptions::default(), None);
+        let Some(path) = path else { continue };
+        programs += 1;
+        let moves: Vec<_> = path.moves.iter().collect();
+        // Where a move goes at its start or end.
+        let direction = |m: &ger::toolpath::Move, at_end: bool| -> [f64; 2] {
+            let p = if at_end { m.end } else { m.start };
+            let v = match m.kind {
+                ger::toolpath::MoveKind::Arc(a) => {
+                    let n = [p[0] - a.center[0], p[1] - a.center[1]];
+                    if a.clockwise {
+                        [n[1], -n[0]]
+                    } else {
+                        [-n[1], n[0]]
+                    }
+                }
+                _ => [m.end[0] - m.start[0], m.end[1] - m.start[1]],
+            };
+            let l = v[0].hypot(v[1]);
+            [v[0] / l, v[1] / l]
+        };
+        for &(line, start, end, arc, corner) in &written {
+            let on_line: Vec<usize> = (0..moves.len())
+                .filter(|&i| moves[i].span.line == line)
+                .collect();
+            if let Some((centre, _)) = arc {
+                let m = moves[on_line[0]];
+                let ger::toolpath::MoveKind::Arc(a) = m.kind else {
+                    panic!("{text}")
+                };
+                assert!(dist(a.center, centre) < 1e-9, "{text}\n{m:?}");
+                assert!(
+                    (dist(m.start, centre) - (start[0] - centre[0]).hypot(start[1] - centre[1]))
+                        .abs()
+                        < 1e-9,
+                    "{text}\n{m:?}"
+                );
+                assert!(
+                    (dist(m.end, centre) - (end[0] - centre[0]).hypot(end[1] - centre[1])).abs()
+                        < 1e-9,
+                    "{text}\n{m:?}"
+                );
+                arcs += 1;
+            }
+            let Some((round, size)) = corner else {
+                continue;
+            };
+            let i = *on_line.last().unwrap();
+            let (m, after) = (moves[i], moves[i + 1]);
+            if round {
+                let ger::toolpath::MoveKind::Arc(a) = m.kind else {
+                    panic!("{text}")
+                };
+                assert!(
+                    (dist(m.start, [a.center[0], a.center[1]]) - size).abs() < 1e-9,
+                    "{text}\n{m:?}"
+                );
+                assert!(
+                    (dist(m.end, [a.center[0], a.center[1]]) - size).abs() < 1e-9,
+                    "{text}\n{m:?}"
+                );
+                let before = moves[i - 1];
+                let (d0, d1) = (direction(before, true), direction(m, false));
+                let (d2, d3) = (direction(m, true), direction(after, false));
+                assert!(
+                    (d0[0] - d1[0]).hypot(d0[1] - d1[1]) < 1e-9 * 30.0 / size,
+                    "{text}\n{m:?}"
+                );
+                assert!(
+                    (d2[0] - d3[0]).hypot(d2[1] - d3[1]) < 1e-9 * 30.0 / size,
+                    "{text}\n{m:?}"
+                );
+                rounds += 1;
+            } else {
+                assert!((dist(m.start, end) - size).abs() < 1e-9, "{text}\n{m:?}");
+                assert!((dist(m.end, end) - size).abs() < 1e-9, "{text}\n{m:?}");
+                chamfers += 1;
+            }
+        }
+    }
+    assert!(
+        programs > 300 && rounds > 300 && chamfers > 300 && arcs > 300,
+        "{programs} programs, {rounds} rounds, {chamfers} chamfers, {arcs} arcs"
+    );
+}

@@ -1,8 +1,9 @@
-//! Fanuc's corner words on a G1: `,R` (the corner to the next move
-//! rounded) and `,C` (chamfered), taken from a statement's words and
+//! Fanuc's corner words on a G1, G2 or G3: `,R` (the corner to the next
+//! move rounded) and `,C` (chamfered), taken from a statement's words and
 //! checked where the evaluator alone can see the mistake (both on one
-//! line, a size of 0 or less, a move that is not a G1). It must not cut
-//! the corner: that needs the next move, and the corners pass does it.
+//! line, a size of 0 or less, a move that is not a G1, G2 or G3). It must
+//! not cut the corner: that needs the next move, and the corners pass
+//! does it.
 
 use super::codes::error::{CodeError, CodeErrorKind as K};
 use super::words::WordValues;
@@ -27,14 +28,13 @@ pub(super) fn take_corner(w: &mut WordValues) -> Result<Option<(ir::Corner, Span
     Ok(Some((corner, at)))
 }
 
-/// The error for corner words on a move of `motion` that is not a G1
-/// (`machine`: under G53), if any.
+/// The error for corner words on a move of `motion` that is not a G1, G2
+/// or G3 (`machine`: under G53), if any.
 pub(super) fn check_motion(motion: Motion, machine: bool, at: Span) -> Result<(), Diagnostic> {
     let what = match motion {
         _ if machine => "a G53 move",
-        Motion::Linear => return Ok(()),
+        Motion::Linear | Motion::ArcCw | Motion::ArcCcw => return Ok(()),
         Motion::Rapid => "a rapid (G0)",
-        Motion::ArcCw | Motion::ArcCcw => "an arc (G2, G3)",
     };
     Err(CodeError::new(K::CornerNotOnG1(what), at).into())
 }

@@ -1,22 +1,26 @@
-//! Pass corners: Fanuc's corner words on a G1 made plain moves. `,R r`
-//! rounds the corner to the next G1 with an arc of radius r tangent to
-//! both moves; `,C c` cuts it with a chamfer from c before the corner
-//! along the G1 to c after it along the next move. Both moves shrink by
-//! what the corner takes, and a G2/G3 or a G1 is put between them, at
-//! the G1's feed and on its line.
+//! Pass corners: Fanuc's corner words on a G1, G2 or G3 made plain moves.
+//! `,R r` rounds the corner to the next G1, G2 or G3 with an arc of radius
+//! r tangent to both moves; `,C c` cuts it with a chamfer from c before the
+//! corner to c after it (along a line; the chord, on an arc). Both moves
+//! shrink by what the corner takes, and a G2/G3 or a G1 is put between
+//! them, at the cornered move's feed and on its line. The geometry is
+//! `corners/cut.rs`.
 //!
 //! It runs after absolute (coordinates absolute, in one unit, arc centres
 //! relative) and before comp, so that compensation offsets the rounded
-//! contour, as on a Fanuc control. It holds the cornered G1 back until the
-//! next move decides its end: one move, and the statements of the next
+//! contour, as on a Fanuc control. It holds the cornered move back until
+//! the next move decides its end: one move, and the statements of the next
 //! move's line (comments between them too). It must not touch a program
 //! without corner words: every other statement goes on as it is.
+
+mod cut;
 
 use super::error::{CornerError, LowerError};
 use super::pass::{Batch, Context, Out, Pass, PassInfo};
 use super::position::Tracker;
 use crate::ir::{self, Arc, ArcGeometry, Axis, Corner, Motion, Op, Plane, Stmt};
 use crate::source::Span;
+use cut::{corner_cut, Cut, CutError, Element, EPSILON, P2};
 
 pub const PASS: PassInfo = PassInfo {
     name: "corners",
@@ -32,28 +36,41 @@ pub const PASS: PassInfo = PassInfo {
 /// line makes a few; more is a program that never moves again.
 const MAX_HELD: usize = 1000;
 
-/// Ends of moves closer than this (relative to their size) are the same
-/// point, and a corner's sine under it is no corner.
-const EPSILON: f64 = 1e-9;
-
 struct CornersPass {
     at: Tracker,
     held: Option<Held>,
 }
 
-/// A G1 with a corner word, waiting for the move after it.
+/// A G1, G2 or G3 with a corner word, waiting for the move after it.
 struct Held {
     stmt: Stmt,
     corner: Corner,
     /// Where it starts and ends in the plane's two axes: its start moved on
     /// by the corner before it, if any.
-    from: [f64; 2],
-    to: [f64; 2],
+    from: P2,
+    to: P2,
+    /// An arc's centre (absolute) and whether it turns counter-clockwise.
+    centre: Option<(P2, bool)>,
     /// The statements after it, in order, until the next move.
     after: Vec<Stmt>,
     /// The first of them that is not a comment: on the next move's line,
     /// where it must be.
     first_after: Option<Span>,
+}
+
+impl Held {
+    fn element(&self) -> Element {
+        let (from, to) = (self.from, self.to);
+        match self.centre {
+            Some((centre, ccw)) => Element::Arc {
+                from,
+                to,
+                centre,
+                ccw,
+            },
+            None => Element::Line { from, to },
+        }
+    }
 }
 
 impl Pass for CornersPass {
@@ -91,20 +108,24 @@ impl Pass for CornersPass {
 }
 
 impl CornersPass {
-    /// A statement that is not held: followed, and a cornered G1 held back
-    /// (`false`); `from`, where it starts if a corner before it moved its
-    /// start on. Anything else goes on.
-    fn take(&mut self, stmt: &mut Stmt, from: Option<[f64; 2]>, out: &mut Out<'_>) -> bool {
-        let start = from.or_else(|| self.plane_point());
+    /// A statement that is not held: followed, and a cornered move held
+    /// back (`false`); `from`, where it starts if a corner before it moved
+    /// its start on (an arc's centre is then made relative to it). Anything
+    /// else goes on.
+    fn take(&mut self, stmt: &mut Stmt, from: Option<P2>, out: &mut Out<'_>) -> bool {
         let Op::Move(m) = &mut stmt.op else {
             self.at.follow(&stmt.op, stmt.span);
             return true;
         };
+        let centre = self.arc_centre(m, from);
+        let start = from.or_else(|| self.plane_point());
         let Some(corner) = m.corner.take() else {
             self.at.follow(&stmt.op, stmt.span);
             return true;
         };
-        let in_plane = self.in_plane(m);
+        // An arc whose centre is not known is not in the plane's terms.
+        let in_plane = self.in_plane(m) && (m.arc.is_none() || centre.is_some());
+        let turns = m.arc.map_or(1, |arc| arc.turns);
         let Some(start) = start else {
             let (u, v, _) = self.at.plane.axes();
             let axis = if self.at.position[u].is_none() { u } else { v };
@@ -114,20 +135,66 @@ impl CornersPass {
         };
         self.at.follow(&stmt.op, stmt.span);
         let end = self.plane_point();
-        let (Some(end), true) = (end, in_plane) else {
-            let e = CornerError::OutOfPlane { next: None };
-            out.report(LowerError::new(e, stmt.span));
-            return true;
+        let e = match (end, in_plane) {
+            _ if turns != 1 => CornerError::MultiTurn { next: None },
+            (Some(end), true) => {
+                self.held = Some(Held {
+                    stmt: stmt.clone(),
+                    corner,
+                    from: start,
+                    to: end,
+                    centre,
+                    after: Vec::new(),
+                    first_after: None,
+                });
+                return false;
+            }
+            _ => CornerError::OutOfPlane { next: None },
         };
-        self.held = Some(Held {
-            stmt: stmt.clone(),
-            corner,
-            from: start,
-            to: end,
-            after: Vec::new(),
-            first_after: None,
-        });
-        false
+        out.report(LowerError::new(e, stmt.span));
+        true
+    }
+
+    /// The centre in the plane (absolute) of `m` if it is an arc from
+    /// where the tool is, and whether it turns counter-clockwise; its
+    /// centre made relative to `from` when a corner moved its start there.
+    fn arc_centre(&self, m: &mut ir::Move, from: Option<P2>) -> Option<(P2, bool)> {
+        let ccw = m.motion == Motion::ArcCcw;
+        let ArcGeometry::Center(c) = &mut m.arc.as_mut()?.geometry else {
+            return None;
+        };
+        let (u, v, _) = self.at.plane.axes();
+        let at = self.plane_point()?;
+        let centre = [at[0] + c[u]?, at[1] + c[v]?];
+        if let Some(from) = from {
+            c[u] = Some(centre[0] - from[0]);
+            c[v] = Some(centre[1] - from[1]);
+        }
+        Some((centre, ccw))
+    }
+
+    /// The move `m` after a corner as the corner sees it: from the tool's
+    /// point (the corner) to its end, in the plane.
+    fn next_element(&self, m: &mut ir::Move, next: Span) -> Result<Element, CornerError> {
+        let out_of_plane = CornerError::OutOfPlane { next: Some(next) };
+        let (Some(from), Some(to), true) =
+            (self.plane_point(), self.end_in_plane(m), self.in_plane(m))
+        else {
+            return Err(out_of_plane);
+        };
+        match m.arc {
+            None => Ok(Element::Line { from, to }),
+            Some(arc) if arc.turns != 1 => Err(CornerError::MultiTurn { next: Some(next) }),
+            Some(_) => match self.arc_centre(m, None) {
+                Some((centre, ccw)) => Ok(Element::Arc {
+                    from,
+                    to,
+                    centre,
+                    ccw,
+                }),
+                None => Err(out_of_plane),
+            },
+        }
     }
 
     /// The tool's point in the plane, if both its axes are known.
@@ -146,7 +213,7 @@ impl CornersPass {
         })
     }
 
-    /// A statement after a held G1: held with it, or the next move that
+    /// A statement after a held move: held with it, or the next move that
     /// decides the corner.
     fn after_corner(&mut self, mut held: Held, stmt: &mut Stmt, out: &mut Out<'_>) -> bool {
         let another_line = held
@@ -171,16 +238,10 @@ impl CornersPass {
             self.held = Some(held);
             return false;
         };
-        // The next G1: its end, before it is followed.
-        let end = self.end_in_plane(m).filter(|_| self.in_plane(m));
-        let cut = match end {
-            Some(end) => {
-                corner_cut(held.from, held.to, end, held.corner).map_err(|e| e.at(stmt.span))
-            }
-            None => Err(CornerError::OutOfPlane {
-                next: Some(stmt.span),
-            }),
-        };
+        // The next move, before it is followed.
+        let cut = self.next_element(m, stmt.span).and_then(|next| {
+            corner_cut(held.element(), next, held.corner).map_err(|e| e.at(held.corner, stmt.span))
+        });
         match cut {
             Ok(cut) => {
                 let t2 = cut.end;
@@ -204,7 +265,7 @@ impl CornersPass {
     }
 }
 
-/// The held G1 and what waits behind it, sent as they are (the corner
+/// The held move and what waits behind it, sent as they are (the corner
 /// word dropped) after `e` is reported.
 fn release(held: Held, e: CornerError, out: &mut Out<'_>) {
     out.report(LowerError::new(e, held.stmt.span));
@@ -214,86 +275,20 @@ fn release(held: Held, e: CornerError, out: &mut Out<'_>) {
     }
 }
 
-/// A corner worked out: the G1 ends at `start`, the corner goes from
-/// there to `end` (round: about `centre`, relative to `start`).
-#[derive(Debug, PartialEq)]
-struct Cut {
-    start: [f64; 2],
-    end: [f64; 2],
-    round: Option<Round>,
-}
-
-#[derive(Debug, PartialEq)]
-struct Round {
-    centre: [f64; 2],
-    counter_clockwise: bool,
-}
-
-/// Why a corner cannot be cut, before the next move's span is known.
-#[derive(Debug, PartialEq)]
-enum CutError {
-    TooShort { need: f64, room: f64 },
-    InLine,
-}
-
 impl CutError {
-    fn at(self, next: Span) -> CornerError {
+    fn at(self, corner: Corner, next: Span) -> CornerError {
         match self {
             CutError::TooShort { need, room } => CornerError::TooShort { need, room, next },
             CutError::InLine => CornerError::InLine { next },
+            CutError::Tangent => CornerError::Tangent { next },
+            CutError::NoCut => CornerError::NoCut { corner, next },
         }
     }
 }
 
-/// The corner at `at` between the move from `from` and the move to `to`
-/// (points in the plane), cut as `corner` says. The round's arc is tangent
-/// to both moves: it starts and ends `r·tan(θ/2)` from the corner, θ the
-/// angle the path turns by; the chamfer's legs are `c` along each move.
-fn corner_cut(from: [f64; 2], at: [f64; 2], to: [f64; 2], corner: Corner) -> Result<Cut, CutError> {
-    let a = [at[0] - from[0], at[1] - from[1]];
-    let b = [to[0] - at[0], to[1] - at[1]];
-    let (la, lb) = (a[0].hypot(a[1]), b[0].hypot(b[1]));
-    let room = la.min(lb);
-    let size = match corner {
-        Corner::Round(r) | Corner::Chamfer(r) => r,
-    };
-    if room <= EPSILON * la.max(lb) {
-        return Err(CutError::TooShort { need: size, room });
-    }
-    let (d1, d2) = ([a[0] / la, a[1] / la], [b[0] / lb, b[1] / lb]);
-    let sine = d1[0] * d2[1] - d1[1] * d2[0];
-    let cosine = d1[0] * d2[0] + d1[1] * d2[1];
-    if sine.abs() <= EPSILON {
-        return Err(CutError::InLine);
-    }
-    let need = match corner {
-        // tan(θ/2) = sin θ / (1 + cos θ)
-        Corner::Round(r) => r * sine.abs() / (1.0 + cosine),
-        Corner::Chamfer(c) => c,
-    };
-    if need > room * (1.0 + EPSILON) {
-        return Err(CutError::TooShort { need, room });
-    }
-    let need = need.min(room);
-    let start = [at[0] - d1[0] * need, at[1] - d1[1] * need];
-    let end = [at[0] + d2[0] * need, at[1] + d2[1] * need];
-    let round = match corner {
-        Corner::Round(r) => {
-            let counter_clockwise = sine > 0.0;
-            // The centre is r to the side the path turns to.
-            let side = if counter_clockwise { 1.0 } else { -1.0 };
-            Some(Round {
-                centre: [-d1[1] * r * side, d1[0] * r * side],
-                counter_clockwise,
-            })
-        }
-        Corner::Chamfer(_) => None,
-    };
-    Ok(Cut { start, end, round })
-}
-
-/// The held G1 shortened to the cut's start (left out if nothing is left
-/// of it), the round or chamfer, then the statements that waited.
+/// The held move shortened to the cut's start (a G1 left out if nothing
+/// is left of it; an arc always keeps some), the round or chamfer, then
+/// the statements that waited.
 fn send_cut(held: Held, cut: &Cut, plane: Plane, out: &mut Out<'_>) {
     let (u, v, _) = plane.axes();
     let mut g1 = held.stmt;
@@ -337,7 +332,7 @@ fn send_cut(held: Held, cut: &Cut, plane: Plane, out: &mut Out<'_>) {
         },
     };
     let corner = g1.with_op(Op::Move(corner));
-    if left > EPSILON * scale {
+    if left > EPSILON * scale || held.centre.is_some() {
         out.push(g1);
     }
     out.push(corner);
@@ -346,15 +341,14 @@ fn send_cut(held: Held, cut: &Cut, plane: Plane, out: &mut Out<'_>) {
     }
 }
 
-/// What a statement between a cornered G1 and the next move is, if it
-/// may not stand there; `None`: it waits with the G1 (a comment, or a
+/// What a statement between a cornered move and the next move is, if it
+/// may not stand there; `None`: it waits with the cornered move (a comment, or a
 /// word of the next move's line that changes no position or plane).
 fn between(op: &Op) -> Option<&'static str> {
     match op {
         Op::Move(m) => Some(match m.motion {
             Motion::Rapid => "a rapid (G0)",
-            Motion::ArcCw | Motion::ArcCcw => "an arc (G2, G3)",
-            Motion::Linear => return None,
+            Motion::Linear | Motion::ArcCw | Motion::ArcCcw => return None,
         }),
         Op::Comment(_)
         | Op::Feed(_)
@@ -399,145 +393,4 @@ fn between(op: &Op) -> Option<&'static str> {
 /// Whether two coordinates are the same point on their axis.
 fn same(a: f64, b: f64) -> bool {
     (a - b).abs() <= EPSILON * a.abs().max(b.abs()).max(1.0)
-}
-
-#[cfg(test)]
-mod tests {
-    use super::{corner_cut, Corner, Cut, CutError, Round};
-
-    /// Worked by hand: a square corner and one turned by 36.87° (the
-    /// 3-4-5 triangle: tan of its half is 0.5), each way.
-    #[test]
-    fn corners_worked_by_hand() {
-        let left = corner_cut([0.0, 0.0], [40.0, 0.0], [40.0, 30.0], Corner::Round(5.0));
-        let expected = Cut {
-            start: [35.0, 0.0],
-            end: [40.0, 5.0],
-            round: Some(Round {
-                centre: [0.0, 5.0],
-                counter_clockwise: true,
-            }),
-        };
-        assert_eq!(left, Ok(expected));
-        let right = corner_cut([40.0, 30.0], [60.0, 30.0], [60.0, 10.0], Corner::Round(3.0));
-        let expected = Cut {
-            start: [57.0, 30.0],
-            end: [60.0, 27.0],
-            round: Some(Round {
-                centre: [0.0, -3.0],
-                counter_clockwise: false,
-            }),
-        };
-        assert_eq!(right, Ok(expected));
-        let Ok(turned) = corner_cut([60.0, 27.0], [60.0, 10.0], [68.0, 4.0], Corner::Round(4.0))
-        else {
-            panic!("no cut");
-        };
-        let near = |a: [f64; 2], b: [f64; 2]| (a[0] - b[0]).hypot(a[1] - b[1]) < 1e-12;
-        assert!(near(turned.start, [60.0, 12.0]), "{turned:?}");
-        assert!(near(turned.end, [61.6, 8.8]), "{turned:?}");
-        let round = turned
-            .round
-            .as_ref()
-            .map(|r| (r.centre, r.counter_clockwise));
-        assert!(
-            round.is_some_and(|(c, ccw)| near(c, [4.0, 0.0]) && ccw),
-            "{turned:?}"
-        );
-        let chamfer = corner_cut([0.0, 0.0], [40.0, 0.0], [40.0, -30.0], Corner::Chamfer(4.0));
-        let expected = Cut {
-            start: [36.0, 0.0],
-            end: [40.0, -4.0],
-            round: None,
-        };
-        assert_eq!(chamfer, Ok(expected));
-    }
-
-    #[test]
-    fn corners_that_cannot_be_cut() {
-        let in_line = corner_cut([0.0, 0.0], [10.0, 0.0], [20.0, 0.0], Corner::Round(1.0));
-        assert_eq!(in_line, Err(CutError::InLine));
-        let back = corner_cut([0.0, 0.0], [10.0, 0.0], [5.0, 0.0], Corner::Chamfer(1.0));
-        assert_eq!(back, Err(CutError::InLine));
-        // A square corner's round takes r of each move.
-        let short = corner_cut([0.0, 0.0], [10.0, 0.0], [10.0, 3.0], Corner::Round(4.0));
-        assert_eq!(
-            short,
-            Err(CutError::TooShort {
-                need: 4.0,
-                room: 3.0
-            })
-        );
-        let exact = corner_cut([0.0, 0.0], [10.0, 0.0], [10.0, 4.0], Corner::Chamfer(4.0));
-        assert!(exact.is_ok(), "{exact:?}");
-    }
-
-    /// Random corners: the round's arc starts and ends on the two moves,
-    /// tangent to each (its radius square to the move), r from its centre,
-    /// turning the way the path turns; the chamfer's legs are c long along
-    /// each move. Within 1e-9 of the moves' size.
-    #[test]
-    fn rounds_are_tangent_and_chamfer_legs_equal() {
-        let mut random = crate::test_random::Random::new(0x9e37_79b9_7f4a_7c15);
-        let mut value = |scale: f64| (random.below(2_000_001) as f64 / 1e6 - 1.0) * scale;
-        let (mut rounds, mut chamfers) = (0, 0);
-        for i in 0..20_000 {
-            let scale = [1.0, 100.0, 2000.0][i % 3];
-            let from = [value(scale), value(scale)];
-            let at = [value(scale), value(scale)];
-            let to = [value(scale), value(scale)];
-            let size = value(scale).abs() * 0.3 + 1e-3;
-            let corner = if i % 2 == 0 {
-                Corner::Round(size)
-            } else {
-                Corner::Chamfer(size)
-            };
-            let Ok(cut) = corner_cut(from, at, to, corner) else {
-                continue;
-            };
-            let tolerance = 1e-9 * scale;
-            let sub = |a: [f64; 2], b: [f64; 2]| [a[0] - b[0], a[1] - b[1]];
-            let len = |a: [f64; 2]| a[0].hypot(a[1]);
-            let dot = |a: [f64; 2], b: [f64; 2]| a[0] * b[0] + a[1] * b[1];
-            let cross = |a: [f64; 2], b: [f64; 2]| a[0] * b[1] - a[1] * b[0];
-            let (d1, d2) = (sub(at, from), sub(to, at));
-            let (u1, u2) = (
-                [d1[0] / len(d1), d1[1] / len(d1)],
-                [d2[0] / len(d2), d2[1] / len(d2)],
-            );
-            // On the moves: in line with each, and inside it.
-            let back = sub(at, cut.start);
-            let on = sub(cut.end, at);
-            assert!(cross(u1, back).abs() < tolerance, "{cut:?}");
-            assert!(cross(u2, on).abs() < tolerance, "{cut:?}");
-            assert!(dot(u1, back) >= -tolerance && dot(u1, back) <= len(d1) + tolerance);
-            assert!(dot(u2, on) >= -tolerance && dot(u2, on) <= len(d2) + tolerance);
-            match (corner, &cut.round) {
-                (Corner::Round(r), Some(round)) => {
-                    let centre = [
-                        cut.start[0] + round.centre[0],
-                        cut.start[1] + round.centre[1],
-                    ];
-                    let to_start = sub(cut.start, centre);
-                    let to_end = sub(cut.end, centre);
-                    assert!((len(to_start) - r).abs() < tolerance, "{cut:?}");
-                    assert!((len(to_end) - r).abs() < tolerance, "{cut:?}");
-                    assert!(dot(to_start, u1).abs() < tolerance, "{cut:?}");
-                    assert!(dot(to_end, u2).abs() < tolerance, "{cut:?}");
-                    assert_eq!(round.counter_clockwise, cross(u1, u2) > 0.0);
-                    rounds += 1;
-                }
-                (Corner::Chamfer(c), None) => {
-                    assert!((len(back) - c).abs() < tolerance, "{cut:?}");
-                    assert!((len(on) - c).abs() < tolerance, "{cut:?}");
-                    chamfers += 1;
-                }
-                _ => panic!("{corner:?} cut as {cut:?}"),
-            }
-        }
-        assert!(
-            rounds > 2000 && chamfers > 2000,
-            "{rounds} rounds, {chamfers} chamfers"
-        );
-    }
 }

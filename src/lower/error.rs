@@ -3,7 +3,7 @@
 //! wording lives.
 
 use crate::diagnostic::{error, warning, Diagnostic, DiagnosticExt};
-use crate::ir::{Axis, Plane, MAX_POSITION};
+use crate::ir::{Axis, Corner, Plane, MAX_POSITION};
 use crate::source::Span;
 
 #[derive(Clone, Debug, PartialEq)]
@@ -195,22 +195,31 @@ pub enum CompError {
     Spiral { start: f64, end: f64 },
 }
 
-/// The corners pass's errors, each at the line of the G1 with the corner
-/// word; `next`, the line of the statement after it that decides.
+/// The corners pass's errors, each at the line of the move with the
+/// corner word; `next`, the line of the statement after it that decides.
 #[derive(Clone, Debug, PartialEq)]
 pub enum CornerError {
-    /// What comes after the G1 is not a G1 (what it is); `None`: the
-    /// program ends.
+    /// What comes after the cornered move is not a G1, G2 or G3 (what it
+    /// is); `None`: the program ends.
     NextNotG1 {
         what: &'static str,
         next: Option<Span>,
     },
-    /// The G1 (`next` is `None`) or the move after it leaves the plane.
+    /// The cornered move (`next` is `None`) or the move after it leaves
+    /// the plane.
     OutOfPlane { next: Option<Span> },
     /// The round or chamfer takes `need` of a move only `room` long.
     TooShort { need: f64, room: f64, next: Span },
     /// The two moves are in line: no corner to cut.
     InLine { next: Span },
+    /// A line and an arc, or two arcs, meet tangent: no corner to cut.
+    Tangent { next: Span },
+    /// No round of that radius touches both moves; no point of an arc is
+    /// the chamfer's length from the corner.
+    NoCut { corner: Corner, next: Span },
+    /// The cornered move (`next` is `None`) or the move after it is an arc
+    /// of more than one turn.
+    MultiTurn { next: Option<Span> },
 }
 
 impl From<CornerError> for LowerErrorKind {
@@ -551,11 +560,11 @@ fn cycle_diagnostic(e: &CycleError, span: Span) -> Diagnostic {
 /// The wording of the comp pass's errors.
 fn corner_diagnostic(e: &CornerError, span: Span) -> Diagnostic {
     const HELP: &str =
-        "`,R` and `,C` join a G1 to the G1 right after it, in the plane (G17, G18, G19)";
+        "`,R` and `,C` join a G1, G2 or G3 to the G1, G2 or G3 right after it, in the plane (G17, G18, G19)";
     let (d, next) = match e {
         CornerError::NextNotG1 { what, next } => (
             error(
-                "a corner word needs a G1 move after it",
+                "a corner word needs a G1, G2 or G3 move after it",
                 span,
                 format!("{what} comes next"),
             ),
@@ -593,6 +602,42 @@ fn corner_diagnostic(e: &CornerError, span: Span) -> Diagnostic {
                 "the next move goes on straight (or straight back): there is no corner",
             ),
             Some(*next),
+        ),
+        CornerError::Tangent { next } => (
+            error(
+                "a corner word between two moves that meet tangent",
+                span,
+                "the next move goes on in the same direction (or straight back): there is no corner",
+            ),
+            Some(*next),
+        ),
+        CornerError::NoCut { corner, next } => (
+            error(
+                "a corner that cannot be cut",
+                span,
+                match corner {
+                    Corner::Round(r) => {
+                        format!("no arc of radius {} touches both moves", fmt_len(*r))
+                    }
+                    Corner::Chamfer(c) => {
+                        format!("no point of the arc is {} from the corner", fmt_len(*c))
+                    }
+                },
+            ),
+            Some(*next),
+        ),
+        CornerError::MultiTurn { next } => (
+            error(
+                "a corner word next to an arc of more than one turn",
+                span,
+                match next {
+                    None => "this arc",
+                    Some(_) => "the arc after this move",
+                }
+                .to_string()
+                    + " turns more than once (P): ger cuts corners on arcs of one turn",
+            ),
+            *next,
         ),
     };
     let d = d.with_help(HELP);

@@ -115,7 +115,8 @@ pub enum CodeErrorKind {
     SplineLeftover([f64; 2]),
     /// `,R` and `,C` on one line.
     RoundAndChamfer,
-    /// `,R`/`,C` on a move that is not a G1 (the motion or mode named).
+    /// `,R`/`,C` on a move that is not a G1, G2 or G3 (the motion or mode
+    /// named).
     CornerNotOnG1(&'static str),
     /// `,R`/`,C` of 0 or less (its spelling).
     CornerSize(String),
@@ -414,7 +415,7 @@ impl Wording for CodeErrorKind {
             K::CornerNotOnG1(what) => error(
                 format!("a corner word on {what}"),
                 at,
-                "`,R` and `,C` round and chamfer the corner after a G1 move",
+                "`,R` and `,C` round and chamfer the corner after a G1, G2 or G3 move",
             ),
             K::CornerSize(word) => error(
                 format!("`{word}` must be more than 0"),
