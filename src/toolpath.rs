@@ -301,6 +301,7 @@ impl Builder {
                 self.state.lead = m.lead.map(|l| l * k);
                 self.step(&m.to, stmt.span, m.motion);
             }
+            Op::RigidTap(t) => self.rigid_tap(t, stmt.span),
             // The pictures draw each tool with the last radius given.
             Op::SetToolData(data) => data.apply(&mut self.path.setup.tools, false),
             Op::Home {
@@ -494,6 +495,26 @@ impl Builder {
             span,
             guessed,
         });
+    }
+
+    /// G33.1: in to its point and back out the same way, both at its lead.
+    fn rigid_tap(&mut self, t: &ir::RigidTap, span: Span) {
+        let (back, known) = (self.position, self.known);
+        self.state.lead = Some(t.lead * self.to_mm);
+        self.move_to(MoveKind::Feed, &t.to, span, false);
+        self.known = known;
+        let start: Point = std::array::from_fn(|i| self.position[i]);
+        self.position = back;
+        self.path.moves.push(Move {
+            kind: MoveKind::Feed,
+            start,
+            end: std::array::from_fn(|i| back[i]),
+            extra: std::array::from_fn(|i| back[i + 3]),
+            state: self.state,
+            span,
+            guessed: known.map(|k| !k),
+        });
+        self.state.lead = None;
     }
 
     fn event(&mut self, kind: EventKind, span: Span) {

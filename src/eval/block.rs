@@ -269,7 +269,7 @@ fn kind_of(w: &Word) -> Option<Kind> {
         (b'G', 960 | 970) => Kind::SpindleMode,
         (b'G', 980 | 990) => Kind::ReturnLevel,
         (b'G', 100 | 280 | 300 | 520 | 920 | 921 | 922) => Kind::AxisUser,
-        (b'G', 0 | 10 | 20 | 30 | 50 | 51 | 330 | 730 | 810..=890) => Kind::Motion,
+        (b'G', 0 | 10 | 20 | 30 | 50 | 51 | 330 | 331 | 730 | 810..=890) => Kind::Motion,
         (b'G', 530) => Kind::MachineCoordinates,
         (b'G', 800) => Kind::CycleOff,
         _ => return None,

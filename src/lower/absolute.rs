@@ -372,6 +372,22 @@ impl Pass for AbsolutePass {
                 }
                 return false;
             }
+            Op::RigidTap(t) => {
+                // Written absolute; the tool ends where it started.
+                match self.at.end_of(&t.to, "a rigid tap (G33.1)", span) {
+                    Ok(end) => {
+                        for (axis, e) in Axis::ALL.into_iter().zip(end) {
+                            if let (true, Some(e)) = (t.to.has(axis), e) {
+                                t.to.set(axis, e);
+                            }
+                        }
+                    }
+                    Err(e) => {
+                        out.report(e);
+                        return false;
+                    }
+                }
+            }
             Op::MachineMove(_) => {
                 if self.at.distance == Distance::Incremental {
                     out.report(LowerError::new(

@@ -290,8 +290,10 @@ impl CompPass {
             | Op::Cycle(_)
             | Op::CycleOff
             | Op::PathControl(_)
-            // (The absolute pass made splines arcs.)
+            // (The absolute pass made splines arcs; the evaluator refuses
+            // a rigid tap under compensation.)
             | Op::Spline(_)
+            | Op::RigidTap(_)
             | Op::Comment(_)
             | Op::Passthrough(_) => {}
         }

@@ -273,6 +273,13 @@ impl Pass for OffsetsPass {
                 self.place_move(m);
                 true
             }
+            Op::RigidTap(t) => {
+                // It ends where it started.
+                let before = self.position;
+                self.place(&mut t.to);
+                self.position = before;
+                true
+            }
             // Its control points are relative to its ends.
             Op::Spline(s) => {
                 self.place(&mut s.to);

@@ -121,6 +121,10 @@ impl Pass for UnitsPass {
                     };
                 }
             }
+            Op::RigidTap(t) => {
+                t.to = self.scale_axes(t.to, k);
+                scale(&mut t.lead);
+            }
             Op::Spline(s) => {
                 s.to = self.scale_axes(s.to, k);
                 s.kind = s.kind.scaled(k);

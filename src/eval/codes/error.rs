@@ -119,8 +119,8 @@ pub enum CodeErrorKind {
     CornerNotOnG1(&'static str),
     /// `,R`/`,C` of 0 or less (its spelling).
     CornerSize(String),
-    /// A G33 line rs274 refuses, or ger does not cut.
-    Thread(ThreadProblem),
+    /// A G33 or G33.1 (the code) line rs274 refuses, or ger does not cut.
+    Thread(ThreadProblem, &'static str),
 }
 
 /// What a G33 line gets wrong (rs274's checks, and what ger does not cut).
@@ -132,6 +132,8 @@ pub enum ThreadProblem {
     SpindleOff,
     /// Under G41/G42.
     Comp,
+    /// No axis word (rs274: "All axes missing with motion code").
+    NoAxes,
 }
 
 /// What a G5/G5.1 line gets wrong (rs274's checks, in its words where it
@@ -417,7 +419,7 @@ impl Wording for CodeErrorKind {
                 at,
                 "the radius of the round, or the length of the chamfer's legs",
             ),
-            K::Thread(problem) => thread_wording(*problem, at),
+            K::Thread(problem, code) => thread_wording(*problem, code, at),
         }
     }
 }
@@ -484,28 +486,33 @@ fn spline_wording(problem: SplineProblem, at: Span) -> Diagnostic {
     error(message, at, label).with_help(help)
 }
 
-fn thread_wording(problem: ThreadProblem, at: Span) -> Diagnostic {
+fn thread_wording(problem: ThreadProblem, code: &str, at: Span) -> Diagnostic {
     use ThreadProblem as P;
     let (message, label, help) = match problem {
         P::NoK => (
-            "G33 without K",
-            "K, the distance per spindle revolution, is missing",
-            "give K on every G33 move (the thread's pitch along the move)",
+            format!("{code} without K"),
+            "K, the distance per spindle revolution, is missing".to_string(),
+            format!("give K on every {code} move (the thread's pitch along the move)"),
         ),
         P::Feed => (
-            "an F word with G33",
-            "a G33 move's feed is the spindle's: K per revolution",
-            "set F on a line of its own, before or after the thread",
+            format!("an F word with {code}"),
+            format!("a {code} move's feed is the spindle's: K per revolution"),
+            "set F on a line of its own, before or after the thread".to_string(),
         ),
         P::SpindleOff => (
-            "spindle not turning in G33",
-            "the move is locked to the spindle, which is off here",
-            "start the spindle (M3 or M4) before the thread",
+            format!("spindle not turning in {code}"),
+            "the move is locked to the spindle, which is off here".to_string(),
+            "start the spindle (M3 or M4) before the thread".to_string(),
         ),
         P::Comp => (
-            "G33 under cutter compensation",
-            "ger does not offset a spindle-synchronised move",
-            "turn compensation off (G40) before the thread",
+            format!("{code} under cutter compensation"),
+            "ger does not offset a spindle-synchronised move".to_string(),
+            "turn compensation off (G40) before the thread".to_string(),
+        ),
+        P::NoAxes => (
+            format!("{code} without an axis word"),
+            "where the tap goes is missing".to_string(),
+            format!("give the end point: {code} Z… K…"),
         ),
     };
     error(message, at, label).with_help(help)
