@@ -404,11 +404,11 @@ impl Evaluator<'_> {
     /// current motion mode.
     fn plain_words(&mut self, w: &mut WordValues, span: Span) -> Result<Flow, Diagnostic> {
         if let Some(synced) = self.modal.synced.filter(|_| w.has_any(b"XYZABCUVW@^")) {
-            let code = match synced {
-                Synced::Thread => "G33",
-                Synced::RigidTap => "G33.1",
-            };
-            self.thread_feed_word(w, code)?;
+            match synced {
+                Synced::Thread => self.thread_feed_word(w, "G33")?,
+                Synced::RigidTap => self.thread_feed_word(w, "G33.1")?,
+                Synced::ThreadCycle => {}
+            }
         }
         self.feed_speed_tool(w, span)?;
         self.leftover_move(w, span, None)?;
@@ -448,6 +448,7 @@ impl Evaluator<'_> {
             match synced {
                 Synced::Thread => self.thread(span, w, span)?,
                 Synced::RigidTap => self.rigid_tap(span, w, span)?,
+                Synced::ThreadCycle => self.threading_cycle(span, w, span)?,
             }
             return self.unused_words(w, code);
         }
@@ -633,6 +634,10 @@ impl Evaluator<'_> {
             }
             331 => {
                 self.rigid_tap(at, w, span)?;
+                return self.unused_words(w, code).map(|_| Flow::Next);
+            }
+            760 if self.options.from == Flavour::LinuxCnc => {
+                self.threading_cycle(at, w, span)?;
                 return self.unused_words(w, code).map(|_| Flow::Next);
             }
             50 | 51 => {

@@ -315,6 +315,8 @@ pub(super) enum Synced {
     Thread,
     /// G33.1
     RigidTap,
+    /// LinuxCNC's G76 (its P I J K given again on each line)
+    ThreadCycle,
 }
 
 impl Default for Modal {
