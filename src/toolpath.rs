@@ -70,6 +70,17 @@ pub struct State {
     pub lead: Option<f64>,
 }
 
+impl State {
+    /// What a feed move goes at, mm/min: F, or on a move locked to the
+    /// spindle (G33, G33.1) its lead times the spindle's rpm.
+    pub fn feed_rate(&self) -> f64 {
+        match self.lead {
+            Some(lead) => lead * self.rpm,
+            None => self.feed,
+        }
+    }
+}
+
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Move {
     pub kind: MoveKind,

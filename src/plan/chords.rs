@@ -109,7 +109,7 @@ fn chord_block(
     }
     let nominal = match m.kind {
         MoveKind::Rapid => rapid_rate(limits, unit),
-        _ => (m.state.feed / 60.0).min(along(limits.max_rate, unit)),
+        _ => (m.state.feed_rate() / 60.0).min(along(limits.max_rate, unit)),
     };
     Some(Block {
         length,
@@ -177,7 +177,7 @@ fn cruise(m: &Move, n: usize, limits: &Limits, point: &dyn Fn(usize) -> Point) -
     let MoveKind::Arc(a) = m.kind else {
         return None;
     };
-    let feed = m.state.feed / 60.0;
+    let feed = m.state.feed_rate() / 60.0;
     let within_rates = feed > 0.0 && feed <= least(m, limits.max_rate);
     if n < 4 || limits.blocks < 2 || !within_rates {
         return None;
