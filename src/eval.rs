@@ -23,6 +23,7 @@ mod setup;
 mod spline;
 mod state;
 mod thread;
+mod thread_cycle;
 pub mod value;
 mod watch;
 mod wizard_api;

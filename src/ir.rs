@@ -276,6 +276,20 @@ pub struct Move {
     pub lead: Option<f64>,
 }
 
+/// LinuxCNC's G33.1: a feed locked to the spindle from where the tool
+/// is to `to`, the spindle reversed, and the same way back; the tool
+/// ends where it started.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct RigidTap {
+    pub to: Axes,
+    /// K: this far along the path per spindle revolution, both ways (in
+    /// the IR's length units).
+    pub lead: f64,
+    /// I: the spindle this many times faster on the way out, as written
+    /// (LinuxCNC takes less than 1 as 1).
+    pub speedup: Option<f64>,
+}
+
 /// How the corner at the end of a G1, G2 or G3 is cut (Fanuc's
 /// "chamfering and corner R"), its size in the IR's length units.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -738,6 +752,8 @@ pub enum Op {
     /// G5/G5.1 (LinuxCNC): a curve in the XY plane, made arcs by the
     /// absolute pass. Boxed: rare.
     Spline(Box<Spline>),
+    /// G33.1 (LinuxCNC): a rigid tap from where the tool is.
+    RigidTap(RigidTap),
     Comment(String),
     Passthrough(Passthrough),
 }
@@ -768,6 +784,7 @@ impl Op {
             Op::Move(_)
             | Op::IncrementalMove(_)
             | Op::Spline(_)
+            | Op::RigidTap(_)
             | Op::Feed(_)
             | Op::Speed(_)
             | Op::SpindleMode(_)

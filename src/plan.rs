@@ -119,7 +119,7 @@ pub fn plan_with_clock(path: &ToolPath, limits: Option<&Limits>) -> (Figures, Ve
             .iter()
             .map(|m| match m.kind {
                 MoveKind::Rapid => 0.0,
-                _ if m.state.feed > 0.0 => m.length() / (m.state.feed / 60.0),
+                _ if m.state.feed_rate() > 0.0 => m.length() / (m.state.feed_rate() / 60.0),
                 _ => 0.0,
             })
             .collect(),
@@ -402,6 +402,27 @@ mod tests {
         // speed (0.9 s), 5 mm down (0.1 s).
         let t = planned(&[[0.0; 3], [100.0, 0.0, 0.0]], 6000.0, &limits());
         assert!((t - 1.1).abs() < 1e-12, "{t}");
+    }
+
+    #[test]
+    fn a_thread_goes_at_its_lead_times_the_rpm_not_at_f() {
+        // G33 K1.5 at S2000: 3000 mm/min, 50 mm/s, whatever F is (6000
+        // here). 100 mm at 1000 mm/s²: 1.25 mm up (0.05 s), 97.5 mm at
+        // speed (1.95 s), 1.25 mm down (0.05 s): 2.05 s in both models;
+        // with no machine, the length over the rate: 2 s.
+        let mut thread = path(&[[0.0; 3], [0.0, 0.0, -100.0]], 6000.0);
+        thread.moves[0].state.lead = Some(1.5);
+        thread.moves[0].state.rpm = 2000.0;
+        for controller in [Controller::Grbl, Controller::LinuxCnc] {
+            let limits = Limits {
+                controller,
+                ..limits()
+            };
+            let t = plan(&thread, Some(&limits)).time_s.unwrap();
+            assert!((t - 2.05).abs() < 1e-9, "{controller:?}: {t}");
+        }
+        let t = plan(&thread, None).feed_time_s;
+        assert!((t - 2.0).abs() < 1e-12, "{t}");
     }
 
     #[test]

@@ -74,6 +74,17 @@ pub struct State {
     pub lead: Option<f64>,
 }
 
+impl State {
+    /// What a feed move goes at, mm/min: F, or on a move locked to the
+    /// spindle (G33, G33.1) its lead times the spindle's rpm.
+    pub fn feed_rate(&self) -> f64 {
+        match self.lead {
+            Some(lead) => lead * self.rpm,
+            None => self.feed,
+        }
+    }
+}
+
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Move {
     pub kind: MoveKind,
@@ -331,6 +342,7 @@ impl Builder {
                 self.state.lead = m.lead.map(|l| l * k);
                 self.step(&m.to, stmt.span, m.motion);
             }
+            Op::RigidTap(t) => self.rigid_tap(t, stmt.span),
             // The pictures draw each tool with the last radius given.
             Op::SetToolData(data) => {
                 self.path.lengths_given |= data.length.is_some();
@@ -527,6 +539,26 @@ impl Builder {
             span,
             guessed,
         });
+    }
+
+    /// G33.1: in to its point and back out the same way, both at its lead.
+    fn rigid_tap(&mut self, t: &ir::RigidTap, span: Span) {
+        let (back, known) = (self.position, self.known);
+        self.state.lead = Some(t.lead * self.to_mm);
+        self.move_to(MoveKind::Feed, &t.to, span, false);
+        self.known = known;
+        let start: Point = std::array::from_fn(|i| self.position[i]);
+        self.position = back;
+        self.path.moves.push(Move {
+            kind: MoveKind::Feed,
+            start,
+            end: std::array::from_fn(|i| back[i]),
+            extra: std::array::from_fn(|i| back[i + 3]),
+            state: self.state,
+            span,
+            guessed: known.map(|k| !k),
+        });
+        self.state.lead = None;
     }
 
     fn event(&mut self, kind: EventKind, span: Span) {

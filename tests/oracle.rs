@@ -647,10 +647,10 @@ fn run_example(case: &Path) -> Result<(), Failed> {
 /// G54 (the frame known offsets are folded into) and what the passes pass
 /// through because it depends on the machine.
 fn check_allowed_codes(text: &str) -> Result<(), Failed> {
-    const G: [&str; 37] = [
+    const G: [&str; 38] = [
         "0", "1", "2", "3", "4", "17", "18", "19", "20", "21", "90", "00", "01", "54", "55", "56",
         "57", "58", "59", "59.1", "59.2", "59.3", "28", "30", "53", "43", "44", "49", "10", "61",
-        "61.1", "64", "96", "97", "92", "92.1", "33",
+        "61.1", "64", "96", "97", "92", "92.1", "33", "33.1",
     ];
     const M: [&str; 13] = [
         "0", "1", "3", "4", "5", "6", "7", "8", "9", "30", "2", "00", "01",

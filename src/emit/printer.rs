@@ -414,6 +414,7 @@ impl Printer {
             Op::ReturnLevel(ir::ReturnLevel::R) => self.code("G99"),
             Op::Cycle(c) => self.cycle_words(c),
             Op::Spline(s) => self.spline_words(s),
+            Op::RigidTap(t) => self.rigid_tap_words(t),
             Op::CycleOff => self.code("G80"),
             Op::Comp { side, radius } => self.comp_words(*side, *radius),
             Op::CompOff => self.code("G40"),
@@ -581,6 +582,15 @@ impl Printer {
         }
         if c.repeats != 1 {
             self.int_word(b'L', c.repeats);
+        }
+    }
+
+    fn rigid_tap_words(&mut self, t: &ir::RigidTap) {
+        self.code("G33.1");
+        self.axes(&t.to);
+        self.lead_word(t.lead);
+        if let Some(i) = t.speedup {
+            self.word(b'I', i);
         }
     }
 

@@ -187,6 +187,8 @@ impl ProgramPrinter {
                 | Op::PathControl(_)
                 // (The absolute pass made splines arcs.)
                 | Op::Spline(_)
+                // It ends where it started.
+                | Op::RigidTap(_)
                 | Op::Comment(_)
                 | Op::SetToolData(_)
                 | Op::Passthrough(_) => {}

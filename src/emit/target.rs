@@ -179,6 +179,8 @@ pub enum Why {
     /// G33 on Fanuc, whose thread cutting (G32/G33 F) takes the lead
     /// along the long axis, not along the path as LinuxCNC's K.
     FanucThread,
+    /// G33.1, which Fanuc writes as a tapping cycle.
+    FanucRigidTap,
 }
 
 impl Wording for Unrunnable {
@@ -232,6 +234,10 @@ impl Wording for Unrunnable {
                 "Fanuc's thread cutting takes F, the lead along the long axis; LinuxCNC's K is along the path",
                 "compile for linuxcnc (or generic), or write the thread in Fanuc's own terms",
             ),
+            Why::FanucRigidTap => (
+                "Fanuc taps rigidly with a cycle (M29 S…, G84 … F), not G33.1",
+                "compile for linuxcnc (or generic), or write the tap as M29 S… G84 … R… F…",
+            ),
             Why::FanucMaxRpm => (
                 "Fanuc's G96 takes no D: its spindle limit is a G50 (lathe) or G92 (mill) S",
                 "leave D out and set the machine's limit, or compile for a target that has G96 D",
@@ -251,6 +257,9 @@ impl Wording for Unrunnable {
 fn code_of(op: &Op) -> String {
     if let Op::Move(ir::Move { lead: Some(_), .. }) = op {
         return "G33".into();
+    }
+    if let Op::RigidTap(_) = op {
+        return "G33.1".into();
     }
     if let Op::Move(ir::Move {
         motion,
@@ -295,6 +304,7 @@ fn turns(op: &Op) -> bool {
 fn grbl_cannot_run(op: &Op) -> Option<(String, Why)> {
     let why = match op {
         Op::Move(m) | Op::IncrementalMove(m) if m.lead.is_some() => Why::NoThread,
+        Op::RigidTap(_) => Why::NoThread,
         Op::Move(m) | Op::MachineMove(m) | Op::IncrementalMove(m) => match not_xyz(&m.to) {
             Some(axis) => return Some(((axis.letter() as char).to_string(), Why::NoSuchAxis)),
             None if turns(op) => Why::Turns,
@@ -350,6 +360,7 @@ fn fanuc_cannot_run(op: &Op) -> Option<(String, Why)> {
     let why = match op {
         _ if turns(op) => Why::Turns,
         Op::Move(m) | Op::IncrementalMove(m) if m.lead.is_some() => Why::FanucThread,
+        Op::RigidTap(_) => Why::FanucRigidTap,
         Op::SelectWorkOffset(i) if *i > 6 => Why::WorkOffset,
         Op::SetWorkOffset { index, .. } if *index == 0 || *index > 6 => Why::WorkOffset,
         Op::SetWorkOffsetHere { .. } => Why::FanucL20,
@@ -459,6 +470,14 @@ mod tests {
         vec![
             (Op::Move(thread), "gl"),
             (Op::IncrementalMove(thread), "gl"),
+            (
+                Op::RigidTap(ir::RigidTap {
+                    to: axes(&[(Axis::Z, -10.0)]),
+                    lead: 1.25,
+                    speedup: None,
+                }),
+                "gl",
+            ),
             (Op::Move(line(Motion::Rapid, xy, 1)), "gblf"),
             (Op::Move(line(Motion::Linear, xa, 1)), "glf"),
             (Op::Move(line(Motion::ArcCw, xy, 1)), "gblf"),
@@ -537,6 +556,7 @@ mod tests {
             Op::Move(_)
             | Op::MachineMove(_)
             | Op::IncrementalMove(_)
+            | Op::RigidTap(_)
             | Op::Home { .. }
             | Op::Feed(_)
             | Op::Speed(_)

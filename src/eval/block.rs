@@ -102,7 +102,8 @@ fn taker(letter: u8, codes: &[&Word], kinds: &[Kind]) -> Option<usize> {
         }
         b'I' | b'J' | b'K' | b'R' => &[Kind::AxisUser, Kind::Motion],
         Word::ROUND | Word::CHAMFER => &[Kind::Motion],
-        b'H' => &[Kind::ToolLength],
+        // (G76's spring passes, LinuxCNC.)
+        b'H' => &[Kind::ToolLength, Kind::Motion],
         b'D' => &[Kind::Comp, Kind::SpindleMode],
         // G96's surface speed; else a statement of its own.
         b'S' => {
@@ -269,7 +270,7 @@ fn kind_of(w: &Word) -> Option<Kind> {
         (b'G', 960 | 970) => Kind::SpindleMode,
         (b'G', 980 | 990) => Kind::ReturnLevel,
         (b'G', 100 | 280 | 300 | 520 | 920 | 921 | 922) => Kind::AxisUser,
-        (b'G', 0 | 10 | 20 | 30 | 50 | 51 | 330 | 730 | 810..=890) => Kind::Motion,
+        (b'G', 0 | 10 | 20 | 30 | 50 | 51 | 330 | 331 | 730 | 760 | 810..=890) => Kind::Motion,
         (b'G', 530) => Kind::MachineCoordinates,
         (b'G', 800) => Kind::CycleOff,
         _ => return None,

@@ -6,6 +6,7 @@
 use super::corner;
 use super::evaluator::{Evaluator, Flow};
 use super::options::{Chosen, Flavour};
+use super::state::Synced;
 use super::value::Slot;
 use super::words::WordValues;
 use crate::ast::{self, LineStmt, OName, WordValue};
@@ -31,7 +32,6 @@ fn unsupported_g(t: u32) -> &'static str {
         650 => "G65 is Fanuc's macro call, read in plain G-code (not in .egc)",
         950 => "feed per revolution (G95) is not supported: use G94 or G93",
         52 | 53 => "NURBS (G5.2/G5.3) are not supported; G5 and G5.1 splines are",
-        331 => "rigid tapping (G33.1) is not supported; G33 threading is",
         700 | 710..=712 | 720..=722 => "lathe cycles (G70-G72) are outside what ger, a milling compiler, lowers",
         310 | 382..=385 => "a probing move stops where its switch trips, which only the machine knows; what follows it cannot be worked out",
         _ => "ger does not know this code",
@@ -403,8 +403,12 @@ impl Evaluator<'_> {
     /// Words with no G/M code before them: F, S, T, and a move in the
     /// current motion mode.
     fn plain_words(&mut self, w: &mut WordValues, span: Span) -> Result<Flow, Diagnostic> {
-        if self.modal.thread_mode && w.has_any(b"XYZABCUVW@^") {
-            self.thread_feed_word(w)?;
+        if let Some(synced) = self.modal.synced.filter(|_| w.has_any(b"XYZABCUVW@^")) {
+            match synced {
+                Synced::Thread => self.thread_feed_word(w, "G33")?,
+                Synced::RigidTap => self.thread_feed_word(w, "G33.1")?,
+                Synced::ThreadCycle => {}
+            }
         }
         self.feed_speed_tool(w, span)?;
         self.leftover_move(w, span, None)?;
@@ -436,8 +440,16 @@ impl Evaluator<'_> {
             return self.unused_words(w, code);
         }
         let arc_words = w.has_any(b"IJKR");
-        if has_axes && self.modal.motion.is_none() && self.modal.thread_mode {
-            self.thread(span, w, span)?;
+        if let Some(synced) = self
+            .modal
+            .synced
+            .filter(|_| has_axes && self.modal.motion.is_none())
+        {
+            match synced {
+                Synced::Thread => self.thread(span, w, span)?,
+                Synced::RigidTap => self.rigid_tap(span, w, span)?,
+                Synced::ThreadCycle => self.threading_cycle(span, w, span)?,
+            }
             return self.unused_words(w, code);
         }
         if has_axes || (arc_words && self.modal.motion.is_some_and(Motion::is_arc)) {
@@ -601,8 +613,8 @@ impl Evaluator<'_> {
             let op = spindle_mode(t, at, w)?;
             self.emit(op, span)?;
         }
-        if t == 330 {
-            self.thread_feed_word(w)?;
+        if t == 330 || t == 331 {
+            self.thread_feed_word(w, if t == 330 { "G33" } else { "G33.1" })?;
         }
         self.feed_speed_tool(w, span)?;
         let kind = match (t, self.options.from) {
@@ -618,6 +630,14 @@ impl Evaluator<'_> {
             0 | 10 | 20 | 30 => self.select_motion(t),
             330 => {
                 self.thread(at, w, span)?;
+                return self.unused_words(w, code).map(|_| Flow::Next);
+            }
+            331 => {
+                self.rigid_tap(at, w, span)?;
+                return self.unused_words(w, code).map(|_| Flow::Next);
+            }
+            760 if self.options.from == Flavour::LinuxCnc => {
+                self.threading_cycle(at, w, span)?;
                 return self.unused_words(w, code).map(|_| Flow::Next);
             }
             50 | 51 => {
@@ -639,7 +659,7 @@ impl Evaluator<'_> {
     /// ends a canned cycle's run.
     #[inline]
     fn select_motion(&mut self, t: u32) {
-        self.modal.thread_mode = false;
+        self.modal.synced = None;
         self.modal.motion = Some(match t {
             0 => Motion::Rapid,
             10 => Motion::Linear,
@@ -742,7 +762,7 @@ impl Evaluator<'_> {
             591..=593 => Op::SelectWorkOffset((t - 584) as u8),
             760 => return Err(CodeError::new(K::G76, at).into()),
             800 => {
-                self.modal.thread_mode = false;
+                self.modal.synced = None;
                 self.cycles.kind = None;
                 self.cycles.run_open = false;
                 Op::CycleOff

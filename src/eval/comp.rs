@@ -86,6 +86,7 @@ impl Evaluator<'_> {
             Op::Polar(true) => "polar coordinates (G16)",
             Op::PathControl(_) => "a change of path control (G61, G61.1, G64)",
             Op::Spline(_) => "a spline (G5, G5.1)",
+            Op::RigidTap(_) => "a rigid tap (G33.1)",
             _ => return Ok(()),
         };
         Err(CompBlockError::new(

@@ -207,7 +207,7 @@ impl Evaluator<'_> {
             kept: None,
         };
         self.cycles.kind = Some(kind);
-        self.modal.thread_mode = false;
+        self.modal.synced = None;
         match polar {
             Some(step) if repeats > 1 => self.polar_repeats(cycle, step, span),
             _ => self.emit(Op::Cycle(Box::new(cycle)), span),

@@ -150,6 +150,7 @@ impl Evaluator<'_> {
                 self.follow_cycle(c);
             }
             ir::Op::CycleOff => p.motion = 800.0,
+            ir::Op::RigidTap(_) => p.motion = 331.0,
             ir::Op::Units(to) => {
                 let from = m.units.or(self.options.units);
                 for (i, at) in p.here.iter_mut().enumerate() {

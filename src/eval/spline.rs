@@ -81,7 +81,7 @@ impl Evaluator<'_> {
         // alone move nowhere: refused ([`SplineProblem::Again`]).
         self.modal.motion = None;
         self.modal.spline_mode = true;
-        self.modal.thread_mode = false;
+        self.modal.synced = None;
         self.cycles.kind = None;
         self.cycles.run_open = false;
         Ok(())

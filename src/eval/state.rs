@@ -298,14 +298,25 @@ pub(super) struct Modal {
     /// The motion mode is G5/G5.1 (`motion` is `None`): axis words alone
     /// are refused, as rs274 moves nowhere on them.
     pub(super) spline_mode: bool,
-    /// The motion mode is G33 (`motion` is `None`): axis words alone are
-    /// a G33 move, K on each.
-    pub(super) thread_mode: bool,
+    /// The motion mode is G33 or G33.1 (`motion` is `None`): axis words
+    /// alone are another, K on each.
+    pub(super) synced: Option<Synced>,
     /// The last move was a G5; and the I J a G5 without them takes
     /// (rs274's `cycle_i`/`cycle_j`: the last G5's P Q turned round, or a
     /// G87's I J).
     pub(super) after_g5: bool,
     pub(super) spline_ij: [f64; 2],
+}
+
+/// A motion mode locked to the spindle.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(super) enum Synced {
+    /// G33
+    Thread,
+    /// G33.1
+    RigidTap,
+    /// LinuxCNC's G76 (its P I J K given again on each line)
+    ThreadCycle,
 }
 
 impl Default for Modal {
@@ -332,7 +343,7 @@ impl Default for Modal {
             cycle_initial: None,
             inverse_time_ended: false,
             spline_mode: false,
-            thread_mode: false,
+            synced: None,
             after_g5: false,
             spline_ij: [0.0; 2],
         }

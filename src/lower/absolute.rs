@@ -294,6 +294,25 @@ impl AbsolutePass {
         Ok(())
     }
 
+    /// A rigid tap written absolute (the tool ends where it started):
+    /// whether it goes on.
+    fn rigid_tap(&self, t: &mut ir::RigidTap, span: Span, out: &mut Out<'_>) -> bool {
+        match self.at.end_of(&t.to, "a rigid tap (G33.1)", span) {
+            Ok(end) => {
+                for (axis, e) in Axis::ALL.into_iter().zip(end) {
+                    if let (true, Some(e)) = (t.to.has(axis), e) {
+                        t.to.set(axis, e);
+                    }
+                }
+                true
+            }
+            Err(e) => {
+                out.report(e);
+                false
+            }
+        }
+    }
+
     /// Only a kept cycle comes this far, absolute already: the tool ends
     /// over its last hole, at the height it says.
     fn follow_kept_cycle(&mut self, c: &ir::Cycle) {
@@ -372,6 +391,7 @@ impl Pass for AbsolutePass {
                 }
                 return false;
             }
+            Op::RigidTap(t) => return self.rigid_tap(t, span, out),
             Op::MachineMove(_) => {
                 if self.at.distance == Distance::Incremental {
                     out.report(LowerError::new(

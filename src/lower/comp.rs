@@ -290,8 +290,9 @@ impl CompPass {
             | Op::Cycle(_)
             | Op::CycleOff
             | Op::PathControl(_)
-            // (The absolute pass made splines arcs.)
+            // (Splines are arcs by now; G33.1 is refused under comp.)
             | Op::Spline(_)
+            | Op::RigidTap(_)
             | Op::Comment(_)
             | Op::Passthrough(_) => {}
         }

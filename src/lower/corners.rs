@@ -366,6 +366,7 @@ fn between(op: &Op) -> Option<&'static str> {
         Op::MachineMove(_) => Some("a G53 move"),
         Op::IncrementalMove(_) => Some("a step on an axis only the machine knows"),
         Op::Spline(_) => Some("a spline (G5, G5.1)"),
+        Op::RigidTap(_) => Some("a rigid tap (G33.1)"),
         Op::Home { .. } => Some("a G28 or G30 move"),
         Op::Cycle(_) | Op::CycleOff => Some("a canned cycle"),
         Op::End => Some("the end of the program"),

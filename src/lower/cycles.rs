@@ -499,6 +499,7 @@ impl Pass for CyclesPass {
             Op::Move(_)
             | Op::IncrementalMove(_)
             | Op::Spline(_)
+            | Op::RigidTap(_)
             | Op::MachineMove(_)
             | Op::Home { .. }
             | Op::Feed(_)

@@ -282,6 +282,7 @@ impl Pass for OffsetsPass {
                 self.place_move(m);
                 true
             }
+            Op::RigidTap(t) => self.place_tap(t),
             // Its control points are relative to its ends.
             Op::Spline(s) => {
                 self.place(&mut s.to);
@@ -396,6 +397,14 @@ impl OffsetsPass {
                 }
             }
         }
+    }
+
+    /// A rigid tap's point placed; it ends where it started. Goes on.
+    fn place_tap(&mut self, t: &mut ir::RigidTap) -> bool {
+        let before = self.position;
+        self.place(&mut t.to);
+        self.position = before;
+        true
     }
 
     /// A canned cycle's holes and R plane to the output's coordinates.

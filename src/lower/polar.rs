@@ -118,6 +118,13 @@ impl Pass for PolarPass {
                     });
                 }
             }
+            Op::RigidTap(t) => {
+                if !self.cartesian(&mut t.to) {
+                    report(LowerErrorKind::PolarIncomplete {
+                        plane: self.plane.unwrap_or(Plane::XY),
+                    });
+                }
+            }
             // (The evaluator refuses a spline under G16.)
             Op::Spline(_)
             | Op::Feed(_)

@@ -121,10 +121,8 @@ impl Pass for UnitsPass {
                     };
                 }
             }
-            Op::Spline(s) => {
-                s.to = self.scale_axes(s.to, k);
-                s.kind = s.kind.scaled(k);
-            }
+            Op::RigidTap(t) => (t.to, t.lead) = (self.scale_axes(t.to, k), t.lead * k),
+            Op::Spline(s) => (s.to, s.kind) = (self.scale_axes(s.to, k), s.kind.scaled(k)),
             Op::Cycle(c) => {
                 c.at = self.scale_axes(c.at, k);
                 scale(&mut c.r);

@@ -150,7 +150,7 @@ pub(super) fn line_block(m: &Move, from: Point, to: Point, limits: &Limits) -> O
     }
     let nominal = match m.kind {
         MoveKind::Rapid => rapid_rate(limits, unit),
-        _ => feed_rate(m.state.feed / 60.0, limits, unit),
+        _ => feed_rate(m.state.feed_rate() / 60.0, limits, unit),
     };
     Some(Block {
         length,

@@ -171,7 +171,7 @@ fn cruise(
     limits: &Limits,
     end_chords: &[Option<Block>; 4],
 ) -> Option<Cruise> {
-    let feed = m.state.feed / 60.0;
+    let feed = m.state.feed_rate() / 60.0;
     let within_rates = feed > 0.0 && feed <= least(m, limits.max_rate);
     if n < 4 || limits.blocks < 2 || !within_rates {
         return None;

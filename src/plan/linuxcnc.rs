@@ -73,7 +73,7 @@ fn arc_block(m: &Move, along: &Along, limits: &Limits) -> Option<Block> {
     let a_max = limits.max_accel[p].min(limits.max_accel[q]);
     let v_axes = limits.max_rate[p].min(limits.max_rate[q]);
     let v_cutoff = (acc_ratio_normal() * a_max * radius).sqrt();
-    let feed = (m.state.feed / 60.0).min(v_axes);
+    let feed = (m.state.feed_rate() / 60.0).min(v_axes);
     let (nominal, ratio) = match feed * feed / radius.max(1e-12) > acc_ratio_normal() * a_max {
         true => (v_cutoff, ACC_RATIO_TANGENTIAL),
         false => {

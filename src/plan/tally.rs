@@ -190,14 +190,14 @@ impl<'l> Tally<'l> {
             }
             return;
         }
-        let seconds = match m.state.feed > 0.0 {
-            true => length / (m.state.feed / 60.0),
+        let seconds = match m.state.feed_rate() > 0.0 {
+            true => length / (m.state.feed_rate() / 60.0),
             false => 0.0,
         };
         figures.cut_mm += length;
         figures.feed_time_s += seconds;
         op.cut_mm += length;
-        if m.state.feed > 0.0 {
+        if m.state.feed_rate() > 0.0 {
             op.feed_time_s += seconds;
         }
         widen(&mut op.bounds, m);

@@ -120,8 +120,10 @@ pub enum CodeErrorKind {
     CornerNotOnG1(&'static str),
     /// `,R`/`,C` of 0 or less (its spelling).
     CornerSize(String),
-    /// A G33 line rs274 refuses, or ger does not cut.
-    Thread(ThreadProblem),
+    /// A G33 or G33.1 (the code) line rs274 refuses, or ger does not cut.
+    Thread(ThreadProblem, &'static str),
+    /// A LinuxCNC G76 line rs274 refuses, or ger cannot expand.
+    ThreadCycle(ThreadCycleProblem),
 }
 
 /// What a G33 line gets wrong (rs274's checks, and what ger does not cut).
@@ -133,6 +135,30 @@ pub enum ThreadProblem {
     SpindleOff,
     /// Under G41/G42.
     Comp,
+    /// No axis word (rs274: "All axes missing with motion code").
+    NoAxes,
+}
+
+/// What a LinuxCNC G76 line gets wrong (rs274's checks, in its words
+/// where it has them).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum ThreadCycleProblem {
+    /// P, I, J or K (the letter) missing.
+    Missing(char),
+    /// H or L (the letter) not a whole number.
+    NotWhole(char),
+    IZero,
+    JNotPositive,
+    KNotAboveJ,
+    NoAxes,
+    /// A rotary or U/V/W axis word (the letter).
+    OtherAxis(char),
+    SpindleOff,
+    Comp,
+    /// Where the tool starts (the axis letter), which the cycle needs.
+    UnknownStart(char),
+    /// More passes than [`crate::eval`] allows (the count, rounded).
+    TooManyPasses(f64),
 }
 
 /// What a G5/G5.1 line gets wrong (rs274's checks, in its words where it
@@ -223,7 +249,7 @@ impl Wording for CodeErrorKind {
                 at,
                 "G76 is fine boring on Fanuc and threading on LinuxCNC",
             )
-            .with_help("--from fanuc reads it as fine boring; or use G86 or G89 to bore"),
+            .with_help("--from linuxcnc reads it as threading, --from fanuc as fine boring"),
             K::DiameterMode => warning(
                 "G7: X words are diameters",
                 at,
@@ -422,7 +448,8 @@ impl Wording for CodeErrorKind {
                 at,
                 "the radius of the round, or the length of the chamfer's legs",
             ),
-            K::Thread(problem) => thread_wording(*problem, at),
+            K::Thread(problem, code) => thread_wording(*problem, code, at),
+            K::ThreadCycle(problem) => thread_cycle_wording(*problem, at),
         }
     }
 }
@@ -489,28 +516,75 @@ fn spline_wording(problem: SplineProblem, at: Span) -> Diagnostic {
     error(message, at, label).with_help(help)
 }
 
-fn thread_wording(problem: ThreadProblem, at: Span) -> Diagnostic {
+fn thread_wording(problem: ThreadProblem, code: &str, at: Span) -> Diagnostic {
     use ThreadProblem as P;
     let (message, label, help) = match problem {
         P::NoK => (
-            "G33 without K",
-            "K, the distance per spindle revolution, is missing",
-            "give K on every G33 move (the thread's pitch along the move)",
+            format!("{code} without K"),
+            "K, the distance per spindle revolution, is missing".to_string(),
+            format!("give K on every {code} move (the thread's pitch along the move)"),
         ),
         P::Feed => (
-            "an F word with G33",
-            "a G33 move's feed is the spindle's: K per revolution",
-            "set F on a line of its own, before or after the thread",
+            format!("an F word with {code}"),
+            format!("a {code} move's feed is the spindle's: K per revolution"),
+            "set F on a line of its own, before or after the thread".to_string(),
         ),
         P::SpindleOff => (
-            "spindle not turning in G33",
-            "the move is locked to the spindle, which is off here",
-            "start the spindle (M3 or M4) before the thread",
+            format!("spindle not turning in {code}"),
+            "the move is locked to the spindle, which is off here".to_string(),
+            "start the spindle (M3 or M4) before the thread".to_string(),
         ),
         P::Comp => (
-            "G33 under cutter compensation",
-            "ger does not offset a spindle-synchronised move",
-            "turn compensation off (G40) before the thread",
+            format!("{code} under cutter compensation"),
+            "ger does not offset a spindle-synchronised move".to_string(),
+            "turn compensation off (G40) before the thread".to_string(),
+        ),
+        P::NoAxes => (
+            format!("{code} without an axis word"),
+            "where the tap goes is missing".to_string(),
+            format!("give the end point: {code} Z… K…"),
+        ),
+    };
+    error(message, at, label).with_help(help)
+}
+
+fn thread_cycle_wording(problem: ThreadCycleProblem, at: Span) -> Diagnostic {
+    use ThreadCycleProblem as P;
+    let (message, label, help): (String, &str, &str) = match problem {
+        P::Missing(letter) => (
+            format!("{letter} word missing with G76"),
+            "G76 needs P (the pitch), I, J and K",
+            "P: pitch; I: the thread's peak from the drive line; J: the first cut; K: the full depth",
+        ),
+        P::NotWhole(letter) => (
+            format!("{letter} is not a whole number"),
+            "G76 counts with it",
+            "H: spring passes; L: 0-3, which ends taper",
+        ),
+        P::IZero => ("in G76, I must not be 0".into(), "the thread's peak", "I < 0: an external thread; I > 0: internal"),
+        P::JNotPositive => ("in G76, J must be greater than 0".into(), "the first cut's depth", "J > 0"),
+        P::KNotAboveJ => ("in G76, K must be greater than J".into(), "the full depth", "K > J"),
+        P::NoAxes => ("G76 without an axis word".into(), "where the thread ends is missing", "give the thread's end: G76 … Z…"),
+        P::OtherAxis(letter) => (
+            format!("G76 with {letter}"),
+            "G76 moves X and Z only (rs274 refuses other axes that move)",
+            "move that axis on a line of its own",
+        ),
+        P::SpindleOff => ("spindle not turning in G76".into(), "its passes are locked to the spindle", "start the spindle (M3 or M4) before the cycle"),
+        P::Comp => (
+            "G76 under cutter compensation".into(),
+            "rs274 refuses the threading cycle with compensation on",
+            "turn compensation off (G40) before the cycle",
+        ),
+        P::UnknownStart(axis) => (
+            format!("G76 where {axis} is not known"),
+            "the cycle starts where the tool is",
+            "move the tool to the thread's start (G0 X… Z…) before G76",
+        ),
+        P::TooManyPasses(n) => (
+            format!("G76 makes {n:.0} passes"),
+            "more passes than ger expands (100,000)",
+            "a larger J, or R (degression) nearer 1",
         ),
     };
     error(message, at, label).with_help(help)
