@@ -180,6 +180,7 @@ fn parse_problems(
 
     let context = ErrorContext {
         at,
+        language,
         text,
         names,
         call_groups: &call_groups,
@@ -379,6 +380,7 @@ fn push_stretch<'t>(out: &mut Vec<Piece<'t>>, mut stretch: &'t [Spanned]) {
 
 struct ErrorContext<'a> {
     at: &'a Locator,
+    language: Language,
     text: &'a str,
     names: &'a Names,
     call_groups: &'a [usize],
@@ -435,7 +437,8 @@ impl ErrorContext<'_> {
                     hints.push(ParseHint::ElseAfterIf);
                 } else if matches!(tok, Tok::Name(_)) && wants("word") {
                     hints.push(
-                        value_from_name(&self.text[l..r]).unwrap_or(ParseHint::CommentSyntax),
+                        value_from_name(&self.text[l..r], self.language)
+                            .unwrap_or(ParseHint::CommentSyntax(self.language)),
                     );
                 } else if wants("{") && expected.len() == 1 {
                     let opener = self.tokens.iter().rev().filter(|t| t.0 < l);
@@ -766,7 +769,7 @@ pub(crate) fn call(names: &Names, name: Symbol, args: Vec<Expr>, span: Span) -> 
 /// `XDd` where a word was expected: the letter of a value-taking word
 /// glued to a name that starts with a capital (a name, not a comment's
 /// `Move`): its value, `X<Dd>`, was meant.
-fn value_from_name(text: &str) -> Option<ParseHint> {
+fn value_from_name(text: &str, language: Language) -> Option<ParseHint> {
     let mut chars = text.chars();
     let letter = chars.next().filter(|c| "XYZABCUVWIJKRFSPQ".contains(*c))?;
     let rest = chars.as_str();
@@ -774,5 +777,6 @@ fn value_from_name(text: &str) -> Option<ParseHint> {
         .then(|| ParseHint::ValueFromName {
             letter,
             name: rest.to_string(),
+            language,
         })
 }
