@@ -104,6 +104,12 @@ pub enum SyntaxErrorKind {
         lines: usize,
         end: Span,
     },
+    /// Lines after a tape's closing `%` (at `end`; the program started
+    /// with `%`): not read (a note, at the first).
+    NotReadAfterTape {
+        lines: usize,
+        end: Span,
+    },
 }
 
 /// Why a parse error may have happened, read from the tokens around it.
@@ -356,6 +362,19 @@ impl Wording for SyntaxErrorKind {
             .with_note(
                 "rs274 reads nothing after M2/M30 but the subprograms a call looks for, \
                  and Fanuc keeps its subprograms there",
+            ),
+            NotReadAfterTape { lines, end } => note(
+                match lines {
+                    1 => "1 line after the tape's end is not read".to_string(),
+                    n => format!("{n} lines after the tape's end are not read"),
+                },
+                at,
+                "not read",
+            )
+            .with_secondary(*end, "the tape ends here")
+            .with_note(
+                "a program that starts with a `%` line ends at the next `%` line: \
+                 rs274 and Fanuc controls read nothing after it",
             ),
         }
     }

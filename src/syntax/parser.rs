@@ -109,6 +109,17 @@ pub fn parse_program_from(
     language: Language,
     names: &mut Names,
 ) -> (Program, Vec<Diagnostic>) {
+    // A tape is read to its closing `%` line (whole here; a caller that
+    // reads in parts cuts the text there first).
+    let tape = (language == Language::Gcode && at.offset(from) == 0)
+        .then(|| after_end::tape_end(text, at))
+        .flatten();
+    if let Some((cut, note)) = tape {
+        let (program, mut diagnostics) =
+            parse_program_from(&text[..cut], from, at, language, names);
+        diagnostics.extend(note.map(|n| n.to_diagnostic()));
+        return (program, diagnostics);
+    }
     let (program, problems) = parse_problems(text, from, at, language, names);
     let ended = match language {
         Language::Gcode => after_end::end_of_main(&program.main, text, at),
