@@ -5,8 +5,8 @@
 //! `o<name> sub` there when a call looks for it. So after the end only
 //! subprograms are read, each as it would be anywhere; every other line
 //! is left unread, with one note saying so, and a `%` line ends the
-//! reading. A tape (a program that starts with a `%` line) ends at its
-//! next `%` line, M2/M30 or not ([`Tape`], [`tape_end`]: the callers that
+//! reading. A tape (a program that starts with a `%` alone on its line)
+//! ends at its next such line, M2/M30 or not ([`Tape`], [`tape_end`]: the callers that
 //! read in parts cut the text there). One function reads the rest of a
 //! program from its end, whatever part of it is being read
 //! ([`super::chunk`] reads the part with the end to the end of the text),
@@ -126,11 +126,13 @@ pub(super) fn read_after_end(
     (subprograms, problems)
 }
 
-/// A tape (SPEC §2.8): a program whose first line with anything on it
-/// starts with `%` ends at the next line that starts with `%`, where rs274
-/// and Fanuc stop reading. Fed a program's lines in order, it says which
-/// closes the tape. In a program that does not start with `%`, a `%` line
-/// closes nothing (it is skipped, as it always was).
+/// A tape (SPEC §2.8): a program whose first line with anything on it is
+/// a `%` alone ends at the next line that is a `%` alone, where rs274 and
+/// Fanuc stop reading. Fed a program's lines in order, it says which
+/// closes the tape. A `%` line with text (`% LED on`, which some posts
+/// write as a comment; rs274 refuses it) closes nothing, nor does a `%`
+/// in a program that does not start with one: both are skipped, as they
+/// always were.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub enum Tape {
     /// No line with anything on it yet.
@@ -148,7 +150,7 @@ impl Tape {
         let line = line.trim_start_matches('\u{feff}').trim();
         match *self {
             Tape::Unknown if line.is_empty() => false,
-            Tape::Unknown if line.starts_with('%') => {
+            Tape::Unknown if line == "%" => {
                 *self = Tape::Open;
                 false
             }
@@ -156,7 +158,7 @@ impl Tape {
                 *self = Tape::NotATape;
                 false
             }
-            Tape::Open if line.starts_with('%') => {
+            Tape::Open if line == "%" => {
                 *self = Tape::Closed;
                 true
             }
@@ -401,8 +403,9 @@ mod tests {
             let mut tape = Tape::default();
             text.lines().position(|line| tape.closes(line))
         };
-        assert_eq!(closing("%\nG0 X1\n% end\nG0 X2\n%\n"), Some(2));
-        assert_eq!(closing("\n  \n\u{feff}% tape\nG0 X1\n  %\n"), Some(4));
+        assert_eq!(closing("%\nG0 X1\n% LED on\nG0 X2\n%\n"), Some(4));
+        assert_eq!(closing("\n  \n\u{feff}%\nG0 X1\n  %\n"), Some(4));
+        assert_eq!(closing("% tape\nG0 X1\n%\n"), None);
         assert_eq!(closing("(c)\n%\nG0 X1\n%\n"), None);
         assert_eq!(closing("G0 X1\n%\nG0 X2\n%\n"), None);
         assert_eq!(closing("%\nG0 X1\n"), None);

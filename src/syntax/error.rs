@@ -373,7 +373,7 @@ impl Wording for SyntaxErrorKind {
             )
             .with_secondary(*end, "the tape ends here")
             .with_note(
-                "a program that starts with a `%` line ends at the next `%` line: \
+                "a program that starts with a `%` line ends at its next `%` line: \
                  rs274 and Fanuc controls read nothing after it",
             ),
         }
