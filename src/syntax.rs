@@ -19,6 +19,7 @@ pub mod parser;
 pub mod token;
 pub mod words;
 
+pub use after_end::{tape_end, Tape, Unread};
 pub use language::Language;
 pub use parser::{
     parse_program, parse_program_as, parse_program_at, parse_program_files,

@@ -304,6 +304,30 @@ fn plain_line() -> impl Strategy<Value = String> {
         })
 }
 
+/// `line` with a blank after the characters of its words that `picks`
+/// chooses (`X-1.5` may become `X - 1. 5`), outside its comments.
+fn with_blanks_inside(line: &str, picks: &[bool]) -> String {
+    let mut spaced = String::with_capacity(line.len() * 2);
+    let mut in_comment = false;
+    let mut picks = picks.iter().cycle();
+    let mut chars = line.chars().peekable();
+    while let Some(c) = chars.next() {
+        spaced.push(c);
+        in_comment = match c {
+            '(' => true,
+            ')' => false,
+            _ => in_comment,
+        };
+        let inside_word = chars
+            .peek()
+            .is_some_and(|next| next.is_ascii_digit() || matches!(next, '.' | '-'));
+        if !in_comment && inside_word && *picks.next().unwrap_or(&false) {
+            spaced.push(' ');
+        }
+    }
+    spaced
+}
+
 /// Output and diagnostics, as text.
 fn outcome(text: &str, fast: bool) -> String {
     let compiled = ger::syntax::with_fast_path(fast, || run(text));
@@ -342,6 +366,24 @@ proptest! {
         let fast = outcome(&text, true);
         prop_assert!(!fast.starts_with("None"), "{}", fast);
         prop_assert_eq!(fast, outcome(&text, false));
+    }
+
+    /// Spaces inside words (SPEC §2.2) read alike in `.egc` and in plain
+    /// G-code, as the words without them, with the fast path and without.
+    #[test]
+    fn spaces_inside_words_read_alike_in_egc_and_plain(
+        lines in proptest::collection::vec((plain_line(), proptest::collection::vec(any::<bool>(), 48)), 1..20)
+    ) {
+        let program = |lines: Vec<String>| format!("G21 G90 F100\nG0 X0 Y0 Z5\n{}\nM30\n", lines.join("\n"));
+        let written = program(lines.iter().map(|(line, _)| line.clone()).collect());
+        let spaced = program(lines.iter().map(|(line, picks)| with_blanks_inside(line, picks)).collect());
+        let egc = outcome(&spaced, true);
+        prop_assert!(!egc.starts_with("None"), "{}\n{}", spaced, egc);
+        prop_assert_eq!(&egc, &outcome(&written, true), "{}", spaced);
+        prop_assert_eq!(&egc, &outcome(&spaced, false), "{}", spaced);
+        // (`.egc` keeps no comment that stands alone on its line.)
+        let output = |c: Compiled| without_comments(&c.output.unwrap_or_default());
+        prop_assert_eq!(output(run(&spaced)), output(compile_gcode(&spaced)), "{}", spaced);
     }
 
     /// ger's output is a program ger reads again to the same tool path.

@@ -484,6 +484,65 @@ fn what_follows_the_end_is_read_alike_in_parts() {
 /// (`driver::scan_file`, `driver::compile_file`), with the wizards of
 /// `wizards/` and the standard library if `wizards`: its text (`<no
 /// output>` on errors) and diagnostics.
+/// A tape (a program whose first line is `%`) ends at its next `%` line,
+/// M2/M30 or not: nothing after it is read and one note says so, the same
+/// whole and in parts, whether the text is read as plain lines, cut as it
+/// goes or whole, and from a file.
+#[test]
+fn a_tape_ends_at_its_closing_percent_alike_in_parts() {
+    use ger::syntax::chunk::with_part_size;
+    let after = "G0 X99\nThese notes are not G-code: a = b\n(comment)\n%\nG0 X98\n";
+    for text in [
+        format!("%\nG21 G90 F100\nG1 X1\nG1 X2\n%\n{after}"),
+        format!("\n%\nG21 G90 F100\n#1 = 2\nG1 X#1\n%\n{after}M30\n"),
+        format!("%\nG21 G90 F100\no<a> call\nM2\no<a> sub\nG1 X3\no<a> endsub\n%\n{after}"),
+        format!("%\nO0001\nG21 G90 F100\nM98 P1000\nM30\nO1000\nG1 X4\nM99\n%\n{after}"),
+    ] {
+        let dir = std::env::temp_dir().join(format!("ger-tape-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let path = dir.join("tape.nc");
+        std::fs::write(&path, &text).unwrap();
+        let compile_in = |part: Option<usize>| {
+            with_part_size(part, || {
+                let mut sources = Sources::new();
+                let file = sources.add(path.to_string_lossy(), text.clone());
+                let compiled = compile(&sources, file, &CompileOptions::default(), None);
+                (compiled.output, render(&sources, &compiled.diagnostics))
+            })
+        };
+        let whole = compile_in(None);
+        let output = whole
+            .0
+            .as_deref()
+            .unwrap_or_else(|| panic!("{text}\n{}", whole.1));
+        assert!(
+            !output.contains("X99") && !output.contains("X98"),
+            "{output}"
+        );
+        assert_eq!(
+            whole.1.matches("after the tape's end are not read").count(),
+            1,
+            "{}",
+            whole.1
+        );
+        for part in [1, 40] {
+            assert_eq!(compile_in(Some(part)), whole, "{text} in parts of {part}");
+        }
+        let options = CompileOptions::default();
+        for part in [1, 40, 4096] {
+            if let Read::Compiled(read) = from_reader(&path, &text, &options, part, false) {
+                let shown = &whole.1;
+                assert_eq!(
+                    read,
+                    format!("{output}\n--- diagnostics ---\n{shown}"),
+                    "{text}"
+                );
+            }
+        }
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
+}
+
 fn from_reader(
     path: &Path,
     text: &str,

@@ -345,17 +345,22 @@ fn run<'a>(
     let fanuc_functions = from.0 == eval::Flavour::Fanuc && language == Language::Gcode;
     // A program is read in parts, unless it needs to be read whole.
     let at = &locator;
+    let (read, tape_note) = read_in_parts(text, at, language);
     let source =
         match library.is_empty() && options.stage != Some(Stage::Parse) && chunk::by_parts() {
             false => None,
-            true if language == Language::Gcode && chunk::chunkable(text) => {
-                let ranges = Box::new(chunk::chunks(text));
-                Some(PartSource::Text { text, at, ranges })
+            true if language == Language::Gcode && chunk::chunkable(read) => {
+                let ranges = Box::new(chunk::chunks(read));
+                Some(PartSource::Text {
+                    text: read,
+                    at,
+                    ranges,
+                })
             }
             true => match cutting {
                 Cutting::PlainOnly => None,
                 Cutting::AsItGoes => Some(PartSource::TextCut {
-                    text,
+                    text: read,
                     at,
                     from: 0,
                     defined: Vec::new(),
@@ -365,6 +370,7 @@ fn run<'a>(
     if let Some(source) = source {
         let backend = Backend::new(SourceFacts::Text(text), file, options, out);
         let mut parts = Parts::new(source);
+        parts.tape_note = tape_note;
         let written = run_by_parts(
             &mut parts,
             language,
@@ -414,6 +420,23 @@ fn run<'a>(
     clock.ran_inside(backend.lower_time_ahead);
     clock.lap("expand");
     Ok(finish_back_end(backend, diagnostics, clock))
+}
+
+/// What the parts of `text` read: a tape's text up to its closing `%`
+/// line (a whole read sees to it itself), and the note on what follows it.
+fn read_in_parts<'t>(
+    text: &'t str,
+    at: &Locator,
+    language: Language,
+) -> (&'t str, Option<Diagnostic>) {
+    let tape = match language {
+        Language::Gcode => crate::syntax::tape_end(text, at),
+        Language::Egc => None,
+    };
+    match tape {
+        Some((cut, note)) => (&text[..cut], note.map(|n| n.to_diagnostic())),
+        None => (text, None),
+    }
 }
 
 /// Fanuc's meaning for the functions whose names Fanuc and LinuxCNC
@@ -476,7 +499,7 @@ pub(super) fn file_to<'a>(
     let (from, language) = (options.flavour(name, scan.clue), options.language(name));
     let eval_options = options.eval_options(from, language);
     let backend = Backend::new(SourceFacts::Known(scan), file, options, out);
-    let lines = LineReader::new(reader, file, scan);
+    let lines = LineReader::new(reader, (file, language), scan);
     // G-code is read as plain until a part is found not to be.
     let mut parts = Parts::new(match language == Language::Gcode {
         true => PartSource::Reader(lines),
@@ -545,7 +568,9 @@ fn run_by_parts(
     while parts.next(language, &mut names).is_some() {
         names.forget_notes();
     }
+    let tape_note = parts.take_tape_note();
     diagnostics.append(&mut parts.diagnostics);
+    diagnostics.extend(tape_note);
     clock.ran_inside(backend.lower_time_ahead);
     clock.split("expand", &[("parse", parts.time)]);
     // A syntax error (among `diagnostics` now) stops the compile: what the

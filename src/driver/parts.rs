@@ -8,7 +8,7 @@ use crate::ast::Names;
 use crate::diagnostic::{is_error, Diagnostic};
 use crate::eval;
 use crate::source::{self, FileId, Locator};
-use crate::syntax::{chunk, Language};
+use crate::syntax::{chunk, Language, Tape, Unread};
 use std::time::{Duration, Instant};
 
 /// Where the parts of a program come from.
@@ -53,6 +53,9 @@ pub(super) struct Parts<'a> {
     /// Emptied runs of lines of plain words, for the lines to come
     /// ([`chunk::recycle`]).
     pub(super) spare: chunk::Spare,
+    /// The note for what follows a tape's end, when the text read was cut
+    /// there ([`crate::syntax::tape_end`]).
+    pub(super) tape_note: Option<Diagnostic>,
 }
 
 impl<'a> Parts<'a> {
@@ -65,7 +68,20 @@ impl<'a> Parts<'a> {
             read_error: None,
             whole: false,
             spare: chunk::Spare::default(),
+            tape_note: None,
         }
+    }
+
+    /// The note for what follows a tape's end, once every part is read:
+    /// the text's, or the file's, found as its lines were read.
+    pub(super) fn take_tape_note(&mut self) -> Option<Diagnostic> {
+        let lines = match &mut self.source {
+            PartSource::Reader(lines) => Some(lines),
+            PartSource::Program(program) => Some(&mut program.lines),
+            _ => None,
+        };
+        let from_file = lines.and_then(|l| l.tape_note.take());
+        self.tape_note.take().or(from_file)
     }
 
     /// The statements of a part that has run: their runs of lines are
@@ -197,12 +213,21 @@ pub(super) struct LineReader<'a> {
     lines_before: usize,
     /// A [`FileScan::partial`] scan each part is checked against.
     pub(super) check: Option<FileScan>,
+    /// Whether the program is a tape, and closed ([`Tape`]); the decoded
+    /// text and lines given out so far, to place what follows its end.
+    tape: Tape,
+    given: usize,
+    lines_given: usize,
+    /// The note for what follows a tape's end, once the file is read.
+    pub(super) tape_note: Option<Diagnostic>,
 }
 
 impl<'a> LineReader<'a> {
+    /// The lines of a program in `language` (only plain G-code may be a
+    /// tape).
     pub(super) fn new(
         reader: &'a mut dyn std::io::BufRead,
-        file: FileId,
+        (file, language): (FileId, Language),
         scan: FileScan,
     ) -> LineReader<'a> {
         LineReader {
@@ -212,6 +237,13 @@ impl<'a> LineReader<'a> {
             base: 0,
             lines_before: 0,
             check: scan.partial.then_some(scan),
+            tape: match language {
+                Language::Gcode => Tape::Unknown,
+                Language::Egc => Tape::NotATape,
+            },
+            given: 0,
+            lines_given: 0,
+            tape_note: None,
         }
     }
 
@@ -232,7 +264,58 @@ impl<'a> LineReader<'a> {
     /// `None` at the end of the file. Read in blocks.
     /// With a [`FileScan::partial`] scan (`check`), each is checked first
     /// as the whole scan would have read it: `Err(`[`Unforeseen`]`)`.
+    /// A tape ([`Tape`]) ends at its closing `%` line: nothing from it on
+    /// is given; the rest of the file is read for the note.
     fn next_lines(&mut self, part: usize) -> std::io::Result<Option<String>> {
+        if self.tape == Tape::Closed {
+            return Ok(None);
+        }
+        let Some(mut text) = self.decoded_lines(part)? else {
+            return Ok(None);
+        };
+        if !self.tape.decided() {
+            let mut start = 0;
+            while start < text.len() && !self.tape.decided() {
+                let end = text[start..]
+                    .find('\n')
+                    .map_or(text.len(), |i| start + i + 1);
+                if self.tape.closes(&text[start..end]) {
+                    self.tape_closed(&text, start)?;
+                    text.truncate(start);
+                    break;
+                }
+                start = end;
+            }
+        }
+        self.given += text.len();
+        self.lines_given += text.bytes().filter(|&b| b == b'\n').count();
+        Ok(Some(text))
+    }
+
+    /// The tape closes at `text[close..]`'s line: the rest of the file is
+    /// read for the note on what is not.
+    fn tape_closed(&mut self, text: &str, close: usize) -> std::io::Result<()> {
+        let at = Locator::part(self.file, text, self.given, self.lines_given);
+        let percent = close + text[close..].find('%').unwrap_or(0);
+        let end = at.span(percent, percent + 1);
+        let after = text[close..]
+            .find('\n')
+            .map_or(text.len(), |i| close + i + 1);
+        let mut unread = Unread::default();
+        unread.add(text, after, &at);
+        let (mut base, mut lines) = (self.given + text.len(), self.lines_given + at.line_ends());
+        while let Some(more) = self.decoded_lines(chunk::part_size())? {
+            let at = Locator::part(self.file, &more, base, lines);
+            unread.add(&more, 0, &at);
+            base += more.len();
+            lines += at.line_ends();
+        }
+        self.tape_note = unread.note(end).map(|n| n.to_diagnostic());
+        Ok(())
+    }
+
+    /// The next lines, decoded and checked ([`Self::next_lines`]).
+    fn decoded_lines(&mut self, part: usize) -> std::io::Result<Option<String>> {
         let mut bytes = Vec::with_capacity(part + 256);
         if !read_lines(self.reader, part, &mut self.first, &mut bytes)? {
             return Ok(None);

@@ -5,10 +5,12 @@
 //! `o<name> sub` there when a call looks for it. So after the end only
 //! subprograms are read, each as it would be anywhere; every other line
 //! is left unread, with one note saying so, and a `%` line ends the
-//! reading (a tape's end). One function reads the rest of a program from
-//! its end, whatever part of it is being read ([`super::chunk`] reads the
-//! part with the end to the end of the text), so a program means the
-//! same read whole or in parts. It must not evaluate anything: an `M2`
+//! reading. A tape (a program that starts with a `%` alone on its line)
+//! ends at its next such line, M2/M30 or not ([`Tape`], [`tape_end`]: the callers that
+//! read in parts cut the text there). One function reads the rest of a
+//! program from its end, whatever part of it is being read
+//! ([`super::chunk`] reads the part with the end to the end of the text),
+//! so a program means the same read whole or in parts. It must not evaluate anything: an `M2`
 //! inside a block or a subprogram ends nothing here.
 
 use super::error::{SyntaxError, SyntaxErrorKind};
@@ -122,6 +124,109 @@ pub(super) fn read_after_end(
         problems.push(SyntaxError::new(kind, first));
     }
     (subprograms, problems)
+}
+
+/// A tape (SPEC §2.8): a program whose first line with anything on it is
+/// a `%` alone ends at the next line that is a `%` alone, where rs274 and
+/// Fanuc stop reading. Fed a program's lines in order, it says which
+/// closes the tape. A `%` line with text (`% LED on`, which some posts
+/// write as a comment; rs274 refuses it) closes nothing, nor does a `%`
+/// in a program that does not start with one: both are skipped, as they
+/// always were.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Tape {
+    /// No line with anything on it yet.
+    #[default]
+    Unknown,
+    Open,
+    NotATape,
+    Closed,
+}
+
+impl Tape {
+    /// The next line of the program (without its line end): whether it
+    /// closes the tape (nothing from its start on is read).
+    pub fn closes(&mut self, line: &str) -> bool {
+        let line = line.trim_start_matches('\u{feff}').trim();
+        match *self {
+            Tape::Unknown if line.is_empty() => false,
+            Tape::Unknown if line == "%" => {
+                *self = Tape::Open;
+                false
+            }
+            Tape::Unknown => {
+                *self = Tape::NotATape;
+                false
+            }
+            Tape::Open if line == "%" => {
+                *self = Tape::Closed;
+                true
+            }
+            _ => false,
+        }
+    }
+
+    /// Whether no line to come can close it.
+    pub fn decided(self) -> bool {
+        matches!(self, Tape::NotATape | Tape::Closed)
+    }
+}
+
+/// The lines after a tape's end that would have said something: not
+/// blank, not only a comment or a `%` line; counted as they are read.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct Unread {
+    first: Option<Span>,
+    lines: usize,
+}
+
+impl Unread {
+    /// The whole lines of `text` from `from` on, placed in the file by `at`.
+    pub fn add(&mut self, text: &str, from: usize, at: &Locator) {
+        let mut start = from;
+        while start < text.len() {
+            let end = next_line(text, start);
+            let written = &text[start..end];
+            let line = written.trim();
+            if !code_of(line).is_empty() && !line.starts_with('%') {
+                self.lines += 1;
+                let from = start + written.len() - written.trim_start().len();
+                self.first
+                    .get_or_insert_with(|| at.span(from, from + line.len()));
+            }
+            start = end;
+        }
+    }
+
+    /// The note at the first line not read, the tape closed at `end`; none
+    /// when every line after it is blank, a comment or a `%` line.
+    pub fn note(self, end: Span) -> Option<SyntaxError> {
+        let first = self.first?;
+        let kind = SyntaxErrorKind::NotReadAfterTape {
+            lines: self.lines,
+            end,
+        };
+        Some(SyntaxError::new(kind, first))
+    }
+}
+
+/// Where the tape of `text`, a program from its first line, ends
+/// ([`Tape`]): the start of its closing `%` line, and the note for the
+/// lines after it ([`Unread`]). `None`: it is not a tape, or not closed.
+pub fn tape_end(text: &str, at: &Locator) -> Option<(usize, Option<SyntaxError>)> {
+    let mut tape = Tape::default();
+    let mut start = 0;
+    while start < text.len() && !tape.decided() {
+        let end = next_line(text, start);
+        if tape.closes(&text[start..end]) {
+            let percent = start + text[start..end].find('%').unwrap_or(0);
+            let mut unread = Unread::default();
+            unread.add(text, end, at);
+            return Some((start, unread.note(at.span(percent, percent + 1))));
+        }
+        start = end;
+    }
+    None
 }
 
 /// The offset just past the line that starts at `start`.
@@ -290,6 +395,35 @@ mod tests {
         assert!(!has_m99("(M99) G1 X1"));
         assert!(!has_m99("G1 X1 ; M99"));
         assert!(!has_m99("M990"));
+    }
+
+    #[test]
+    fn a_tape_is_closed_by_its_next_percent_line_only() {
+        let closing = |text: &str| {
+            let mut tape = Tape::default();
+            text.lines().position(|line| tape.closes(line))
+        };
+        assert_eq!(closing("%\nG0 X1\n% LED on\nG0 X2\n%\n"), Some(4));
+        assert_eq!(closing("\n  \n\u{feff}%\nG0 X1\n  %\n"), Some(4));
+        assert_eq!(closing("% tape\nG0 X1\n%\n"), None);
+        assert_eq!(closing("(c)\n%\nG0 X1\n%\n"), None);
+        assert_eq!(closing("G0 X1\n%\nG0 X2\n%\n"), None);
+        assert_eq!(closing("%\nG0 X1\n"), None);
+    }
+
+    #[test]
+    fn what_follows_a_tape_is_counted_but_comments_and_percent_lines() {
+        let text = "%\nG0 X1\n%\n\n(c) ; d\nG0 X2\n%\nnotes\n";
+        let (cut, note) = tape_end(text, &Locator::new(0, text)).unwrap();
+        assert_eq!(&text[cut..cut + 2], "%\n");
+        let note = note.unwrap();
+        assert_eq!((note.span.line, note.span.start), (6, 19));
+        assert!(matches!(
+            note.kind,
+            SyntaxErrorKind::NotReadAfterTape { lines: 2, .. }
+        ));
+        let text = "%\nG0 X1\n%\n(c)\n%\n";
+        assert!(tape_end(text, &Locator::new(0, text)).unwrap().1.is_none());
     }
 
     #[test]

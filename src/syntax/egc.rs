@@ -1,11 +1,12 @@
 //! The rules of ger's own language, `.egc` (SPEC §2.3–2.7), in the one
-//! lexer: whether `(` opens a comment or a group, the keywords, a letter
-//! without its number, and `P0X = 5` read as the name the user meant. It
-//! must not build syntax trees.
+//! lexer: whether `(` opens a comment or a group, the keywords, spaces
+//! inside the words of a G-code line, a letter without its number, and
+//! `P0X = 5` read as the name the user meant. It must not build syntax
+//! trees.
 
 use super::error::SyntaxErrorKind;
 use super::language::Language;
-use super::lexer::{find_word, Lexer, Shape};
+use super::lexer::{find_word, Lexer, Raw, Shape};
 use super::token::Tok;
 use crate::ast::Function;
 
@@ -58,6 +59,45 @@ impl Lexer<'_> {
         }
     }
 
+    /// SPEC §2.2's spaces inside a word of a G-code statement, as plain
+    /// G-code reads them: `G0Z  0.1`, `X - 1 0 . 5`, `X1 0.5` (rs274 reads
+    /// a line without its blanks), and `X <expr>`, the symbolic word with
+    /// a blank after its letter. Only where a statement is G-code words
+    /// (outside groups and symbolic words): a wizard call's or directive's
+    /// arguments (`Pocket 75 30 10`) and expressions stay apart. Where it
+    /// took the text, the offset to go on from.
+    pub(super) fn egc_spaced_word(
+        &mut self,
+        raw: Result<Raw, ()>,
+        start: usize,
+        end: usize,
+    ) -> Option<usize> {
+        let words_only = matches!(self.shape, Shape::Empty | Shape::Code)
+            && self.groups.is_empty()
+            && self.syms.is_empty();
+        if !words_only {
+            return None;
+        }
+        match raw {
+            Ok(Raw::Word) => self.spaced_number(raw, start, end),
+            Ok(Raw::Letter) => {
+                let line_end = self.text[start..]
+                    .find('\n')
+                    .map_or(self.text.len(), |i| start + i);
+                let after = self.text[end..line_end].trim_start_matches([' ', '\t']);
+                if after.starts_with('<') {
+                    let open = line_end - after.len();
+                    self.open_sym(start, '<', false);
+                    let letter = self.text.as_bytes()[start].to_ascii_uppercase();
+                    self.push(start, Tok::SymOpen(letter), open + 1);
+                    return Some(open + 1);
+                }
+                self.word_after(start, line_end)
+            }
+            _ => None,
+        }
+    }
+
     /// A letter with no number: an address without its value, or a
     /// one-letter name in an expression.
     pub(super) fn lone_letter(&mut self, start: usize, end: usize) {
@@ -66,9 +106,9 @@ impl Lexer<'_> {
             || !self.syms.is_empty()
             || matches!(self.shape, Shape::Assign | Shape::Keyword);
         let kind = if in_expression {
-            SyntaxErrorKind::LetterAsName(text.into())
+            SyntaxErrorKind::LetterAsName(text.into(), self.language)
         } else {
-            SyntaxErrorKind::LetterWithoutNumber(text.into())
+            SyntaxErrorKind::LetterWithoutNumber(text.into(), self.language)
         };
         self.report(kind, start, end);
     }

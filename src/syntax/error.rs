@@ -9,8 +9,8 @@ use crate::source::Span;
 
 #[derive(Clone, Debug, PartialEq)]
 pub enum SyntaxErrorKind {
-    /// A character no token starts with.
-    UnknownCharacter(char),
+    /// A character no token starts with, in a file of `Language`.
+    UnknownCharacter(char, Language),
     /// A group (`(` in `.egc`, `[` in G-code: `bracket`) still open when
     /// its line ended (`on_its_line`) or when the file ended.
     UnclosedParen {
@@ -43,9 +43,9 @@ pub enum SyntaxErrorKind {
     /// `//` in plain G-code, read as a comment (a warning).
     SlashCommentInGcode,
     /// A single letter where an expression wants a name.
-    LetterAsName(String),
+    LetterAsName(String, Language),
     /// A letter with no number where a word belongs.
-    LetterWithoutNumber(String),
+    LetterWithoutNumber(String, Language),
     /// `P0X = 5`: a word where a name was meant, and the name it could be
     /// (its letters, then its digits), if it has two letters.
     WordAsName {
@@ -104,6 +104,12 @@ pub enum SyntaxErrorKind {
         lines: usize,
         end: Span,
     },
+    /// Lines after a tape's closing `%` (at `end`; the program started
+    /// with `%`): not read (a note, at the first).
+    NotReadAfterTape {
+        lines: usize,
+        end: Span,
+    },
 }
 
 /// Why a parse error may have happened, read from the tokens around it.
@@ -116,10 +122,14 @@ pub enum ParseHint {
     /// `else` not after an `if` block.
     ElseAfterIf,
     /// A name where a word was expected: likely a comment's text.
-    CommentSyntax,
+    CommentSyntax(Language),
     /// A word letter glued to a name (`XDd`): the name's value was meant,
-    /// `X<Dd>`.
-    ValueFromName { letter: char, name: String },
+    /// `X<Dd>` (`.egc`) or `X#<Dd>` (plain G-code).
+    ValueFromName {
+        letter: char,
+        name: String,
+        language: Language,
+    },
     /// No `{` after the condition of an `if` (true) or a `while` (false).
     BlockAfter { is_if: bool },
     /// Inside a wizard call's `( … )`, which groups.
@@ -133,12 +143,15 @@ impl Wording for SyntaxErrorKind {
     fn wording(&self, at: Span) -> Diagnostic {
         use SyntaxErrorKind::*;
         match self {
-            UnknownCharacter(ch) => error(
+            UnknownCharacter(ch, language) => error(
                 format!("unexpected character `{}`", ch.escape_default()),
                 at,
                 "ger does not know this character",
             )
-            .with_help("comments are written `( … )` on G-code lines or `// …` anywhere"),
+            .with_help(match language {
+                Language::Egc => "comments are written `( … )` on G-code lines or `// …` anywhere",
+                Language::Gcode => "comments are written `( … )` or after `;`",
+            }),
             UnclosedParen {
                 on_its_line,
                 bracket,
@@ -215,23 +228,32 @@ impl Wording for SyntaxErrorKind {
                 "more than one decimal point",
             )
             .with_help("a number has at most one `.`: `1.25`, `.5`, `10.`"),
-            LetterAsName(text) => error(
+            LetterAsName(text, language) => error(
                 format!("`{text}` is not a variable name"),
                 at,
                 "a single letter is a G-code address, not a name",
             )
-            .with_help(format!(
-                "a variable name needs at least two characters: `{text}{text}`, `{text}_`"
-            )),
-            LetterWithoutNumber(text) => error(
+            .with_help(match language {
+                Language::Egc => format!(
+                    "a variable name needs at least two characters: `{text}{text}`, `{text}_`"
+                ),
+                Language::Gcode => "a parameter is written `#1` or `#<name>`".to_string(),
+            }),
+            LetterWithoutNumber(text, language) => error(
                 format!("`{text}` without a number"),
                 at,
-                "a word needs a number directly after its letter",
+                "a word needs a number after its letter",
             )
-            .with_help(format!(
-                "write `{u}10` or `{u}<expression>`, with no space after `{u}`",
-                u = text.to_ascii_uppercase()
-            )),
+            .with_help(match language {
+                Language::Egc => format!(
+                    "write `{u}10` or `{u}<expression>` (a negative one: `{u}<-expression>`)",
+                    u = text.to_ascii_uppercase()
+                ),
+                Language::Gcode => format!(
+                    "write `{u}10`, `{u}#1`, `{u}#<name>` or `{u}[expression]`",
+                    u = text.to_ascii_uppercase()
+                ),
+            }),
             WordAsName { written, respelled } => {
                 let d = error(
                     format!("`{written}` is not a valid variable name"),
@@ -341,6 +363,19 @@ impl Wording for SyntaxErrorKind {
                 "rs274 reads nothing after M2/M30 but the subprograms a call looks for, \
                  and Fanuc keeps its subprograms there",
             ),
+            NotReadAfterTape { lines, end } => note(
+                match lines {
+                    1 => "1 line after the tape's end is not read".to_string(),
+                    n => format!("{n} lines after the tape's end are not read"),
+                },
+                at,
+                "not read",
+            )
+            .with_secondary(*end, "the tape ends here")
+            .with_note(
+                "a program that starts with a `%` line ends at its next `%` line: \
+                 rs274 and Fanuc controls read nothing after it",
+            ),
         }
     }
 }
@@ -352,10 +387,22 @@ fn hint_text(hint: &ParseHint) -> String {
         }
         ParseHint::CompareWithEqEq => "to compare two values write `==`; `=` assigns".to_string(),
         ParseHint::ElseAfterIf => "`else` must follow the `}` of an `if` block".to_string(),
-        ParseHint::CommentSyntax => "comments are written `( … )` or `// …`".to_string(),
-        ParseHint::ValueFromName { letter, name } => format!(
-            "a word takes a variable's value in angle brackets: write `{letter}<{name}>`"
-        ),
+        ParseHint::CommentSyntax(Language::Egc) => {
+            "comments are written `( … )` or `// …`".to_string()
+        }
+        ParseHint::CommentSyntax(Language::Gcode) => {
+            "comments are written `( … )` or after `;`".to_string()
+        }
+        ParseHint::ValueFromName {
+            letter,
+            name,
+            language: Language::Egc,
+        } => format!("a word takes a variable's value in angle brackets: write `{letter}<{name}>`"),
+        ParseHint::ValueFromName {
+            letter,
+            name,
+            language: Language::Gcode,
+        } => format!("a word takes a parameter's value: write `{letter}#<{name}>`"),
         ParseHint::BlockAfter { is_if: true } => {
             "an `if` runs a block: `{` on the line of the condition, `}` after the body: `if (Count > 0) { G0 X1 }`".to_string()
         }

@@ -1,9 +1,9 @@
 //! The rules of plain G-code (SPEC §2.8) in the one lexer: `;` and
 //! nested `( … )` comments kept for the output, `%` lines, grbl's `$`
-//! commands, Fanuc's `:0097`, spaces between a word's letter and its
-//! number, and a line's parameter assignments set after its words. The
-//! LinuxCNC and Fanuc rules are tried first. It must not build syntax
-//! trees.
+//! commands, Fanuc's `:0097`, spaces inside a word (which `.egc`'s
+//! G-code lines share), and a line's parameter assignments set after its
+//! words. The LinuxCNC and Fanuc rules are tried first. It must not build
+//! syntax trees.
 
 use super::error::SyntaxErrorKind;
 use super::language::Language;
@@ -98,7 +98,7 @@ impl Lexer<'_> {
     /// at the latest, with any blanks inside it (`G 0 1`, `X - 1 0 . 5`);
     /// where the text goes on. A number of two points is an error; no
     /// number, `None`.
-    fn word_after(&mut self, start: usize, line_end: usize) -> Option<usize> {
+    pub(super) fn word_after(&mut self, start: usize, line_end: usize) -> Option<usize> {
         let number = WordNumber::after(self.text, start + 1, line_end);
         if number.has_points() {
             let written = self.text[start..number.end].to_string();
@@ -116,7 +116,12 @@ impl Lexer<'_> {
     /// blanks (`X1 0.5`, `#1 = 2 5`): rs274 reads a line without its
     /// blanks, so it is read to its last digit or point; where the text
     /// goes on. Any other: `None`, as the lexer found it.
-    fn spaced_number(&mut self, raw: Result<Raw, ()>, start: usize, end: usize) -> Option<usize> {
+    pub(super) fn spaced_number(
+        &mut self,
+        raw: Result<Raw, ()>,
+        start: usize,
+        end: usize,
+    ) -> Option<usize> {
         let bytes = self.text.as_bytes();
         let mut next = end;
         while let Some(b' ' | b'\t') = bytes.get(next) {

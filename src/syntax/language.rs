@@ -3,8 +3,8 @@
 
 /// Which language a file is in (SPEC §2.8): ger's own, or plain G-code as
 /// CAM and people write it, where `;` starts a comment, `( … )` is always a
-/// comment (nested parentheses included), `:0097` is a program number and a
-/// word may have spaces between its letter and number (`G0Z  0.1`).
+/// comment (nested parentheses included) and `:0097` is a program number.
+/// Both read spaces inside a word (`G0Z  0.1`, SPEC §2.2).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
 pub enum Language {
     #[default]

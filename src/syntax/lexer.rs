@@ -298,16 +298,18 @@ impl<'a> Lexer<'a> {
         while let Some(result) = raw.next() {
             let range = raw.span();
             let (start, end) = (range.start, range.end);
-            if self.language == Language::Gcode {
-                if let Some(skip_to) = self.plain_gcode(result, start, end) {
-                    raw.bump(skip_to.saturating_sub(end));
-                    continue;
-                }
+            let taken = match self.language {
+                Language::Gcode => self.plain_gcode(result, start, end),
+                Language::Egc => self.egc_spaced_word(result, start, end),
+            };
+            if let Some(skip_to) = taken {
+                raw.bump(skip_to.saturating_sub(end));
+                continue;
             }
             let Ok(tok) = result else {
                 let ch = self.text[start..].chars().next().unwrap_or('?');
                 self.report(
-                    SyntaxErrorKind::UnknownCharacter(ch),
+                    SyntaxErrorKind::UnknownCharacter(ch, self.language),
                     start,
                     start + ch.len_utf8(),
                 );

@@ -109,6 +109,17 @@ pub fn parse_program_from(
     language: Language,
     names: &mut Names,
 ) -> (Program, Vec<Diagnostic>) {
+    // A tape is read to its closing `%` line (whole here; a caller that
+    // reads in parts cuts the text there first).
+    let tape = (language == Language::Gcode && at.offset(from) == 0)
+        .then(|| after_end::tape_end(text, at))
+        .flatten();
+    if let Some((cut, note)) = tape {
+        let (program, mut diagnostics) =
+            parse_program_from(&text[..cut], from, at, language, names);
+        diagnostics.extend(note.map(|n| n.to_diagnostic()));
+        return (program, diagnostics);
+    }
     let (program, problems) = parse_problems(text, from, at, language, names);
     let ended = match language {
         Language::Gcode => after_end::end_of_main(&program.main, text, at),
@@ -180,6 +191,7 @@ fn parse_problems(
 
     let context = ErrorContext {
         at,
+        language,
         text,
         names,
         call_groups: &call_groups,
@@ -379,6 +391,7 @@ fn push_stretch<'t>(out: &mut Vec<Piece<'t>>, mut stretch: &'t [Spanned]) {
 
 struct ErrorContext<'a> {
     at: &'a Locator,
+    language: Language,
     text: &'a str,
     names: &'a Names,
     call_groups: &'a [usize],
@@ -435,7 +448,8 @@ impl ErrorContext<'_> {
                     hints.push(ParseHint::ElseAfterIf);
                 } else if matches!(tok, Tok::Name(_)) && wants("word") {
                     hints.push(
-                        value_from_name(&self.text[l..r]).unwrap_or(ParseHint::CommentSyntax),
+                        value_from_name(&self.text[l..r], self.language)
+                            .unwrap_or(ParseHint::CommentSyntax(self.language)),
                     );
                 } else if wants("{") && expected.len() == 1 {
                     let opener = self.tokens.iter().rev().filter(|t| t.0 < l);
@@ -766,7 +780,7 @@ pub(crate) fn call(names: &Names, name: Symbol, args: Vec<Expr>, span: Span) -> 
 /// `XDd` where a word was expected: the letter of a value-taking word
 /// glued to a name that starts with a capital (a name, not a comment's
 /// `Move`): its value, `X<Dd>`, was meant.
-fn value_from_name(text: &str) -> Option<ParseHint> {
+fn value_from_name(text: &str, language: Language) -> Option<ParseHint> {
     let mut chars = text.chars();
     let letter = chars.next().filter(|c| "XYZABCUVWIJKRFSPQ".contains(*c))?;
     let rest = chars.as_str();
@@ -774,5 +788,6 @@ fn value_from_name(text: &str) -> Option<ParseHint> {
         .then(|| ParseHint::ValueFromName {
             letter,
             name: rest.to_string(),
+            language,
         })
 }
