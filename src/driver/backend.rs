@@ -253,6 +253,7 @@ impl<'s> Backend<'s> {
             diagnostics.extend(p.refused());
             diagnostics.extend(p.arcs_not_r());
             diagnostics.extend(p.path_control_lost());
+            diagnostics.extend(p.dwell_too_long());
             diagnostics.extend(p.arcs_fitted());
         }
         if let (Printer::Path(builder), Output::Moves(sink)) = (&mut printer, &mut self.out) {

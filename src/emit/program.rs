@@ -30,6 +30,9 @@ pub struct ProgramPrinter {
     /// Path control the target cannot run as written (grbl: none of it;
     /// Fanuc: G61.1, G64's P and Q): the first one's line, and how many.
     path_control_lost: Option<(Span, usize)>,
+    /// The first dwell longer than the target counts (grbl), and its
+    /// seconds.
+    dwell_too_long: Option<(Span, f64)>,
     /// Machine position per axis, as the absolute pass knows it.
     position: ir::Position,
     /// Last printed value of each axis, on the output grid; `None` makes
@@ -84,6 +87,7 @@ impl ProgramPrinter {
             },
             not_r: None,
             path_control_lost: None,
+            dwell_too_long: None,
             position: [None; 9],
             printed: [None; 9],
             pending_feed: None,
@@ -164,6 +168,9 @@ impl ProgramPrinter {
                 Op::SetPosition(a) => {
                     self.forget(|axis| a.has(axis));
                     a.place(&mut self.position, Some);
+                }
+                Op::Dwell(seconds) if self.p.target.longest_dwell() < *seconds => {
+                    self.dwell_too_long.get_or_insert((stmt.span, *seconds));
                 }
                 Op::Speed(_)
                 | Op::SpindleMode(_)
@@ -264,6 +271,25 @@ impl ProgramPrinter {
             )
             .with_note("G61.1 is written G61 (exact stop), G64 without its tolerances"),
         })
+    }
+
+    /// A dwell longer than the target counts: a warning (grbl counts
+    /// 50 ms steps in 16 bits, so `G4 P4000` waits 723.2 s there).
+    pub fn dwell_too_long(&self) -> Option<Diagnostic> {
+        let (at, seconds) = self.dwell_too_long?;
+        let longest = self.p.target.longest_dwell();
+        Some(
+            warning(
+                format!("a dwell of {seconds} s is longer than {} counts", self.p.target.controller()),
+                at,
+                format!("at most {longest} s"),
+            )
+            .with_note(format!(
+                "{} counts a dwell in 50 ms steps in 16 bits: a longer one wraps round and ends early",
+                self.p.target.controller()
+            ))
+            .with_help("several shorter dwells, one after another; or, if P was meant in milliseconds, `--from fanuc`"),
+        )
     }
 
     pub fn finish(mut self) -> Vec<u8> {

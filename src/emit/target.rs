@@ -63,6 +63,15 @@ impl Target {
         }
     }
 
+    /// The longest dwell the controller counts, in seconds: grbl's
+    /// `delay_sec` counts 50 ms steps (`DWELL_TIME_STEP`) in 16 bits.
+    pub fn longest_dwell(self) -> f64 {
+        match self {
+            Target::Grbl => f64::from(u16::MAX) * 0.050,
+            Target::Generic | Target::Fanuc | Target::LinuxCnc => f64::INFINITY,
+        }
+    }
+
     /// What M6 becomes: GRBL has no tool changer, so it stops and the
     /// comment names the tool for the operator.
     pub fn tool_change(self, selected: Option<u32>) -> String {
