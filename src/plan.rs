@@ -18,6 +18,7 @@ mod apart;
 mod block;
 mod chords;
 mod linuxcnc;
+mod steps;
 
 pub use block::Limits;
 mod tally;
@@ -43,6 +44,8 @@ pub struct Figures {
     pub feed_time_s: f64,
     pub cut_mm: f64,
     pub rapid_mm: f64,
+    /// The dwells as written (`time_s` counts them as the controller
+    /// dwells: grbl in whole steps of 50 ms).
     pub dwell_s: f64,
     pub tool_changes: usize,
     pub spindle_starts: usize,
@@ -126,7 +129,7 @@ pub fn plan_with_clock(path: &ToolPath, limits: Option<&Limits>) -> (Figures, Ve
     };
     for event in &path.events {
         if let (EventKind::Dwell(s), Some(next)) = (event.kind, each.get_mut(event.after_move)) {
-            *next += s;
+            *next += limits.map_or(s, |l| l.dwell_s(s));
         }
     }
     let mut at = 0.0;
@@ -365,6 +368,7 @@ mod tests {
             blocks: 16,
             tool_change_s: 0.0,
             spindle_start_s: 0.0,
+            steps_per_mm: [None; 3],
         }
     }
 
@@ -497,6 +501,7 @@ mod tests {
             max_velocity: Some(6000.0),
             max_acceleration: Some(100.0),
             travel: None,
+            steps_per_mm: None,
         };
         let machine = crate::driver::machine::Machine {
             controller: Controller::Grbl,
@@ -715,6 +720,87 @@ mod tests {
         assert!((clock[1] - 4.2).abs() < 1e-12, "{clock:?}");
         let unplanned = clock_per_move(&p, None);
         assert!((unplanned[1] - 4.0).abs() < 1e-12, "{unplanned:?}");
+    }
+
+    #[test]
+    fn grbl_dwells_in_whole_steps_of_50_ms() {
+        // delay_sec: ceil(20 · P) steps of 50 ms. P0.12 is 2.4 steps, so
+        // 3: 0.15 s (grbl 1.1h itself: 0.15 s); P0.1 is 2 steps exactly
+        // in single precision; P0.101 is 3. The count is 16 bits: P4000
+        // is 80,000 steps, 14,464 once wrapped, 723.2 s (grbl 1.1h itself:
+        // 723.2 s). LinuxCNC dwells as written.
+        let grbl = limits();
+        let cases = [
+            (0.12, 0.15),
+            (0.1, 0.1),
+            (0.101, 0.15),
+            (2.0, 2.0),
+            (0.0, 0.0),
+            (4000.0, 723.2),
+        ];
+        for (p, dwelt) in cases {
+            assert!(
+                (grbl.dwell_s(p) - dwelt).abs() < 1e-12,
+                "{p}: {}",
+                grbl.dwell_s(p)
+            );
+        }
+        assert_eq!(linuxcnc().dwell_s(0.12), 0.12);
+        // Two 100 mm legs of 1.1 s from rest to rest (the dwell stops the
+        // machine), a G4 P0.12 between: 2.35 s, the dwell figure 0.12 s.
+        let mut p = path(&[[0.0; 3], [100.0, 0.0, 0.0], [100.0, 100.0, 0.0]], 6000.0);
+        p.events = vec![crate::toolpath::Event {
+            kind: EventKind::Dwell(0.12),
+            after_move: 1,
+            span: crate::source::Span::new(0, 3, 0, 0),
+        }];
+        let f = plan(&p, Some(&grbl));
+        assert!((f.time_s.unwrap() - 2.35).abs() < 1e-12, "{f:?}");
+        assert!((f.operations[0].time_s.unwrap() - 2.35).abs() < 1e-12);
+        assert!((f.dwell_s - 0.12).abs() < 1e-12);
+        let clock = clock_per_move(&p, Some(&grbl));
+        assert!((clock[1] - 2.35).abs() < 1e-12, "{clock:?}");
+    }
+
+    #[test]
+    fn grbl_plans_a_move_between_its_ends_on_whole_steps() {
+        // 250 steps/mm: a move of 0.0019 mm is 0.475 of a step, no block
+        // (grbl drops it); one of 0.003 mm is 0.75, so one step of 0.004
+        // mm, a triangle of 2·√(0.004 / 1000) = 0.004 s. Without steps
+        // it is 0.003 mm: 2·√(0.003 / 1000) = 0.003464 s.
+        let stepped = Limits {
+            steps_per_mm: [Some(250.0); 3],
+            ..limits()
+        };
+        let t = planned(&[[0.0; 3], [0.0019, 0.0, 0.0]], 6000.0, &stepped);
+        assert_eq!(t, 0.0);
+        let t = planned(&[[0.0; 3], [0.003, 0.0, 0.0]], 6000.0, &stepped);
+        assert!((t - 0.004).abs() < 1e-12, "{t}");
+        let t = planned(&[[0.0; 3], [0.003, 0.0, 0.0]], 6000.0, &limits());
+        assert!((t - 2.0 * 3e-6_f64.sqrt()).abs() < 1e-12, "{t}");
+    }
+
+    #[test]
+    fn a_move_of_no_length_after_a_sync_leaves_the_machine_stopped() {
+        // G1 X10, M8 (a sync), G1 X10 (no block), G1 X20, G1 X30 at
+        // 50 mm/s: 10 mm from rest to rest (0.25 s), then 20 mm from rest
+        // (0.45 s), as grbl 1.1h gives it (0.700 s): its buffer is empty
+        // after the sync, and a move of no steps adds no block to it.
+        let points = [
+            [0.0; 3],
+            [10.0, 0.0, 0.0],
+            [10.0, 0.0, 0.0],
+            [20.0, 0.0, 0.0],
+            [30.0, 0.0, 0.0],
+        ];
+        let mut p = path(&points, 3000.0);
+        for m in &mut p.moves[1..] {
+            m.state.flood = true;
+        }
+        for limits in [limits(), linuxcnc()] {
+            let t = plan(&p, Some(&limits)).time_s.unwrap();
+            assert!((t - 0.7).abs() < 1e-12, "{:?}: {t}", limits.controller);
+        }
     }
 
     #[test]

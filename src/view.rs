@@ -327,6 +327,7 @@ mod tests {
             blocks: 16,
             tool_change_s: 0.0,
             spindle_start_s: 0.0,
+            steps_per_mm: [None; 3],
         };
         let render = RenderOptions::default();
         let job = || session.load(program()).ok().unwrap();

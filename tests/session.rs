@@ -269,6 +269,7 @@ fn a_tool_path_fed_from_the_file_in_parts_is_the_whole_programs() {
         blocks: 16,
         tool_change_s: 0.0,
         spindle_start_s: 0.0,
+        steps_per_mm: [None; 3],
     };
     for (name, text) in [("plain.nc", plain), ("late.ngc", late)] {
         let path = dir.join(name);

@@ -56,6 +56,8 @@ pub struct MachineTable {
 struct AxisTable {
     max_velocity: Option<Spanned<f64>>,
     max_acceleration: Option<Spanned<f64>>,
+    /// Per millimetre whatever the table's units (grbl's `$100`–`$102`).
+    steps_per_mm: Option<Spanned<f64>>,
     min: Option<Spanned<f64>>,
     max: Option<Spanned<f64>>,
 }
@@ -90,6 +92,8 @@ pub struct Axis {
     pub max_acceleration: Option<f64>,
     /// Machine coordinates, mm: `(min, max)`.
     pub travel: Option<(f64, f64)>,
+    /// Steps per mm (grbl `$100`–`$102`).
+    pub steps_per_mm: Option<f64>,
 }
 
 impl MachineTable {
@@ -121,10 +125,17 @@ impl MachineTable {
             let Some(table) = table else { continue };
             axis.max_velocity = positive(&table.max_velocity, "max-velocity", scale);
             axis.max_acceleration = positive(&table.max_acceleration, "max-acceleration", scale);
+            axis.steps_per_mm = positive(&table.steps_per_mm, "steps-per-mm", 1.0);
         }
         for (axis, table) in axes.iter_mut().zip([&self.x, &self.y, &self.z]) {
-            if let Some(table) = table {
-                axis.travel = travel(table, scale, at, &mut wrong);
+            let Some(table) = table else { continue };
+            axis.travel = travel(table, scale, at, &mut wrong);
+            let steps = table.steps_per_mm.as_ref();
+            if let Some(s) = steps.filter(|_| self.controller == Controller::LinuxCnc) {
+                let span = at.span(s.span().start, s.span().end);
+                let message = "ger.toml: `steps-per-mm` is grbl's ($100-$102); \
+                               LinuxCNC's planner is not planned in steps";
+                wrong.push(crate::diagnostic::error(message, span, "here"));
             }
         }
         let planner_blocks = self.planner_blocks.as_ref().map(|b| *b.get_ref());
@@ -203,11 +214,11 @@ pub fn import(text: &str, format: ImportFormat) -> Result<String, String> {
     }
 }
 
-/// grbl's `$$`: rates (`$110`–`$112`, mm/min), accelerations (`$120`–
-/// `$122`, mm/s²), travel (`$130`–`$132`, mm: homed to the positive end,
-/// so machine coordinates run from minus the travel to 0), junction
-/// deviation (`$11`) and arc tolerance (`$12`). grbl's settings are in
-/// millimetres whatever `$13` reports in.
+/// grbl's `$$`: steps per mm (`$100`–`$102`), rates (`$110`–`$112`,
+/// mm/min), accelerations (`$120`–`$122`, mm/s²), travel (`$130`–`$132`,
+/// mm: homed to the positive end, so machine coordinates run from minus
+/// the travel to 0), junction deviation (`$11`) and arc tolerance
+/// (`$12`). grbl's settings are in millimetres whatever `$13` reports in.
 fn import_grbl(text: &str) -> Result<String, String> {
     let setting = |n: u32| -> Option<f64> {
         let key = format!("${n}=");
@@ -229,6 +240,9 @@ fn import_grbl(text: &str) -> Result<String, String> {
         let (rate, accel, reach) = (setting(110 + i), setting(120 + i), setting(130 + i));
         found |= rate.is_some() || accel.is_some();
         let _ = writeln!(out, "\n[machine.{axis}]");
+        if let Some(v) = setting(100 + i).filter(|v| *v > 0.0) {
+            let _ = writeln!(out, "steps-per-mm = {}", number(v));
+        }
         if let Some(v) = rate {
             let _ = writeln!(out, "max-velocity = {}", number(v));
         }
@@ -354,7 +368,8 @@ mod tests {
 
     #[test]
     fn a_grbl_dump_imports_as_a_table_that_reads_back() {
-        let dump = "$0=10\n$11=0.010\n$12=0.002\n$13=0\n$110=5000.000\n$111=5000.000\n\
+        let dump = "$0=10\n$11=0.010\n$12=0.002\n$13=0\n$100=250.000\n$101=250.000\n\
+                    $102=800.5\n$110=5000.000\n$111=5000.000\n\
                     $112=500.000\n$120=250.000\n$121=250.000\n$122=50.000\n$130=300.000\n\
                     $131=200.000\n$132=80.000\nok\n";
         assert_eq!(
@@ -368,6 +383,8 @@ mod tests {
         assert_eq!(m.axes[2].max_velocity, Some(500.0));
         assert_eq!(m.axes[0].max_acceleration, Some(250.0));
         assert_eq!(m.axes[1].travel, Some((-200.0, 0.0)));
+        assert_eq!(m.axes[0].steps_per_mm, Some(250.0));
+        assert_eq!(m.axes[2].steps_per_mm, Some(800.5));
     }
 
     #[test]
@@ -398,5 +415,12 @@ mod tests {
         let inch =
             machine(&format!("{base}[machine.z]\nmax-velocity = 100\n").replace("mm", "inch"));
         assert_eq!(inch.unwrap().axes[2].max_velocity, Some(2540.0));
+        // Steps are per mm whatever the table's units; grbl's only.
+        let steps = format!("{base}[machine.x]\nsteps-per-mm = 80\n").replace("mm\"", "inch\"");
+        assert_eq!(machine(&steps).unwrap().axes[0].steps_per_mm, Some(80.0));
+        assert!(machine(&format!("{base}[machine.x]\nsteps-per-mm = 0\n")).is_err());
+        let linuxcnc =
+            format!("{base}[machine.x]\nsteps-per-mm = 80\n").replace("grbl", "linuxcnc");
+        assert!(machine(&linuxcnc).is_err());
     }
 }

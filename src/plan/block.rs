@@ -38,6 +38,9 @@ pub struct Limits {
     pub blocks: usize,
     pub tool_change_s: f64,
     pub spindle_start_s: f64,
+    /// grbl's steps per mm of each axis (`$100`–`$102`), where known:
+    /// its planner puts every block's end on a whole step.
+    pub steps_per_mm: [Option<f64>; 3],
 }
 
 impl Limits {
@@ -80,7 +83,30 @@ impl Limits {
             blocks: held,
             tool_change_s: machine.tool_change_s.unwrap_or(0.0),
             spindle_start_s: machine.spindle_start_s.unwrap_or(0.0),
+            steps_per_mm: machine.axes.map(|a| a.steps_per_mm),
         })
+    }
+}
+
+/// grbl's `DWELL_TIME_STEP` (config.h), ms: it dwells in steps of it.
+const GRBL_DWELL_STEP_MS: u16 = 50;
+
+impl Limits {
+    /// How long the controller dwells for a `G4` of `seconds`: grbl counts
+    /// whole steps of 50 ms, rounding up (`delay_sec`: `ceil(1000 /
+    /// DWELL_TIME_STEP * seconds)` in single precision), in a 16-bit
+    /// counter, so a dwell past 65,535 steps (3,276.75 s) wraps: `G4
+    /// P4000` dwells 723.2 s; LinuxCNC as written.
+    pub fn dwell_s(&self, seconds: f64) -> f64 {
+        match self.controller {
+            Controller::Grbl => {
+                let per_second = f32::from(1000 / GRBL_DWELL_STEP_MS);
+                let steps = f64::from(per_second * seconds as f32).ceil().max(0.0);
+                let counted = (steps as u64 % (1 << 16)) as f64;
+                counted * f64::from(GRBL_DWELL_STEP_MS) / 1000.0
+            }
+            Controller::LinuxCnc => seconds,
+        }
     }
 }
 

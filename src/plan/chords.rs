@@ -17,12 +17,16 @@
 //! buffer holds, and the blocks before them see the limit v² at chord h.
 //! The first and last h chords are planned one by one, as is every chord
 //! of an arc that does not qualify (a buffer too short for the feed: the
-//! look-ahead then limits the speed, chord by chord).
+//! look-ahead then limits the speed, chord by chord). Where the machine's
+//! steps are known the chords are `mc_arc`'s own on whole steps
+//! (`steps.rs`), no longer alike: the same holds with L the shortest of
+//! them and every corner between them checked, not only the end ones.
 //!
 //! Architecture Invariant: planner arithmetic only, on the blocks and
 //! limits of `block.rs`; never sees the IR.
 
-use super::block::{dot, line_block, Block, Limits};
+use super::block::{direction_and_length, dot, line_block, Block, Limits};
+use super::steps::{on_steps, McArc};
 use crate::toolpath::{Along, Move, MoveKind, Point};
 
 /// What the planner takes: a block, or a run of an arc's middle chords.
@@ -50,19 +54,20 @@ pub(super) fn pieces(
     out: &mut impl FnMut(Piece),
 ) {
     let chord = |k: usize, from: Point, to: Point| {
-        line_block(m, from, to, limits).map(|b| Block {
-            stopped_before: stopped && k == 0,
-            source: index,
-            ..b
-        })
+        chord_block(m, index, stopped && k == 0, from, to, limits)
     };
     let Some((sweep, r0, r1)) = along.arc_shape() else {
-        if let Some(b) = chord(0, m.start, m.end) {
+        let steps = limits.steps_per_mm;
+        let (start, end) = (on_steps(m.start, steps), on_steps(m.end, steps));
+        if let Some(b) = chord(0, start, end) {
             out(Piece::Block(b));
         }
         return;
     };
     let n = arc_segments(r0, sweep, limits.arc_tolerance);
+    if limits.steps_per_mm.iter().any(Option::is_some) {
+        return stepped_arc(m, sweep, index, stopped, n, limits, out);
+    }
     let point = |k: usize| along.at(k as f64 / n as f64);
     if n < 4 {
         return (0..n).for_each(|k| out_chord(chord(k, point(k), point(k + 1)), out));
@@ -116,6 +121,23 @@ fn out_chord(chord: Option<Block>, out: &mut impl FnMut(Piece)) {
     if let Some(b) = chord {
         out(Piece::Block(b));
     }
+}
+
+/// The chord from `from` to `to` of move `m`, the `index`th, as a block
+/// (`None`: no length); it starts from rest after a sync (`stopped`).
+fn chord_block(
+    m: &Move,
+    index: usize,
+    stopped: bool,
+    from: Point,
+    to: Point,
+    limits: &Limits,
+) -> Option<Block> {
+    line_block(m, from, to, limits).map(|b| Block {
+        stopped_before: stopped,
+        source: index,
+        ..b
+    })
 }
 
 /// How many chords grbl's `mc_arc` cuts an arc of `radius` through
@@ -199,15 +221,7 @@ fn cruise(
     // grbl's corner (`junction_sqr`) at the sharpest end corner, at the
     // least acceleration: no corner between two chords is slower.
     let cos = (-dot(first.unit_out, second.unit_in)).max(-dot(before_last.unit_out, last.unit_in));
-    if cos > 0.999_999 {
-        return None;
-    }
-    let sin_half = (0.5 * (1.0 - cos)).sqrt();
-    let corner = match sin_half < 1.0 {
-        true => accel * limits.junction_deviation * sin_half / (1.0 - sin_half),
-        false => f64::INFINITY,
-    };
-    let fast_enough = corner >= v2 * (1.0 + CORNER_MARGIN);
+    let fast_enough = corner_sqr(cos, accel, limits) >= v2 * (1.0 + CORNER_MARGIN);
     if !fast_enough {
         return None;
     }
@@ -215,6 +229,157 @@ fn cruise(
     Some(Cruise {
         ends,
         length: middle_length(m, n, ends, shape),
+    })
+}
+
+/// grbl's corner speed squared (`junction_sqr`) where the chords' `cos`
+/// (of the angle between the first reversed and the second) is taken at
+/// `accel`: a bound on every chord corner as sharp or less, since no
+/// corner of an arc's axes allows less than their least acceleration.
+fn corner_sqr(cos: f64, accel: f64, limits: &Limits) -> f64 {
+    if cos > 0.999_999 {
+        return 0.0;
+    }
+    let sin_half = (0.5 * (1.0 - cos)).sqrt();
+    match sin_half < 1.0 {
+        true => accel * limits.junction_deviation * sin_half / (1.0 - sin_half),
+        false => f64::INFINITY,
+    }
+}
+
+/// Arc `m`'s `n` chords (through `sweep` radians) as grbl makes them
+/// where the machine's steps are known (`steps.rs`): `mc_arc`'s chord
+/// ends, each on its steps; a chord of no steps is no block, as grbl
+/// drops it. The middle chords are a run where they provably cruise (the
+/// module's note, each corner and length checked on the stepped chords
+/// themselves).
+fn stepped_arc(
+    m: &Move,
+    sweep: f64,
+    index: usize,
+    stopped: bool,
+    n: usize,
+    limits: &Limits,
+    out: &mut impl FnMut(Piece),
+) {
+    let steps = limits.steps_per_mm;
+    let chords = || {
+        let mut from = on_steps(m.start, steps);
+        McArc::new(m, n, sweep).map(move |p| {
+            let to = on_steps(p, steps);
+            (std::mem::replace(&mut from, to), to)
+        })
+    };
+    // Only the first block after a sync starts from rest.
+    let mut stop = stopped;
+    let mut block = |(from, to): Chord| {
+        let b = chord_block(m, index, stop, from, to, limits);
+        stop &= b.is_none();
+        b
+    };
+    let Some(run) = stepped_run(m, n, limits, chords()) else {
+        chords()
+            .filter_map(&mut block)
+            .for_each(|b| out(Piece::Block(b)));
+        return;
+    };
+    run.first
+        .into_iter()
+        .filter_map(&mut block)
+        .for_each(|b| out(Piece::Block(b)));
+    if let Some(last) = block(run.last_middle) {
+        out(Piece::Cruise {
+            run: Block {
+                length: run.middle,
+                accel: least(m, limits.max_accel),
+                ..last
+            },
+            chords: run.chords,
+            last,
+        });
+    }
+    run.last
+        .into_iter()
+        .filter_map(&mut block)
+        .for_each(|b| out(Piece::Block(b)));
+}
+
+/// A chord's ends.
+type Chord = (Point, Point);
+
+/// A stepped arc's chords when its middle ones cruise: the `first` and
+/// `last` planned one by one, the run's length and count, and its last
+/// chord.
+struct SteppedRun {
+    first: Vec<Chord>,
+    middle: f64,
+    chords: usize,
+    last_middle: Chord,
+    last: Vec<Chord>,
+}
+
+/// Arc `m`'s `n` stepped `chords`, seen once, as a run if its middle
+/// ones provably cruise: every chord has steps, every corner between two
+/// allows the feed, and h chords of the shortest reach it from a stop
+/// (h below the buffer's depth, so only that many at each end are kept).
+fn stepped_run(
+    m: &Move,
+    n: usize,
+    limits: &Limits,
+    chords: impl Iterator<Item = Chord>,
+) -> Option<SteppedRun> {
+    let feed = m.state.feed / 60.0;
+    let within_rates = feed > 0.0 && feed <= least(m, limits.max_rate);
+    if n < 4 || limits.blocks < 2 || !within_rates {
+        return None;
+    }
+    let v2 = feed.powi(2);
+    let accel = least(m, limits.max_accel);
+    // corner_sqr(cos) ≥ v² (1 + margin) as a bound on cos, which is all
+    // each corner needs: sin(θ/2) ≥ v² / (a·δ + v²).
+    let need = v2 * (1.0 + CORNER_MARGIN);
+    let sin_half = need / (accel * limits.junction_deviation + need);
+    let sharpest = (1.0 - 2.0 * sin_half * sin_half).min(0.999_999);
+    let keep = limits.blocks.min(n);
+    let mut first: Vec<(Chord, f64)> = Vec::with_capacity(keep);
+    let mut tail: std::collections::VecDeque<(Chord, f64)> =
+        std::collections::VecDeque::with_capacity(keep + 1);
+    let (mut total, mut shortest) = (0.0, f64::INFINITY);
+    let mut before: Option<[f64; 3]> = None;
+    for chord in chords {
+        let (unit, length) = direction_and_length(chord.0, chord.1);
+        if length.is_nan() || length <= 0.0 {
+            return None;
+        }
+        if before.is_some_and(|b| -dot(b, unit) > sharpest) {
+            return None;
+        }
+        before = Some(unit);
+        (total, shortest) = (total + length, shortest.min(length));
+        if first.len() < keep {
+            first.push((chord, length));
+        }
+        if tail.len() > keep {
+            tail.pop_front();
+        }
+        tail.push_back((chord, length));
+    }
+    let per_chord = 2.0 * accel * shortest * (1.0 - SUM_MARGIN);
+    let ends = (v2 * (1.0 + SUM_MARGIN) / per_chord).ceil().max(1.0);
+    if ends >= limits.blocks as f64 || (n as f64) < 2.0 * ends + 2.0 {
+        return None;
+    }
+    let h = ends as usize;
+    first.truncate(h);
+    let last = tail.split_off(tail.len() - h);
+    let (last_middle, _) = *tail.back()?;
+    let ends_length: f64 = first.iter().chain(&last).map(|(_, l)| l).sum();
+    Some(SteppedRun {
+        first: first.into_iter().map(|(c, _)| c).collect(),
+        middle: total - ends_length,
+        chords: n - 2 * h,
+        last_middle,
+        last: last.into_iter().map(|(c, _)| c).collect(),
     })
 }
 
@@ -259,6 +424,7 @@ mod tests {
             blocks,
             tool_change_s: 0.0,
             spindle_start_s: 0.0,
+            steps_per_mm: [None; 3],
         }
     }
 
@@ -280,8 +446,15 @@ mod tests {
 
     /// A line into the arc at a corner, the arc (radius `r`, ending
     /// `rise` higher and `grow` further out), a line out of it: as
-    /// planned, and with the arc written as the lines of its chords.
-    fn arc_and_its_chords(r: f64, grow: f64, rise: f64, feed: f64) -> (ToolPath, ToolPath) {
+    /// planned, and with the arc written as the lines of its chords
+    /// (`stepped`: `mc_arc`'s).
+    fn arc_and_its_chords(
+        r: f64,
+        grow: f64,
+        rise: f64,
+        feed: f64,
+        stepped: bool,
+    ) -> (ToolPath, ToolPath) {
         let start = [r, 0.0, 0.0];
         let end = [-(r + grow), 0.0, rise];
         let arc = Move {
@@ -297,7 +470,12 @@ mod tests {
         let out = feed_move(MoveKind::Feed, end, [-(r + grow) - 5.0, 2.0, rise], feed);
         let (sweep, radius, _) = arc.along().arc_shape().unwrap();
         let n = arc_segments(radius, sweep, 0.002);
-        let points: Vec<Point> = arc.points(n).collect();
+        let points: Vec<Point> = match stepped {
+            false => arc.points(n).collect(),
+            true => std::iter::once(start)
+                .chain(McArc::new(&arc, n, sweep))
+                .collect(),
+        };
         let mut lines = vec![into];
         lines.extend(
             points
@@ -338,7 +516,7 @@ mod tests {
         ];
         for (r, grow, rise, feed, accel, blocks, expect_run) in cases {
             let limits = machine(accel, blocks);
-            let (arc, chords) = arc_and_its_chords(r, grow, rise, feed);
+            let (arc, chords) = arc_and_its_chords(r, grow, rise, feed, false);
             assert_eq!(
                 runs(&arc, &limits) > 0,
                 expect_run,
@@ -351,6 +529,40 @@ mod tests {
                 off < 1e-12,
                 "r {r} feed {feed}: {planned} vs {one_by_one} ({off:e})"
             );
+        }
+    }
+
+    #[test]
+    fn a_stepped_arc_takes_the_time_of_its_stepped_chords_one_by_one() {
+        // At 250 steps/mm: circles with a run of middle chords (a helix, a
+        // CAM end radius off by rounding, axes of unequal acceleration),
+        // and arcs of a fraction of a millimetre, whose chords of a few
+        // steps are planned one by one.
+        let cases = [
+            (10.0, 0.0, 0.0, 1500.0, [250.0, 250.0, 100.0], true),
+            (10.0, 0.0004, 2.0, 1000.0, [500.0, 300.0, 100.0], true),
+            (40.0, 0.0, 0.0, 3000.0, [200.0, 400.0, 100.0], true),
+            (0.25, 0.0, 0.0, 1000.0, [250.0, 250.0, 100.0], false),
+            (0.01, 0.0, 0.0, 1000.0, [1000.0, 500.0, 100.0], false),
+        ];
+        for (r, grow, rise, feed, accel, expect_run) in cases {
+            let limits = Limits {
+                steps_per_mm: [Some(250.0); 3],
+                ..machine(accel, 15)
+            };
+            let (arc, chords) = arc_and_its_chords(r, grow, rise, feed, true);
+            assert_eq!(runs(&arc, &limits) > 0, expect_run, "r {r} feed {feed}");
+            let planned = crate::plan::plan(&arc, Some(&limits)).time_s.unwrap();
+            let one_by_one = crate::plan::plan(&chords, Some(&limits)).time_s.unwrap();
+            let off = (planned - one_by_one).abs() / one_by_one;
+            assert!(off < 1e-12, "r {r}: {planned} vs {one_by_one} ({off:e})");
+            // The steps move the corners of the small arcs: not the
+            // exact chords' time.
+            let exact = crate::plan::plan(&arc, Some(&machine(accel, 15)))
+                .time_s
+                .unwrap();
+            let moved = (planned - exact).abs() / exact;
+            assert_eq!(moved > 1e-3, r < 1.0, "r {r}: {planned} vs {exact}");
         }
     }
 }

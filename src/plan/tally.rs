@@ -24,7 +24,7 @@ pub struct Tally<'l> {
     spindle_on: bool,
     /// The state of the move before, for the syncs at a change.
     previous: Option<State>,
-    /// An event came since the last move: the next starts from rest.
+    /// An event came since the last block: the next starts from rest.
     event_since: bool,
 }
 
@@ -37,6 +37,8 @@ struct Ledger {
     tool_s: Vec<f64>,
     /// Each move's planned time, when kept.
     move_s: Option<Vec<f64>>,
+    /// The dwells as the controller dwells them.
+    dwell_s: f64,
 }
 
 enum Pending {
@@ -112,6 +114,7 @@ impl<'l> Tally<'l> {
                 total_s: 0.0,
                 tool_s: Vec::new(),
                 move_s: (each_move && limits.is_some()).then(Vec::new),
+                dwell_s: 0.0,
             },
             moves: 0,
             spindle_on: false,
@@ -137,7 +140,7 @@ impl<'l> Tally<'l> {
         while !ledger.pending.is_empty() {
             ledger.settle_first(&mut figures.operations);
         }
-        let stops = figures.dwell_s
+        let stops = ledger.dwell_s
             + figures.tool_changes as f64 * limits.tool_change_s
             + figures.spindle_starts as f64 * limits.spindle_start_s;
         figures.time_s = Some(ledger.total_s + stops);
@@ -215,12 +218,15 @@ impl<'l> Tally<'l> {
             .is_some_and(|a| (a.spindle, a.rpm, a.flood, a.mist) != state);
         let stopped = index == 0 || self.event_since || changed;
         self.previous = Some(m.state);
-        self.event_since = false;
+        // A move of no block (no length, or no step) leaves the machine
+        // stopped for the next.
+        self.event_since = stopped;
         let Tally {
             planner,
             ledger,
             figures,
             limits,
+            event_since: still,
             ..
         } = self;
         let (Some(planner), Some(limits)) = (planner.as_mut(), limits) else {
@@ -236,10 +242,12 @@ impl<'l> Tally<'l> {
         let timed = &mut |i, s| ledger.timed(i, s, ops);
         match limits.controller {
             Controller::Grbl => chords::pieces(m, along, index, stopped, limits, &mut |p| {
+                *still = false;
                 planner.take(p, timed)
             }),
             Controller::LinuxCnc => {
                 if let Some(b) = linuxcnc::block(m, along, index, stopped, limits) {
+                    *still = false;
                     planner.push(b, timed);
                 }
             }
@@ -275,11 +283,14 @@ impl PathSink for Tally<'_> {
             }
             EventKind::Dwell(seconds) => {
                 self.figures.dwell_s += seconds;
+                let dwelt = self.limits.map_or(seconds, |l| l.dwell_s(seconds));
+                self.ledger.dwell_s += dwelt;
                 if let Some(op) = ops.last_mut() {
                     op.dwell_s += seconds;
                     op.feed_time_s += seconds;
                     if planned {
                         let op = ops.len() - 1;
+                        let seconds = dwelt;
                         self.ledger
                             .pending
                             .push_back(Pending::Dwell { op, seconds });
