@@ -104,10 +104,7 @@ impl ProgramPrinter {
     /// yet taken (the caller may take it).
     pub fn print(&mut self, stmts: &[ir::Stmt]) -> &mut Vec<u8> {
         for stmt in stmts {
-            if self.refuses(stmt) {
-                continue;
-            }
-            if self.held(stmt) {
+            if self.refuses(stmt) || self.held(stmt) {
                 continue;
             }
             match &stmt.op {

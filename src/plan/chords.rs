@@ -328,7 +328,7 @@ fn stepped_run(
     limits: &Limits,
     chords: impl Iterator<Item = Chord>,
 ) -> Option<SteppedRun> {
-    let feed = m.state.feed / 60.0;
+    let feed = m.state.feed_rate() / 60.0;
     let within_rates = feed > 0.0 && feed <= least(m, limits.max_rate);
     if n < 4 || limits.blocks < 2 || !within_rates {
         return None;
