@@ -14,6 +14,7 @@
 //! inside a block or a subprogram ends nothing here.
 
 use super::error::{SyntaxError, SyntaxErrorKind};
+use super::linuxcnc::OWord;
 use crate::ast::{Names, Program, Stmt, StmtKind, Subprogram, WordValue};
 use crate::source::{Locator, Span};
 
@@ -251,7 +252,7 @@ fn start_of_subprogram(line: &str) -> Option<Start> {
     let line = without_label(line);
     let (label, rest) = o_label(line)?;
     let rest = rest.trim_start();
-    if let Some(after) = keyword(rest, "sub") {
+    if let Some(after) = keyword(rest, OWord::Sub) {
         return ends_here(after).then_some(Start::Named(label));
     }
     let numbered = label.bytes().all(|b| b.is_ascii_digit()) && !label.is_empty();
@@ -268,7 +269,7 @@ fn end_of_subprogram(text: &str, from: usize, start: &Start) -> usize {
         let line = text[line_start..line_end].trim();
         let ends = match start {
             Start::Named(name) => o_label(without_label(line)).is_some_and(|(label, rest)| {
-                label == *name && keyword(rest.trim_start(), "endsub").is_some()
+                label == *name && keyword(rest.trim_start(), OWord::EndSub).is_some()
             }),
             Start::Numbered => has_m99(line),
         };
@@ -303,20 +304,22 @@ fn o_label(line: &str) -> Option<(String, &str)> {
             .collect();
         return Some((format!("<{label}>"), &named[close + 1..]));
     }
+    // Blanks may stand between its digits (`o 1 0 0`), as rs274 reads it.
     let digits = rest
-        .find(|c: char| !c.is_ascii_digit())
+        .find(|c: char| !(c.is_ascii_digit() || c == ' ' || c == '\t'))
         .unwrap_or(rest.len());
-    let number = rest[..digits].trim_start_matches('0');
-    (digits > 0).then(|| (number.to_string(), &rest[digits..]))
+    let number: String = rest[..digits].split_whitespace().collect();
+    let number = number.trim_start_matches('0');
+    let read = rest[..digits].trim_end().len();
+    (read > 0).then(|| (number.to_string(), &rest[read..]))
 }
 
-/// The text after `word` (in any case) at the start of `text`, if it is
-/// there as a whole word.
-fn keyword<'t>(text: &'t str, word: &str) -> Option<&'t str> {
-    let head = text.get(..word.len())?;
-    let rest = &text[word.len()..];
-    let whole = !rest.starts_with(|c: char| c.is_ascii_alphanumeric() || c == '_');
-    (head.eq_ignore_ascii_case(word) && whole).then_some(rest)
+/// The text after the o-word keyword `word` at the start of `text`, as
+/// rs274 spells it (`end sub`), if it is there as a whole word.
+fn keyword(text: &str, word: OWord) -> Option<&str> {
+    OWord::spelled(text)
+        .filter(|&(spelled, _)| spelled == word)
+        .map(|(_, taken)| &text[taken..])
 }
 
 /// Nothing but blanks or a comment in `rest`.

@@ -10,9 +10,14 @@ use super::words::{parse_decimal, WordNumber};
 use crate::ast::{BinaryOp, Function, OName};
 
 /// The name of a LinuxCNC subroutine as written between `o<` and `>`:
-/// without surrounding spaces, in lower case (its file is `name.ngc`).
+/// without its blanks (rs274 reads a line without them: `o<a b>` is
+/// `o<ab>`), in lower case (its file is `name.ngc`).
 pub fn subroutine_name(written: &str) -> String {
-    written.trim().to_ascii_lowercase()
+    written
+        .chars()
+        .filter(|c| !c.is_whitespace())
+        .collect::<String>()
+        .to_ascii_lowercase()
 }
 
 /// Why the text after a `#` is not a parameter ger reads.
@@ -65,7 +70,7 @@ pub const VALUE_RETURNED: &str = "#<_value_returned>";
 
 /// The keywords of LinuxCNC's o-words.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-enum OWord {
+pub(super) enum OWord {
     Sub,
     EndSub,
     Call,
@@ -102,25 +107,58 @@ impl Label {
 }
 
 impl OWord {
-    fn from_text(text: &str) -> Option<OWord> {
+    /// The keyword spelled at the start of `text`, as rs274 reads it from
+    /// a line without its blanks: letters with spaces or tabs between
+    /// them (`s u b`, `end sub`, `else if`), the first of its keywords in
+    /// its order that they start with; with the length of `text` it
+    /// takes. A letter or digit right after the keyword's last letter
+    /// makes it none (`endsubx`, `sub1`: rs274 refuses those).
+    pub(super) fn spelled(text: &str) -> Option<(OWord, usize)> {
+        // rs274's order: `elseif` before `else`.
         const KEYWORDS: [(&str, OWord); 15] = [
             ("sub", OWord::Sub),
             ("endsub", OWord::EndSub),
             ("call", OWord::Call),
-            ("return", OWord::Return),
+            ("do", OWord::Do),
+            ("while", OWord::While),
+            ("repeat", OWord::Repeat),
             ("if", OWord::If),
             ("elseif", OWord::ElseIf),
             ("else", OWord::Else),
             ("endif", OWord::EndIf),
-            ("while", OWord::While),
-            ("endwhile", OWord::EndWhile),
-            ("do", OWord::Do),
-            ("repeat", OWord::Repeat),
-            ("endrepeat", OWord::EndRepeat),
             ("break", OWord::Break),
             ("continue", OWord::Continue),
+            ("endwhile", OWord::EndWhile),
+            ("endrepeat", OWord::EndRepeat),
+            ("return", OWord::Return),
         ];
-        find_word(&KEYWORDS, text)
+        // Each letter (in lower case) and the offset just past it.
+        let bytes = text.as_bytes();
+        let mut letters = [(0u8, 0usize); 9];
+        let (mut count, mut i) = (0, 0);
+        while count < letters.len() {
+            while let Some(b' ' | b'\t') = bytes.get(i) {
+                i += 1;
+            }
+            match bytes.get(i) {
+                Some(b) if b.is_ascii_alphabetic() => {
+                    letters[count] = (b.to_ascii_lowercase(), i + 1)
+                }
+                _ => break,
+            }
+            count += 1;
+            i += 1;
+        }
+        let letters = &letters[..count];
+        let (keyword, taken) = KEYWORDS.iter().find_map(|&(k, word)| {
+            let spelled = letters.iter().map(|l| l.0).take(k.len());
+            (letters.len() >= k.len() && spelled.eq(k.bytes()))
+                .then(|| (word, letters[k.len() - 1].1))
+        })?;
+        let joined = bytes
+            .get(taken)
+            .is_some_and(|b| b.is_ascii_alphanumeric() || *b == b'_');
+        (!joined).then_some((keyword, taken))
     }
 }
 
@@ -136,6 +174,11 @@ impl Lexer<'_> {
         start: usize,
         end: usize,
     ) -> Option<usize> {
+        if matches!(raw, Ok(Raw::Letter | Raw::Ident)) {
+            if let Some(taken) = self.o_word(start) {
+                return Some(taken);
+            }
+        }
         let rest = &self.text[start..];
         match raw {
             Err(()) if rest.starts_with('#') => {
@@ -348,7 +391,7 @@ impl Lexer<'_> {
                 return Some(end);
             }
         }
-        self.o_word(text, start, end)
+        None
     }
 
     /// An operator written against the number after it, inside brackets
@@ -486,13 +529,15 @@ impl Lexer<'_> {
         find_word(&OPERATORS, text)
     }
 
-    /// The LinuxCNC o-word keyword after the o-word of this line: `sub`,
+    /// The LinuxCNC o-word keyword at `start`, after the o-word of this
+    /// line, spelled as rs274 reads it ([`OWord::spelled`]): `sub`,
     /// `call`, `return`, `endsub` and `repeat` become their own tokens;
     /// `if`, `elseif`, `else`, `endif`, `while`, `endwhile`, `do`, `break`
     /// and `continue` become `.egc` blocks and jumps (the o-word only
     /// labels them).
-    pub(super) fn o_word(&mut self, text: &str, start: usize, end: usize) -> Option<usize> {
-        let mut keyword = OWord::from_text(text)?;
+    pub(super) fn o_word(&mut self, start: usize) -> Option<usize> {
+        let (keyword, taken) = OWord::spelled(&self.text[start..])?;
+        let end = start + taken;
         let (label, (o_start, o_end)) = self.take_label(start)?;
         // rs274 runs an o-word after a block-delete `/` as any other.
         if self.out.len() == self.stmt_start + 1
@@ -500,22 +545,6 @@ impl Lexer<'_> {
         {
             self.out.pop();
             self.shape = Shape::Empty;
-        }
-        // rs274 reads a line without its spaces: `else if` is `elseif`.
-        let mut end = end;
-        if keyword == OWord::Else {
-            let after = self.text[end..].trim_start_matches([' ', '\t']);
-            let at = self.text.len() - after.len();
-            let bytes = after.as_bytes();
-            if bytes.len() >= 2
-                && bytes[..2].eq_ignore_ascii_case(b"if")
-                && !bytes
-                    .get(2)
-                    .is_some_and(|b| b.is_ascii_alphanumeric() || *b == b'_')
-            {
-                keyword = OWord::ElseIf;
-                end = at + 2;
-            }
         }
         // Sub and call name a program: a whole number in range.
         let name = |lexer: &mut Self| match label {
