@@ -210,6 +210,14 @@ impl Lexer<'_> {
                 self.push(start, Tok::NegTight, end);
                 Some(end)
             }
+            // `o <name>`: rs274 drops the blanks before the `<` too.
+            Ok(Raw::Letter)
+                if rest.starts_with(['o', 'O'])
+                    && rest[1..].trim_start_matches([' ', '\t']).starts_with('<')
+                    && self.first_on_line(start) =>
+            {
+                self.named_o_word(start)
+            }
             Ok(Raw::Letter) => self.expression_word(start, end),
             Ok(Raw::Caret) | Err(())
                 if rest.starts_with(['@', '^'])
@@ -419,14 +427,15 @@ impl Lexer<'_> {
         Some(number_end)
     }
 
-    /// `o<name>`: a named subroutine or loop label, which the keyword
+    /// `o<name>` (or `o <name>`): a named subroutine or loop label, which the keyword
     /// after it takes ([`Self::take_label`]).
     pub(super) fn named_o_word(&mut self, start: usize) -> Option<usize> {
         let rest = &self.text[start..];
+        let open = rest.find('<')?;
         let close = rest
             .find(['>', '\n'])
             .filter(|&i| rest[i..].starts_with('>'))?;
-        let name = subroutine_name(&rest[2..close]);
+        let name = subroutine_name(&rest[open + 1..close]);
         let symbol = self.names.intern(&format!("o<{name}>"));
         self.push(start, Tok::OName(OName::Named(symbol)), start + close + 1);
         Some(start + close + 1)
