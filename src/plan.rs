@@ -352,7 +352,7 @@ fn trapezoid(b: &Slot, entry: f64, exit: f64) -> f64 {
 mod tests {
     use super::*;
     use crate::ir::PathControl;
-    use crate::toolpath::State;
+    use crate::toolpath::{Point, State};
 
     /// A machine of 1000 mm/s² and 200 mm/s on every axis, grbl's
     /// junction deviation (0.01 mm).
@@ -372,23 +372,28 @@ mod tests {
         }
     }
 
+    /// A move of `kind` from `start` to `end` at `feed` mm/min, tool 1.
+    pub(super) fn feed_move(kind: MoveKind, start: Point, end: Point, feed: f64) -> Move {
+        Move {
+            kind,
+            start,
+            end,
+            extra: [0.0; 6],
+            state: State {
+                feed,
+                tool: 1,
+                ..State::default()
+            },
+            span: crate::source::Span::new(0, 1, 0, 0),
+            guessed: [false; 3],
+        }
+    }
+
     /// Feed moves through `points` at `feed` mm/min.
     pub(super) fn path(points: &[[f64; 3]], feed: f64) -> ToolPath {
         let moves = points
             .windows(2)
-            .map(|p| Move {
-                kind: MoveKind::Feed,
-                start: p[0],
-                end: p[1],
-                extra: [0.0; 6],
-                state: State {
-                    feed,
-                    tool: 1,
-                    ..State::default()
-                },
-                span: crate::source::Span::new(0, 1, 0, 0),
-                guessed: [false; 3],
-            })
+            .map(|p| feed_move(MoveKind::Feed, p[0], p[1], feed))
             .collect();
         ToolPath {
             moves,

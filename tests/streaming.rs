@@ -437,7 +437,6 @@ fn a_subroutine_written_twice_after_the_end_is_an_error_in_parts() {
 /// needs a whole read (a call of a subprogram written after the end).
 #[test]
 fn what_follows_the_end_is_read_alike_in_parts() {
-    use ger::syntax::chunk::with_part_size;
     let prose = "These notes are not G-code: a = b : c\n  EMC_ABORT = 1, // x\n";
     for text in [
         format!("G21 G90 F100\nG1 X1\nG1 X2\nM2\n{prose}"),
@@ -446,51 +445,17 @@ fn what_follows_the_end_is_read_alike_in_parts() {
         format!("G21 G90 F100\nM98 P1000\nM30\n{prose}O1000\nG1 X4\nM99\n"),
         format!("o<a> sub\nG1 X3\no<a> endsub\nM2\n{prose}"),
     ] {
-        let dir = std::env::temp_dir().join(format!("ger-ended-{}", std::process::id()));
-        std::fs::create_dir_all(&dir).unwrap();
-        let path = dir.join("ended.ngc");
-        std::fs::write(&path, &text).unwrap();
-        let compile_in = |part: Option<usize>| {
-            with_part_size(part, || {
-                let mut sources = Sources::new();
-                let file = sources.add(path.to_string_lossy(), text.clone());
-                let compiled = compile(&sources, file, &CompileOptions::default(), None);
-                (compiled.output, render(&sources, &compiled.diagnostics))
-            })
-        };
-        let whole = compile_in(None);
-        assert!(whole.0.is_some(), "{text}\n{}", whole.1);
-        assert_eq!(whole.1.matches("not read").count(), 1, "{}", whole.1);
-        for part in [1, 40] {
-            assert_eq!(compile_in(Some(part)), whole, "{text} in parts of {part}");
-        }
-        let options = CompileOptions::default();
-        for part in [1, 4096] {
-            if let Read::Compiled(read) = from_reader(&path, &text, &options, part, false) {
-                let (output, shown) = (whole.0.as_deref().unwrap(), &whole.1);
-                assert_eq!(
-                    read,
-                    format!("{output}\n--- diagnostics ---\n{shown}"),
-                    "{text}"
-                );
-            }
-        }
-        std::fs::remove_dir_all(&dir).unwrap();
+        let (output, _) = read_alike_in_parts("ended.ngc", &text, "not read", &[1, 4096]);
+        assert!(output.is_some(), "{text}");
     }
 }
 
-/// `path` (its decoded `text`) compiled from a reader in parts of about
-/// `part` bytes, its text never held, as `ger compile -o` compiles it
-/// (`driver::scan_file`, `driver::compile_file`), with the wizards of
-/// `wizards/` and the standard library if `wizards`: its text (`<no
-/// output>` on errors) and diagnostics.
 /// A tape (a program whose first line is `%`) ends at its next `%` line,
 /// M2/M30 or not: nothing after it is read and one note says so, the same
 /// whole and in parts, whether the text is read as plain lines, cut as it
 /// goes or whole, and from a file.
 #[test]
 fn a_tape_ends_at_its_closing_percent_alike_in_parts() {
-    use ger::syntax::chunk::with_part_size;
     let after = "G0 X99\nThese notes are not G-code: a = b\n(comment)\n%\nG0 X98\n";
     for text in [
         format!("%\nG21 G90 F100\nG1 X1\nG1 X2\n%\n{after}"),
@@ -498,51 +463,63 @@ fn a_tape_ends_at_its_closing_percent_alike_in_parts() {
         format!("%\nG21 G90 F100\no<a> call\nM2\no<a> sub\nG1 X3\no<a> endsub\n%\n{after}"),
         format!("%\nO0001\nG21 G90 F100\nM98 P1000\nM30\nO1000\nG1 X4\nM99\n%\n{after}"),
     ] {
-        let dir = std::env::temp_dir().join(format!("ger-tape-{}", std::process::id()));
-        std::fs::create_dir_all(&dir).unwrap();
-        let path = dir.join("tape.nc");
-        std::fs::write(&path, &text).unwrap();
-        let compile_in = |part: Option<usize>| {
-            with_part_size(part, || {
-                let mut sources = Sources::new();
-                let file = sources.add(path.to_string_lossy(), text.clone());
-                let compiled = compile(&sources, file, &CompileOptions::default(), None);
-                (compiled.output, render(&sources, &compiled.diagnostics))
-            })
-        };
-        let whole = compile_in(None);
-        let output = whole
-            .0
-            .as_deref()
-            .unwrap_or_else(|| panic!("{text}\n{}", whole.1));
+        let note = "after the tape's end are not read";
+        let (output, shown) = read_alike_in_parts("tape.nc", &text, note, &[1, 40, 4096]);
+        let output = output.unwrap_or_else(|| panic!("{text}\n{shown}"));
         assert!(
             !output.contains("X99") && !output.contains("X98"),
             "{output}"
         );
-        assert_eq!(
-            whole.1.matches("after the tape's end are not read").count(),
-            1,
-            "{}",
-            whole.1
-        );
-        for part in [1, 40] {
-            assert_eq!(compile_in(Some(part)), whole, "{text} in parts of {part}");
-        }
-        let options = CompileOptions::default();
-        for part in [1, 40, 4096] {
-            if let Read::Compiled(read) = from_reader(&path, &text, &options, part, false) {
-                let shown = &whole.1;
-                assert_eq!(
-                    read,
-                    format!("{output}\n--- diagnostics ---\n{shown}"),
-                    "{text}"
-                );
-            }
-        }
-        std::fs::remove_dir_all(&dir).unwrap();
     }
 }
 
+/// `text`, written to a file `name`, compiled whole: its output and
+/// diagnostics, which say `note` once; the same read in parts of 1 and 40
+/// bytes and, where it compiles, from the file in parts of `file_parts`.
+fn read_alike_in_parts(
+    name: &str,
+    text: &str,
+    note: &str,
+    file_parts: &[usize],
+) -> (Option<String>, String) {
+    use ger::syntax::chunk::with_part_size;
+    let dir = std::env::temp_dir().join(format!("ger-alike-{}-{name}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let path = dir.join(name);
+    std::fs::write(&path, text).unwrap();
+    let compile_in = |part: Option<usize>| {
+        with_part_size(part, || {
+            let mut sources = Sources::new();
+            let file = sources.add(path.to_string_lossy(), text.to_string());
+            let compiled = compile(&sources, file, &CompileOptions::default(), None);
+            (compiled.output, render(&sources, &compiled.diagnostics))
+        })
+    };
+    let whole = compile_in(None);
+    assert_eq!(whole.1.matches(note).count(), 1, "{text}\n{}", whole.1);
+    for part in [1, 40] {
+        assert_eq!(compile_in(Some(part)), whole, "{text} in parts of {part}");
+    }
+    let options = CompileOptions::default();
+    for &part in file_parts {
+        if let Read::Compiled(read) = from_reader(&path, text, &options, part, false) {
+            let (output, shown) = (whole.0.as_deref().unwrap_or("<no output>"), &whole.1);
+            assert_eq!(
+                read,
+                format!("{output}\n--- diagnostics ---\n{shown}"),
+                "{text}"
+            );
+        }
+    }
+    std::fs::remove_dir_all(&dir).unwrap();
+    whole
+}
+
+/// `path` (its decoded `text`) compiled from a reader in parts of about
+/// `part` bytes, its text never held, as `ger compile -o` compiles it
+/// (`driver::scan_file`, `driver::compile_file`), with the wizards of
+/// `wizards/` and the standard library if `wizards`: its text (`<no
+/// output>` on errors) and diagnostics.
 fn from_reader(
     path: &Path,
     text: &str,

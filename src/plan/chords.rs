@@ -410,7 +410,8 @@ mod tests {
     use super::*;
     use crate::driver::machine::Controller;
     use crate::ir::Plane;
-    use crate::toolpath::{ArcPath, State, ToolPath};
+    use crate::plan::tests::feed_move;
+    use crate::toolpath::{ArcPath, ToolPath};
 
     fn machine(accel: [f64; 3], blocks: usize) -> Limits {
         Limits {
@@ -425,22 +426,6 @@ mod tests {
             tool_change_s: 0.0,
             spindle_start_s: 0.0,
             steps_per_mm: [None; 3],
-        }
-    }
-
-    fn feed_move(kind: MoveKind, start: Point, end: Point, feed: f64) -> Move {
-        Move {
-            kind,
-            start,
-            end,
-            extra: [0.0; 6],
-            state: State {
-                feed,
-                tool: 1,
-                ..State::default()
-            },
-            span: crate::source::Span::new(0, 1, 0, 0),
-            guessed: [false; 3],
         }
     }
 
