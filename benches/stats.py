@@ -7,7 +7,8 @@ with the peak memory of each.
   benches/stats.py [--ger target/release/ger] [--runs 5] [--moves 200000]
                    [--before OTHER_GER]
 
-`ger stats` plans the moves as the back end makes them; `ger compile`
+`ger stats` plans the moves as the back end makes them (grbl's model with
+and without the machine's steps per mm, LinuxCNC's); `ger compile`
 prints the program. The goal: stats within 20 % of compile. Wall clock
 and CPU time (user + system, both threads): on a machine shared with
 other work the CPU time is the steadier. `--before`: the same cases with
@@ -31,6 +32,16 @@ max-acceleration = 250
 max-velocity = 1000
 max-acceleration = 100
 """
+
+
+def machine(controller):
+    """The `[machine]` table of `controller`; `grbl+steps`: grbl with its
+    steps per mm, as `ger machine import` writes from `$100`–`$102`."""
+    if controller != "grbl+steps":
+        return MACHINE.format(controller=controller)
+    toml = MACHINE.format(controller="grbl")
+    toml = toml.replace("max-velocity = 5000", "steps-per-mm = 250\nmax-velocity = 5000")
+    return toml.replace("max-velocity = 1000", "steps-per-mm = 400\nmax-velocity = 1000")
 
 
 def cpu():
@@ -66,7 +77,12 @@ def main():
         cases = [
             (label, ger, command, controller)
             for label, ger in gers
-            for command, controller in [("compile", "grbl"), ("stats", "grbl"), ("stats", "linuxcnc")]
+            for command, controller in [
+                ("compile", "grbl"),
+                ("stats", "grbl"),
+                ("stats", "grbl+steps"),
+                ("stats", "linuxcnc"),
+            ]
         ]
         times = {c: [] for c in cases}
         # In turn, so a machine that slows down weighs on each alike.
@@ -74,7 +90,7 @@ def main():
             for case in cases:
                 _, ger, command, controller = case
                 with open(os.path.join(d, "ger.toml"), "w") as f:
-                    f.write(MACHINE.format(controller=controller))
+                    f.write(machine(controller))
                 times[case].append(run([ger, command, "plain.nc"], d))
         # Peak memory: one run each in a fresh child (ru_maxrss of the
         # children only grows, so each is measured in its own process).
@@ -82,7 +98,7 @@ def main():
         for case in cases:
             _, ger, command, controller = case
             with open(os.path.join(d, "ger.toml"), "w") as f:
-                f.write(MACHINE.format(controller=controller))
+                f.write(machine(controller))
             probe = (
                 "import resource,subprocess,sys;"
                 "subprocess.run(sys.argv[1:],stdout=subprocess.DEVNULL,check=True);"
@@ -100,9 +116,11 @@ def main():
         cpu_s = median([c for _, c in times[case]])
         base = [c for c in cases if c[0] == label and c[2] == "compile"][0]
         base_cpu = median([c for _, c in times[base]])
+        base_wall = median([w for w, _ in times[base]])
         print(
-            f"  {label}ger {command:8} ({controller:8}) {wall:7.3f} s  CPU {cpu_s:7.3f} s"
-            f" {100 * (cpu_s / base_cpu - 1):+7.1f} %  peak {peaks[case] / 1024:7.1f} MiB"
+            f"  {label}ger {command:8} ({controller:10}) {wall:7.3f} s"
+            f" {100 * (wall / base_wall - 1):+6.1f} %  CPU {cpu_s:7.3f} s"
+            f" {100 * (cpu_s / base_cpu - 1):+6.1f} %  peak {peaks[case] / 1024:7.1f} MiB"
         )
 
 

@@ -95,6 +95,33 @@ impl McArc {
     }
 }
 
+impl McArc {
+    /// The chord end after `made` chords, the iterator moved on to it:
+    /// what `made` calls of `next` give last, without the rotations
+    /// before the last exact point (a multiple of `ARC_CORRECTION + 1`
+    /// chords at or before it; the normal's steps are added one by one,
+    /// as grbl adds them). `made` is at most the chord count.
+    pub(super) fn jump(&mut self, made: u32) -> Point {
+        let made = made.clamp(1, self.chords);
+        let exact = made - made % (ARC_CORRECTION + 1);
+        if exact > self.made + 1 {
+            // As `exact - 1` calls leave it, but for the rotation, which
+            // call `exact` makes anew from sines and cosines.
+            let adds = exact - 1 - self.made;
+            if self.linear_per_chord != 0.0 {
+                self.linear = (0..adds).fold(self.linear, |z, _| z + self.linear_per_chord);
+            }
+            self.made = exact - 1;
+            self.count = ARC_CORRECTION;
+        }
+        let mut point = self.end;
+        while self.made < made {
+            point = self.next().unwrap_or(self.end);
+        }
+        point
+    }
+}
+
 impl Iterator for McArc {
     type Item = Point;
 
@@ -176,6 +203,34 @@ mod tests {
         let ccw = circle(0.25, false);
         let ccw: Vec<Point> = McArc::new(&ccw, 24, ccw.sweep()).collect();
         assert!(ccw[5][1] > 0.249);
+    }
+
+    #[test]
+    fn a_jump_lands_where_the_chords_one_by_one_do() {
+        // A circle, and a helix whose normal grbl adds chord by chord in
+        // single precision: from the start and from chords already made,
+        // onto exact points and between them, and on to the end.
+        let mut helix = circle(3.7, false);
+        helix.end[2] = -1.3;
+        for m in [circle(25.0, true), helix] {
+            let n = 97;
+            let all: Vec<Point> = McArc::new(&m, n, m.sweep()).collect();
+            for (before, to) in [
+                (0, 1),
+                (0, 13),
+                (0, 40),
+                (5, 26),
+                (14, 27),
+                (30, 90),
+                (0, 97),
+            ] {
+                let mut arc = McArc::new(&m, n, m.sweep());
+                let _ = arc.by_ref().take(before).count();
+                assert_eq!(arc.jump(to as u32), all[to - 1], "{before} → {to}");
+                let rest: Vec<Point> = arc.collect();
+                assert_eq!(rest, all[to..], "{before} → {to}");
+            }
+        }
     }
 
     #[test]
