@@ -105,10 +105,18 @@ pub fn sweep(
     let c = project(center, plane);
     let vs = project(start, plane) - c;
     let ve = project(end, plane) - c;
-    let a0 = vs.y.atan2(vs.x);
-    let a1 = ve.y.atan2(ve.x);
+    sweep_between(vs.y.atan2(vs.x), ve.y.atan2(ve.x), clockwise, turns)
+}
+
+/// [`sweep`] from the angles of the start and the end about the centre
+/// (each `atan2`'s, within ±π).
+pub fn sweep_between(a0: f64, a1: f64, clockwise: bool, turns: u32) -> f64 {
     let mut d = if clockwise { a0 - a1 } else { a1 - a0 };
-    d = d.rem_euclid(TAU);
+    // `rem_euclid(TAU)` without its `fmod`: d is within ±2π, and -2π
+    // gives 0 either way, a full turn below.
+    if d < 0.0 {
+        d += TAU;
+    }
     // Nearly equal angles: a full turn (rs274 uses the same rule).
     if d < 1e-9 {
         d = TAU;

@@ -85,14 +85,21 @@ pub struct OperationFigures {
     pub bounds: Option<[[f64; 3]; 2]>,
 }
 
-/// Widen `bounds` to hold the ends of `m`.
-fn widen(bounds: &mut Option<[[f64; 3]; 2]>, m: &Move) {
-    let [low, high] = bounds.get_or_insert([m.start, m.start]);
-    for p in [m.start, m.end] {
-        for i in 0..3 {
-            low[i] = low[i].min(p[i]);
-            high[i] = high[i].max(p[i]);
-        }
+/// The box of the ends of `m`.
+fn ends_box(m: &Move) -> [[f64; 3]; 2] {
+    let (a, b) = (m.start, m.end);
+    [
+        std::array::from_fn(|i| a[i].min(b[i])),
+        std::array::from_fn(|i| a[i].max(b[i])),
+    ]
+}
+
+/// Widen `bounds` to hold the box `[low, high]`.
+fn widen(bounds: &mut Option<[[f64; 3]; 2]>, [low, high]: [[f64; 3]; 2]) {
+    let [l, h] = bounds.get_or_insert([low, high]);
+    for i in 0..3 {
+        l[i] = l[i].min(low[i]);
+        h[i] = h[i].max(high[i]);
     }
 }
 
@@ -157,18 +164,23 @@ struct Planner<'l> {
     window: VecDeque<Slot>,
     slots: usize,
     previous: Option<Block>,
+    /// The speed into the window's first block, and its square.
+    entry: f64,
     entry_sqr: f64,
+    /// The time of the move whose blocks were timed last, not yet handed
+    /// on (a move's blocks are timed one after another: one hand-off each).
+    move_s: Option<(usize, f64)>,
 }
 
 /// A block not yet timed: what timing it needs of it (the window holds
-/// no more, so that it moves little).
+/// no more, 56 bytes, so that it moves little).
 #[derive(Clone, Copy)]
 struct Slot {
-    /// mm; mm/s; mm/s².
-    length: f64,
+    /// mm/s; mm/s².
     nominal: f64,
     accel: f64,
-    /// What it adds to a speed squared from end to end: 2 · accel · length.
+    /// What it adds to a speed squared from end to end: 2 · accel ·
+    /// length (its length is in it).
     gain: f64,
     /// The move it is part of.
     source: usize,
@@ -179,7 +191,7 @@ struct Slot {
     /// next: a new block changes it only back to the first block whose
     /// limit it does not raise).
     reachable: f64,
-    /// 1, or a run of an arc's middle chords (`chords.rs`), `length`
+    /// 1, or a run of an arc's middle chords (`chords.rs`), `gain` of
     /// their total length: it always enters and leaves at its nominal
     /// speed, so its limit never changes.
     chords: usize,
@@ -189,7 +201,6 @@ impl Slot {
     /// `block`'s slot, alone in the window: entered and left at rest.
     fn of(block: &Block) -> Slot {
         Slot {
-            length: block.length,
             nominal: block.nominal,
             accel: block.accel,
             gain: 2.0 * block.accel * block.length,
@@ -210,7 +221,9 @@ impl<'l> Planner<'l> {
             window: VecDeque::with_capacity(depth + 1),
             slots: 0,
             previous: None,
+            entry: 0.0,
             entry_sqr: 0.0,
+            move_s: None,
         }
     }
 
@@ -236,6 +249,7 @@ impl<'l> Planner<'l> {
     }
 
     /// Take `block`; `timed` gets each block timed.
+    #[inline(always)]
     fn push(&mut self, block: Block, timed: &mut impl FnMut(usize, f64)) {
         let max_entry = match &self.previous {
             Some(a) if !block.stopped_before => junction(a, &block, self.limits)
@@ -258,6 +272,7 @@ impl<'l> Planner<'l> {
     }
 
     /// `slot` at the buffer's end; the reverse pass back from it.
+    #[inline(always)]
     fn add(&mut self, slot: Slot) {
         self.slots += slot.chords;
         self.window.push_back(slot);
@@ -280,6 +295,7 @@ impl<'l> Planner<'l> {
     /// The first block of the window timed: its exit as fast as the
     /// blocks behind it, up to the buffer's end or a stop, allow (a run
     /// of chords: all of them, at their nominal speed).
+    #[inline(always)]
     fn time_first(&mut self, timed: &mut impl FnMut(usize, f64)) {
         let Some(first) = self.window.pop_front() else {
             return;
@@ -291,11 +307,17 @@ impl<'l> Planner<'l> {
             }
             _ => first.max_entry,
         };
-        timed(
-            first.source,
-            trapezoid(&first, self.entry_sqr.sqrt(), exit_sqr.sqrt()),
-        );
-        self.entry_sqr = exit_sqr;
+        let exit = exit_sqr.sqrt();
+        let seconds = trapezoid(&first, (self.entry, self.entry_sqr), (exit, exit_sqr));
+        match &mut self.move_s {
+            Some((source, s)) if *source == first.source => *s += seconds,
+            pending => {
+                if let Some((source, s)) = pending.replace((first.source, seconds)) {
+                    timed(source, s);
+                }
+            }
+        }
+        (self.entry, self.entry_sqr) = (exit, exit_sqr);
         self.slots -= first.chords;
     }
 
@@ -303,11 +325,15 @@ impl<'l> Planner<'l> {
         while !self.window.is_empty() {
             self.time_first(timed);
         }
+        if let Some((source, s)) = self.move_s.take() {
+            timed(source, s);
+        }
     }
 }
 
 /// The largest speed squared from block `a` into block `b`, as the
 /// controller takes the corner between them.
+#[inline(always)]
 fn junction(a: &Block, b: &Block, limits: &Limits) -> f64 {
     match limits.controller {
         Controller::Grbl => junction_sqr(a, b, limits),
@@ -318,6 +344,7 @@ fn junction(a: &Block, b: &Block, limits: &Limits) -> f64 {
 /// grbl's largest speed squared through the corner from `a` to `b`: the
 /// circle within the junction deviation of the corner, at the acceleration
 /// the corner's direction allows.
+#[inline(always)]
 fn junction_sqr(a: &Block, b: &Block, limits: &Limits) -> f64 {
     let cos = -dot(a.unit_out, b.unit_in);
     if cos > 0.999_999 {
@@ -328,24 +355,29 @@ fn junction_sqr(a: &Block, b: &Block, limits: &Limits) -> f64 {
         // Straight on.
         return f64::INFINITY;
     }
-    let corner = direction(a.unit_out, b.unit_in);
-    let accel = along(limits.max_accel, corner);
+    // Along the corner's direction, b's less a's (`along` scaled by its
+    // length: no division to make it a unit).
+    let corner: [f64; 3] = std::array::from_fn(|i| b.unit_in[i] - a.unit_out[i]);
+    let accel = along(limits.max_accel, corner) * dot(corner, corner).sqrt();
     let sin_half = (0.5 * (1.0 - cos)).sqrt();
     (accel * limits.junction_deviation * sin_half / (1.0 - sin_half)).max(0.0)
 }
 
-/// The time of a block entered at `entry` and left at `exit` (mm/s):
-/// accelerate to its nominal speed, cruise, slow down; a triangle where
-/// it is too short to reach it.
-fn trapezoid(b: &Slot, entry: f64, exit: f64) -> f64 {
-    let (a, d, v) = (b.accel, b.length, b.nominal);
-    let up = (v * v - entry * entry).max(0.0) / (2.0 * a);
-    let down = (v * v - exit * exit).max(0.0) / (2.0 * a);
-    if up + down <= d {
-        return (v - entry).max(0.0) / a + (v - exit).max(0.0) / a + (d - up - down) / v;
+/// The time of a block entered at `entry` and left at `exit` (mm/s, each
+/// with its square): accelerate to its nominal speed, cruise, slow down;
+/// a triangle where it is too short to reach it. (In one division: the
+/// speeds' changes over `a`, the cruise d/v less what the changes take of
+/// d, (v² − u²)/2a each, over v.)
+#[inline(always)]
+fn trapezoid(b: &Slot, (entry, entry_sqr): (f64, f64), (exit, exit_sqr): (f64, f64)) -> f64 {
+    let (a, v) = (b.accel, b.nominal);
+    let changes = (v * v - entry_sqr).max(0.0) + (v * v - exit_sqr).max(0.0);
+    if changes <= b.gain {
+        let speeds = (v - entry).max(0.0) + (v - exit).max(0.0);
+        return (2.0 * v * speeds + b.gain - changes) / (2.0 * a * v);
     }
-    let peak = ((2.0 * a * d + entry * entry + exit * exit) / 2.0).sqrt();
-    (peak - entry).max(0.0) / a + (peak - exit).max(0.0) / a
+    let peak = ((b.gain + entry_sqr + exit_sqr) / 2.0).sqrt();
+    ((peak - entry).max(0.0) + (peak - exit).max(0.0)) / a
 }
 
 #[cfg(test)]

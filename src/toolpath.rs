@@ -151,15 +151,18 @@ impl Move {
                 let (p, q, _) = a.plane.axes();
                 let (sp, sq) = (self.start[p] - a.center[p], self.start[q] - a.center[q]);
                 let (ep, eq) = (self.end[p] - a.center[p], self.end[q] - a.center[q]);
+                // `Move::sweep`'s, its angles found once.
+                let angle = sq.atan2(sp);
+                let sweep = geometry::sweep_between(angle, eq.atan2(ep), a.clockwise, a.turns);
                 Along {
                     start: self.start,
                     end: self.end,
                     arc: Some(ArcAlong {
                         arc: a,
-                        sweep: self.sweep() * if a.clockwise { -1.0 } else { 1.0 },
+                        sweep,
                         radius: sp.hypot(sq),
                         end_radius: ep.hypot(eq),
-                        angle: sq.atan2(sp),
+                        angle,
                     }),
                 }
             }
@@ -208,6 +211,44 @@ impl Along {
             }
             None => distance(self.start, self.end),
         }
+    }
+
+    /// The points `k / n` along for k = 0, 1, 2, n − 2, n − 1, n
+    /// (`n` ≥ 2): an arc's turned from its start and from its end by
+    /// multiples of one angle (one sine and cosine, where [`Along::at`]
+    /// takes one for each), the ends themselves exact.
+    pub fn end_points(&self, n: usize) -> [Point; 6] {
+        let t = |k: usize| k as f64 / n as f64;
+        let Some(a) = self
+            .arc
+            .as_ref()
+            .filter(|a| a.radius > 0.0 && a.end_radius > 0.0)
+        else {
+            return [0, 1, 2, n - 2, n - 1, n].map(|k| self.at(t(k)));
+        };
+        let (p, q, l) = a.arc.plane.axes();
+        let (sin, cos) = (a.sweep / n as f64).sin_cos();
+        // The turns by one and by two of the angle, each way.
+        let turns = [(cos, sin), (cos * cos - sin * sin, 2.0 * sin * cos)];
+        let point = |from: Point, radius: f64, k: usize, (c, s): (f64, f64), back: f64| {
+            let (u, v) = (from[p] - a.arc.center[p], from[q] - a.arc.center[q]);
+            let scale = (a.radius + (a.end_radius - a.radius) * t(k)) / radius;
+            let s = s * back;
+            let mut out = [0.0; 3];
+            out[p] = a.arc.center[p] + scale * (u * c - v * s);
+            out[q] = a.arc.center[q] + scale * (u * s + v * c);
+            out[l] = self.start[l] + (self.end[l] - self.start[l]) * t(k);
+            out
+        };
+        let (start, end) = (self.start, self.end);
+        [
+            start,
+            point(start, a.radius, 1, turns[0], 1.0),
+            point(start, a.radius, 2, turns[1], 1.0),
+            point(end, a.end_radius, n - 2, turns[1], -1.0),
+            point(end, a.end_radius, n - 1, turns[0], -1.0),
+            end,
+        ]
     }
 
     pub fn at(&self, t: f64) -> Point {

@@ -111,7 +111,9 @@ impl Limits {
 }
 
 /// The largest value along `unit` that keeps each axis within its own
-/// (grbl's `limit_value_by_axis_maximum`).
+/// (grbl's `limit_value_by_axis_maximum`); along a vector of any length,
+/// that over its length.
+#[inline(always)]
 pub(super) fn along(limits: [f64; 3], unit: [f64; 3]) -> f64 {
     (0..3)
         .filter(|&i| unit[i] != 0.0)
@@ -140,6 +142,7 @@ pub(super) struct Block {
     pub(super) source: usize,
 }
 
+#[inline(always)]
 pub(super) fn dot(a: [f64; 3], b: [f64; 3]) -> f64 {
     a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
 }
@@ -169,13 +172,22 @@ pub(super) fn rapid_rate(limits: &Limits, unit: [f64; 3]) -> f64 {
 /// line's LinuxCNC segment): a rapid at the rapid rate, else at the
 /// move's feed within each axis's rate; `None`: no length. It is not
 /// after a stop and belongs to move 0 until the caller says otherwise.
+#[inline(always)]
 pub(super) fn line_block(m: &Move, from: Point, to: Point, limits: &Limits) -> Option<Block> {
-    let (unit, length) = direction_and_length(from, to);
-    if length <= 0.0 {
+    let d = [to[0] - from[0], to[1] - from[1], to[2] - from[2]];
+    let length = dot(d, d).sqrt();
+    if length <= 0.0 || length.is_nan() {
         return None;
     }
+    // The limits along it from `d`; the direction divided as
+    // `direction_and_length` divides it (multiplied by the reciprocal,
+    // LinuxCNC's corners moved up to 1.4e-5 of a program's time).
+    let unit = d.map(|x| x / length);
     let nominal = match m.kind {
-        MoveKind::Rapid => rapid_rate(limits, unit),
+        MoveKind::Rapid => {
+            let axes = along(limits.max_rate, d) * length;
+            limits.rapid_rate.map_or(axes, |r| r.min(axes))
+        }
         _ => feed_rate(m.state.feed_rate() / 60.0, limits, unit),
     };
     Some(Block {
@@ -183,7 +195,7 @@ pub(super) fn line_block(m: &Move, from: Point, to: Point, limits: &Limits) -> O
         unit_in: unit,
         unit_out: unit,
         nominal: nominal.max(1e-9),
-        accel: along(limits.max_accel, unit),
+        accel: along(limits.max_accel, d) * length,
         stopped_before: false,
         control: m.state.path_control,
         source: 0,
@@ -194,6 +206,7 @@ pub(super) fn line_block(m: &Move, from: Point, to: Point, limits: &Limits) -> O
 /// axis's rate needs no division: no component of a unit vector exceeds
 /// 1 (`direction_and_length` divides each by a norm at least as large),
 /// so each axis allows at least its own rate.
+#[inline(always)]
 fn feed_rate(feed: f64, limits: &Limits, unit: [f64; 3]) -> f64 {
     let [x, y, z] = limits.max_rate;
     match feed <= x.min(y).min(z) {

@@ -78,14 +78,7 @@ pub(super) fn pieces(
     }
     // The ends' points and chords, which the check and the end chords
     // both need, each found once.
-    let ends = [
-        point(0),
-        point(1),
-        point(2),
-        point(n - 2),
-        point(n - 1),
-        point(n),
-    ];
+    let ends = along.end_points(n);
     let at = |k: usize| match k {
         0..=2 => ends[k],
         _ if k + 2 >= n => ends[k + 5 - n],
@@ -121,6 +114,7 @@ pub(super) fn pieces(
 }
 
 /// A chord with some length to `out`.
+#[inline(always)]
 fn out_chord(chord: Option<Block>, out: &mut impl FnMut(Piece)) {
     if let Some(b) = chord {
         out(Piece::Block(b));
@@ -129,6 +123,7 @@ fn out_chord(chord: Option<Block>, out: &mut impl FnMut(Piece)) {
 
 /// The chord from `from` to `to` of move `m`, the `index`th, as a block
 /// (`None`: no length); it starts from rest after a sync (`stopped`).
+#[inline(always)]
 fn chord_block(
     m: &Move,
     index: usize,

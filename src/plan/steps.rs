@@ -96,43 +96,9 @@ impl McArc {
 }
 
 impl McArc {
-    /// The chord end after `made` chords, the iterator moved on to it:
-    /// what `made` calls of `next` give last, without the rotations
-    /// before the last exact point (a multiple of `ARC_CORRECTION + 1`
-    /// chords at or before it; the normal's steps are added one by one,
-    /// as grbl adds them). `made` is at most the chord count.
-    pub(super) fn jump(&mut self, made: u32) -> Point {
-        let made = made.clamp(1, self.chords);
-        let exact = made - made % (ARC_CORRECTION + 1);
-        if exact > self.made + 1 {
-            // As `exact - 1` calls leave it, but for the rotation, which
-            // call `exact` makes anew from sines and cosines.
-            let adds = exact - 1 - self.made;
-            if self.linear_per_chord != 0.0 {
-                self.linear = (0..adds).fold(self.linear, |z, _| z + self.linear_per_chord);
-            }
-            self.made = exact - 1;
-            self.count = ARC_CORRECTION;
-        }
-        let mut point = self.end;
-        while self.made < made {
-            point = self.next().unwrap_or(self.end);
-        }
-        point
-    }
-}
-
-impl Iterator for McArc {
-    type Item = Point;
-
-    fn next(&mut self) -> Option<Point> {
-        self.made += 1;
-        if self.made > self.chords {
-            return None;
-        }
-        if self.made == self.chords {
-            return Some(self.end);
-        }
+    /// From one chord end to the next (`made` already counts it): the
+    /// rotation, exact every `ARC_CORRECTION + 1` chords, and the normal.
+    fn turn(&mut self) {
         let [r0, r1] = self.radius;
         self.radius = match self.count < ARC_CORRECTION {
             true => {
@@ -151,6 +117,47 @@ impl Iterator for McArc {
             }
         };
         self.linear += self.linear_per_chord;
+    }
+
+    /// The chord end after `made` chords, the iterator moved on to it:
+    /// what `made` calls of `next` give last, without the rotations
+    /// before the last exact point (a multiple of `ARC_CORRECTION + 1`
+    /// chords at or before it; the normal's steps are added one by one,
+    /// as grbl adds them). `made` is at most the chord count.
+    pub(super) fn jump(&mut self, made: u32) -> Point {
+        let made = made.clamp(1, self.chords);
+        let exact = made - made % (ARC_CORRECTION + 1);
+        if exact > self.made + 1 {
+            // As `exact - 1` calls leave it, but for the rotation, which
+            // call `exact` makes anew from sines and cosines.
+            let adds = exact - 1 - self.made;
+            if self.linear_per_chord != 0.0 {
+                self.linear = (0..adds).fold(self.linear, |z, _| z + self.linear_per_chord);
+            }
+            self.made = exact - 1;
+            self.count = ARC_CORRECTION;
+        }
+        // Turned to the chord end before, then made as `next` makes it.
+        while self.made + 1 < made {
+            self.made += 1;
+            self.turn();
+        }
+        self.next().unwrap_or(self.end)
+    }
+}
+
+impl Iterator for McArc {
+    type Item = Point;
+
+    fn next(&mut self) -> Option<Point> {
+        self.made += 1;
+        if self.made > self.chords {
+            return None;
+        }
+        if self.made == self.chords {
+            return Some(self.end);
+        }
+        self.turn();
         let (p, q, l) = self.axes;
         let mut point = self.end;
         point[p] = f64::from(self.center[0] + self.radius[0]);

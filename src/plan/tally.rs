@@ -9,7 +9,9 @@
 //! for the studio's clock).
 
 use super::block::{rapid_rate, Limits};
-use super::{chords, linuxcnc, unit, widen, Figures, OperationFigures, Planner, ToolFigures};
+use super::{
+    chords, ends_box, linuxcnc, unit, widen, Figures, OperationFigures, Planner, ToolFigures,
+};
 use crate::driver::machine::Controller;
 use crate::toolpath::{Along, Event, EventKind, Move, MoveKind, PathSink, State};
 use std::collections::VecDeque;
@@ -203,11 +205,12 @@ impl<'l> Tally<'l> {
         if m.state.feed_rate() > 0.0 {
             op.feed_time_s += seconds;
         }
-        widen(&mut op.bounds, m);
+        let ends = ends_box(m);
+        widen(&mut op.bounds, ends);
         let tool = &mut figures.tools[tool];
         tool.cut_mm += length;
         tool.feed_time_s += seconds;
-        widen(&mut tool.bounds, m);
+        widen(&mut tool.bounds, ends);
     }
 
     /// `m`'s blocks (its points `along`) to the planner.
