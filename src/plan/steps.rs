@@ -19,6 +19,7 @@ const ARC_CORRECTION: u32 = 12;
 
 /// Where grbl's planner puts `p`: each axis whose steps per mm are known
 /// on its nearest whole step (`lround`: halves away from zero).
+#[inline(always)]
 pub(super) fn on_steps(p: Point, steps_per_mm: [Option<f64>; 3]) -> Point {
     let mut q = p;
     for (x, steps) in q.iter_mut().zip(steps_per_mm) {
@@ -98,6 +99,7 @@ impl McArc {
 impl McArc {
     /// From one chord end to the next (`made` already counts it): the
     /// rotation, exact every `ARC_CORRECTION + 1` chords, and the normal.
+    #[inline(always)]
     fn turn(&mut self) {
         let [r0, r1] = self.radius;
         self.radius = match self.count < ARC_CORRECTION {
@@ -149,6 +151,7 @@ impl McArc {
 impl Iterator for McArc {
     type Item = Point;
 
+    #[inline(always)]
     fn next(&mut self) -> Option<Point> {
         self.made += 1;
         if self.made > self.chords {
