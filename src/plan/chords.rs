@@ -47,19 +47,16 @@ pub(super) enum Piece {
 }
 
 /// The pieces of move `m`, the `index`th (its points `along`), handed to
-/// `out` in order; the first chord starts from rest after a sync
-/// (`stopped`).
+/// `out` in order, none marked as starting from rest (the tally marks
+/// the first after a sync).
 pub(super) fn pieces(
     m: &Move,
     along: &Along,
     index: usize,
-    stopped: bool,
     limits: &Limits,
     out: &mut impl FnMut(Piece),
 ) {
-    let chord = |k: usize, from: Point, to: Point| {
-        chord_block(m, index, stopped && k == 0, from, to, limits)
-    };
+    let chord = |_: usize, from: Point, to: Point| chord_block(m, index, from, to, limits);
     let Some((sweep, r0, r1)) = along.arc_shape() else {
         let steps = limits.steps_per_mm;
         let (start, end) = (on_steps(m.start, steps), on_steps(m.end, steps));
@@ -70,7 +67,7 @@ pub(super) fn pieces(
     };
     let n = arc_segments(r0, sweep, limits.arc_tolerance);
     if limits.steps_per_mm.iter().any(Option::is_some) {
-        return stepped_arc(m, (sweep, r0, r1), index, stopped, n, limits, out);
+        return stepped_arc(m, (sweep, r0, r1), index, n, limits, out);
     }
     let point = |k: usize| along.at(k as f64 / n as f64);
     if n < 4 {
@@ -122,21 +119,10 @@ fn out_chord(chord: Option<Block>, out: &mut impl FnMut(Piece)) {
 }
 
 /// The chord from `from` to `to` of move `m`, the `index`th, as a block
-/// (`None`: no length); it starts from rest after a sync (`stopped`).
+/// (`None`: no length).
 #[inline(always)]
-fn chord_block(
-    m: &Move,
-    index: usize,
-    stopped: bool,
-    from: Point,
-    to: Point,
-    limits: &Limits,
-) -> Option<Block> {
-    line_block(m, from, to, limits).map(|b| Block {
-        stopped_before: stopped,
-        source: index,
-        ..b
-    })
+fn chord_block(m: &Move, index: usize, from: Point, to: Point, limits: &Limits) -> Option<Block> {
+    line_block(m, from, to, limits).map(|b| Block { source: index, ..b })
 }
 
 /// How many chords grbl's `mc_arc` cuts an arc of `radius` through
@@ -260,16 +246,15 @@ fn stepped_arc(
     m: &Move,
     shape: (f64, f64, f64),
     index: usize,
-    stopped: bool,
     n: usize,
     limits: &Limits,
     out: &mut impl FnMut(Piece),
 ) {
     if let Some(run) = bounded_run(m, n, shape, limits) {
-        stepped_ends(m, shape.0, n, run, (index, stopped), limits, out);
+        stepped_ends(m, shape.0, n, run, index, limits, out);
         return;
     }
-    walked_arc(m, shape.0, index, stopped, n, limits, out);
+    walked_arc(m, shape.0, index, n, limits, out);
 }
 
 /// Arc `m`'s stepped chords, seen one by one: the middle ones a run if
@@ -278,7 +263,6 @@ fn walked_arc(
     m: &Move,
     sweep: f64,
     index: usize,
-    stopped: bool,
     n: usize,
     limits: &Limits,
     out: &mut impl FnMut(Piece),
@@ -291,13 +275,7 @@ fn walked_arc(
             (std::mem::replace(&mut from, to), to)
         })
     };
-    // Only the first block after a sync starts from rest.
-    let mut stop = stopped;
-    let mut block = |(from, to): Chord| {
-        let b = chord_block(m, index, stop, from, to, limits);
-        stop &= b.is_none();
-        b
-    };
+    let mut block = |(from, to): Chord| chord_block(m, index, from, to, limits);
     let Some(run) = stepped_run(m, n, limits, chords()) else {
         chords()
             .filter_map(&mut block)
@@ -404,8 +382,7 @@ fn bounded_run(
 /// middle chords is within as much of grbl's.
 const MIDDLE_SHARE: f64 = 0.005;
 
-/// The pieces of stepped arc `m` (the `index`th move, after a sync if
-/// `stopped`) whose middle chords `run` proved a run: its first and last
+/// The pieces of stepped arc `m` (the `index`th move) whose middle chords `run` proved a run: its first and last
 /// `run.ends` chords as `mc_arc` makes them and planned one by one, the
 /// run between them ending with the stepped chord before the last ones.
 fn stepped_ends(
@@ -413,16 +390,14 @@ fn stepped_ends(
     sweep: f64,
     n: usize,
     run: Cruise,
-    (index, stopped): (usize, bool),
+    index: usize,
     limits: &Limits,
     out: &mut impl FnMut(Piece),
 ) -> Option<()> {
     let steps = limits.steps_per_mm;
     let h = run.ends;
     let mut arc = McArc::new(m, n, sweep);
-    let block = |k: usize, from: Point, to: Point| {
-        chord_block(m, index, stopped && k == 0, from, to, limits)
-    };
+    let block = |_: usize, from: Point, to: Point| chord_block(m, index, from, to, limits);
     let mut from = on_steps(m.start, steps);
     let mut raw = m.start;
     for k in 0..h {
@@ -632,7 +607,7 @@ mod tests {
     fn runs(path: &ToolPath, limits: &Limits) -> usize {
         let mut count = 0;
         for (i, m) in path.moves.iter().enumerate() {
-            pieces(m, &m.along(), i, i == 0, limits, &mut |p| {
+            pieces(m, &m.along(), i, limits, &mut |p| {
                 count += usize::from(matches!(p, Piece::Cruise { .. }))
             });
         }
@@ -726,9 +701,9 @@ mod tests {
                 match (walk, along.arc_shape()) {
                     (true, Some((sweep, r0, _))) => {
                         let n = arc_segments(r0, sweep, limits.arc_tolerance);
-                        walked_arc(m, sweep, i, i == 0, n, limits, &mut take);
+                        walked_arc(m, sweep, i, n, limits, &mut take);
                     }
-                    _ => pieces(m, &along, i, i == 0, limits, &mut take),
+                    _ => pieces(m, &along, i, limits, &mut take),
                 }
             }
             planner.finish(&mut timed);

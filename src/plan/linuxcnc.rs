@@ -40,23 +40,13 @@ fn acc_ratio_normal() -> f64 {
 }
 
 /// The segment of move `m`, the `index`th (its points `along`), if it
-/// has some length; it starts from rest after a sync (`stopped`).
-pub(super) fn block(
-    m: &Move,
-    along: &Along,
-    index: usize,
-    stopped: bool,
-    limits: &Limits,
-) -> Option<Block> {
+/// has some length.
+pub(super) fn block(m: &Move, along: &Along, index: usize, limits: &Limits) -> Option<Block> {
     let block = match m.kind {
         MoveKind::Arc(_) => arc_block(m, along, limits),
         MoveKind::Rapid | MoveKind::Feed => line_block(m, m.start, m.end, limits),
     };
-    block.map(|b| Block {
-        stopped_before: stopped,
-        source: index,
-        ..b
-    })
+    block.map(|b| Block { source: index, ..b })
 }
 
 /// An arc: its speed held where the normal acceleration `v²/r` would pass

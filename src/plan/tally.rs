@@ -9,6 +9,7 @@
 //! for the studio's clock).
 
 use super::block::{rapid_rate, Limits};
+use super::chords::Piece;
 use super::{
     chords, ends_box, linuxcnc, unit, widen, Figures, OperationFigures, Planner, ToolFigures,
 };
@@ -213,7 +214,9 @@ impl<'l> Tally<'l> {
         widen(&mut tool.bounds, ends);
     }
 
-    /// `m`'s blocks (its points `along`) to the planner.
+    /// `m`, the `index`th move (its points `along`), to the planner as
+    /// its pieces, the first block after a sync marked as starting from
+    /// rest.
     fn plan_move(&mut self, m: &Move, along: &Along, index: usize, tool: usize) {
         let state = (m.state.spindle, m.state.rpm, m.state.flood, m.state.mist);
         let changed = self
@@ -243,16 +246,25 @@ impl<'l> Tally<'l> {
         });
         let ops = &mut figures.operations;
         let timed = &mut |i, s| ledger.timed(i, s, ops);
-        match limits.controller {
-            Controller::Grbl => chords::pieces(m, along, index, stopped, limits, &mut |p| {
+        pieces_of(m, along, index, limits, &mut |mut piece| {
+            if let Piece::Block(b) = &mut piece {
+                b.stopped_before = *still;
                 *still = false;
-                planner.take(p, timed)
-            }),
-            Controller::LinuxCnc => {
-                if let Some(b) = linuxcnc::block(m, along, index, stopped, limits) {
-                    *still = false;
-                    planner.push(b, timed);
-                }
+            }
+            planner.take(piece, timed)
+        });
+    }
+}
+
+/// The pieces the planner takes for move `m`, the `index`th (its points
+/// `along`), on `limits`: grbl's chords, LinuxCNC's segment; none marked
+/// as after a sync (the tally marks them).
+fn pieces_of(m: &Move, along: &Along, index: usize, limits: &Limits, out: &mut impl FnMut(Piece)) {
+    match limits.controller {
+        Controller::Grbl => chords::pieces(m, along, index, limits, out),
+        Controller::LinuxCnc => {
+            if let Some(b) = linuxcnc::block(m, along, index, limits) {
+                out(Piece::Block(b));
             }
         }
     }
