@@ -433,7 +433,7 @@ impl LowerError {
             EmptyProgram => error(
                 "nothing to compile: the program has no statement",
                 span,
-                "the file holds only blank lines and comments",
+                "the file holds only blank lines",
             )
             .with_help("write the program's lines, e.g. `G21 G90`, the moves, then `M30`"),
             WorkOffsetUnknown { index } => warning(

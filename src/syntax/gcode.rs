@@ -174,13 +174,33 @@ impl Lexer<'_> {
         self.line_comments.push((start, symbol, end));
     }
 
-    /// The comments of the line that ends here, each a statement of its own.
+    /// The comments of the line that ends here, each a statement of its
+    /// own (`.egc`'s held for the next token: `Lexer::held_comments`).
     pub(super) fn flush_comments(&mut self, at: (usize, usize)) {
+        if self.language == Language::Egc {
+            self.held_comments.append(&mut self.line_comments);
+            self.pending_term.get_or_insert(at);
+            return;
+        }
         for (start, symbol, end) in std::mem::take(&mut self.line_comments) {
             self.pending_term.get_or_insert(at);
             self.push(start, Tok::Comment(symbol), end);
         }
         self.pending_term.get_or_insert(at);
+    }
+
+    /// The `.egc` comments held, each a statement of its own, here.
+    pub(super) fn send_held_comments(&mut self) {
+        // The token that comes next starts its statement as it would
+        // have without them.
+        let shape = self.shape;
+        for (start, symbol, end) in std::mem::take(&mut self.held_comments) {
+            let at = (start, start);
+            self.pending_term.get_or_insert(at);
+            self.push(start, Tok::Comment(symbol), end);
+            self.pending_term.get_or_insert((end, end));
+        }
+        self.shape = shape;
     }
 
     /// A line of plain G-code with words and parameter assignments

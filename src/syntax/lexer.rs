@@ -168,8 +168,13 @@ pub(super) struct Lexer<'a> {
     /// A statement end seen but not yet emitted: dropped if `{` or `else`
     /// comes next, so braces and `else` may start a new line.
     pub(super) pending_term: Option<(usize, usize)>,
-    /// Comments of the current line (plain G-code), sent after it.
+    /// Comments of the current line, sent after it.
     pub(super) line_comments: Vec<(usize, Symbol, usize)>,
+    /// `.egc` comments of lines read, sent before the next token that
+    /// does not go on with a statement (`{`, `else`), so that a comment
+    /// between `if (c)` and its `{` or between `}` and `else` lands
+    /// inside the block.
+    pub(super) held_comments: Vec<(usize, Symbol, usize)>,
     /// The current statement passed `MAX_STATEMENT_TOKENS`: its remaining
     /// tokens are dropped.
     pub(super) too_long: bool,
@@ -270,6 +275,7 @@ impl<'a> Lexer<'a> {
             braces: Vec::new(),
             pending_term: None,
             line_comments: Vec::new(),
+            held_comments: Vec::new(),
             too_long: false,
             stopped: false,
             block_at_line_end: false,
@@ -321,7 +327,10 @@ impl<'a> Lexer<'a> {
             match tok {
                 Raw::LParen => {
                     if let Some(close) = self.lparen(start) {
-                        // A comment: skip past its `)` (or to the end).
+                        // A comment: kept for the output, and skipped
+                        // past its `)` (or to the end).
+                        let inner = close - usize::from(self.text[..close].ends_with(')'));
+                        self.keep_comment(start + 1, inner);
                         raw.bump(close - end);
                     }
                 }
@@ -358,6 +367,7 @@ impl<'a> Lexer<'a> {
         if !self.line_comments.is_empty() {
             self.flush_comments((eof, eof));
         }
+        self.send_held_comments();
         if let Some(&OpenSym { start, bracket, .. }) = self.syms.first() {
             self.unclosed_sym(start, bracket);
         }
@@ -401,7 +411,12 @@ impl<'a> Lexer<'a> {
                 self.report(SyntaxErrorKind::SlashCommentInGcode, start, start + 2);
                 return;
             }
-            Raw::LineComment | Raw::LParen => return,
+            Raw::LineComment => {
+                // `.egc`'s `//` comment, kept for the output.
+                self.keep_comment(start + 2, end);
+                return;
+            }
+            Raw::LParen => return,
             Raw::Newline if !self.groups.is_empty() => return self.newline_in_group(start, end),
             Raw::Newline | Raw::Semi => return self.statement_end(start, end),
             Raw::Word => {
@@ -551,6 +566,11 @@ impl<'a> Lexer<'a> {
     }
 
     pub(super) fn push(&mut self, start: usize, tok: Tok, end: usize) {
+        if !self.held_comments.is_empty()
+            && !matches!(tok, Tok::LBrace | Tok::Else | Tok::Comment(_))
+        {
+            self.send_held_comments();
+        }
         if self.pending_term.is_some() || matches!(tok, Tok::LBrace | Tok::RBrace) {
             self.too_long = false;
         } else if self.out.len() - self.stmt_start >= MAX_STATEMENT_TOKENS {
@@ -681,10 +701,34 @@ mod tests {
 
     #[test]
     fn paren_is_comment_on_code_lines_and_group_in_expressions() {
-        assert_eq!(kinds("G1 X1 (cut)").len(), 1);
+        // A comment is kept, a statement of its own after its line's.
+        let comment = |t: &Tok| matches!(t, Tok::Comment(_));
+        let cut = kinds("G1 X1 (cut)");
+        assert_eq!(cut.len(), 3);
+        assert!(matches!(cut[0], Tok::Words(..)) && cut[1] == Tok::Term && comment(&cut[2]));
         assert!(kinds("A_ = (1 + 2)").contains(&Tok::LParen));
-        assert_eq!(kinds("Depth = 5 (mm)").len(), 3);
+        let mm = kinds("Depth = 5 (mm)");
+        assert_eq!(mm.len(), 5);
+        assert!(comment(&mm[4]) && !mm.contains(&Tok::LParen));
         assert!(kinds("holesLine(1, 2)").contains(&Tok::CallOpen));
+    }
+
+    #[test]
+    fn an_egc_comment_before_a_brace_or_else_goes_into_the_block_after_it() {
+        // `if (c) // x` then `{`, `} // y` then `else`: the comments wait
+        // for the block's first statement; no statement end comes between
+        // the condition and its `{`, nor between `}` and `else`.
+        let toks = kinds("if (Ab) // x\n{\nG1 X1\n} // y\nelse {\nG1 X2 // z\n}\n");
+        let at = |t: Tok| toks.iter().position(|u| *u == t).unwrap();
+        let comments: Vec<usize> = (0..toks.len())
+            .filter(|&i| matches!(toks[i], Tok::Comment(_)))
+            .collect();
+        assert_eq!(comments.len(), 3, "{toks:?}");
+        assert!(comments[0] > at(Tok::LBrace), "{toks:?}");
+        assert!(comments[1] > at(Tok::Else), "{toks:?}");
+        assert!(!toks
+            .windows(2)
+            .any(|w| w[0] == Tok::Term && matches!(w[1], Tok::LBrace | Tok::Else)));
     }
 
     #[test]

@@ -1,4 +1,5 @@
 G21 G90 G17
+N1 (Ger's entry: straight to where the first move's offset path starts, here X-3 Y-10, not rs274's X-3 Y-8.146 after a corner)
 N4 T1 M6
 N5 S10000. M3
 N6 G0 X-20. Y-20. Z5.

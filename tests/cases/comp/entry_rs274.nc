@@ -1,4 +1,5 @@
 G21 G90 G17
+N1 (rs274's entry: offset square to the entry at its end, then an inside corner trims it)
 N4 T1 M6
 N5 S10000. M3
 N6 G0 X-20. Y-20. Z5.

@@ -1,4 +1,6 @@
 G21 G90 G17
+N1 (No G98 or G99 before the cycles, read as LinuxCNC: the R plane  G99 ,)
+N2 (as rs274 starts, with a warning.)
 N4 G0 X0. Y0. Z10.
 N5 G0 X5. Y5.
 N5 G0 Z2.

@@ -1,4 +1,7 @@
 G21 G90 G17
+N1 (arc centres put on a coarser grid than the input's: --decimals 3)
+N2 (rounding start, end and centre apart can turn an arc; of the grid)
+N3 (points around the centre, the one closest to the exact arc is printed)
 N5 G0 X0. Y0. Z1.
 N6 G1 Z-1. F100.
 N7 G0 X-22.556 Y-15.841

@@ -1,4 +1,5 @@
 G21 G90 G17
+N1 (output options)
 N3 T2 M6
 N4 S12000. M3
 N5 G0 X0. Y0. Z5.

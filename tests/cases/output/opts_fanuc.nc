@@ -1,6 +1,7 @@
 %
 O0001
 G21 G90 G17
+N1 (output options)
 N3 T2
 N3 M6
 N4 S12000.

@@ -1,4 +1,5 @@
 G21 G90 G17
+(output options)
 T2
 M0 (change to tool 2)
 S12000. M3

@@ -1,4 +1,5 @@
 G21 G90 G17
+(output options)
 T2 M6
 S12000. M3
 G0 X0. Y0. Z5.

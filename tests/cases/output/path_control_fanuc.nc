@@ -1,6 +1,7 @@
 %
 O0001
 G21 G90 G17
+N1 (Path control on Fanuc: G61.1 is its G61, its G64 has no P or Q: one warning)
 N3 G64
 N4 G1 X10. F300.
 N5 G61

@@ -1,4 +1,5 @@
 G21 G90 G17
+(a retract after a tool change must be written even if Z did not change)
 T1
 M0 (change to tool 1)
 G0 Z25.

@@ -1,3 +1,6 @@
+(Mach3 post - SIGN_LETTERS.tap)
+(Material: MDF 0.75in)
+(Tool #1 1/8 in V-bit)
 G17
 G20
 G40

@@ -1,3 +1,4 @@
+(Row of slots cut alternately up and down: braces on their own lines)
 NumSlots = 5
 Pitch = 12
 SlotLen = 40

@@ -1,4 +1,6 @@
+(Tool, speed and feed chosen from the material: if / else if / else)
 Material = 2
+(1 aluminium, 2 brass, 3 acrylic)
 Tool_num_1 = false
 Big = (Material == 3)
 Depth = 1.5

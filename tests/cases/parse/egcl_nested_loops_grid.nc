@@ -1,3 +1,4 @@
+(4 x 3 grid of pecked holes in serpentine order: nested while loops)
 Cols = 4
 Rows = 3
 Pitch = 15
@@ -17,6 +18,7 @@ G0 Z<Zsafe>
 while (Row < Rows) {
     Col = 0
     while (Col < Cols) {
+        (even rows left to right, odd rows right to left)
         if ((Row % 2) == 0) {
             Xh = (Col * Pitch)
         } else {
@@ -26,6 +28,7 @@ while (Row < Rows) {
         Zd = 0
         while (Zd < Depth) {
             G0 Z<(0.5 - Zd)>
+            (rapid back to just above the last peck)
             Zd = min((Zd + Peck), Depth)
             G1 Z<(-Zd)> F80
             G0 Z1

@@ -1,3 +1,4 @@
+(Short loops and branches written on one line each)
 Pitch = 10
 Depth = 2
 Deep = false

@@ -1,9 +1,13 @@
+(Hole row on a plate, using every operator: + - * / % ^ unary -, comparisons, && || !)
 Width = 90
 Height = 60
 Holes = 7
 Margin = (2 ^ 3)
+(8)
 Tower = (2 ^ (3 ^ 2))
+(2 ^ (3 ^ 2) = 512 if ^ is right-associative)
 NegSq = (-(2 ^ 2))
+(-(2 ^ 2) = -4 if ^ binds tighter than unary minus)
 Pitch = ((Width - (2 * Margin)) / (Holes - 1))
 Odd = ((Holes % 2) == 1)
 Square = (Width == Height)
@@ -13,6 +17,7 @@ Small = ((Width * Height) < 5000)
 Fits = ((Width <= 100) && (Height <= 100))
 Plain = ((!Odd) || (!(Wide != Tall)))
 Mid = ((-(-Height)) / 2)
+(30)
 Cnt = 0
 G21
 G90

@@ -1,3 +1,4 @@
+(Frame and centre bore around a point, EGCL style with ; endings)
 SetUnits("mm")
 CenX = 50
 CenY = 40
@@ -16,6 +17,7 @@ M6
 S9000
 M3
 G0 Z<Zsafe>
+(outer frame)
 G0 X<(CenX - HalfW)> Y<(CenY - HalfH)>
 G1 Z<Depth> F<FeedZ>
 G1 X<(CenX + HalfW)> F<FeedXY>
@@ -23,6 +25,7 @@ G1 Y<(CenY + HalfH)>
 G1 X<(CenX - HalfW)>
 G1 Y<(CenY - HalfH)>
 G0 Z<Zsafe>
+(centre bore: one full circle)
 G0 X<(CenX + Rad)> Y<CenY>
 G1 Z<Depth> F<FeedZ>
 G3 X<(CenX + Rad)> Y<CenY> I<(-Rad)> J0 F<FeedXY>

@@ -1,3 +1,4 @@
+(Square outline cut in depth passes: while with braces on the same line)
 Depth = (-5)
 Step = 1.5
 Side = 60
@@ -20,6 +21,7 @@ while (DPass <= abs(Depth)) {
     G1 Y0
     DPass = (DPass + Step)
 }
+(last pass at the full depth when the steps did not land on it)
 if ((DPass - Step) < abs(Depth)) {
     G1 Z<Depth> F100
     G1 X<Side> F600

@@ -1,3 +1,5 @@
+(grbl engraving job - 20 x 20 square, diagonal and a tick mark)
+(units mm, origin at the lower left corner of the stock top)
 G21
 G90
 G17

@@ -1,3 +1,5 @@
+(circle and rounded slot, lowercase with line numbers)
+(written by hand for a hobby router)
 G21
 G90
 G17
@@ -9,6 +11,7 @@ G0 Z5
 G0 X30 Y20
 G1 Z-1 F120
 G2 X30 Y20 I-10 J0 F400
+(full circle r10 around x20 y20)
 G0 Z5
 G0 X50 Y10
 G1 Z-1 F120

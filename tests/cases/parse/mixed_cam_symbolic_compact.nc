@@ -1,4 +1,5 @@
 O500 (main)
+(CAM-style compact blocks driven by variables: symbolic words without spaces)
 Rows = 3
 Yst = 10
 Pitch = 8.5

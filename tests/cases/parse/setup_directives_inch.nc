@@ -1,3 +1,4 @@
+(Inch job whose stock is the cut bounds plus a 0.25 in margin)
 SetUnits("inch")
 SetMargin(0.25)
 SetTool(1, 0.25, 2, "flat")

@@ -1,3 +1,4 @@
+(Machine setup directives, then the same square cut in two work offsets (mm))
 SetUnits("mm")
 SetPart(100, 80, 20)
 SetZero(0.25, 0.25, 0.1)

@@ -1,3 +1,5 @@
+(Every example of SPEC §2–§3, as written there (P0X, the deliberate)
+(non-name, is in tests/cases/syntax/name_letter_digit.egc).)
 SetUnits("mm")
 SetZero(0.25, 0.25, 0.1)
 SetTool(1, 6.35)

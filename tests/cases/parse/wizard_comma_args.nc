@@ -1,3 +1,4 @@
+(Hole lines and bolt circles with EGCL comma-form wizard calls)
 SetUnits("mm")
 SetPart(150, 100, 15)
 NumHoles = 5

@@ -1,3 +1,4 @@
+(Face the stock, then a slot, a helical bore and a curve: both call forms)
 SetUnits("mm")
 SetPart(100, 60, 20)
 SetZero(0, 0, 0.5)

@@ -1,3 +1,4 @@
+(Rectangular pockets with the Pocket wizard: space-separated arguments)
 SetUnits("mm")
 SetPart(120, 80, 20)
 SetTool(1, 6, 50, "flat")

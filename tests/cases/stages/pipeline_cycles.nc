@@ -1,3 +1,4 @@
+N1 (a drilling program at the cycles stage: G55 folded, G91 repeats written absolute between G90 and G91)
 N2 G17
 N2 G90
 N3 G10 L2 P2 X100. Y50. Z0.

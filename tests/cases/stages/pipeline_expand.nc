@@ -1,3 +1,4 @@
+N1 (stages of a small Fanuc program)
 N2 G17
 N2 G20
 N2 G90

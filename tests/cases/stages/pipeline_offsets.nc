@@ -1,3 +1,4 @@
+N1 (stages of a small Fanuc program)
 N2 G17
 N2 G90
 N3 G0 X0. Y0. Z0.5

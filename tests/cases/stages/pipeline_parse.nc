@@ -1,3 +1,4 @@
+(stages of a small Fanuc program)
 G20
 G90
 G17

@@ -1,4 +1,6 @@
 G21 G90 G17
+N1 (Spaces inside words  SPEC 2.2 , read as plain G-code and rs274 read them;)
+N2 (a directive's and a wizard call's arguments stay apart.)
 N7 G0 Z5.
 N8 G0 X-10.5 Y10.5
 N9 G1 Z-2. F100.
