@@ -861,6 +861,10 @@ pub struct ToolData {
     /// The length (L1), or the Z the current point is to read (L10, L11).
     pub length: Option<f64>,
     pub measured: Measured,
+    /// A lathe tool's orientation and front and back angles (Q, I, J),
+    /// as written: they change no mill's path, but they are the machine's
+    /// tool table, so they are passed on.
+    pub lathe: [Option<f64>; 3],
 }
 
 /// How a G10's Z sets a tool's length.

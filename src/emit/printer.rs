@@ -459,7 +459,15 @@ impl Printer {
             ir::Measured::InFixture => "G10 L11",
         });
         self.int_word(b'P', data.tool);
-        for (letter, v) in [(b'R', data.radius), (b'Z', data.length)] {
+        let [q, i, j] = data.lathe;
+        let words = [
+            (b'R', data.radius),
+            (b'Z', data.length),
+            (b'Q', q),
+            (b'I', i),
+            (b'J', j),
+        ];
+        for (letter, v) in words {
             if let Some(v) = v {
                 self.word(letter, v);
             }

@@ -461,6 +461,7 @@ mod tests {
             radius: Some(3.0),
             length: Some(25.0),
             measured: ir::Measured::Given,
+            lathe: [None; 3],
         });
         let surface = |max_rpm| {
             Op::SpindleMode(ir::SpindleMode::SurfaceSpeed {

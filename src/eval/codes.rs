@@ -1317,15 +1317,14 @@ fn spindle_mode(t: u32, at: Span, w: &mut WordValues) -> Result<Op, Diagnostic> 
 /// `G10 L1 P<tool> R<radius> Z<length>` (rs274's convert_setup_tool),
 /// or L10/L11 with the Z the current point is to read (`measured`): only
 /// the values given change. Q, I and J (a lathe tool's orientation
-/// and angles) do not change a mill's path and are dropped; an offset on
-/// another axis is refused, as ger keeps a tool's radius and Z length only.
+/// and angles) do not change a mill's path and are passed on as written;
+/// an offset on another axis is refused, as ger keeps a tool's radius and
+/// Z length only.
 fn tool_data(w: &mut WordValues, at: Span, measured: ir::Measured) -> Result<Op, Diagnostic> {
     let Some((p, pspan)) = w.take(b'P') else {
         return Err(CodeError::new(K::ToolDataWithoutP(measured.l_number()), at).into());
     };
-    for letter in *b"QIJ" {
-        w.take(letter);
-    }
+    let lathe = [b'Q', b'I', b'J'].map(|letter| w.take(letter).map(|(v, _)| v));
     for letter in *b"XYABCUVW" {
         if let Some((_, span)) = w.take(letter) {
             return Err(CodeError::new(K::ToolDataAxis(letter as char), span).into());
@@ -1343,6 +1342,7 @@ fn tool_data(w: &mut WordValues, at: Span, measured: ir::Measured) -> Result<Op,
         radius: radius.map(|(r, _)| r),
         length: w.take(b'Z').map(|(z, _)| z),
         measured,
+        lathe,
     }))
 }
 
