@@ -8,7 +8,7 @@
 
 use ger::driver::discovery::Search;
 use ger::driver::fs::{Disk, FileSystem, Memory};
-use ger::driver::{CompileOptions, LoadError, OptionError, Program, Session};
+use ger::driver::{CompileOptions, Job, LoadError, OptionError, Program, Session};
 use ger::toolpath::MoveKind;
 use std::path::Path;
 
@@ -299,17 +299,22 @@ type MovesAndCutters = (
     Vec<(u32, ger::render::cutter::Cutter)>,
 );
 
-/// The moves of `text` (a program in memory) and its cutters.
-fn path_and_cutters(text: &str) -> MovesAndCutters {
+/// `f` of the job of `text`, a program in memory called `name`.
+fn with_job<R>(name: &str, text: &str, f: impl FnOnce(&mut Job) -> R) -> R {
     let fs = Memory::new();
     let mut job = session(&fs, Search::default())
         .load(Program::Text {
-            name: "part.egc",
+            name,
             path: None,
             text: text.into(),
         })
         .unwrap_or_else(|e| panic!("{e}"));
-    let outcome = job.outcome();
+    f(&mut job)
+}
+
+/// The moves of `text` (a program in memory) and its cutters.
+fn path_and_cutters(text: &str) -> MovesAndCutters {
+    let outcome = with_job("part.egc", text, |job| job.outcome());
     let path = outcome
         .tool_path
         .unwrap_or_else(|| panic!("{:?}", outcome.diagnostics));
@@ -349,15 +354,9 @@ fn a_tool_set_by_g10_is_the_tool_wizards_and_pictures_see() {
 #[test]
 fn a_length_set_by_g10_alone_makes_the_studio_draw_the_tips_path() {
     let lengths_given = |text: &str| {
-        let fs = Memory::new();
-        let mut job = session(&fs, Search::default())
-            .load(Program::Text {
-                name: "part.ngc",
-                path: None,
-                text: text.into(),
-            })
-            .unwrap_or_else(|e| panic!("{e}"));
-        job.tool_path().0.expect("compiles").lengths_given
+        with_job("part.ngc", text, |job| {
+            job.tool_path().0.expect("compiles").lengths_given
+        })
     };
     let program = |g10: &str| format!("G21 G90\n{g10}\nT1 M6\nG43 H1\nG0 X0 Y0 Z5\nM2\n");
     assert!(lengths_given(&program("G10 L1 P1 Z50")));

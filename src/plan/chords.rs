@@ -194,10 +194,7 @@ fn cruise(
     if per_chord.is_nan() || per_chord <= 0.0 {
         return None;
     }
-    let ends = (v2 * (1.0 + SUM_MARGIN) / per_chord).ceil().max(1.0);
-    if ends >= limits.blocks as f64 || (n as f64) < 2.0 * ends + 2.0 {
-        return None;
-    }
+    let ends = run_ends(v2, per_chord, n, limits)?;
     // grbl's corner (`junction_sqr`) at the sharpest end corner, at the
     // least acceleration: no corner between two chords is slower.
     let cos = (-dot(first.unit_out, second.unit_in)).max(-dot(before_last.unit_out, last.unit_in));
@@ -205,11 +202,20 @@ fn cruise(
     if !fast_enough {
         return None;
     }
-    let ends = ends as usize;
     Some(Cruise {
         ends,
         length: middle_length(m, n, ends, shape),
     })
+}
+
+/// How many of an arc's `n` chords to plan one by one at each end of its
+/// run (the module's note): as many as reach the feed (`v2`, its square)
+/// from a stop, each adding `per_chord` at least, fewer than the buffer
+/// holds, and two chords or more left between them; `None`: no run.
+fn run_ends(v2: f64, per_chord: f64, n: usize, limits: &Limits) -> Option<usize> {
+    let ends = (v2 * (1.0 + SUM_MARGIN) / per_chord).ceil().max(1.0);
+    let fits = ends < limits.blocks as f64 && n as f64 >= 2.0 * ends + 2.0;
+    fits.then_some(ends as usize)
 }
 
 /// The feed (mm/s) of arc `m`, cut into `n` chords, if its chords may
@@ -360,12 +366,11 @@ fn bounded_run(
     let turn = theta + (2.0 * err / chord).asin() + ((2.0 * err + dr) / chord).asin();
     let fast_enough = turn < std::f64::consts::PI
         && corner_sqr(-turn.cos(), accel, limits) >= v2 * (1.0 + CORNER_MARGIN);
-    let per_chord = 2.0 * accel * (chord - 2.0 * err - dr) * (1.0 - SUM_MARGIN);
-    let ends = (v2 * (1.0 + SUM_MARGIN) / per_chord).ceil().max(1.0);
-    if !fast_enough || ends >= limits.blocks as f64 || turns < 2.0 * ends + 2.0 {
+    if !fast_enough {
         return None;
     }
-    let ends = ends as usize;
+    let per_chord = 2.0 * accel * (chord - 2.0 * err - dr) * (1.0 - SUM_MARGIN);
+    let ends = run_ends(v2, per_chord, n, limits)?;
     let middle = (n - 2 * ends) as f64;
     let length = middle * chord;
     // The ends' displacements are measured along chords of single
@@ -493,11 +498,7 @@ fn stepped_run(
         tail.push_back((chord, length));
     }
     let per_chord = 2.0 * accel * shortest * (1.0 - SUM_MARGIN);
-    let ends = (v2 * (1.0 + SUM_MARGIN) / per_chord).ceil().max(1.0);
-    if ends >= limits.blocks as f64 || (n as f64) < 2.0 * ends + 2.0 {
-        return None;
-    }
-    let h = ends as usize;
+    let h = run_ends(v2, per_chord, n, limits)?;
     first.truncate(h);
     let last = tail.split_off(tail.len() - h);
     let (last_middle, _) = *tail.back()?;

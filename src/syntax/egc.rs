@@ -47,6 +47,20 @@ impl Lexer<'_> {
         }
     }
 
+    /// The `.egc` comments held, each a statement of its own, here.
+    pub(super) fn send_held_comments(&mut self) {
+        // The token that comes next starts its statement as it would
+        // have without them.
+        let shape = self.shape;
+        for (start, symbol, end) in std::mem::take(&mut self.held_comments) {
+            let at = (start, start);
+            self.pending_term.get_or_insert(at);
+            self.push(start, Tok::Comment(symbol), end);
+            self.pending_term.get_or_insert((end, end));
+        }
+        self.shape = shape;
+    }
+
     /// Is the last token the end of a value (so `(` after it is a comment)?
     pub(super) fn after_value(&self) -> bool {
         match self.out.last() {

@@ -189,20 +189,6 @@ impl Lexer<'_> {
         self.pending_term.get_or_insert(at);
     }
 
-    /// The `.egc` comments held, each a statement of its own, here.
-    pub(super) fn send_held_comments(&mut self) {
-        // The token that comes next starts its statement as it would
-        // have without them.
-        let shape = self.shape;
-        for (start, symbol, end) in std::mem::take(&mut self.held_comments) {
-            let at = (start, start);
-            self.pending_term.get_or_insert(at);
-            self.push(start, Tok::Comment(symbol), end);
-            self.pending_term.get_or_insert((end, end));
-        }
-        self.shape = shape;
-    }
-
     /// A line of plain G-code with words and parameter assignments
     /// (`#1=5 G1 X#1`): rs274 reads every word and value with the
     /// parameters as they were before the line and sets them after it, so

@@ -143,32 +143,20 @@ struct Side {
 
 impl Side {
     fn new(element: Element, end: End) -> Side {
-        let (corner, radius, length) = match (element, end) {
-            (Element::Line { from, to }, End::Last) => (to, 0.0, dist(from, to)),
-            (Element::Line { from, to }, End::First) => (from, 0.0, dist(from, to)),
-            (
-                Element::Arc {
-                    from,
-                    to,
-                    centre,
-                    ccw,
-                },
-                End::Last,
-            ) => {
-                let r = dist(to, centre);
-                (to, r, r * sweep(from, to, centre, ccw))
-            }
-            (
-                Element::Arc {
-                    from,
-                    to,
-                    centre,
-                    ccw,
-                },
-                End::First,
-            ) => {
-                let r = dist(from, centre);
-                (from, r, r * sweep(from, to, centre, ccw))
+        let at = |from: P2, to: P2| match end {
+            End::Last => to,
+            End::First => from,
+        };
+        let (corner, radius, length) = match element {
+            Element::Line { from, to } => (at(from, to), 0.0, dist(from, to)),
+            Element::Arc {
+                from,
+                to,
+                centre,
+                ccw,
+            } => {
+                let r = dist(at(from, to), centre);
+                (at(from, to), r, r * sweep(from, to, centre, ccw))
             }
         };
         Side {
