@@ -14,7 +14,6 @@
 //! [`Machine`](crate::driver::machine::Machine) only;
 //! never sees the IR or the program text.
 
-mod apart;
 mod block;
 mod chords;
 mod linuxcnc;
@@ -23,7 +22,6 @@ mod steps;
 pub use block::Limits;
 mod tally;
 
-pub use apart::tally_apart;
 use block::{along, direction, dot, Block};
 use chords::Piece;
 pub use tally::Tally;

@@ -4,7 +4,7 @@
 use crate::args::Options;
 use crate::{load_failed, session_and_machine};
 use ger::diagnostic::render;
-use ger::plan::{tally_apart, Figures, Limits};
+use ger::plan::{Figures, Limits, Tally};
 use std::process::ExitCode;
 
 /// `ger stats INPUT [--json]`.
@@ -25,12 +25,12 @@ pub fn print_stats(input: &str, options: &Options, json: bool) -> ExitCode {
         Ok(program) => program,
         Err(code) => return code,
     };
-    // Planned as the back end makes the moves (on a thread of its own),
-    // the file read a part at a time as a compile reads it: neither the
-    // path nor the text is held.
-    let (finished, figures) = tally_apart(limits.as_ref(), |sink| {
-        session.feed_tool_path(program, sink)
-    });
+    // Planned as the back end makes the moves, on the back end's thread
+    // (the evaluator's runs every lowering pass), the file read a part at
+    // a time as a compile reads it: neither the path nor the text is held.
+    let mut tally = Tally::new(limits.as_ref(), false);
+    let finished = session.feed_tool_path(program, &mut tally);
+    let figures = tally.finish();
     let finished = match finished {
         Ok(finished) => finished,
         Err(e) => return load_failed(e),
