@@ -29,7 +29,6 @@ pub use tally::Tally;
 use crate::driver::machine::Controller;
 use crate::toolpath::{EventKind, Move, MoveKind, ToolPath};
 use serde::Serialize;
-use std::collections::VecDeque;
 
 /// The planned figures of a program.
 #[derive(Clone, Debug, Default, Serialize)]
@@ -83,21 +82,51 @@ pub struct OperationFigures {
     pub bounds: Option<[[f64; 3]; 2]>,
 }
 
+/// The lesser of `a` and `b` (`b` if either is NaN, which no point is):
+/// one instruction, where `f64::min` takes several.
+#[inline(always)]
+fn lesser(a: f64, b: f64) -> f64 {
+    if a < b {
+        a
+    } else {
+        b
+    }
+}
+
+/// The greater of `a` and `b` (`b` if either is NaN).
+#[inline(always)]
+fn greater(a: f64, b: f64) -> f64 {
+    if a > b {
+        a
+    } else {
+        b
+    }
+}
+
 /// The box of the ends of `m`.
 fn ends_box(m: &Move) -> [[f64; 3]; 2] {
     let (a, b) = (m.start, m.end);
     [
-        std::array::from_fn(|i| a[i].min(b[i])),
-        std::array::from_fn(|i| a[i].max(b[i])),
+        std::array::from_fn(|i| lesser(a[i], b[i])),
+        std::array::from_fn(|i| greater(a[i], b[i])),
     ]
+}
+
+/// Widen the box `[low, high]` to hold the ends of `m`.
+#[inline(always)]
+fn widen_by([low, high]: &mut [[f64; 3]; 2], m: &Move) {
+    for i in 0..3 {
+        low[i] = lesser(m.start[i], lesser(m.end[i], low[i]));
+        high[i] = greater(m.start[i], greater(m.end[i], high[i]));
+    }
 }
 
 /// Widen `bounds` to hold the box `[low, high]`.
 fn widen(bounds: &mut Option<[[f64; 3]; 2]>, [low, high]: [[f64; 3]; 2]) {
     let [l, h] = bounds.get_or_insert([low, high]);
     for i in 0..3 {
-        l[i] = l[i].min(low[i]);
-        h[i] = h[i].max(high[i]);
+        l[i] = lesser(low[i], l[i]);
+        h[i] = greater(high[i], h[i]);
     }
 }
 
@@ -159,7 +188,7 @@ struct Planner<'l> {
     limits: &'l Limits,
     depth: usize,
     /// The blocks not yet timed (a run of chords counts as its chords).
-    window: VecDeque<Slot>,
+    window: Ring,
     slots: usize,
     previous: Option<Block>,
     /// The speed into the window's first block, and its square.
@@ -172,7 +201,7 @@ struct Planner<'l> {
 
 /// A block not yet timed: what timing it needs of it (the window holds
 /// no more, 56 bytes, so that it moves little).
-#[derive(Clone, Copy)]
+#[derive(Clone, Copy, Default)]
 struct Slot {
     /// mm/s; mm/s².
     nominal: f64,
@@ -210,13 +239,87 @@ impl Slot {
     }
 }
 
+/// The window's slots in a ring of a power of two of them: a slot's place
+/// by a mask (`VecDeque` wraps with a comparison at every index).
+struct Ring {
+    slots: Vec<Slot>,
+    head: usize,
+    len: usize,
+}
+
+impl Ring {
+    /// Room for `held` slots (it grows if ever more are pushed).
+    fn new(held: usize) -> Ring {
+        Ring {
+            slots: vec![Slot::default(); held.next_power_of_two()],
+            head: 0,
+            len: 0,
+        }
+    }
+
+    fn len(&self) -> usize {
+        self.len
+    }
+
+    fn is_empty(&self) -> bool {
+        self.len == 0
+    }
+
+    /// The place of the `j`th slot from the front.
+    #[inline(always)]
+    fn at(&self, j: usize) -> usize {
+        (self.head + j) & (self.slots.len() - 1)
+    }
+
+    #[inline(always)]
+    fn get(&self, j: usize) -> &Slot {
+        &self.slots[self.at(j)]
+    }
+
+    #[inline(always)]
+    fn get_mut(&mut self, j: usize) -> &mut Slot {
+        let at = self.at(j);
+        &mut self.slots[at]
+    }
+
+    fn front(&self) -> Option<&Slot> {
+        (self.len > 0).then(|| self.get(0))
+    }
+
+    #[inline(always)]
+    fn push_back(&mut self, slot: Slot) {
+        if self.len == self.slots.len() {
+            // Full: the same slots in order in a ring twice the size.
+            let mut slots = vec![Slot::default(); 2 * self.slots.len()];
+            for (j, s) in slots.iter_mut().take(self.len).enumerate() {
+                *s = *self.get(j);
+            }
+            (self.slots, self.head) = (slots, 0);
+        }
+        let at = self.at(self.len);
+        self.slots[at] = slot;
+        self.len += 1;
+    }
+
+    #[inline(always)]
+    fn pop_front(&mut self) -> Option<Slot> {
+        if self.len == 0 {
+            return None;
+        }
+        let first = self.slots[self.head];
+        self.head = self.at(1);
+        self.len -= 1;
+        Some(first)
+    }
+}
+
 impl<'l> Planner<'l> {
     fn new(limits: &'l Limits) -> Planner<'l> {
         let depth = limits.blocks.max(1);
         Planner {
             limits,
             depth,
-            window: VecDeque::with_capacity(depth + 1),
+            window: Ring::new(depth + 1),
             slots: 0,
             previous: None,
             entry: 0.0,
@@ -227,6 +330,7 @@ impl<'l> Planner<'l> {
 
     /// Take `piece`; `timed` gets each block timed (its move's index and
     /// its seconds).
+    #[inline(always)]
     fn take(&mut self, piece: Piece, timed: &mut impl FnMut(usize, f64)) {
         match piece {
             Piece::Block(block) => self.push(block, timed),
@@ -250,9 +354,13 @@ impl<'l> Planner<'l> {
     #[inline(always)]
     fn push(&mut self, block: Block, timed: &mut impl FnMut(usize, f64)) {
         let max_entry = match &self.previous {
-            Some(a) if !block.stopped_before => junction(a, &block, self.limits)
-                .min(a.nominal.powi(2))
-                .min(block.nominal.powi(2)),
+            Some(a) if !block.stopped_before => {
+                let corner = junction(a, &block, self.limits);
+                lesser(
+                    lesser(corner, a.nominal * a.nominal),
+                    block.nominal * block.nominal,
+                )
+            }
             _ => 0.0,
         };
         self.previous = Some(block);
@@ -261,7 +369,7 @@ impl<'l> Planner<'l> {
         let slot = Slot::of(&block);
         self.add(Slot {
             max_entry,
-            reachable: max_entry.min(slot.gain),
+            reachable: lesser(max_entry, slot.gain),
             ..slot
         });
         if self.slots >= self.depth {
@@ -273,6 +381,7 @@ impl<'l> Planner<'l> {
     #[inline(always)]
     fn add(&mut self, slot: Slot) {
         self.slots += slot.chords;
+        let mut next = slot.reachable;
         self.window.push_back(slot);
         for j in (1..self.window.len() - 1).rev() {
             let Slot {
@@ -281,12 +390,13 @@ impl<'l> Planner<'l> {
                 reachable: old,
                 chords,
                 ..
-            } = self.window[j];
-            let new = max_entry.min(self.window[j + 1].reachable + gain);
+            } = *self.window.get(j);
+            let new = lesser(next + gain, max_entry);
             if new == old || chords > 1 {
                 break;
             }
-            self.window[j].reachable = new;
+            self.window.get_mut(j).reachable = new;
+            next = new;
         }
     }
 
@@ -301,7 +411,7 @@ impl<'l> Planner<'l> {
         let exit_sqr = match first.chords {
             1 => {
                 let exit_sqr = self.window.front().map_or(0.0, |next| next.reachable);
-                exit_sqr.min(self.entry_sqr + first.gain)
+                lesser(self.entry_sqr + first.gain, exit_sqr)
             }
             _ => first.max_entry,
         };
@@ -369,13 +479,13 @@ fn junction_sqr(a: &Block, b: &Block, limits: &Limits) -> f64 {
 #[inline(always)]
 fn trapezoid(b: &Slot, (entry, entry_sqr): (f64, f64), (exit, exit_sqr): (f64, f64)) -> f64 {
     let (a, v) = (b.accel, b.nominal);
-    let changes = (v * v - entry_sqr).max(0.0) + (v * v - exit_sqr).max(0.0);
+    let changes = greater(v * v - entry_sqr, 0.0) + greater(v * v - exit_sqr, 0.0);
     if changes <= b.gain {
-        let speeds = (v - entry).max(0.0) + (v - exit).max(0.0);
+        let speeds = greater(v - entry, 0.0) + greater(v - exit, 0.0);
         return (2.0 * v * speeds + b.gain - changes) / (2.0 * a * v);
     }
     let peak = ((b.gain + entry_sqr + exit_sqr) / 2.0).sqrt();
-    ((peak - entry).max(0.0) + (peak - exit).max(0.0)) / a
+    (greater(peak - entry, 0.0) + greater(peak - exit, 0.0)) / a
 }
 
 #[cfg(test)]

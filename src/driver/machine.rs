@@ -14,6 +14,10 @@ use toml::Spanned;
 
 /// Millimetres in an inch.
 const MM_PER_INCH: f64 = 25.4;
+/// The most blocks a planner may hold: far beyond any controller's
+/// (grbl's 16 slots, LinuxCNC's look-ahead of 50 by default), and the
+/// planner's window is held in memory.
+pub const MAX_PLANNER_BLOCKS: u32 = 10_000;
 
 /// The controller whose planner the machine runs.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Deserialize)]
@@ -139,9 +143,11 @@ impl MachineTable {
             }
         }
         let planner_blocks = self.planner_blocks.as_ref().map(|b| *b.get_ref());
-        if let Some(b) = self.planner_blocks.as_ref().filter(|b| *b.get_ref() == 0) {
+        let blocks_out = |b: &&Spanned<u32>| !(1..=MAX_PLANNER_BLOCKS).contains(b.get_ref());
+        if let Some(b) = self.planner_blocks.as_ref().filter(blocks_out) {
             let span = at.span(b.span().start, b.span().end);
-            let message = "ger.toml: `planner-blocks` must be at least 1";
+            let message =
+                format!("ger.toml: `planner-blocks` must be from 1 to {MAX_PLANNER_BLOCKS}");
             wrong.push(crate::diagnostic::error(message, span, "here"));
         }
         if !wrong.is_empty() {
@@ -410,6 +416,9 @@ mod tests {
         assert!(machine(&format!("{base}[machine.x]\nmin = 5\nmax = 1\n")).is_err());
         assert!(machine(&format!("{base}[machine.x]\nmin = 5\n")).is_err());
         assert!(machine(&format!("{base}planner-blocks = 0\n")).is_err());
+        assert!(machine(&format!("{base}planner-blocks = 10000\n")).is_ok());
+        // The planner holds its window in memory: a bound, not an abort.
+        assert!(machine(&format!("{base}planner-blocks = 4000000000\n")).is_err());
         assert!(machine(&format!("{base}acceleration = 5\n")).is_err());
         assert!(machine("[machine]\ncontroller = \"mach4\"\nunits = \"mm\"\n").is_err());
         let inch =

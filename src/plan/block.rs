@@ -113,12 +113,20 @@ impl Limits {
 /// The largest value along `unit` that keeps each axis within its own
 /// (grbl's `limit_value_by_axis_maximum`); along a vector of any length,
 /// that over its length.
+/// In one division: the axis whose limit over its share is least is
+/// found by comparing l_i·|v_j| with l_j·|v_i| (all positive), and only
+/// its quotient is taken (the least of the three quotients, but where two
+/// are within rounding of each other).
 #[inline(always)]
 pub(super) fn along(limits: [f64; 3], unit: [f64; 3]) -> f64 {
-    (0..3)
-        .filter(|&i| unit[i] != 0.0)
-        .map(|i| limits[i] / unit[i].abs())
-        .fold(f64::INFINITY, f64::min)
+    let (mut limit, mut share) = (f64::INFINITY, 1.0);
+    for i in 0..3 {
+        let s = unit[i].abs();
+        if s != 0.0 && limits[i] * share < limit * s {
+            (limit, share) = (limits[i], s);
+        }
+    }
+    limit / share
 }
 
 /// One planner block: a straight piece of a move (grbl), or a move
@@ -140,6 +148,12 @@ pub(super) struct Block {
     pub(super) control: PathControl,
     /// The move it is part of.
     pub(super) source: usize,
+}
+
+/// `b − a`.
+#[inline(always)]
+pub(super) fn sub(b: [f64; 3], a: [f64; 3]) -> [f64; 3] {
+    [b[0] - a[0], b[1] - a[1], b[2] - a[2]]
 }
 
 #[inline(always)]
@@ -174,8 +188,15 @@ pub(super) fn rapid_rate(limits: &Limits, unit: [f64; 3]) -> f64 {
 /// after a stop and belongs to move 0 until the caller says otherwise.
 #[inline(always)]
 pub(super) fn line_block(m: &Move, from: Point, to: Point, limits: &Limits) -> Option<Block> {
-    let d = [to[0] - from[0], to[1] - from[1], to[2] - from[2]];
-    let length = dot(d, d).sqrt();
+    let d = sub(to, from);
+    sized_block(m, d, dot(d, d).sqrt(), limits)
+}
+
+/// [`line_block`] of the displacement `d` whose `length` is known (a
+/// line's, from [`Along::length`](crate::toolpath::Along::length): the
+/// same square root of the same sum).
+#[inline(always)]
+pub(super) fn sized_block(m: &Move, d: [f64; 3], length: f64, limits: &Limits) -> Option<Block> {
     if length <= 0.0 || length.is_nan() {
         return None;
     }

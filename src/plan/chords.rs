@@ -29,7 +29,9 @@
 //! Architecture Invariant: planner arithmetic only, on the blocks and
 //! limits of `block.rs`; never sees the IR.
 
-use super::block::{direction, direction_and_length, dot, line_block, Block, Limits};
+use super::block::{
+    direction, direction_and_length, dot, line_block, sized_block, sub, Block, Limits,
+};
 use super::steps::{on_steps, McArc};
 use crate::toolpath::{Along, Move, MoveKind, Point};
 
@@ -46,12 +48,12 @@ pub(super) enum Piece {
     },
 }
 
-/// The pieces of move `m`, the `index`th (its points `along`), handed to
-/// `out` in order, none marked as starting from rest (the tally marks
-/// the first after a sync).
+/// The pieces of move `m`, the `index`th (its points `along` and its
+/// `length`), handed to `out` in order, none marked as starting from rest
+/// (the tally marks the first after a sync).
 pub(super) fn pieces(
     m: &Move,
-    along: &Along,
+    (along, length): (&Along, f64),
     index: usize,
     limits: &Limits,
     out: &mut impl FnMut(Piece),
@@ -59,9 +61,13 @@ pub(super) fn pieces(
     let chord = |_: usize, from: Point, to: Point| chord_block(m, index, from, to, limits);
     let Some((sweep, r0, r1)) = along.arc_shape() else {
         let steps = limits.steps_per_mm;
-        let (start, end) = (on_steps(m.start, steps), on_steps(m.end, steps));
-        if let Some(b) = chord(0, start, end) {
-            out(Piece::Block(b));
+        let line = match steps.iter().any(Option::is_some) {
+            true => chord(0, on_steps(m.start, steps), on_steps(m.end, steps)),
+            // Its ends as written: its length is known.
+            false => sized_block(m, sub(m.end, m.start), length, limits),
+        };
+        if let Some(b) = line {
+            out(Piece::Block(Block { source: index, ..b }));
         }
         return;
     };
@@ -608,7 +614,7 @@ mod tests {
     fn runs(path: &ToolPath, limits: &Limits) -> usize {
         let mut count = 0;
         for (i, m) in path.moves.iter().enumerate() {
-            pieces(m, &m.along(), i, limits, &mut |p| {
+            pieces(m, (&m.along(), m.length()), i, limits, &mut |p| {
                 count += usize::from(matches!(p, Piece::Cruise { .. }))
             });
         }
@@ -704,7 +710,7 @@ mod tests {
                         let n = arc_segments(r0, sweep, limits.arc_tolerance);
                         walked_arc(m, sweep, i, n, limits, &mut take);
                     }
-                    _ => pieces(m, &along, i, limits, &mut take),
+                    _ => pieces(m, (&along, along.length()), i, limits, &mut take),
                 }
             }
             planner.finish(&mut timed);

@@ -18,7 +18,7 @@
 //! Architecture Invariant: planner arithmetic only, on the blocks and
 //! limits of `plan.rs`; never sees the IR.
 
-use super::block::{along, direction, dot, line_block, Block, Limits};
+use super::block::{along, direction, dot, sized_block, sub, Block, Limits};
 use crate::ir::PathControl;
 use crate::toolpath::{Along, Move, MoveKind};
 
@@ -39,23 +39,27 @@ fn acc_ratio_normal() -> f64 {
     (1.0 - ACC_RATIO_TANGENTIAL * ACC_RATIO_TANGENTIAL).sqrt()
 }
 
-/// The segment of move `m`, the `index`th (its points `along`), if it
-/// has some length.
-pub(super) fn block(m: &Move, along: &Along, index: usize, limits: &Limits) -> Option<Block> {
+/// The segment of move `m`, the `index`th (its points `along` and its
+/// `length`), if it has some length.
+pub(super) fn block(
+    m: &Move,
+    (along, length): (&Along, f64),
+    index: usize,
+    limits: &Limits,
+) -> Option<Block> {
     let block = match m.kind {
-        MoveKind::Arc(_) => arc_block(m, along, limits),
-        MoveKind::Rapid | MoveKind::Feed => line_block(m, m.start, m.end, limits),
+        MoveKind::Arc(_) => arc_block(m, (along, length), limits),
+        MoveKind::Rapid | MoveKind::Feed => sized_block(m, sub(m.end, m.start), length, limits),
     };
     block.map(|b| Block { source: index, ..b })
 }
 
 /// An arc: its speed held where the normal acceleration `v²/r` would pass
 /// its share of the plane's acceleration (`tcUpdateArcLimits`).
-fn arc_block(m: &Move, along: &Along, limits: &Limits) -> Option<Block> {
+fn arc_block(m: &Move, (along, length): (&Along, f64), limits: &Limits) -> Option<Block> {
     let (MoveKind::Arc(a), Some((_, radius, _))) = (m.kind, along.arc_shape()) else {
         return None;
     };
-    let length = along.length();
     if length <= 0.0 {
         return None;
     }

@@ -11,7 +11,8 @@
 use super::block::{rapid_rate, Limits};
 use super::chords::Piece;
 use super::{
-    chords, ends_box, linuxcnc, unit, widen, Figures, OperationFigures, Planner, ToolFigures,
+    chords, ends_box, linuxcnc, unit, widen, widen_by, Figures, OperationFigures, Planner,
+    ToolFigures,
 };
 use crate::driver::machine::Controller;
 use crate::toolpath::{Along, Event, EventKind, Move, MoveKind, PathSink, State};
@@ -29,12 +30,24 @@ pub struct Tally<'l> {
     previous: Option<State>,
     /// An event came since the last block: the next starts from rest.
     event_since: bool,
+    /// The feed moves' box since the operation or the tool last changed,
+    /// with their places in the figures: added to both boxes when either
+    /// changes and at the end (one box widened a move, not two).
+    run_box: Option<(usize, usize, [[f64; 3]; 2])>,
 }
 
-/// Moves and dwells whose planned time is not known yet, oldest first:
-/// the planner times a move's blocks some blocks after it took them.
+/// Where the planned times go: the planner hands each move's time on
+/// once its blocks are timed, some blocks after it took them, in the
+/// program's order; the ledger knows each move's tool and operation
+/// from where they change, and adds the dwells between moves where they
+/// stand (so the sums are those of the figures summed in order).
 struct Ledger {
-    pending: VecDeque<Pending>,
+    /// From which move on the tool and the operation are these (their
+    /// places in the figures); the first is the oldest move's not settled.
+    runs: VecDeque<Run>,
+    /// Dwells not yet added: the move they come before, their
+    /// operation's place, the seconds the controller dwells.
+    dwells: VecDeque<(usize, usize, f64)>,
     total_s: f64,
     /// Per tool, as in [`Figures::tools`].
     tool_s: Vec<f64>,
@@ -44,62 +57,59 @@ struct Ledger {
     dwell_s: f64,
 }
 
-enum Pending {
-    /// The `index`th move, of the tool in `tool` and the operation in `op`
-    /// (their places in the figures), and its blocks' time so far.
-    Move {
-        index: usize,
-        tool: usize,
-        op: usize,
-        seconds: f64,
-    },
-    /// A dwell in operation `op`.
-    Dwell { op: usize, seconds: f64 },
+#[derive(Clone, Copy, PartialEq)]
+struct Run {
+    from: usize,
+    tool: usize,
+    op: usize,
 }
 
 impl Ledger {
-    /// A block of move `index` timed at `seconds`: the moves and dwells
-    /// before it are done.
-    fn timed(&mut self, index: usize, seconds: f64, ops: &mut [OperationFigures]) {
-        while let Some(front) = self.pending.front_mut() {
-            match front {
-                Pending::Move {
-                    index: i,
-                    seconds: s,
-                    ..
-                } if *i == index => {
-                    *s += seconds;
-                    return;
-                }
-                _ => self.settle_first(ops),
-            }
+    /// The moves from `run.from` on of its tool and operation.
+    fn run_from(&mut self, run: Run) {
+        let same = |last: &Run| (last.tool, last.op) == (run.tool, run.op);
+        if !self.runs.back().is_some_and(same) {
+            self.runs.push_back(run);
         }
     }
 
-    /// The oldest pending move or dwell added to its tool's, its
-    /// operation's and the total time (in the program's order, so the sums
-    /// are those of the figures summed at the end).
-    fn settle_first(&mut self, ops: &mut [OperationFigures]) {
-        let Some(first) = self.pending.pop_front() else {
+    /// Move `index` planned at `seconds`: the moves and dwells before it
+    /// are done (a move of no block took none).
+    #[inline(always)]
+    fn timed(&mut self, index: usize, seconds: f64, ops: &mut [OperationFigures]) {
+        self.settle_before(index, ops);
+        while self.runs.get(1).is_some_and(|r| r.from <= index) {
+            self.runs.pop_front();
+        }
+        let Some(&Run { tool, op, .. }) = self.runs.front() else {
             return;
         };
-        let (op, seconds) = match first {
-            Pending::Move {
-                tool, op, seconds, ..
-            } => {
-                self.total_s += seconds;
-                if let Some(t) = self.tool_s.get_mut(tool) {
-                    *t += seconds;
-                }
-                if let Some(each) = self.move_s.as_mut() {
-                    each.push(seconds);
-                }
-                (op, seconds)
-            }
-            Pending::Dwell { op, seconds } => (op, seconds),
-        };
+        self.total_s += seconds;
+        if let Some(t) = self.tool_s.get_mut(tool) {
+            *t += seconds;
+        }
         if let Some(t) = ops.get_mut(op).and_then(|o| o.time_s.as_mut()) {
             *t += seconds;
+        }
+        if let Some(each) = self.move_s.as_mut() {
+            each.push(seconds);
+        }
+    }
+
+    /// The dwells before move `index`, and a time of 0 for each move
+    /// before it not yet timed.
+    fn settle_before(&mut self, index: usize, ops: &mut [OperationFigures]) {
+        while let Some(&(before, op, seconds)) = self.dwells.front() {
+            if before > index {
+                break;
+            }
+            if let Some(t) = ops.get_mut(op).and_then(|o| o.time_s.as_mut()) {
+                *t += seconds;
+            }
+            self.dwells.pop_front();
+        }
+        if let Some(each) = self.move_s.as_mut() {
+            each.resize(each.len().max(index), 0.0);
         }
     }
 }
@@ -113,7 +123,8 @@ impl<'l> Tally<'l> {
             figures: Figures::default(),
             planner: limits.map(Planner::new),
             ledger: Ledger {
-                pending: VecDeque::new(),
+                runs: VecDeque::new(),
+                dwells: VecDeque::new(),
                 total_s: 0.0,
                 tool_s: Vec::new(),
                 move_s: (each_move && limits.is_some()).then(Vec::new),
@@ -123,16 +134,32 @@ impl<'l> Tally<'l> {
             spindle_on: false,
             previous: None,
             event_since: false,
+            run_box: None,
+        }
+    }
+
+    /// The run's box added to its operation's and its tool's.
+    fn settle_box(&mut self) {
+        if let Some((op, tool, ends)) = self.run_box.take() {
+            let figures = &mut self.figures;
+            if let Some(op) = figures.operations.get_mut(op) {
+                widen(&mut op.bounds, ends);
+            }
+            if let Some(tool) = figures.tools.get_mut(tool) {
+                widen(&mut tool.bounds, ends);
+            }
         }
     }
 
     /// The figures, the planner's window emptied.
     pub fn finish(mut self) -> Figures {
+        self.settle_box();
         let Tally {
             planner,
             ledger,
             figures,
             limits,
+            moves,
             ..
         } = &mut self;
         figures.feed_time_s += figures.dwell_s;
@@ -140,9 +167,9 @@ impl<'l> Tally<'l> {
             return std::mem::take(figures);
         };
         planner.finish(&mut |index, s| ledger.timed(index, s, &mut figures.operations));
-        while !ledger.pending.is_empty() {
-            ledger.settle_first(&mut figures.operations);
-        }
+        // The dwells after the last move, and a time for each move of no
+        // block at the end.
+        ledger.settle_before(*moves, &mut figures.operations);
         let stops = ledger.dwell_s
             + figures.tool_changes as f64 * limits.tool_change_s
             + figures.spindle_starts as f64 * limits.spindle_start_s;
@@ -206,18 +233,23 @@ impl<'l> Tally<'l> {
         if m.state.feed_rate() > 0.0 {
             op.feed_time_s += seconds;
         }
-        let ends = ends_box(m);
-        widen(&mut op.bounds, ends);
-        let tool = &mut figures.tools[tool];
-        tool.cut_mm += length;
-        tool.feed_time_s += seconds;
-        widen(&mut tool.bounds, ends);
+        let each = &mut figures.tools[tool];
+        each.cut_mm += length;
+        each.feed_time_s += seconds;
+        let op = figures.operations.len() - 1;
+        match &mut self.run_box {
+            Some((o, t, run)) if (*o, *t) == (op, tool) => widen_by(run, m),
+            _ => {
+                self.settle_box();
+                self.run_box = Some((op, tool, ends_box(m)));
+            }
+        }
     }
 
-    /// `m`, the `index`th move (its points `along`), to the planner as
+    /// `m`, the `index`th move (its points and its length in `shape`), to the planner as
     /// its pieces, the first block after a sync marked as starting from
     /// rest.
-    fn plan_move(&mut self, m: &Move, along: &Along, index: usize, tool: usize) {
+    fn plan_move(&mut self, m: &Move, shape: (&Along, f64), index: usize, tool: usize) {
         let state = (m.state.spindle, m.state.rpm, m.state.flood, m.state.mist);
         let changed = self
             .previous
@@ -238,15 +270,14 @@ impl<'l> Tally<'l> {
         let (Some(planner), Some(limits)) = (planner.as_mut(), limits) else {
             return;
         };
-        ledger.pending.push_back(Pending::Move {
-            index,
+        ledger.run_from(Run {
+            from: index,
             tool,
             op: figures.operations.len().saturating_sub(1),
-            seconds: 0.0,
         });
         let ops = &mut figures.operations;
         let timed = &mut |i, s| ledger.timed(i, s, ops);
-        pieces_of(m, along, index, limits, &mut |mut piece| {
+        pieces_of(m, shape, index, limits, &mut |mut piece| {
             if let Piece::Block(b) = &mut piece {
                 b.stopped_before = *still;
                 *still = false;
@@ -259,11 +290,17 @@ impl<'l> Tally<'l> {
 /// The pieces the planner takes for move `m`, the `index`th (its points
 /// `along`), on `limits`: grbl's chords, LinuxCNC's segment; none marked
 /// as after a sync (the tally marks them).
-fn pieces_of(m: &Move, along: &Along, index: usize, limits: &Limits, out: &mut impl FnMut(Piece)) {
+fn pieces_of(
+    m: &Move,
+    shape: (&Along, f64),
+    index: usize,
+    limits: &Limits,
+    out: &mut impl FnMut(Piece),
+) {
     match limits.controller {
-        Controller::Grbl => chords::pieces(m, along, index, limits, out),
+        Controller::Grbl => chords::pieces(m, shape, index, limits, out),
         Controller::LinuxCnc => {
-            if let Some(b) = linuxcnc::block(m, along, index, limits) {
+            if let Some(b) = linuxcnc::block(m, shape, index, limits) {
                 out(Piece::Block(b));
             }
         }
@@ -277,8 +314,9 @@ impl PathSink for Tally<'_> {
         let tool = self.tool_slot(m.state.tool);
         // An arc's sweep and radii found once for its length and its chords.
         let along = m.along();
-        self.measure(m, along.length(), tool);
-        self.plan_move(m, &along, index, tool);
+        let length = along.length();
+        self.measure(m, length, tool);
+        self.plan_move(m, (&along, length), index, tool);
     }
 
     /// A tool change starts an operation; a dwell adds to the one running.
@@ -306,9 +344,8 @@ impl PathSink for Tally<'_> {
                     if planned {
                         let op = ops.len() - 1;
                         let seconds = dwelt;
-                        self.ledger
-                            .pending
-                            .push_back(Pending::Dwell { op, seconds });
+                        let before = self.moves;
+                        self.ledger.dwells.push_back((before, op, seconds));
                     }
                 }
             }
