@@ -213,23 +213,24 @@ impl Along {
         }
     }
 
-    /// The points `k / n` along for k = 0, 1, 2, n − 2, n − 1, n
-    /// (`n` ≥ 2): an arc's turned from its start and from its end by
+    /// The points `k / n` along for k = 0, 1, 2, n − 3, n − 2, n − 1, n
+    /// (`n` ≥ 3): an arc's turned from its start and from its end by
     /// multiples of one angle (one sine and cosine, where [`Along::at`]
     /// takes one for each), the ends themselves exact.
-    pub fn end_points(&self, n: usize) -> [Point; 6] {
+    pub fn end_points(&self, n: usize) -> [Point; 7] {
         let t = |k: usize| k as f64 / n as f64;
         let Some(a) = self
             .arc
             .as_ref()
             .filter(|a| a.radius > 0.0 && a.end_radius > 0.0)
         else {
-            return [0, 1, 2, n - 2, n - 1, n].map(|k| self.at(t(k)));
+            return [0, 1, 2, n - 3, n - 2, n - 1, n].map(|k| self.at(t(k)));
         };
         let (p, q, l) = a.arc.plane.axes();
         let (sin, cos) = (a.sweep / n as f64).sin_cos();
-        // The turns by one and by two of the angle, each way.
-        let turns = [(cos, sin), (cos * cos - sin * sin, 2.0 * sin * cos)];
+        // The turns by one, two and three of the angle, each way.
+        let two = (cos * cos - sin * sin, 2.0 * sin * cos);
+        let three = (cos * two.0 - sin * two.1, sin * two.0 + cos * two.1);
         let point = |from: Point, radius: f64, k: usize, (c, s): (f64, f64), back: f64| {
             let (u, v) = (from[p] - a.arc.center[p], from[q] - a.arc.center[q]);
             let scale = (a.radius + (a.end_radius - a.radius) * t(k)) / radius;
@@ -243,10 +244,11 @@ impl Along {
         let (start, end) = (self.start, self.end);
         [
             start,
-            point(start, a.radius, 1, turns[0], 1.0),
-            point(start, a.radius, 2, turns[1], 1.0),
-            point(end, a.end_radius, n - 2, turns[1], -1.0),
-            point(end, a.end_radius, n - 1, turns[0], -1.0),
+            point(start, a.radius, 1, (cos, sin), 1.0),
+            point(start, a.radius, 2, two, 1.0),
+            point(end, a.end_radius, n - 3, three, -1.0),
+            point(end, a.end_radius, n - 2, two, -1.0),
+            point(end, a.end_radius, n - 1, (cos, sin), -1.0),
             end,
         ]
     }
@@ -301,6 +303,12 @@ pub trait PathSink: Send {
     /// Forget what was fed: the program is being read again from its
     /// start.
     fn restart(&mut self);
+    /// Whether taking a move costs more than lowering it (grbl's planner,
+    /// which cuts arcs into chords): the compile then runs every lowering
+    /// pass on the evaluator's thread and leaves the back end's to the sink.
+    fn heavy(&self) -> bool {
+        false
+    }
 }
 
 impl ToolPath {

@@ -87,9 +87,9 @@ pub(super) struct Backend<'s> {
 /// evaluator is the busier, but one, two or three ahead give the same wall
 /// time (a batch's lines come over from the other core in whichever pass
 /// first touches them there). ARCHITECTURE.md, "Streaming" and "The ninth
-/// stop". Where the moves go to a sink instead of a printer, the sink is
-/// the back end's heavier work (`ger stats`'s planner) and the evaluator's
-/// thread runs every pass (docs/performance.md, "Two threads for stats").
+/// stop". Where the moves go to a sink that is heavier than the last
+/// passes (`ger stats`'s planner on grbl), the evaluator's thread runs
+/// every pass (docs/performance.md, "Two threads for stats").
 const PASSES_AHEAD: usize = 4;
 
 pub(super) struct Started {
@@ -155,10 +155,11 @@ impl<'s> Backend<'s> {
     /// The passes the evaluator's thread is to run ([`PASSES_AHEAD`], and
     /// none past the last), and their options.
     pub(super) fn ahead(&self) -> (usize, lower::LowerOptions) {
-        let ahead = match self.out {
+        let ahead = match &self.out {
             // The moves' sink (`ger stats`'s planner) runs on the back
-            // end's thread: every pass runs on the evaluator's.
-            Output::Moves(_) => lower::PASSES.len(),
+            // end's thread: where it is the heavier work, every pass runs
+            // on the evaluator's.
+            Output::Moves(sink) if sink.heavy() => lower::PASSES.len(),
             _ => PASSES_AHEAD,
         };
         let passes = self.last_pass().map_or(0, |last| ahead.min(last + 1));

@@ -32,7 +32,7 @@
 use super::block::{
     direction, direction_and_length, dot, line_block, sized_block, sub, Block, Limits,
 };
-use super::steps::{on_steps, McArc};
+use super::steps::{on_steps, McArc, Steps};
 use crate::toolpath::{Along, Move, MoveKind, Point};
 
 /// What the planner takes: a block, or a run of an arc's middle chords.
@@ -55,19 +55,26 @@ pub(super) fn pieces(
     m: &Move,
     (along, length): (&Along, f64),
     index: usize,
-    limits: &Limits,
-    out: &mut impl FnMut(Piece),
+    (limits, lines): (&Limits, &mut LineSteps),
+    out: &mut impl Take,
 ) {
     let chord = |_: usize, from: Point, to: Point| chord_block(m, index, from, to, limits);
     let Some((sweep, r0, r1)) = along.arc_shape() else {
-        let steps = limits.steps_per_mm;
-        let line = match steps.iter().any(Option::is_some) {
-            true => chord(0, on_steps(m.start, steps), on_steps(m.end, steps)),
+        let line = match limits.steps_per_mm.iter().any(Option::is_some) {
+            true => {
+                let start = match lines.last_end {
+                    Some((end, on)) if end == m.start => on,
+                    _ => on_steps(m.start, &lines.steps),
+                };
+                let end = on_steps(m.end, &lines.steps);
+                lines.last_end = Some((m.end, end));
+                chord(0, start, end)
+            }
             // Its ends as written: its length is known.
             false => sized_block(m, sub(m.end, m.start), length, limits),
         };
         if let Some(b) = line {
-            out(Piece::Block(Block { source: index, ..b }));
+            out.take(Piece::Block(Block { source: index, ..b }));
         }
         return;
     };
@@ -79,19 +86,20 @@ pub(super) fn pieces(
     if n < 4 {
         return (0..n).for_each(|k| out_chord(chord(k, point(k), point(k + 1)), out));
     }
-    // The ends' points and chords, which the check and the end chords
-    // both need, each found once.
+    // The ends' points and chords, which the check, the end chords and
+    // a run's last chord (two from the end in the usual run) need, each
+    // found once.
     let ends = along.end_points(n);
     let at = |k: usize| match k {
         0..=2 => ends[k],
-        _ if k + 2 >= n => ends[k + 5 - n],
+        _ if k + 3 >= n => ends[k + 6 - n],
         _ => point(k),
     };
     let end_chords = [
         chord(0, ends[0], ends[1]),
         chord(1, ends[1], ends[2]),
-        chord(n - 2, ends[3], ends[4]),
-        chord(n - 1, ends[4], ends[5]),
+        chord(n - 2, ends[4], ends[5]),
+        chord(n - 1, ends[5], ends[6]),
     ];
     let block = |k: usize| match k {
         0 | 1 => end_chords[k],
@@ -107,7 +115,7 @@ pub(super) fn pieces(
     if let Some(last) = block(n - h - 1) {
         let run = Block { length, ..last };
         let accel = least(m, limits.max_accel);
-        out(Piece::Cruise {
+        out.take(Piece::Cruise {
             run: Block { accel, ..run },
             chords: n - 2 * h,
             last,
@@ -116,11 +124,39 @@ pub(super) fn pieces(
     (n - h..n).for_each(|k| out_chord(block(k), out));
 }
 
+/// Lines put on the machine's steps: the steps, and the end of the last
+/// line as written and on its steps (the next line's start is most often
+/// the same point, rounded once).
+pub(super) struct LineSteps {
+    steps: Steps,
+    last_end: Option<(Point, Point)>,
+}
+
+impl LineSteps {
+    pub(super) fn of(limits: &Limits) -> LineSteps {
+        LineSteps {
+            steps: Steps::of(limits.steps_per_mm),
+            last_end: None,
+        }
+    }
+}
+
+/// What takes the pieces: the planner (a closure, in tests).
+pub(super) trait Take {
+    fn take(&mut self, piece: Piece);
+}
+
+impl<F: FnMut(Piece)> Take for F {
+    fn take(&mut self, piece: Piece) {
+        self(piece)
+    }
+}
+
 /// A chord with some length to `out`.
 #[inline(always)]
-fn out_chord(chord: Option<Block>, out: &mut impl FnMut(Piece)) {
+fn out_chord(chord: Option<Block>, out: &mut impl Take) {
     if let Some(b) = chord {
-        out(Piece::Block(b));
+        out.take(Piece::Block(b));
     }
 }
 
@@ -260,7 +296,7 @@ fn stepped_arc(
     index: usize,
     n: usize,
     limits: &Limits,
-    out: &mut impl FnMut(Piece),
+    out: &mut impl Take,
 ) {
     if let Some(run) = bounded_run(m, n, shape, limits) {
         stepped_ends(m, shape.0, n, run, index, limits, out);
@@ -271,19 +307,12 @@ fn stepped_arc(
 
 /// Arc `m`'s stepped chords, seen one by one: the middle ones a run if
 /// each corner and length allows it (`stepped_run`), else each a block.
-fn walked_arc(
-    m: &Move,
-    sweep: f64,
-    index: usize,
-    n: usize,
-    limits: &Limits,
-    out: &mut impl FnMut(Piece),
-) {
-    let steps = limits.steps_per_mm;
+fn walked_arc(m: &Move, sweep: f64, index: usize, n: usize, limits: &Limits, out: &mut impl Take) {
+    let steps = Steps::of(limits.steps_per_mm);
     let chords = || {
-        let mut from = on_steps(m.start, steps);
+        let mut from = on_steps(m.start, &steps);
         McArc::new(m, n, sweep).map(move |p| {
-            let to = on_steps(p, steps);
+            let to = on_steps(p, &steps);
             (std::mem::replace(&mut from, to), to)
         })
     };
@@ -291,15 +320,15 @@ fn walked_arc(
     let Some(run) = stepped_run(m, n, limits, chords()) else {
         chords()
             .filter_map(&mut block)
-            .for_each(|b| out(Piece::Block(b)));
+            .for_each(|b| out.take(Piece::Block(b)));
         return;
     };
     run.first
         .into_iter()
         .filter_map(&mut block)
-        .for_each(|b| out(Piece::Block(b)));
+        .for_each(|b| out.take(Piece::Block(b)));
     if let Some(last) = block(run.last_middle) {
-        out(Piece::Cruise {
+        out.take(Piece::Cruise {
             run: Block {
                 length: run.middle,
                 accel: least(m, limits.max_accel),
@@ -312,7 +341,7 @@ fn walked_arc(
     run.last
         .into_iter()
         .filter_map(&mut block)
-        .for_each(|b| out(Piece::Block(b)));
+        .for_each(|b| out.take(Piece::Block(b)));
 }
 
 /// A stepped arc's middle chords as a run without seeing them, where
@@ -403,17 +432,17 @@ fn stepped_ends(
     run: Cruise,
     index: usize,
     limits: &Limits,
-    out: &mut impl FnMut(Piece),
+    out: &mut impl Take,
 ) -> Option<()> {
-    let steps = limits.steps_per_mm;
+    let steps = Steps::of(limits.steps_per_mm);
     let h = run.ends;
     let mut arc = McArc::new(m, n, sweep);
     let block = |_: usize, from: Point, to: Point| chord_block(m, index, from, to, limits);
-    let mut from = on_steps(m.start, steps);
+    let mut from = on_steps(m.start, &steps);
     let mut raw = m.start;
     for k in 0..h {
         raw = arc.next()?;
-        let to = on_steps(raw, steps);
+        let to = on_steps(raw, &steps);
         out_chord(block(k, from, to), out);
         from = to;
     }
@@ -428,10 +457,10 @@ fn stepped_ends(
         k => arc.jump(k as u32),
     };
     let raw_end = arc.next()?;
-    let mut from = on_steps(raw_end, steps);
-    let last = block(n - h - 1, on_steps(raw_before, steps), from)?;
+    let mut from = on_steps(raw_end, &steps);
+    let last = block(n - h - 1, on_steps(raw_before, &steps), from)?;
     let last_end = dot(direction(raw_before, raw_end), off(from, raw_end));
-    out(Piece::Cruise {
+    out.take(Piece::Cruise {
         run: Block {
             length: run.length + last_end - first_end,
             accel: least(m, limits.max_accel),
@@ -441,7 +470,7 @@ fn stepped_ends(
         last,
     });
     for k in n - h..n {
-        let to = on_steps(arc.next()?, steps);
+        let to = on_steps(arc.next()?, &steps);
         out_chord(block(k, from, to), out);
         from = to;
     }
@@ -614,9 +643,13 @@ mod tests {
     fn runs(path: &ToolPath, limits: &Limits) -> usize {
         let mut count = 0;
         for (i, m) in path.moves.iter().enumerate() {
-            pieces(m, (&m.along(), m.length()), i, limits, &mut |p| {
-                count += usize::from(matches!(p, Piece::Cruise { .. }))
-            });
+            pieces(
+                m,
+                (&m.along(), m.length()),
+                i,
+                (limits, &mut LineSteps::of(limits)),
+                &mut |p| count += usize::from(matches!(p, Piece::Cruise { .. })),
+            );
         }
         count
     }
@@ -710,7 +743,13 @@ mod tests {
                         let n = arc_segments(r0, sweep, limits.arc_tolerance);
                         walked_arc(m, sweep, i, n, limits, &mut take);
                     }
-                    _ => pieces(m, (&along, along.length()), i, limits, &mut take),
+                    _ => pieces(
+                        m,
+                        (&along, along.length()),
+                        i,
+                        (limits, &mut LineSteps::of(limits)),
+                        &mut take,
+                    ),
                 }
             }
             planner.finish(&mut timed);

@@ -17,17 +17,37 @@ use crate::toolpath::{Move, MoveKind, Point};
 /// approximation between two exact ones.
 const ARC_CORRECTION: u32 = 12;
 
+/// A machine's steps per mm (`$100`–`$102`) where known, and the mm of a
+/// step: a point goes on its steps by multiplications only.
+#[derive(Clone, Copy, Debug)]
+pub(super) struct Steps {
+    per_mm: [Option<f64>; 3],
+    mm: [f64; 3],
+}
+
+impl Steps {
+    pub(super) fn of(per_mm: [Option<f64>; 3]) -> Steps {
+        Steps {
+            per_mm,
+            mm: per_mm.map(|n| n.map_or(0.0, |n| 1.0 / n)),
+        }
+    }
+}
+
 /// Where grbl's planner puts `p`: each axis whose steps per mm are known
-/// on its nearest whole step (`lround`: halves away from zero).
+/// on its nearest whole step (`lround`: halves away from zero), back in
+/// mm (by the mm of a step: within a unit in the last place of the
+/// division).
 #[inline(always)]
-pub(super) fn on_steps(p: Point, steps_per_mm: [Option<f64>; 3]) -> Point {
+pub(super) fn on_steps(p: Point, steps: &Steps) -> Point {
     let mut q = p;
-    for (x, steps) in q.iter_mut().zip(steps_per_mm) {
-        if let Some(n) = steps {
-            // `round` without libm's call: machine positions stay far
-            // below i64's range (`ir::MAX_POSITION`).
+    for ((x, per_mm), mm) in q.iter_mut().zip(steps.per_mm).zip(steps.mm) {
+        if let Some(n) = per_mm {
+            // `round` without libm's call: half a step added away from
+            // zero, then cut toward it (machine positions stay far below
+            // i64's range, `ir::MAX_POSITION`).
             let v = *x * n;
-            *x = ((v.abs() + 0.5) as i64) as f64 * v.signum() / n;
+            *x = (v + 0.5_f64.copysign(v)) as i64 as f64 * mm;
         }
     }
     q
@@ -247,9 +267,10 @@ mod tests {
     fn points_go_to_the_nearest_whole_step() {
         // 250 steps/mm: 0.1 mm is 25 steps; 0.0021 is 0.525 of a step,
         // so 1; -0.002 is half a step, rounded away from zero.
-        let steps = [Some(250.0), Some(250.0), None];
-        let p = on_steps([0.1, 0.0021, 0.0013], steps);
-        assert_eq!(p, [0.1, 0.004, 0.0013]);
-        assert_eq!(on_steps([-0.002, 0.0, 0.0], steps)[0], -0.004);
+        let steps = Steps::of([Some(250.0), Some(250.0), None]);
+        let p = on_steps([0.1, 0.0021, 0.0013], &steps);
+        assert!((p[0] - 0.1).abs() < 1e-16 && p[1] == 0.004, "{p:?}");
+        assert_eq!(p[2], 0.0013);
+        assert_eq!(on_steps([-0.002, 0.0, 0.0], &steps)[0], -0.004);
     }
 }

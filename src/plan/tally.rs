@@ -34,6 +34,8 @@ pub struct Tally<'l> {
     /// with their places in the figures: added to both boxes when either
     /// changes and at the end (one box widened a move, not two).
     run_box: Option<(usize, usize, [[f64; 3]; 2])>,
+    /// Lines on the machine's steps (grbl).
+    line_steps: Option<chords::LineSteps>,
 }
 
 /// Where the planned times go: the planner hands each move's time on
@@ -135,6 +137,7 @@ impl<'l> Tally<'l> {
             previous: None,
             event_since: false,
             run_box: None,
+            line_steps: limits.map(chords::LineSteps::of),
         }
     }
 
@@ -265,9 +268,12 @@ impl<'l> Tally<'l> {
             figures,
             limits,
             event_since: still,
+            line_steps,
             ..
         } = self;
-        let (Some(planner), Some(limits)) = (planner.as_mut(), limits) else {
+        let (Some(planner), Some(limits), Some(lines)) =
+            (planner.as_mut(), limits, line_steps.as_mut())
+        else {
             return;
         };
         ledger.run_from(Run {
@@ -275,15 +281,37 @@ impl<'l> Tally<'l> {
             tool,
             op: figures.operations.len().saturating_sub(1),
         });
-        let ops = &mut figures.operations;
-        let timed = &mut |i, s| ledger.timed(i, s, ops);
-        pieces_of(m, shape, index, limits, &mut |mut piece| {
-            if let Piece::Block(b) = &mut piece {
-                b.stopped_before = *still;
-                *still = false;
-            }
-            planner.take(piece, timed)
-        });
+        let mut to = ToPlanner {
+            planner,
+            ledger,
+            ops: &mut figures.operations,
+            still,
+        };
+        pieces_of(m, shape, index, (limits, lines), &mut to);
+    }
+}
+
+/// The planner taking a move's pieces, the first block after a sync
+/// marked as starting from rest, each move timed to the ledger (a type,
+/// not a closure, so that the planner's work is inlined where each piece
+/// is made, and a block goes to it in registers).
+struct ToPlanner<'a, 'l> {
+    planner: &'a mut Planner<'l>,
+    ledger: &'a mut Ledger,
+    ops: &'a mut Vec<OperationFigures>,
+    still: &'a mut bool,
+}
+
+impl chords::Take for ToPlanner<'_, '_> {
+    #[inline(always)]
+    fn take(&mut self, mut piece: Piece) {
+        if let Piece::Block(b) = &mut piece {
+            b.stopped_before = *self.still;
+            *self.still = false;
+        }
+        let (ledger, ops) = (&mut *self.ledger, &mut *self.ops);
+        self.planner
+            .take(piece, &mut |i, s| ledger.timed(i, s, ops));
     }
 }
 
@@ -294,14 +322,14 @@ fn pieces_of(
     m: &Move,
     shape: (&Along, f64),
     index: usize,
-    limits: &Limits,
-    out: &mut impl FnMut(Piece),
+    (limits, lines): (&Limits, &mut chords::LineSteps),
+    out: &mut impl chords::Take,
 ) {
     match limits.controller {
-        Controller::Grbl => chords::pieces(m, shape, index, limits, out),
+        Controller::Grbl => chords::pieces(m, shape, index, (limits, lines), out),
         Controller::LinuxCnc => {
             if let Some(b) = linuxcnc::block(m, shape, index, limits) {
-                out(Piece::Block(b));
+                out.take(Piece::Block(b));
             }
         }
     }
@@ -351,6 +379,13 @@ impl PathSink for Tally<'_> {
             }
             EventKind::Stop(_) | EventKind::End => {}
         }
+    }
+
+    /// grbl's planner (chords, steps) outweighs the last passes;
+    /// LinuxCNC's (a segment a move) does not.
+    fn heavy(&self) -> bool {
+        self.limits
+            .is_some_and(|l| l.controller == Controller::Grbl)
     }
 
     fn restart(&mut self) {
