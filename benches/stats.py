@@ -109,7 +109,9 @@ def main():
                 cwd=d, check=True, capture_output=True, text=True,
             )
             peaks[case] = int(out.stdout.strip())
-    print(f"{time.strftime('%Y-%m-%d')}, {a.moves} moves, median of {a.runs} (wall, CPU):")
+    print(f"{time.strftime('%Y-%m-%d')}, {a.moves} moves, median of {a.runs} (wall, CPU;"
+          " 'round': the median and quartiles of each run's wall time over the"
+          " compile's of the same round, steadier where the machine's speed drifts):")
     for case in cases:
         label, _, command, controller = case
         wall = median([w for w, _ in times[case]])
@@ -117,10 +119,14 @@ def main():
         base = [c for c in cases if c[0] == label and c[2] == "compile"][0]
         base_cpu = median([c for _, c in times[base]])
         base_wall = median([w for w, _ in times[base]])
+        rounds = sorted(w / b for (w, _), (b, _) in zip(times[case], times[base]))
+        quarter = lambda f: 100 * (rounds[int(f * (len(rounds) - 1))] - 1)  # noqa: E731
         print(
             f"  {label}ger {command:8} ({controller:10}) {wall:7.3f} s"
             f" {100 * (wall / base_wall - 1):+6.1f} %  CPU {cpu_s:7.3f} s"
-            f" {100 * (cpu_s / base_cpu - 1):+6.1f} %  peak {peaks[case] / 1024:7.1f} MiB"
+            f" {100 * (cpu_s / base_cpu - 1):+6.1f} %  round {quarter(0.5):+6.1f} %"
+            f" ({quarter(0.25):+.1f} … {quarter(0.75):+.1f})"
+            f"  peak {peaks[case] / 1024:7.1f} MiB"
         )
 
 
