@@ -949,6 +949,32 @@ mod tests {
     }
 
     #[test]
+    fn the_window_keeps_its_slots_in_order_as_it_wraps_and_grows() {
+        // Room for 2 (a ring of 2): pushed and popped past its end, then
+        // pushed past its room (it grows, the order kept).
+        let slot = |source| Slot {
+            source,
+            ..Slot::default()
+        };
+        let mut ring = Ring::new(2);
+        let mut expected = std::collections::VecDeque::new();
+        for k in 0..7 {
+            ring.push_back(slot(k));
+            expected.push_back(k);
+            if k % 2 == 1 {
+                assert_eq!(ring.pop_front().map(|s| s.source), expected.pop_front());
+            }
+        }
+        assert_eq!(ring.len(), expected.len());
+        let held: Vec<usize> = (0..ring.len()).map(|j| ring.get(j).source).collect();
+        assert_eq!(held, Vec::from(expected.clone()));
+        while let Some(s) = ring.pop_front() {
+            assert_eq!(Some(s.source), expected.pop_front());
+        }
+        assert!(ring.is_empty() && ring.front().is_none());
+    }
+
+    #[test]
     fn without_a_machine_only_length_over_feed() {
         let f = plan(&path(&[[0.0; 3], [100.0, 0.0, 0.0]], 600.0), None);
         assert_eq!(f.time_s, None);

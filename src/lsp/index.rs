@@ -293,11 +293,16 @@ fn is_local(name: &str) -> bool {
 
 /// Whether the o-word ending at byte `end` opens a LinuxCNC `sub` (not
 /// a Fanuc `O` block, which shares its caller's variables).
+/// Blanks count for nothing in G-code: `o100 s u b` opens one too.
 fn opens_a_sub(text: &str, end: usize) -> bool {
     let rest = text.get(end..).unwrap_or_default();
-    let line = rest.lines().next().unwrap_or_default().trim_start();
-    line.get(..3).is_some_and(|k| k.eq_ignore_ascii_case("sub"))
-        && !line[3..].starts_with(|c: char| c.is_ascii_alphanumeric() || c == '_')
+    let line = rest.lines().next().unwrap_or_default();
+    let mut letters = line.chars().filter(|c| !c.is_whitespace());
+    let keyword: String = letters.by_ref().take(3).collect();
+    keyword.eq_ignore_ascii_case("sub")
+        && !letters
+            .next()
+            .is_some_and(|c| c.is_ascii_alphanumeric() || c == '_')
 }
 
 /// The `P` word of `words` when it is a whole number written as one,
@@ -404,6 +409,20 @@ mod tests {
         // `#1` in the sub is its own; `#<depth>` the main program's.
         let scopes: Vec<_> = index.vars.iter().map(|v| v.scope).collect();
         assert_eq!(scopes, [Some(0), Some(0), Some(1)]);
+    }
+
+    #[test]
+    fn a_sub_spelled_with_blanks_has_its_own_scope() {
+        // rs274 reads `o100 s u b` as `o100 sub`; `o100 subx` is no sub.
+        for sub in ["s u b", "SUB (a comment)"] {
+            let text = format!("#1 = 2\no100 call\nM2\no100 {sub}\nG0 X#1\no100 endsub\n");
+            let index = Index::of(&text, Language::Gcode);
+            let scopes: Vec<_> = index.vars.iter().map(|v| v.scope).collect();
+            assert_eq!(scopes, [Some(0), Some(1)], "{text}");
+        }
+        assert!(!opens_a_sub("o100 subx\n", 4));
+        assert!(!opens_a_sub("o100 s u b_1\n", 4));
+        assert!(opens_a_sub("o100 s u b\n", 4));
     }
 
     #[test]

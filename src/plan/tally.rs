@@ -59,6 +59,8 @@ struct Ledger {
     dwell_s: f64,
 }
 
+/// Moves from `from` on, of the tool and the operation at these places
+/// in the figures.
 #[derive(Clone, Copy, PartialEq)]
 struct Run {
     from: usize,
@@ -249,9 +251,9 @@ impl<'l> Tally<'l> {
         }
     }
 
-    /// `m`, the `index`th move (its points and its length in `shape`), to the planner as
-    /// its pieces, the first block after a sync marked as starting from
-    /// rest.
+    /// `m`, the `index`th move (its points and its length in `shape`), to
+    /// the planner as its pieces, the first block after a sync marked as
+    /// starting from rest.
     fn plan_move(&mut self, m: &Move, shape: (&Along, f64), index: usize, tool: usize) {
         let state = (m.state.spindle, m.state.rpm, m.state.flood, m.state.mist);
         let changed = self
