@@ -384,7 +384,12 @@ impl Builder {
             Op::Move(m) | Op::MachineMove(m) => {
                 let kind = self.move_kind(m);
                 let machine = matches!(stmt.op, Op::MachineMove(_));
-                self.state.lead = m.lead.map(|l| l * k);
+                // Written only when it changes: the move copies the state
+                // at once, and a copy read just after a write waits for it.
+                let lead = m.lead.map(|l| l * k);
+                if self.state.lead != lead {
+                    self.state.lead = lead;
+                }
                 self.move_to(kind, &m.to, stmt.span, machine);
             }
             Op::IncrementalMove(m) => {
@@ -567,8 +572,14 @@ impl Builder {
     fn move_to(&mut self, kind: MoveKind, to: &ir::Axes, span: Span, machine: bool) {
         let start: Point = std::array::from_fn(|i| self.position[i]);
         let guessed = self.known.map(|k| !k);
-        for (axis, v) in to.iter() {
-            let i = axis.index();
+        // Every axis in turn, not the written ones by index: the new
+        // position stays in registers for the move made of it (written
+        // a word at a time and read back whole, it waited for its stores).
+        let mut at = self.position;
+        for (i, axis) in Axis::ALL.into_iter().enumerate() {
+            let Some(v) = to.get(axis) else {
+                continue;
+            };
             if let Some(known) = self.known.get_mut(i) {
                 *known = !machine;
             }
@@ -577,13 +588,14 @@ impl Builder {
             } else {
                 self.tables[self.active][i] + self.g92[i]
             };
-            self.position[i] = offset + if axis.is_rotary() { v } else { v * self.to_mm };
+            at[i] = offset + if axis.is_rotary() { v } else { v * self.to_mm };
         }
+        self.position = at;
         self.path.moves.push(Move {
             kind,
             start,
-            end: std::array::from_fn(|i| self.position[i]),
-            extra: std::array::from_fn(|i| self.position[i + 3]),
+            end: [at[0], at[1], at[2]],
+            extra: [at[3], at[4], at[5], at[6], at[7], at[8]],
             state: self.state,
             span,
             guessed,
