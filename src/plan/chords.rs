@@ -776,17 +776,22 @@ mod tests {
         (time(false), time(true))
     }
 
-    #[test]
-    fn the_turns_cosine_by_the_angle_sums_is_the_arcsines() {
-        // θ over (0, π), each sine below ½: the cosine within 1e-12 of
-        // cos(θ + asin s₁ + asin s₂), and None where that sum reaches π.
-        let mut seed = 0x9e37_79b9_7f4a_7c15_u64;
-        let mut uniform = |low: f64, high: f64| {
+    /// Numbers uniform in `low..high` from a xorshift seeded by `seed`:
+    /// the same cases on every run.
+    fn uniform_from(mut seed: u64) -> impl FnMut(f64, f64) -> f64 {
+        move |low, high| {
             seed ^= seed << 13;
             seed ^= seed >> 7;
             seed ^= seed << 17;
             low + (high - low) * (seed >> 11) as f64 / (1u64 << 53) as f64
-        };
+        }
+    }
+
+    #[test]
+    fn the_turns_cosine_by_the_angle_sums_is_the_arcsines() {
+        // θ over (0, π), each sine below ½: the cosine within 1e-12 of
+        // cos(θ + asin s₁ + asin s₂), and None where that sum reaches π.
+        let mut uniform = uniform_from(0x9e37_79b9_7f4a_7c15);
         for _ in 0..100_000 {
             let theta = uniform(1e-6, std::f64::consts::PI - 1e-6);
             let s = [uniform(0.0, 0.5), uniform(0.0, 0.5)];
@@ -813,13 +818,7 @@ mod tests {
         // `bounded_run` finds a run, the planned time differs from the
         // chords walked one by one only by what the middle's length does,
         // within the bound it proves.
-        let mut seed = 0x2545_f491_4f6c_dd1d_u64;
-        let mut uniform = |low: f64, high: f64| {
-            seed ^= seed << 13;
-            seed ^= seed >> 7;
-            seed ^= seed << 17;
-            low + (high - low) * (seed >> 11) as f64 / (1u64 << 53) as f64
-        };
+        let mut uniform = uniform_from(0x2545_f491_4f6c_dd1d);
         let (mut bounded, mut worst_share, mut worst_time) = (0, 0.0_f64, 0.0_f64);
         for _ in 0..20_000 {
             let r = 10f64.powf(uniform(-0.5, 2.0));
