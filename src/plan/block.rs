@@ -176,9 +176,11 @@ pub(super) fn direction_and_length(a: [f64; 3], b: [f64; 3]) -> ([f64; 3], f64) 
     }
 }
 
-/// A rapid's rate along `unit`, mm/s.
-pub(super) fn rapid_rate(limits: &Limits, unit: [f64; 3]) -> f64 {
-    let axes = along(limits.max_rate, unit);
+/// A rapid's rate along `v` (mm/s), a vector `length` long (a unit
+/// vector: 1).
+#[inline(always)]
+pub(super) fn rapid_rate(limits: &Limits, v: [f64; 3], length: f64) -> f64 {
+    let axes = along(limits.max_rate, v) * length;
     limits.rapid_rate.map_or(axes, |r| r.min(axes))
 }
 
@@ -200,15 +202,11 @@ pub(super) fn sized_block(m: &Move, d: [f64; 3], length: f64, limits: &Limits) -
     if length <= 0.0 || length.is_nan() {
         return None;
     }
-    // The limits along it from `d`; the direction divided as
-    // `direction_and_length` divides it (multiplied by the reciprocal,
-    // LinuxCNC's corners moved up to 1.4e-5 of a program's time).
+    // The limits along it from `d`; the direction divided component by
+    // component, as `direction_and_length` divides it.
     let unit = d.map(|x| x / length);
     let nominal = match m.kind {
-        MoveKind::Rapid => {
-            let axes = along(limits.max_rate, d) * length;
-            limits.rapid_rate.map_or(axes, |r| r.min(axes))
-        }
+        MoveKind::Rapid => rapid_rate(limits, d, length),
         _ => feed_rate(m.state.feed_rate() / 60.0, limits, unit),
     };
     Some(Block {

@@ -58,9 +58,10 @@ pub(super) fn pieces(
     (limits, lines): (&Limits, &mut LineSteps),
     out: &mut impl Take,
 ) {
-    let chord = |_: usize, from: Point, to: Point| chord_block(m, index, from, to, limits);
+    let chord = |from: Point, to: Point| chord_block(m, index, from, to, limits);
+    let stepped = limits.steps_per_mm.iter().any(Option::is_some);
     let Some((sweep, r0, r1)) = along.arc_shape() else {
-        let line = match limits.steps_per_mm.iter().any(Option::is_some) {
+        let line = match stepped {
             true => {
                 let start = match lines.last_end {
                     Some((end, on)) if end == m.start => on,
@@ -68,7 +69,7 @@ pub(super) fn pieces(
                 };
                 let end = on_steps(m.end, &lines.steps);
                 lines.last_end = Some((m.end, end));
-                chord(0, start, end)
+                line_block(m, start, end, limits)
             }
             // Its ends as written: its length is known.
             false => sized_block(m, sub(m.end, m.start), length, limits),
@@ -79,12 +80,12 @@ pub(super) fn pieces(
         return;
     };
     let n = arc_segments(r0, sweep, limits.arc_tolerance);
-    if limits.steps_per_mm.iter().any(Option::is_some) {
-        return stepped_arc(m, (sweep, r0, r1), index, n, limits, out);
+    if stepped {
+        return stepped_arc(m, (sweep, r0, r1), index, n, (limits, &lines.steps), out);
     }
     let point = |k: usize| along.at(k as f64 / n as f64);
     if n < 4 {
-        return (0..n).for_each(|k| out_chord(chord(k, point(k), point(k + 1)), out));
+        return (0..n).for_each(|k| out_chord(chord(point(k), point(k + 1)), out));
     }
     // The ends' points and chords, which the check, the end chords and
     // a run's last chord (two from the end in the usual run) need, each
@@ -96,15 +97,15 @@ pub(super) fn pieces(
         _ => point(k),
     };
     let end_chords = [
-        chord(0, ends[0], ends[1]),
-        chord(1, ends[1], ends[2]),
-        chord(n - 2, ends[4], ends[5]),
-        chord(n - 1, ends[5], ends[6]),
+        chord(ends[0], ends[1]),
+        chord(ends[1], ends[2]),
+        chord(ends[4], ends[5]),
+        chord(ends[5], ends[6]),
     ];
     let block = |k: usize| match k {
         0 | 1 => end_chords[k],
         _ if k + 2 >= n => end_chords[k + 4 - n],
-        _ => chord(k, at(k), at(k + 1)),
+        _ => chord(at(k), at(k + 1)),
     };
     let Some(Cruise { ends: h, length }) = cruise(m, n, (sweep, r0, r1), limits, &end_chords)
     else {
@@ -124,9 +125,9 @@ pub(super) fn pieces(
     (n - h..n).for_each(|k| out_chord(block(k), out));
 }
 
-/// Lines put on the machine's steps: the steps, and the end of the last
-/// line as written and on its steps (the next line's start is most often
-/// the same point, rounded once).
+/// The machine's steps (for lines and stepped arcs), and the end of the
+/// last line as written and on its steps (the next line's start is most
+/// often the same point, rounded once).
 pub(super) struct LineSteps {
     steps: Steps,
     last_end: Option<(Point, Point)>,
@@ -295,24 +296,30 @@ fn stepped_arc(
     shape: (f64, f64, f64),
     index: usize,
     n: usize,
-    limits: &Limits,
+    on: (&Limits, &Steps),
     out: &mut impl Take,
 ) {
-    if let Some(run) = bounded_run(m, n, shape, limits) {
-        stepped_ends(m, shape.0, n, run, index, limits, out);
+    if let Some(run) = bounded_run(m, n, shape, on.0) {
+        stepped_ends(m, shape.0, n, run, index, on, out);
         return;
     }
-    walked_arc(m, shape.0, index, n, limits, out);
+    walked_arc(m, shape.0, index, n, on, out);
 }
 
 /// Arc `m`'s stepped chords, seen one by one: the middle ones a run if
 /// each corner and length allows it (`stepped_run`), else each a block.
-fn walked_arc(m: &Move, sweep: f64, index: usize, n: usize, limits: &Limits, out: &mut impl Take) {
-    let steps = Steps::of(limits.steps_per_mm);
+fn walked_arc(
+    m: &Move,
+    sweep: f64,
+    index: usize,
+    n: usize,
+    (limits, steps): (&Limits, &Steps),
+    out: &mut impl Take,
+) {
     let chords = || {
-        let mut from = on_steps(m.start, &steps);
+        let mut from = on_steps(m.start, steps);
         McArc::new(m, n, sweep).map(move |p| {
-            let to = on_steps(p, &steps);
+            let to = on_steps(p, steps);
             (std::mem::replace(&mut from, to), to)
         })
     };
@@ -440,28 +447,28 @@ fn turn_cos(theta: f64, half_sin: f64, [s1, s2]: [f64; 2]) -> Option<f64> {
 /// middle chords is within as much of grbl's.
 const MIDDLE_SHARE: f64 = 0.005;
 
-/// The pieces of stepped arc `m` (the `index`th move) whose middle chords `run` proved a run: its first and last
-/// `run.ends` chords as `mc_arc` makes them and planned one by one, the
-/// run between them ending with the stepped chord before the last ones.
+/// The pieces of stepped arc `m` (the `index`th move) whose middle
+/// chords `run` proved a run: its first and last `run.ends` chords as
+/// `mc_arc` makes them and planned one by one, the run between them
+/// ending with the stepped chord before the last ones.
 fn stepped_ends(
     m: &Move,
     sweep: f64,
     n: usize,
     run: Cruise,
     index: usize,
-    limits: &Limits,
+    (limits, steps): (&Limits, &Steps),
     out: &mut impl Take,
 ) -> Option<()> {
-    let steps = Steps::of(limits.steps_per_mm);
     let h = run.ends;
     let mut arc = McArc::new(m, n, sweep);
-    let block = |_: usize, from: Point, to: Point| chord_block(m, index, from, to, limits);
-    let mut from = on_steps(m.start, &steps);
+    let block = |from: Point, to: Point| chord_block(m, index, from, to, limits);
+    let mut from = on_steps(m.start, steps);
     let mut raw = m.start;
-    for k in 0..h {
+    for _ in 0..h {
         raw = arc.next()?;
-        let to = on_steps(raw, &steps);
-        out_chord(block(k, from, to), out);
+        let to = on_steps(raw, steps);
+        out_chord(block(from, to), out);
         from = to;
     }
     // The steps' displacement of the run's ends along its end chords:
@@ -475,8 +482,8 @@ fn stepped_ends(
         k => arc.jump(k as u32),
     };
     let raw_end = arc.next()?;
-    let mut from = on_steps(raw_end, &steps);
-    let last = block(n - h - 1, on_steps(raw_before, &steps), from)?;
+    let mut from = on_steps(raw_end, steps);
+    let last = block(on_steps(raw_before, steps), from)?;
     let last_end = dot(direction(raw_before, raw_end), off(from, raw_end));
     out.take(Piece::Cruise {
         run: Block {
@@ -487,9 +494,9 @@ fn stepped_ends(
         chords: n - 2 * h,
         last,
     });
-    for k in n - h..n {
-        let to = on_steps(arc.next()?, &steps);
-        out_chord(block(k, from, to), out);
+    for _ in n - h..n {
+        let to = on_steps(arc.next()?, steps);
+        out_chord(block(from, to), out);
         from = to;
     }
     Some(())
@@ -759,7 +766,14 @@ mod tests {
                 match (walk, along.arc_shape()) {
                     (true, Some((sweep, r0, _))) => {
                         let n = arc_segments(r0, sweep, limits.arc_tolerance);
-                        walked_arc(m, sweep, i, n, limits, &mut take);
+                        walked_arc(
+                            m,
+                            sweep,
+                            i,
+                            n,
+                            (limits, &Steps::of(limits.steps_per_mm)),
+                            &mut take,
+                        );
                     }
                     _ => pieces(
                         m,

@@ -222,7 +222,7 @@ impl<'l> Tally<'l> {
             figures.rapid_mm += length;
             op.rapid_mm += length;
             if let Some(limits) = self.limits {
-                let seconds = length / rapid_rate(limits, unit(m));
+                let seconds = length / rapid_rate(limits, unit(m), 1.0);
                 figures.feed_time_s += seconds;
                 op.feed_time_s += seconds;
             }
