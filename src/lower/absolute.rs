@@ -18,7 +18,7 @@
 //! A G92 passed through makes the point it names known.
 
 use super::error::{LowerError, LowerErrorKind};
-use super::pass::{feed_in_turn, Batch, Context, Out, Pass, PassInfo};
+use super::pass::{feed_in_turn_quick, Batch, Context, Out, Pass, PassInfo};
 use super::position::Tracker;
 use crate::geometry::{self, ArcError, Point};
 use crate::ir::{self, ArcGeometry, Axes, Axis, Distance, Op, Stmt};
@@ -94,17 +94,7 @@ impl AbsolutePass {
             // words, the other axes stay.
             if let Some(arc) = &mut m.arc {
                 self.at.check_absolute(&m.to, span)?;
-                let at = &self.at.position;
-                let end = std::array::from_fn(|i| m.to.get(Axis::ALL[i]).or(at[i]));
-                let resolved = resolve_arc(
-                    &self.at,
-                    end,
-                    arc.geometry,
-                    self.centers,
-                    [self.spiral, self.short],
-                    clockwise,
-                    span,
-                );
+                let resolved = self.absolute_arc(&m.to, arc.geometry, clockwise, span);
                 // A refused arc still ends where it says: the moves after
                 // it start there, and report no error of its making.
                 let center = resolved.inspect_err(|_| m.to.place(&mut self.at.position, Some))?;
@@ -139,6 +129,64 @@ impl AbsolutePass {
         m.to = written;
         self.at.position = end;
         Ok(())
+    }
+
+    /// The centre, from its start, of an arc ending at the axes `to`
+    /// under G90.
+    #[inline(always)]
+    fn absolute_arc(
+        &self,
+        to: &Axes,
+        geometry: ArcGeometry,
+        clockwise: bool,
+        span: Span,
+    ) -> Result<ir::Center, LowerError> {
+        let at = &self.at.position;
+        let end = std::array::from_fn(|i| to.get(Axis::ALL[i]).or(at[i]));
+        let limits = [self.spiral, self.short];
+        resolve_arc(
+            &self.at,
+            end,
+            geometry,
+            self.centers,
+            limits,
+            clockwise,
+            span,
+        )
+    }
+
+    /// [`Pass::feed`]'s common case, where it only lowers in place and
+    /// has nothing to say (for [`feed_in_turn_quick`]): under G90 and not
+    /// G93, a move in range whose arc, if any, resolves without a word,
+    /// or a feed, speed or comment. `false`: left for `feed`, untouched.
+    #[inline(always)]
+    fn quick(&mut self, stmt: &mut Stmt) -> bool {
+        if self.inverse_time || self.at.distance != Distance::Absolute {
+            return false;
+        }
+        match &mut stmt.op {
+            Op::Move(m) => {
+                if !m.to.all_values(ir::is_position) {
+                    return false;
+                }
+                if let Some(arc) = &mut m.arc {
+                    let clockwise = m.motion == ir::Motion::ArcCw;
+                    let resolved = self.absolute_arc(&m.to, arc.geometry, clockwise, stmt.span);
+                    let Ok(center) = resolved else {
+                        return false;
+                    };
+                    if self.short_arc.finds(arc.geometry, center, self.at.plane) {
+                        return false;
+                    }
+                    arc.geometry = ArcGeometry::Center(center);
+                }
+                m.to.place(&mut self.at.position, Some);
+            }
+            Op::Feed(_) | Op::Speed(_) | Op::Comment(_) => {}
+            _ => return false,
+        }
+        self.last = Some(stmt.span);
+        true
     }
 
     /// A move, lowered; under G93 a feed move's rate as well (F per minute
@@ -341,7 +389,7 @@ impl Pass for AbsolutePass {
             self.last = input.last().map(|s| s.span).or(self.last);
             return 0;
         }
-        feed_in_turn(self, input, to)
+        feed_in_turn_quick(self, input, to, Self::quick)
     }
 
     /// SPEC §6: the output always ends with a program end.
@@ -585,18 +633,23 @@ enum ShortArc {
 impl ShortArc {
     /// An R arc whose centre came out farther than R from its start.
     fn check(&mut self, given: ArcGeometry, center: ir::Center, plane: ir::Plane, span: Span) {
-        let (ArcGeometry::Radius(r), ShortArc::None) = (given, &self) else {
+        let (true, ArcGeometry::Radius(r)) = (self.finds(given, center, plane), given) else {
             return;
         };
-        let (a, b, _) = plane.axes();
-        let drawn = center[a].unwrap_or(0.0).hypot(center[b].unwrap_or(0.0));
-        if drawn > r.abs() * (1.0 + 1e-12) {
-            let kind = LowerErrorKind::ArcRadiusShort {
-                radius: r.abs(),
-                half_chord: drawn,
-            };
-            *self = ShortArc::Found(LowerError::new(kind, span));
-        }
+        let kind = LowerErrorKind::ArcRadiusShort {
+            radius: r.abs(),
+            half_chord: drawn(center, plane),
+        };
+        *self = ShortArc::Found(LowerError::new(kind, span));
+    }
+
+    /// Whether [`ShortArc::check`] finds this arc short (none yet found).
+    #[inline(always)]
+    fn finds(&self, given: ArcGeometry, center: ir::Center, plane: ir::Plane) -> bool {
+        let (ArcGeometry::Radius(r), ShortArc::None) = (given, self) else {
+            return false;
+        };
+        drawn(center, plane) > r.abs() * (1.0 + 1e-12)
     }
 
     fn report(&mut self, out: &mut Out<'_>) {
@@ -606,4 +659,10 @@ impl ShortArc {
             }
         }
     }
+}
+
+/// The radius an arc of `center` (from its start) is drawn with.
+fn drawn(center: ir::Center, plane: ir::Plane) -> f64 {
+    let (a, b, _) = plane.axes();
+    center[a].unwrap_or(0.0).hypot(center[b].unwrap_or(0.0))
 }
