@@ -129,6 +129,35 @@ pub fn sweep_between(a0: f64, a1: f64, clockwise: bool, turns: u32) -> f64 {
     }
 }
 
+/// Where an arc is furthest along an axis of its plane between its ends:
+/// each of the four directions from its centre along those axes that it
+/// passes (once each, as many as a box needs), as the share of its sweep
+/// at which it passes it and the direction (a unit vector in the plane).
+/// `angle`: of its start about its centre (`atan2`'s, within ±π);
+/// `sweep`: signed, as [`sweep`] gives it.
+pub fn axis_shares(angle: f64, sweep: f64) -> impl Iterator<Item = (f64, [f64; 2])> {
+    use std::f64::consts::{FRAC_PI_2, PI};
+    let whole = sweep.abs();
+    let directions = [
+        (0.0, [1.0, 0.0]),
+        (FRAC_PI_2, [0.0, 1.0]),
+        (PI, [-1.0, 0.0]),
+        (-FRAC_PI_2, [0.0, -1.0]),
+    ];
+    directions.into_iter().filter_map(move |(direction, unit)| {
+        // The turn from the start to it the way the arc goes: both
+        // angles within ±π, so one full turn brings it within [0, 2π).
+        let mut turn = match sweep < 0.0 {
+            true => angle - direction,
+            false => direction - angle,
+        };
+        if turn < 0.0 {
+            turn += TAU;
+        }
+        (whole > 0.0 && turn <= whole).then(|| (turn / whole, unit))
+    })
+}
+
 /// Is the arc longer than a half circle?
 pub fn is_long_arc(start: Point, end: Point, center: Point, plane: Plane, clockwise: bool) -> bool {
     sweep(start, end, center, plane, clockwise, 1).abs() > std::f64::consts::PI + 1e-12
@@ -203,6 +232,31 @@ mod tests {
             .unwrap();
         assert!(c[1] < 0.0);
         assert!(center_from_radius([0.0; 3], [3.0, 0.0, 0.0], 1.0, Plane::XY, true, 0.0).is_err());
+    }
+
+    #[test]
+    fn an_arc_passes_the_axis_directions_between_its_ends() {
+        use std::f64::consts::{FRAC_PI_2, PI};
+        let shares = |angle: f64, sweep: f64| -> Vec<(f64, [f64; 2])> {
+            axis_shares(angle, sweep).collect()
+        };
+        // From 45° a quarter turn each way: +Y half way counter-clockwise,
+        // +X half way clockwise.
+        assert_eq!(shares(PI / 4.0, FRAC_PI_2), [(0.5, [0.0, 1.0])]);
+        assert_eq!(shares(PI / 4.0, -FRAC_PI_2), [(0.5, [1.0, 0.0])]);
+        // From -170° counter-clockwise through 100°: -X is behind it, -Y
+        // is 80° on.
+        let s = shares(-170f64.to_radians(), 100f64.to_radians());
+        assert_eq!(s.len(), 1);
+        assert!(
+            (s[0].0 - 0.8).abs() < 1e-12 && s[0].1 == [0.0, -1.0],
+            "{s:?}"
+        );
+        // A whole turn passes all four; an end on one counts it.
+        assert_eq!(shares(0.3, -TAU).len(), 4);
+        assert_eq!(shares(FRAC_PI_2, 0.1)[0], (0.0, [0.0, 1.0]));
+        // No sweep, no bulge.
+        assert!(shares(0.0, 0.0).is_empty());
     }
 
     #[test]

@@ -27,7 +27,7 @@ use chords::Piece;
 pub use tally::Tally;
 
 use crate::driver::machine::Controller;
-use crate::toolpath::{EventKind, Move, MoveKind, ToolPath};
+use crate::toolpath::{EventKind, Move, MoveKind, Point, ToolPath};
 use serde::Serialize;
 
 /// The planned figures of a program.
@@ -118,6 +118,14 @@ fn widen_by([low, high]: &mut [[f64; 3]; 2], m: &Move) {
     for i in 0..3 {
         low[i] = lesser(m.start[i], lesser(m.end[i], low[i]));
         high[i] = greater(m.start[i], greater(m.end[i], high[i]));
+    }
+}
+
+/// Widen the box `[low, high]` to hold `p`.
+fn widen_to([low, high]: &mut [[f64; 3]; 2], p: Point) {
+    for i in 0..3 {
+        low[i] = lesser(p[i], low[i]);
+        high[i] = greater(p[i], high[i]);
     }
 }
 
@@ -839,6 +847,41 @@ mod tests {
         let total = f.time_s.unwrap();
         assert!((total - 3.7).abs() < 1e-12, "{total}");
         assert_eq!(plan(&p, None).operations[1].time_s, None);
+    }
+
+    #[test]
+    fn an_arcs_box_holds_where_it_bulges_past_its_ends() {
+        // A full circle of radius 10 about (10, 0) from the origin, then a
+        // quarter counter-clockwise about (25, 0) from (20, 0) to (25, 5)
+        // that passes no axis direction between its ends (its box is its
+        // ends'), then one clockwise from (25, 5) about (25, 0) to (25, -5)
+        // that passes +X at (30, 0): X 0 … 30, Y -10 … 10.
+        let arc = |start: Point, end: Point, center: Point, clockwise: bool| {
+            let kind = MoveKind::Arc(crate::toolpath::ArcPath {
+                center,
+                plane: crate::ir::Plane::XY,
+                clockwise,
+                turns: 1,
+            });
+            feed_move(kind, start, end, 600.0)
+        };
+        let moves = vec![
+            arc([0.0; 3], [0.0; 3], [10.0, 0.0, 0.0], true),
+            feed_move(MoveKind::Feed, [0.0; 3], [20.0, 0.0, 0.0], 600.0),
+            arc([20.0, 0.0, 0.0], [25.0, 5.0, 0.0], [25.0, 0.0, 0.0], true),
+            arc([25.0, 5.0, 0.0], [25.0, -5.0, 0.0], [25.0, 0.0, 0.0], true),
+        ];
+        let p = ToolPath {
+            moves,
+            ..ToolPath::default()
+        };
+        for limits in [None, Some(&limits())] {
+            let f = plan(&p, limits);
+            let [low, high] = f.tools[0].bounds.expect("a box");
+            let near = |a: [f64; 3], b: [f64; 3]| (0..3).all(|i| (a[i] - b[i]).abs() < 1e-12);
+            assert!(near(low, [0.0, -10.0, 0.0]), "{low:?}");
+            assert!(near(high, [30.0, 10.0, 0.0]), "{high:?}");
+        }
     }
 
     #[test]

@@ -152,20 +152,18 @@ impl TravelCheck {
             return Vec::new();
         };
         let end = [end[0], end[1], end[2]];
-        let sweep = geometry::sweep(start, end, c, self.plane, clockwise, turns).abs();
-        let r = (start[p] - c[p]).hypot(start[q] - c[q]);
+        let sweep = geometry::sweep(start, end, c, self.plane, clockwise, turns);
+        let r0 = (start[p] - c[p]).hypot(start[q] - c[q]);
+        let r1 = (end[p] - c[p]).hypot(end[q] - c[q]);
         let a0 = (start[q] - c[q]).atan2(start[p] - c[p]);
-        let tau = std::f64::consts::TAU;
-        (0..4)
-            .map(|k| k as f64 * std::f64::consts::FRAC_PI_2)
-            .filter(|&angle| {
-                let turn = if clockwise { a0 - angle } else { angle - a0 };
-                turn.rem_euclid(tau) <= sweep
-            })
-            .map(|angle| {
+        // At the radius it has there: a spiral's goes from the start's to
+        // the end's as it turns.
+        geometry::axis_shares(a0, sweep)
+            .map(|(t, [u, v])| {
+                let r = r0 + (r1 - r0) * t;
                 let mut point = start;
-                point[p] = c[p] + r * angle.cos();
-                point[q] = c[q] + r * angle.sin();
+                point[p] = c[p] + r * u;
+                point[q] = c[q] + r * v;
                 point
             })
             .collect()

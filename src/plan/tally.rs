@@ -11,8 +11,8 @@
 use super::block::{rapid_rate, Limits};
 use super::chords::Piece;
 use super::{
-    chords, ends_box, linuxcnc, unit, widen, widen_by, Figures, OperationFigures, Planner,
-    ToolFigures,
+    chords, ends_box, linuxcnc, unit, widen, widen_by, widen_to, Figures, OperationFigures,
+    Planner, ToolFigures,
 };
 use crate::driver::machine::Controller;
 use crate::toolpath::{Along, Event, EventKind, Move, MoveKind, PathSink, State};
@@ -201,7 +201,7 @@ impl<'l> Tally<'l> {
 
     /// Lengths and length / feed of `m`, into the whole's, its tool's and
     /// its operation's figures.
-    fn measure(&mut self, m: &Move, length: f64, tool: usize) {
+    fn measure(&mut self, m: &Move, (along, length): (&Along, f64), tool: usize) {
         let figures = &mut self.figures;
         let on = m.state.spindle.is_some();
         figures.spindle_starts += usize::from(on && !self.spindle_on);
@@ -248,6 +248,10 @@ impl<'l> Tally<'l> {
                 self.settle_box();
                 self.run_box = Some((op, tool, ends_box(m)));
             }
+        }
+        // An arc reaches beyond its ends where it passes an axis.
+        if let Some((_, _, run)) = &mut self.run_box {
+            along.bulges().for_each(|p| widen_to(run, p));
         }
     }
 
@@ -345,7 +349,7 @@ impl PathSink for Tally<'_> {
         // An arc's sweep and radii found once for its length and its chords.
         let along = m.along();
         let length = along.length();
-        self.measure(m, length, tool);
+        self.measure(m, (&along, length), tool);
         self.plan_move(m, (&along, length), index, tool);
     }
 
