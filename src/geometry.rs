@@ -129,22 +129,29 @@ pub fn sweep_between(a0: f64, a1: f64, clockwise: bool, turns: u32) -> f64 {
     }
 }
 
+/// The four directions from an arc's centre along the axes of its plane:
+/// each one's angle and unit vector.
+const AXIS_DIRECTIONS: [(f64, [f64; 2]); 4] = [
+    (0.0, [1.0, 0.0]),
+    (std::f64::consts::FRAC_PI_2, [0.0, 1.0]),
+    (std::f64::consts::PI, [-1.0, 0.0]),
+    (-std::f64::consts::FRAC_PI_2, [0.0, -1.0]),
+];
+
 /// Where an arc is furthest along an axis of its plane between its ends:
-/// each of the four directions from its centre along those axes that it
-/// passes (once each, as many as a box needs), as the share of its sweep
-/// at which it passes it and the direction (a unit vector in the plane).
-/// `angle`: of its start about its centre (`atan2`'s, within ±π);
-/// `sweep`: signed, as [`sweep`] gives it.
-pub fn axis_shares(angle: f64, sweep: f64) -> impl Iterator<Item = (f64, [f64; 2])> {
-    use std::f64::consts::{FRAC_PI_2, PI};
+/// `each` is given each of the four directions from its centre along
+/// those axes that it passes after its start and before its end (once
+/// each, as many as a box needs beside its ends), as the share of its
+/// sweep at which it passes it and the direction (a unit vector in the
+/// plane). `angle`: of its start about its centre
+/// (`atan2`'s, within ±π); `sweep`: signed, as [`sweep`] gives it.
+#[inline(always)]
+pub fn axis_shares(angle: f64, sweep: f64, mut each: impl FnMut(f64, [f64; 2])) {
     let whole = sweep.abs();
-    let directions = [
-        (0.0, [1.0, 0.0]),
-        (FRAC_PI_2, [0.0, 1.0]),
-        (PI, [-1.0, 0.0]),
-        (-FRAC_PI_2, [0.0, -1.0]),
-    ];
-    directions.into_iter().filter_map(move |(direction, unit)| {
+    if whole == 0.0 {
+        return;
+    }
+    for &(direction, unit) in &AXIS_DIRECTIONS {
         // The turn from the start to it the way the arc goes: both
         // angles within ±π, so one full turn brings it within [0, 2π).
         let mut turn = match sweep < 0.0 {
@@ -154,8 +161,10 @@ pub fn axis_shares(angle: f64, sweep: f64) -> impl Iterator<Item = (f64, [f64; 2
         if turn < 0.0 {
             turn += TAU;
         }
-        (whole > 0.0 && turn <= whole).then(|| (turn / whole, unit))
-    })
+        if turn > 0.0 && turn < whole {
+            each(turn / whole, unit);
+        }
+    }
 }
 
 /// Is the arc longer than a half circle?
@@ -237,8 +246,10 @@ mod tests {
     #[test]
     fn an_arc_passes_the_axis_directions_between_its_ends() {
         use std::f64::consts::{FRAC_PI_2, PI};
-        let shares = |angle: f64, sweep: f64| -> Vec<(f64, [f64; 2])> {
-            axis_shares(angle, sweep).collect()
+        let shares = |angle: f64, sweep: f64| {
+            let mut all = Vec::new();
+            axis_shares(angle, sweep, |t, unit| all.push((t, unit)));
+            all
         };
         // From 45° a quarter turn each way: +Y half way counter-clockwise,
         // +X half way clockwise.
@@ -252,9 +263,12 @@ mod tests {
             (s[0].0 - 0.8).abs() < 1e-12 && s[0].1 == [0.0, -1.0],
             "{s:?}"
         );
-        // A whole turn passes all four; an end on one counts it.
+        // A whole turn passes all four; not where it starts or ends on
+        // one (its ends are in its box already).
         assert_eq!(shares(0.3, -TAU).len(), 4);
-        assert_eq!(shares(FRAC_PI_2, 0.1)[0], (0.0, [0.0, 1.0]));
+        assert_eq!(shares(0.0, -TAU).len(), 3);
+        assert!(shares(FRAC_PI_2, 0.1).is_empty());
+        assert!(shares(-0.1, 0.1).is_empty());
         // No sweep, no bulge.
         assert!(shares(0.0, 0.0).is_empty());
     }

@@ -122,6 +122,7 @@ fn widen_by([low, high]: &mut [[f64; 3]; 2], m: &Move) {
 }
 
 /// Widen the box `[low, high]` to hold `p`.
+#[inline(always)]
 fn widen_to([low, high]: &mut [[f64; 3]; 2], p: Point) {
     for i in 0..3 {
         low[i] = lesser(p[i], low[i]);

@@ -254,20 +254,22 @@ impl Along {
     }
 
     /// The points where an arc is furthest along an axis of its plane
-    /// between its ends ([`geometry::axis_shares`]), at the radius it has
-    /// there; none for a line. With its ends, the move's box.
-    pub fn bulges(&self) -> impl Iterator<Item = Point> + '_ {
-        self.arc.iter().flat_map(move |a| {
-            let (p, q, n) = a.arc.plane.axes();
-            geometry::axis_shares(a.angle, a.sweep).map(move |(t, [u, v])| {
-                let r = a.radius + (a.end_radius - a.radius) * t;
-                let mut out = [0.0; 3];
-                out[p] = a.arc.center[p] + r * u;
-                out[q] = a.arc.center[q] + r * v;
-                out[n] = self.start[n] + (self.end[n] - self.start[n]) * t;
-                out
-            })
-        })
+    /// between its ends ([`geometry::axis_shares`]), each to `each`, at
+    /// the radius it has there (along the normal, a helix's start: its
+    /// ends bound it); none for a line. With its ends, the move's box.
+    #[inline(always)]
+    pub fn bulges(&self, mut each: impl FnMut(Point)) {
+        let Some(a) = &self.arc else {
+            return;
+        };
+        let (p, q, _) = a.arc.plane.axes();
+        geometry::axis_shares(a.angle, a.sweep, |t, [u, v]| {
+            let r = a.radius + (a.end_radius - a.radius) * t;
+            let mut out = self.start;
+            out[p] = a.arc.center[p] + r * u;
+            out[q] = a.arc.center[q] + r * v;
+            each(out);
+        });
     }
 
     pub fn at(&self, t: f64) -> Point {

@@ -158,15 +158,15 @@ impl TravelCheck {
         let a0 = (start[q] - c[q]).atan2(start[p] - c[p]);
         // At the radius it has there: a spiral's goes from the start's to
         // the end's as it turns.
-        geometry::axis_shares(a0, sweep)
-            .map(|(t, [u, v])| {
-                let r = r0 + (r1 - r0) * t;
-                let mut point = start;
-                point[p] = c[p] + r * u;
-                point[q] = c[q] + r * v;
-                point
-            })
-            .collect()
+        let mut points = Vec::new();
+        geometry::axis_shares(a0, sweep, |t, [u, v]| {
+            let r = r0 + (r1 - r0) * t;
+            let mut point = start;
+            point[p] = c[p] + r * u;
+            point[q] = c[q] + r * v;
+            points.push(point);
+        });
+        points
     }
 
     /// A point of the path, in the program's frame.

@@ -251,7 +251,7 @@ impl<'l> Tally<'l> {
         }
         // An arc reaches beyond its ends where it passes an axis.
         if let Some((_, _, run)) = &mut self.run_box {
-            along.bulges().for_each(|p| widen_to(run, p));
+            along.bulges(|p| widen_to(run, p));
         }
     }
 
