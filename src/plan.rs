@@ -885,6 +885,70 @@ mod tests {
         }
     }
 
+    /// The figures of program `text` on `limits`.
+    fn planned_program(text: &str, limits: &Limits) -> Figures {
+        let mut sources = crate::source::Sources::new();
+        let file = sources.add("p.nc", text.to_string());
+        let options = crate::driver::CompileOptions::default();
+        let (path, problems) = crate::driver::tool_path(&sources, file, &options, None);
+        let path = path.unwrap_or_else(|| panic!("{problems:?}"));
+        plan(&path, Some(limits))
+    }
+
+    #[test]
+    fn a_tools_figures_are_its_operations_summed() {
+        // Tool 1 twice (rapids, cuts and a dwell each time), tool 2 once:
+        // each tool's times are those of its operations, rapids and
+        // dwells included, planned and length / feed alike.
+        let text = "G21 G90\nT1 M6\nG0 X0 Y0 Z5\nG1 Z0 F600\nG1 X50\nG4 P1.5\nG0 Z5\n\
+                    T2 M6\nG0 X10 Y10\nG1 Z0\nG1 Y60\nG0 Z5\n\
+                    T1 M6\nG0 X100 Y0\nG1 Z0\nG4 P0.5\nG1 X150\nG0 Z5\nM30\n";
+        let f = planned_program(text, &limits());
+        assert_eq!(f.operations.len(), 3);
+        for tool in &f.tools {
+            let ops = f.operations.iter().filter(|o| o.tool == tool.tool);
+            let (time, feed_time) = ops.fold((0.0, 0.0), |(t, ft), o| {
+                (t + o.time_s.unwrap(), ft + o.feed_time_s)
+            });
+            assert!((tool.time_s.unwrap() - time).abs() < 1e-9, "{f:?}");
+            assert!((tool.feed_time_s - feed_time).abs() < 1e-9, "{f:?}");
+        }
+        let one = f.tools.iter().find(|t| t.tool == 1).unwrap();
+        assert!(one.feed_time_s > 2.0 + 10.0, "dwells and cuts: {one:?}");
+    }
+
+    #[test]
+    fn the_spindle_stopped_and_started_between_two_moves_is_a_sync_and_a_start() {
+        // M5 M3 between two feed moves: the machine stops at the M5 (and
+        // at the M3), and the spindle starts again; an S while it turns
+        // and a coolant change stop it too, an S while it is off does not.
+        let limits = Limits {
+            spindle_start_s: 3.0,
+            ..limits()
+        };
+        let run = |between: &str| {
+            let text =
+                format!("G21 G90\nS1000 M3\nG0 X0 Y0 Z0\nG1 X100 F6000\n{between}G1 X200\nM30\n");
+            planned_program(&text, &limits)
+        };
+        let straight = run("");
+        assert_eq!(straight.spindle_starts, 1);
+        let restarted = run("M5\nM3\n");
+        assert_eq!(restarted.spindle_starts, 2);
+        // Two 100 mm moves each from rest to rest (0.1 s more each way
+        // than one 200 mm move) and a 3 s start.
+        let more = restarted.time_s.unwrap() - straight.time_s.unwrap();
+        assert!((more - 3.1).abs() < 1e-9, "{more}");
+        for stops in ["S2000\n", "M8\n"] {
+            let f = run(stops);
+            assert_eq!(f.spindle_starts, 1, "{stops}");
+            let more = f.time_s.unwrap() - straight.time_s.unwrap();
+            assert!((more - 0.1).abs() < 1e-9, "{stops}: {more}");
+        }
+        let off = run("M5\nS2000\nG1 X150\nM3\n");
+        assert_eq!(off.spindle_starts, 2);
+    }
+
     #[test]
     fn the_clock_runs_on_the_planned_times_with_dwells_where_they_stand() {
         // Two 100 mm legs at a right angle, a 2 s dwell between them: the

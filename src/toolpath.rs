@@ -302,6 +302,14 @@ pub enum EventKind {
     ToolChange(u32),
     Dwell(f64),
     Stop(ir::Stop),
+    /// The spindle or the coolant changed (M3, M4, M5; an S while the
+    /// spindle turns; M7, M8, M9): the controller finishes the moves
+    /// before it first (grbl's spindle and coolant syncs; LinuxCNC waits
+    /// for motion before them). `spindle_start`: the spindle was off and
+    /// now turns.
+    Sync {
+        spindle_start: bool,
+    },
     End,
 }
 
@@ -427,6 +435,9 @@ impl Builder {
             Op::Feed(f) => self.state.feed = f * k,
             // Under G96 the surface speed, as rs274 prints it.
             Op::Speed(s) | Op::SpindleMode(ir::SpindleMode::SurfaceSpeed { speed: s, .. }) => {
+                if *s != self.state.rpm && self.state.spindle.is_some() {
+                    self.sync(false, stmt.span);
+                }
                 self.state.rpm = *s
             }
             Op::SelectTool(t) => {
@@ -440,13 +451,23 @@ impl Builder {
                 self.event(EventKind::ToolChange(self.selected), stmt.span);
             }
             Op::Spindle(s) => {
-                self.state.spindle = (*s != ir::Spindle::Off).then_some(*s);
+                let turning = (*s != ir::Spindle::Off).then_some(*s);
+                if turning != self.state.spindle {
+                    self.sync(self.state.spindle.is_none(), stmt.span);
+                }
+                self.state.spindle = turning;
             }
-            Op::Coolant(c) => match c {
-                ir::Coolant::Mist => self.state.mist = true,
-                ir::Coolant::Flood => self.state.flood = true,
-                ir::Coolant::Off => (self.state.mist, self.state.flood) = (false, false),
-            },
+            Op::Coolant(c) => {
+                let (mist, flood) = match c {
+                    ir::Coolant::Mist => (true, self.state.flood),
+                    ir::Coolant::Flood => (self.state.mist, true),
+                    ir::Coolant::Off => (false, false),
+                };
+                if (mist, flood) != (self.state.mist, self.state.flood) {
+                    self.sync(false, stmt.span);
+                }
+                (self.state.mist, self.state.flood) = (mist, flood);
+            }
             Op::Dwell(s) => self.event(EventKind::Dwell(*s), stmt.span),
             Op::Stop(s) => self.event(EventKind::Stop(*s), stmt.span),
             Op::End => {
@@ -639,6 +660,12 @@ impl Builder {
             guessed: known.map(|k| !k),
         });
         self.state.lead = None;
+    }
+
+    /// The spindle or the coolant changed here (`spindle_start`: the
+    /// spindle from off to on).
+    fn sync(&mut self, spindle_start: bool, span: Span) {
+        self.event(EventKind::Sync { spindle_start }, span);
     }
 
     fn event(&mut self, kind: EventKind, span: Span) {

@@ -15,7 +15,7 @@ use super::{
     Planner, ToolFigures,
 };
 use crate::driver::machine::Controller;
-use crate::toolpath::{Along, Event, EventKind, Move, MoveKind, PathSink, State};
+use crate::toolpath::{Along, Event, EventKind, Move, MoveKind, PathSink};
 use std::collections::VecDeque;
 
 /// A tool path's [`Figures`], fed a move and an event at a time.
@@ -25,10 +25,9 @@ pub struct Tally<'l> {
     planner: Option<Planner<'l>>,
     ledger: Ledger,
     moves: usize,
-    spindle_on: bool,
-    /// The state of the move before, for the syncs at a change.
-    previous: Option<State>,
-    /// An event came since the last block: the next starts from rest.
+    /// An event came since the last block: the next starts from rest
+    /// (every event is a sync: a tool change, a dwell, a stop, the
+    /// spindle or the coolant changed).
     event_since: bool,
     /// The feed moves' box since the operation or the tool last changed,
     /// with their places in the figures: added to both boxes when either
@@ -48,8 +47,9 @@ struct Ledger {
     /// places in the figures); the first is the oldest move's not settled.
     runs: VecDeque<Run>,
     /// Dwells not yet added: the move they come before, their
-    /// operation's place, the seconds the controller dwells.
-    dwells: VecDeque<(usize, usize, f64)>,
+    /// operation's and their tool's places, the seconds the controller
+    /// dwells.
+    dwells: VecDeque<(usize, usize, usize, f64)>,
     total_s: f64,
     /// Per tool, as in [`Figures::tools`].
     tool_s: Vec<f64>,
@@ -103,11 +103,14 @@ impl Ledger {
     /// The dwells before move `index`, and a time of 0 for each move
     /// before it not yet timed.
     fn settle_before(&mut self, index: usize, ops: &mut [OperationFigures]) {
-        while let Some(&(before, op, seconds)) = self.dwells.front() {
+        while let Some(&(before, op, tool, seconds)) = self.dwells.front() {
             if before > index {
                 break;
             }
             if let Some(t) = ops.get_mut(op).and_then(|o| o.time_s.as_mut()) {
+                *t += seconds;
+            }
+            if let Some(t) = self.tool_s.get_mut(tool) {
                 *t += seconds;
             }
             self.dwells.pop_front();
@@ -135,8 +138,6 @@ impl<'l> Tally<'l> {
                 dwell_s: 0.0,
             },
             moves: 0,
-            spindle_on: false,
-            previous: None,
             event_since: false,
             run_box: None,
             line_steps: limits.map(chords::LineSteps::of),
@@ -203,9 +204,6 @@ impl<'l> Tally<'l> {
     /// its operation's figures.
     fn measure(&mut self, m: &Move, (along, length): (&Along, f64), tool: usize) {
         let figures = &mut self.figures;
-        let on = m.state.spindle.is_some();
-        figures.spindle_starts += usize::from(on && !self.spindle_on);
-        self.spindle_on = on;
         let planned = self.limits.is_some();
         if figures.operations.is_empty() {
             figures.operations.push(OperationFigures {
@@ -225,6 +223,7 @@ impl<'l> Tally<'l> {
                 let seconds = length / rapid_rate(limits, unit(m), 1.0);
                 figures.feed_time_s += seconds;
                 op.feed_time_s += seconds;
+                figures.tools[tool].feed_time_s += seconds;
             }
             return;
         }
@@ -259,12 +258,7 @@ impl<'l> Tally<'l> {
     /// the planner as its pieces, the first block after a sync marked as
     /// starting from rest.
     fn plan_move(&mut self, m: &Move, shape: (&Along, f64), index: usize, tool: usize) {
-        let state = (m.state.spindle, m.state.rpm, m.state.flood, m.state.mist);
-        let changed = self
-            .previous
-            .is_some_and(|a| (a.spindle, a.rpm, a.flood, a.mist) != state);
-        let stopped = index == 0 || self.event_since || changed;
-        self.previous = Some(m.state);
+        let stopped = index == 0 || self.event_since;
         // A move of no block (no length, or no step) leaves the machine
         // stopped for the next.
         self.event_since = stopped;
@@ -372,16 +366,22 @@ impl PathSink for Tally<'_> {
                 self.figures.dwell_s += seconds;
                 let dwelt = self.limits.map_or(seconds, |l| l.dwell_s(seconds));
                 self.ledger.dwell_s += dwelt;
-                if let Some(op) = ops.last_mut() {
-                    op.dwell_s += seconds;
-                    op.feed_time_s += seconds;
-                    if planned {
-                        let op = ops.len() - 1;
-                        let seconds = dwelt;
-                        let before = self.moves;
-                        self.ledger.dwells.push_back((before, op, seconds));
-                    }
+                let Some(op) = ops.last_mut() else {
+                    return;
+                };
+                op.dwell_s += seconds;
+                op.feed_time_s += seconds;
+                // The operation's tool's, as its moves are.
+                let tool = op.tool;
+                let (op, tool) = (ops.len() - 1, self.tool_slot(tool));
+                self.figures.tools[tool].feed_time_s += seconds;
+                if planned {
+                    let before = self.moves;
+                    self.ledger.dwells.push_back((before, op, tool, dwelt));
                 }
+            }
+            EventKind::Sync { spindle_start } => {
+                self.figures.spindle_starts += usize::from(spindle_start);
             }
             EventKind::Stop(_) | EventKind::End => {}
         }

@@ -108,7 +108,9 @@ fn tool_changes(path: &ToolPath) -> Vec<u32> {
         .iter()
         .filter_map(|e| match e.kind {
             EventKind::ToolChange(t) => Some(t),
-            EventKind::Dwell(_) | EventKind::Stop(_) | EventKind::End => None,
+            EventKind::Dwell(_) | EventKind::Stop(_) | EventKind::Sync { .. } | EventKind::End => {
+                None
+            }
         })
         .collect();
     tools.dedup();
@@ -124,7 +126,7 @@ fn pauses(path: &ToolPath) -> Vec<(EventKind, Point)> {
         .filter(|e| match e.kind {
             EventKind::Dwell(seconds) => seconds > 0.0,
             EventKind::Stop(_) => true,
-            EventKind::ToolChange(_) | EventKind::End => false,
+            EventKind::ToolChange(_) | EventKind::Sync { .. } | EventKind::End => false,
         })
         .map(|e| {
             let at = match e.after_move.checked_sub(1) {
