@@ -336,6 +336,10 @@ pub trait PathSink: Send {
     fn heavy(&self) -> bool {
         false
     }
+    /// Tool lengths are known (a tool table, `G10 L1`): where `G43`
+    /// folds one in, the path is the machine's controlled point, not the
+    /// tool's tip. Told once, when the moves after it are handed on.
+    fn tool_lengths_known(&mut self) {}
 }
 
 impl ToolPath {
@@ -365,6 +369,8 @@ pub struct Builder {
     path: ToolPath,
     /// Moves handed on by [`Builder::drain_into`] and dropped.
     drained: usize,
+    /// The sink was told the tool lengths are known.
+    told_lengths: bool,
     /// Factor from the IR's lengths to mm (1 while the units are unknown).
     to_mm: f64,
     position: [f64; 9],
@@ -393,6 +399,7 @@ impl Builder {
                 ..ToolPath::default()
             },
             drained: 0,
+            told_lengths: false,
             to_mm: Units::mm_per(units),
             position: [0.0; 9],
             plane: Plane::XY,
@@ -679,6 +686,10 @@ impl Builder {
     /// Hand the moves and events made since the last call to `sink` and
     /// drop them, so that memory does not grow with the program.
     pub fn drain_into(&mut self, sink: &mut dyn PathSink) {
+        if self.path.lengths_given && !self.told_lengths {
+            sink.tool_lengths_known();
+            self.told_lengths = true;
+        }
         interleave(&self.path.moves, &self.path.events, self.drained, sink);
         self.drained += self.path.moves.len();
         self.path.moves.clear();

@@ -18,6 +18,23 @@ fn ger(args: &[&str], cwd: &Path) -> Output {
         .expect("run ger")
 }
 
+/// `ger args` with `input` on its standard input.
+fn ger_with_stdin(args: &[&str], cwd: &Path, input: &str) -> Output {
+    let mut child = Command::new(env!("CARGO_BIN_EXE_ger"))
+        .args(args)
+        .current_dir(cwd)
+        .env_remove("GER_WIZARDS")
+        .stdin(Stdio::piped())
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .expect("run ger");
+    let mut stdin = child.stdin.take().expect("its standard input");
+    stdin.write_all(input.as_bytes()).expect("write to ger");
+    drop(stdin);
+    child.wait_with_output().expect("run ger")
+}
+
 /// `ger args` with the program read whole: a folder of subroutines (an
 /// empty one) is read before the program, which is then not compiled from
 /// its file a part at a time.
@@ -869,6 +886,30 @@ fn stats_plans_on_the_machine_of_the_project_file() {
     let table = String::from_utf8(r.stdout).unwrap();
     assert!(table.starts_with("run time "), "{table}");
     assert!(table.contains("planned as grbl plans it"), "{table}");
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// `ger stats`' bounds are where the tip cuts: a tool length the program
+/// gives (`G10 L1`) and `G43` fold into the moves (the machine's
+/// controlled point, 50 mm above the tip), read from a file and from
+/// standard input alike.
+#[test]
+fn stats_bounds_are_the_tips_where_tool_lengths_are_folded_in() {
+    let dir = scratch("stats_tip");
+    let program = "G21 G90 G17\nG10 L1 P1 R3 Z50\nT1 M6\nG43 H1\nG0 X0 Y0 Z5\n\
+                   G1 Z-5 F300\nG1 X10\nG49\nM30\n";
+    std::fs::write(dir.join("p.nc"), program).unwrap();
+    let from_file = ger(&["stats", "p.nc", "--json"], &dir);
+    assert_success(&from_file);
+    let from_stdin = ger_with_stdin(&["stats", "-", "--json"], &dir, program);
+    assert_success(&from_stdin);
+    for r in [from_file, from_stdin] {
+        let out = String::from_utf8(r.stdout).unwrap();
+        assert!(
+            out.contains("\"bounds\":[[0.0,0.0,-5.0],[10.0,0.0,5.0]]"),
+            "{out}"
+        );
+    }
     let _ = std::fs::remove_dir_all(&dir);
 }
 

@@ -186,6 +186,12 @@ impl<'fs> Session<'fs> {
         &self.options
     }
 
+    /// Lower the path of the tool's tip (`LowerOptions::tip_path`), or the
+    /// machine's controlled point.
+    pub fn set_tip_path(&mut self, tip: bool) {
+        self.options.lower.tip_path = tip;
+    }
+
     /// Load `program` and everything it needs.
     pub fn load(&self, program: Program<'_>) -> Result<Job, LoadError> {
         match program {

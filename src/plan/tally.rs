@@ -35,6 +35,8 @@ pub struct Tally<'l> {
     run_box: Option<(usize, usize, [[f64; 3]; 2])>,
     /// Lines on the machine's steps (grbl).
     line_steps: Option<chords::LineSteps>,
+    /// Tool lengths are known: the path may be the controlled point's.
+    lengths_known: bool,
 }
 
 /// Where the planned times go: the planner hands each move's time on
@@ -141,6 +143,7 @@ impl<'l> Tally<'l> {
             event_since: false,
             run_box: None,
             line_steps: limits.map(chords::LineSteps::of),
+            lengths_known: false,
         }
     }
 
@@ -155,6 +158,13 @@ impl<'l> Tally<'l> {
                 widen(&mut tool.bounds, ends);
             }
         }
+    }
+
+    /// Whether tool lengths were known, so that `G43` may have folded one
+    /// into the path: its bounds are then the controlled point's, not the
+    /// tip's ([`PathSink::tool_lengths_known`]).
+    pub fn lengths_known(&self) -> bool {
+        self.lengths_known
     }
 
     /// The figures, the planner's window emptied.
@@ -392,6 +402,10 @@ impl PathSink for Tally<'_> {
     fn heavy(&self) -> bool {
         self.limits
             .is_some_and(|l| l.controller == Controller::Grbl)
+    }
+
+    fn tool_lengths_known(&mut self) {
+        self.lengths_known = true;
     }
 
     fn restart(&mut self) {

@@ -9,7 +9,7 @@ use std::process::ExitCode;
 
 /// `ger stats INPUT [--json]`.
 pub fn print_stats(input: &str, options: &Options, json: bool) -> ExitCode {
-    let (session, machine) = match session_and_machine(input, options, None) {
+    let (mut session, machine) = match session_and_machine(input, options, None) {
         Ok(loaded) => loaded,
         Err(code) => return code,
     };
@@ -30,7 +30,8 @@ pub fn print_stats(input: &str, options: &Options, json: bool) -> ExitCode {
     // a time as a compile reads it: neither the path nor the text is held.
     let mut tally = Tally::new(limits.as_ref(), false);
     let finished = session.feed_tool_path(program, &mut tally);
-    let figures = tally.finish();
+    let lengths_known = tally.lengths_known();
+    let mut figures = tally.finish();
     let finished = match finished {
         Ok(finished) => finished,
         Err(e) => return load_failed(e),
@@ -46,6 +47,21 @@ pub fn print_stats(input: &str, options: &Options, json: bool) -> ExitCode {
     eprint!("{}", render(&finished.job.sources, diagnostics));
     if diagnostics.iter().any(ger::diagnostic::is_error) {
         return ExitCode::from(1);
+    }
+    if lengths_known {
+        let mut job = finished.job;
+        tip_bounds(&mut figures, |tips| match input {
+            // Standard input is read once: the job holds it whole.
+            "-" => {
+                job.options.lower.tip_path = true;
+                job.feed_tool_path(tips);
+            }
+            path => {
+                session.set_tip_path(true);
+                let path = ger::driver::Program::Path(std::path::Path::new(path));
+                let _ = session.feed_tool_path(path, tips);
+            }
+        });
     }
     let controller = machine.map(|m| match m.controller {
         ger::driver::machine::Controller::Grbl => "grbl",
@@ -70,6 +86,28 @@ pub fn print_stats(input: &str, options: &Options, json: bool) -> ExitCode {
         print!("{}", table(&figures, controller));
     }
     ExitCode::SUCCESS
+}
+
+/// The tools' and operations' bounds where the tip cuts: with tool
+/// lengths known, `G43` folds them into the moves (the machine's
+/// controlled point, which the times are of), so the tip's path is made
+/// again by `feed` for its bounds alone (length / feed, no planner).
+fn tip_bounds(figures: &mut Figures, feed: impl FnOnce(&mut Tally<'_>)) {
+    let mut tips = Tally::new(None, false);
+    feed(&mut tips);
+    let tips = tips.finish();
+    let same = |a: &Figures| {
+        a.tools.len() == figures.tools.len() && a.operations.len() == figures.operations.len()
+    };
+    if !same(&tips) {
+        return;
+    }
+    for (tool, tip) in figures.tools.iter_mut().zip(tips.tools) {
+        tool.bounds = tip.bounds;
+    }
+    for (op, tip) in figures.operations.iter_mut().zip(tips.operations) {
+        op.bounds = tip.bounds;
+    }
 }
 
 /// The figures as a person reads them.
