@@ -623,7 +623,13 @@ impl Builder {
         // position stays in registers for the move made of it (written
         // a word at a time and read back whole, it waited for its stores).
         let mut at = self.position;
+        // Most programs move X, Y and Z only: the others looked at only
+        // where the move writes one of them.
+        let beyond_xyz = to.bits() >> 3 != 0;
         for (i, axis) in Axis::ALL.into_iter().enumerate() {
+            if i == 3 && !beyond_xyz {
+                break;
+            }
             let Some(v) = to.get(axis) else {
                 continue;
             };
