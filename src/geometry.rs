@@ -129,6 +129,16 @@ pub fn sweep_between(a0: f64, a1: f64, clockwise: bool, turns: u32) -> f64 {
     }
 }
 
+/// √(x² + y²) without overflow (`f64::hypot`), and without libm's call
+/// where `y` is 0 (a planar arc's rise), whose result it is exactly.
+#[inline(always)]
+pub fn hypot((x, y): (f64, f64)) -> f64 {
+    match y == 0.0 {
+        true => x.abs(),
+        false => x.hypot(y),
+    }
+}
+
 /// The four directions from an arc's centre along the axes of its plane:
 /// each one's angle and unit vector.
 const AXIS_DIRECTIONS: [(f64, [f64; 2]); 4] = [

@@ -290,7 +290,7 @@ impl Along {
 /// An arc's length: `sweep` radians at `radius` in the plane, `rise`
 /// along its normal.
 fn arc_length(radius: f64, sweep: f64, rise: f64) -> f64 {
-    (radius * sweep).hypot(rise)
+    geometry::hypot((radius * sweep, rise))
 }
 
 pub fn distance(a: Point, b: Point) -> f64 {

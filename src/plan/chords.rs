@@ -383,7 +383,7 @@ fn bounded_run(
     let theta = sweep / turns;
     let rise = m.end[l] - m.start[l];
     let half_sin = (0.5 * theta).sin();
-    let chord = (2.0 * r0 * half_sin).hypot(rise / turns);
+    let chord = crate::geometry::hypot((2.0 * r0 * half_sin, rise / turns));
     let step = |i: usize| limits.steps_per_mm[i].map_or(0.0, |s| (0.5 / s).powi(2));
     let half_step = (step(p) + step(q) + if rise != 0.0 { step(l) } else { 0.0 }).sqrt();
     // Single precision: the centre and a point (a unit in the last place
