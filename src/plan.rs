@@ -822,6 +822,42 @@ mod tests {
     }
 
     #[test]
+    fn linuxcnc_holds_a_helix_to_its_normal_axis() {
+        // One turn of r = 10 rising 50 mm at 50 mm/s, Z at 1 mm/s and
+        // 100 mm/s² (X and Y 200 mm/s, 1000 mm/s²): the path is L =
+        // hypot(20π, 50) = 80.30 mm, Z's share 50 / L, so v = 1 · L / 50
+        // = 1.606 mm/s and a = min(1000 · L / 20π, 100 · L / 50) = 2 L =
+        // 160.6 mm/s²; v² / r = 0.258 leaves the tangential acceleration
+        // a · √(1 − (v² / r / a)²). From rest to rest: 50 s, as Z alone.
+        let mut limits = linuxcnc();
+        (limits.max_rate[2], limits.max_accel[2]) = (1.0, 100.0);
+        let helix = Move {
+            kind: MoveKind::Arc(crate::toolpath::ArcPath {
+                center: [0.0; 3],
+                plane: crate::ir::Plane::XY,
+                clockwise: true,
+                turns: 1,
+            }),
+            ..path(&[[10.0, 0.0, 0.0], [10.0, 0.0, -50.0]], 3000.0).moves[0]
+        };
+        let moves = vec![helix];
+        let t = plan(
+            &ToolPath {
+                moves,
+                ..ToolPath::default()
+            },
+            Some(&limits),
+        );
+        let length = (20.0 * std::f64::consts::PI).hypot(50.0);
+        let (v, a) = (length / 50.0, 2.0 * length);
+        let tangential = a * (1.0 - (v * v / 10.0 / a).powi(2)).sqrt();
+        let expected = length / v + v / tangential;
+        assert!((expected - 50.01).abs() < 1e-4, "{expected}");
+        let t = t.time_s.unwrap();
+        assert!((t - expected).abs() < 1e-9, "{t} vs {expected}");
+    }
+
+    #[test]
     fn operations_run_from_tool_change_to_tool_change() {
         // Tool 1 cuts 100 mm, dwells 2 s; tool 2 (changed at line 7) cuts
         // 50 mm: two operations, each with its own time and bounds.

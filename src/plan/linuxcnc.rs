@@ -1,9 +1,11 @@
 //! LinuxCNC's trajectory planner as `ger stats` models it (learnt from
 //! `src/emc/tp/` of LinuxCNC: `tc.c`, `blendmath.c`). Each move is one
 //! segment: a line at its feed within each axis's velocity and
-//! acceleration; an arc whole, held to the speed at which its normal
-//! acceleration stays within `BLEND_ACC_RATIO_NORMAL` of the plane's
-//! acceleration, its tangential acceleration the rest. Where one segment
+//! acceleration; an arc whole, each of its plane's axes and (a helix)
+//! its normal axis held to its limits over its share of the path, and
+//! held to the speed at which its normal acceleration stays within
+//! `BLEND_ACC_RATIO_NORMAL` of that acceleration, its tangential
+//! acceleration the rest. Where one segment
 //! meets the next: under G61.1 a stop; under G61 a stop unless they are
 //! tangent; under G64 the speed of the circular blend LinuxCNC puts in
 //! the corner, as large as the tolerance (P, else the profile's, else a
@@ -11,7 +13,9 @@
 //!
 //! Left out (README, "What the model covers"): the blend arc's shortening
 //! of the path (the corner is taken at the blend's speed, over the
-//! programmed length), LinuxCNC's merging of short collinear moves (G64
+//! programmed length), the larger radius of curvature LinuxCNC takes for
+//! a helix (`pmCircleEffectiveMinRadius`: ger keeps the circle's, the
+//! slower), LinuxCNC's merging of short collinear moves (G64
 //! Q), the S-curve planner, the exact path LinuxCNC keeps inside canned
 //! cycles (ger's output has their moves, not the cycle).
 //!
@@ -63,9 +67,10 @@ fn arc_block(m: &Move, (along, length): (&Along, f64), limits: &Limits) -> Optio
     if length <= 0.0 {
         return None;
     }
-    let (p, q, _) = a.plane.axes();
-    let a_max = limits.max_accel[p].min(limits.max_accel[q]);
-    let v_axes = limits.max_rate[p].min(limits.max_rate[q]);
+    let (p, q, n) = a.plane.axes();
+    let shares = helix_shares(length, m.end[n] - m.start[n]);
+    let a_max = over_shares(limits.max_accel, (p, q, n), shares);
+    let v_axes = over_shares(limits.max_rate, (p, q, n), shares);
     let v_cutoff = (acc_ratio_normal() * a_max * radius).sqrt();
     let feed = (m.state.feed_rate() / 60.0).min(v_axes);
     let (nominal, ratio) = match feed * feed / radius.max(1e-12) > acc_ratio_normal() * a_max {
@@ -86,6 +91,40 @@ fn arc_block(m: &Move, (along, length): (&Along, f64), limits: &Limits) -> Optio
         control: m.state.path_control,
         source: 0,
     })
+}
+
+/// The shares of a helix `length` long that lie in its plane and along
+/// its normal axis, whose ends differ by `rise` (an arc in its plane:
+/// all in the plane).
+fn helix_shares(length: f64, rise: f64) -> (f64, f64) {
+    match rise == 0.0 {
+        true => (1.0, 0.0),
+        false => (
+            (length * length - rise * rise).max(0.0).sqrt() / length,
+            rise.abs() / length,
+        ),
+    }
+}
+
+/// The largest path speed or acceleration of a helix whose limits per
+/// axis are `limits`: the slower of the plane's two axes over the
+/// plane's share of the path, and the normal axis over its share. As
+/// LinuxCNC's canon (`ARC_FEED` in `emccanon.cc`) limits a helix: the
+/// time the circle needs at the plane's axes' limits and the time the
+/// rise needs at the normal axis's, whichever is longer, over the whole
+/// length, for the maximum velocity, and the same with accelerations
+/// for the maximum acceleration the planner then splits between normal
+/// and tangential.
+fn over_shares(
+    limits: [f64; 3],
+    (p, q, n): (usize, usize, usize),
+    (plane, normal): (f64, f64),
+) -> f64 {
+    let in_plane = limits[p].min(limits[q]) / plane;
+    match normal > 0.0 {
+        true => in_plane.min(limits[n] / normal),
+        false => in_plane,
+    }
 }
 
 /// The largest speed squared from `a` into `b`: the path control in force
