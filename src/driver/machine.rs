@@ -134,14 +134,8 @@ impl MachineTable {
         for (axis, table) in axes.iter_mut().zip([&self.x, &self.y, &self.z]) {
             let Some(table) = table else { continue };
             axis.travel = travel(table, scale, at, &mut wrong);
-            let steps = table.steps_per_mm.as_ref();
-            if let Some(s) = steps.filter(|_| self.controller == Controller::LinuxCnc) {
-                let span = at.span(s.span().start, s.span().end);
-                let message = "ger.toml: `steps-per-mm` is grbl's ($100-$102); \
-                               LinuxCNC's planner is not planned in steps";
-                wrong.push(crate::diagnostic::error(message, span, "here"));
-            }
         }
+        self.other_controllers_keys(at, &mut wrong);
         let planner_blocks = self.planner_blocks.as_ref().map(|b| *b.get_ref());
         let blocks_out = |b: &&Spanned<u32>| !(1..=MAX_PLANNER_BLOCKS).contains(b.get_ref());
         if let Some(b) = self.planner_blocks.as_ref().filter(blocks_out) {
@@ -164,6 +158,46 @@ impl MachineTable {
             tool_change_s,
             spindle_start_s,
         })
+    }
+}
+
+impl MachineTable {
+    /// Each key of the controller the table does not name, an error at
+    /// its line: its planner would ignore it (or, read as its own
+    /// controller's nearest setting, misreport).
+    fn other_controllers_keys(&self, at: &Locator, wrong: &mut Vec<Diagnostic>) {
+        let mut grbl_only = vec![
+            (
+                &self.junction_deviation,
+                "`junction-deviation` is grbl's ($11); LinuxCNC's corners take \
+                 `path-tolerance` (G64 P)",
+            ),
+            (
+                &self.arc_tolerance,
+                "`arc-tolerance` is grbl's ($12); LinuxCNC plans an arc whole",
+            ),
+        ];
+        for table in [&self.x, &self.y, &self.z].into_iter().flatten() {
+            let steps = "`steps-per-mm` is grbl's ($100-$102); LinuxCNC's planner \
+                         is not planned in steps";
+            grbl_only.push((&table.steps_per_mm, steps));
+        }
+        let linuxcnc_only = vec![(
+            &self.path_tolerance,
+            "`path-tolerance` is LinuxCNC's (G64 P); grbl's corners take \
+             `junction-deviation` ($11)",
+        )];
+        let foreign = match self.controller {
+            Controller::Grbl => linuxcnc_only,
+            Controller::LinuxCnc => grbl_only,
+        };
+        for (value, message) in foreign {
+            if let Some(v) = value {
+                let span = at.span(v.span().start, v.span().end);
+                let message = format!("ger.toml: {message}");
+                wrong.push(crate::diagnostic::error(message, span, "here"));
+            }
+        }
     }
 }
 
@@ -431,5 +465,21 @@ mod tests {
         let linuxcnc =
             format!("{base}[machine.x]\nsteps-per-mm = 80\n").replace("grbl", "linuxcnc");
         assert!(machine(&linuxcnc).is_err());
+    }
+
+    #[test]
+    fn a_key_of_the_other_controller_is_refused() {
+        let grbl = "[machine]\ncontroller = \"grbl\"\nunits = \"mm\"\n";
+        let linuxcnc = grbl.replace("grbl", "linuxcnc");
+        for key in ["junction-deviation = 5", "arc-tolerance = 0.1"] {
+            assert!(machine(&format!("{grbl}{key}\n")).is_ok(), "{key}");
+            assert!(machine(&format!("{linuxcnc}{key}\n")).is_err(), "{key}");
+        }
+        assert!(machine(&format!("{linuxcnc}path-tolerance = 5\n")).is_ok());
+        assert!(machine(&format!("{grbl}path-tolerance = 5\n")).is_err());
+        // The look-ahead's depth is both planners'.
+        for base in [grbl, &linuxcnc] {
+            assert!(machine(&format!("{base}planner-blocks = 16\n")).is_ok());
+        }
     }
 }

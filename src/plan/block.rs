@@ -76,7 +76,6 @@ impl Limits {
             rapid_rate: machine.rapid_rate.map(|r| r / 60.0),
             junction_deviation: machine
                 .junction_deviation
-                .or(machine.path_tolerance)
                 .unwrap_or(DEFAULT_JUNCTION_DEVIATION),
             path_tolerance: machine.path_tolerance.unwrap_or(0.0),
             arc_tolerance: machine.arc_tolerance.unwrap_or(DEFAULT_ARC_TOLERANCE),
