@@ -511,6 +511,8 @@ mod tests {
             max_rate: [200.0; 3],
             max_accel: [1000.0; 3],
             rapid_rate: None,
+            max_path_rate: f64::INFINITY,
+            max_path_accel: f64::INFINITY,
             junction_deviation: 0.01,
             path_tolerance: 0.0,
             arc_tolerance: 0.002,
@@ -661,6 +663,8 @@ mod tests {
             controller: Controller::Grbl,
             axes: [axis; 3],
             rapid_rate: None,
+            max_velocity: None,
+            max_acceleration: None,
             junction_deviation: None,
             path_tolerance: None,
             arc_tolerance: None,
@@ -854,6 +858,56 @@ mod tests {
         let expected = length / v + v / tangential;
         assert!((expected - 50.01).abs() < 1e-4, "{expected}");
         let t = t.time_s.unwrap();
+        assert!((t - expected).abs() < 1e-9, "{t} vs {expected}");
+    }
+
+    #[test]
+    fn linuxcnc_holds_every_move_to_the_paths_limits() {
+        // [TRAJ] 20 mm/s and 100 mm/s² under axes of 50 mm/s and 500
+        // mm/s²: a 300 mm rapid is 300 / 20 + 20 / 100 = 15.2 s, and so
+        // is the line at F6000; a full circle of r 10 (length 20π) at
+        // 20 mm/s, its normal acceleration 40 of 100 · 0.866 allowed, its
+        // tangential 100 · √(1 − 0.4²).
+        let limits = Limits {
+            max_rate: [50.0; 3],
+            max_accel: [500.0; 3],
+            max_path_rate: 20.0,
+            max_path_accel: 100.0,
+            ..linuxcnc()
+        };
+        for kind in [MoveKind::Rapid, MoveKind::Feed] {
+            let rapid = feed_move(kind, [0.0; 3], [300.0, 0.0, 0.0], 6000.0);
+            let moves = vec![rapid];
+            let t = plan(
+                &ToolPath {
+                    moves,
+                    ..ToolPath::default()
+                },
+                Some(&limits),
+            );
+            let t = t.time_s.unwrap();
+            assert!((t - 15.2).abs() < 1e-9, "{kind:?}: {t}");
+        }
+        let circle = Move {
+            kind: MoveKind::Arc(crate::toolpath::ArcPath {
+                center: [0.0; 3],
+                plane: crate::ir::Plane::XY,
+                clockwise: false,
+                turns: 1,
+            }),
+            ..path(&[[10.0, 0.0, 0.0], [10.0, 0.0, 0.0]], 6000.0).moves[0]
+        };
+        let moves = vec![circle];
+        let t = plan(
+            &ToolPath {
+                moves,
+                ..ToolPath::default()
+            },
+            Some(&limits),
+        );
+        let t = t.time_s.unwrap();
+        let tangential = 100.0 * (1.0 - 0.4_f64.powi(2)).sqrt();
+        let expected = 20.0 * std::f64::consts::PI / 20.0 + 20.0 / tangential;
         assert!((t - expected).abs() < 1e-9, "{t} vs {expected}");
     }
 

@@ -321,6 +321,8 @@ mod tests {
             max_rate: [100.0; 3],
             max_accel: [10.0; 3],
             rapid_rate: None,
+            max_path_rate: f64::INFINITY,
+            max_path_accel: f64::INFINITY,
             junction_deviation: 0.01,
             path_tolerance: 0.0,
             arc_tolerance: 0.002,

@@ -263,6 +263,8 @@ fn a_tool_path_fed_from_the_file_in_parts_is_the_whole_programs() {
         max_rate: [50.0; 3],
         max_accel: [200.0; 3],
         rapid_rate: None,
+        max_path_rate: f64::INFINITY,
+        max_path_accel: f64::INFINITY,
         junction_deviation: 0.01,
         path_tolerance: 0.0,
         arc_tolerance: 0.002,

@@ -47,6 +47,10 @@ pub struct MachineTable {
     y: Option<AxisTable>,
     z: Option<AxisTable>,
     rapid_rate: Option<Spanned<f64>>,
+    /// LinuxCNC's path limits (`[TRAJ] MAX_LINEAR_VELOCITY`, units/min,
+    /// and `MAX_LINEAR_ACCELERATION`, units/s²).
+    max_velocity: Option<Spanned<f64>>,
+    max_acceleration: Option<Spanned<f64>>,
     junction_deviation: Option<Spanned<f64>>,
     path_tolerance: Option<Spanned<f64>>,
     arc_tolerance: Option<Spanned<f64>>,
@@ -75,6 +79,11 @@ pub struct Machine {
     pub axes: [Axis; 3],
     /// mm/min for every rapid (else each axis's maximum velocity).
     pub rapid_rate: Option<f64>,
+    /// LinuxCNC's limits on the path of every move, rapids included
+    /// (`[TRAJ] MAX_LINEAR_VELOCITY`, `MAX_LINEAR_ACCELERATION`), after
+    /// each axis's: mm/min and mm/s².
+    pub max_velocity: Option<f64>,
+    pub max_acceleration: Option<f64>,
     /// mm (grbl `$11`).
     pub junction_deviation: Option<f64>,
     /// mm (LinuxCNC's `G64 P` when the program gives none).
@@ -119,6 +128,8 @@ impl MachineTable {
             None
         };
         let rapid_rate = positive(&self.rapid_rate, "rapid-rate", scale);
+        let max_velocity = positive(&self.max_velocity, "max-velocity", scale);
+        let max_acceleration = positive(&self.max_acceleration, "max-acceleration", scale);
         let junction_deviation = positive(&self.junction_deviation, "junction-deviation", scale);
         let path_tolerance = positive(&self.path_tolerance, "path-tolerance", scale);
         let arc_tolerance = positive(&self.arc_tolerance, "arc-tolerance", scale);
@@ -151,6 +162,8 @@ impl MachineTable {
             controller: self.controller,
             axes,
             rapid_rate,
+            max_velocity,
+            max_acceleration,
             junction_deviation,
             path_tolerance,
             arc_tolerance,
@@ -182,11 +195,23 @@ impl MachineTable {
                          is not planned in steps";
             grbl_only.push((&table.steps_per_mm, steps));
         }
-        let linuxcnc_only = vec![(
-            &self.path_tolerance,
-            "`path-tolerance` is LinuxCNC's (G64 P); grbl's corners take \
-             `junction-deviation` ($11)",
-        )];
+        let linuxcnc_only = vec![
+            (
+                &self.path_tolerance,
+                "`path-tolerance` is LinuxCNC's (G64 P); grbl's corners take \
+                 `junction-deviation` ($11)",
+            ),
+            (
+                &self.max_velocity,
+                "`max-velocity` of the path is LinuxCNC's ([TRAJ]); grbl has \
+                 only each axis's ([machine.x] and so on)",
+            ),
+            (
+                &self.max_acceleration,
+                "`max-acceleration` of the path is LinuxCNC's ([TRAJ]); grbl \
+                 has only each axis's ([machine.x] and so on)",
+            ),
+        ];
         let foreign = match self.controller {
             Controller::Grbl => linuxcnc_only,
             Controller::LinuxCnc => grbl_only,
@@ -299,7 +324,10 @@ fn import_grbl(text: &str) -> Result<String, String> {
     }
 }
 
-/// A LinuxCNC INI: `[TRAJ]`'s `LINEAR_UNITS`, and per axis `[AXIS_X]` (or
+/// A LinuxCNC INI: `[TRAJ]`'s `LINEAR_UNITS`, its path limits
+/// `MAX_LINEAR_VELOCITY` and `MAX_LINEAR_ACCELERATION` (before 2.8
+/// `MAX_VELOCITY`, `MAX_ACCELERATION`: LinuxCNC reads the old names
+/// where the new are absent), and per axis `[AXIS_X]` (or
 /// the joint of that axis) `MAX_VELOCITY` (units/s, written per minute),
 /// `MAX_ACCELERATION`, `MIN_LIMIT`, `MAX_LIMIT`.
 fn import_linuxcnc(text: &str) -> Result<String, String> {
@@ -311,6 +339,16 @@ fn import_linuxcnc(text: &str) -> Result<String, String> {
         None => return Err("no LINEAR_UNITS in [TRAJ]".into()),
     };
     let mut out = format!("[machine]\ncontroller = \"linuxcnc\"\nunits = \"{units}\"\n");
+    let traj = |new: &str, old: &str| -> Option<f64> {
+        let value = ini.get("TRAJ", new).or_else(|| ini.get("TRAJ", old));
+        value.and_then(|v| v.parse().ok())
+    };
+    if let Some(v) = traj("MAX_LINEAR_VELOCITY", "MAX_VELOCITY") {
+        let _ = writeln!(out, "max-velocity = {}", number(v * 60.0));
+    }
+    if let Some(v) = traj("MAX_LINEAR_ACCELERATION", "MAX_ACCELERATION") {
+        let _ = writeln!(out, "max-acceleration = {}", number(v));
+    }
     let coordinates: Vec<char> = ini
         .get("TRAJ", "COORDINATES")
         .unwrap_or("XYZ")
@@ -441,6 +479,28 @@ mod tests {
         assert!((m.axes[2].max_velocity.unwrap() - 60.0 * 25.4).abs() < 1e-9);
         assert_eq!(m.axes[0].travel, Some((-0.001 * 25.4, 12.0 * 25.4)));
         assert_eq!(m.axes[1], Axis::default());
+        assert_eq!((m.max_velocity, m.max_acceleration), (None, None));
+    }
+
+    #[test]
+    fn a_linuxcnc_ini_imports_its_path_limits() {
+        let axes = "\n[AXIS_X]\nMAX_VELOCITY = 50\nMAX_ACCELERATION = 500\n";
+        let ini = format!(
+            "[TRAJ]\nLINEAR_UNITS = mm\nMAX_LINEAR_VELOCITY = 20\n\
+             MAX_LINEAR_ACCELERATION = 100\nMAX_VELOCITY = 99\n{axes}"
+        );
+        let m = machine(&import(&ini, ImportFormat::LinuxCncIni).unwrap()).unwrap();
+        assert_eq!(
+            (m.max_velocity, m.max_acceleration),
+            (Some(1200.0), Some(100.0))
+        );
+        assert_eq!(m.axes[0].max_velocity, Some(3000.0));
+        // An older INI's names; inches as the axes' are.
+        let old =
+            format!("[TRAJ]\nLINEAR_UNITS = inch\nMAX_VELOCITY = 1\nMAX_ACCELERATION = 10\n{axes}");
+        let m = machine(&import(&old, ImportFormat::LinuxCncIni).unwrap()).unwrap();
+        assert!((m.max_velocity.unwrap() - 60.0 * 25.4).abs() < 1e-9);
+        assert!((m.max_acceleration.unwrap() - 254.0).abs() < 1e-9);
     }
 
     #[test]
@@ -477,6 +537,10 @@ mod tests {
         }
         assert!(machine(&format!("{linuxcnc}path-tolerance = 5\n")).is_ok());
         assert!(machine(&format!("{grbl}path-tolerance = 5\n")).is_err());
+        for key in ["max-velocity = 1200", "max-acceleration = 100"] {
+            assert!(machine(&format!("{linuxcnc}{key}\n")).is_ok(), "{key}");
+            assert!(machine(&format!("{grbl}{key}\n")).is_err(), "{key}");
+        }
         // The look-ahead's depth is both planners'.
         for base in [grbl, &linuxcnc] {
             assert!(machine(&format!("{base}planner-blocks = 16\n")).is_ok());

@@ -24,8 +24,13 @@ pub struct Limits {
     pub max_rate: [f64; 3],
     /// Per axis, mm/s².
     pub max_accel: [f64; 3],
-    /// mm/s for rapids, else each axis's maximum.
+    /// mm/s for rapids, else each axis's maximum (LinuxCNC: at most
+    /// its path's `max_path_rate`).
     pub rapid_rate: Option<f64>,
+    /// LinuxCNC's limits on the path of every move after each axis's
+    /// (`[TRAJ]`), mm/s and mm/s²; infinite where none.
+    pub max_path_rate: f64,
+    pub max_path_accel: f64,
     /// grbl's junction deviation, mm.
     pub junction_deviation: f64,
     /// LinuxCNC's blend tolerance where the program's G64 gives no P, mm
@@ -73,7 +78,9 @@ impl Limits {
             controller: machine.controller,
             max_rate,
             max_accel,
-            rapid_rate: machine.rapid_rate.map(|r| r / 60.0),
+            rapid_rate: rapids_cap(machine).map(|r| r / 60.0),
+            max_path_rate: machine.max_velocity.map_or(f64::INFINITY, |v| v / 60.0),
+            max_path_accel: machine.max_acceleration.unwrap_or(f64::INFINITY),
             junction_deviation: machine
                 .junction_deviation
                 .unwrap_or(DEFAULT_JUNCTION_DEVIATION),
@@ -84,6 +91,17 @@ impl Limits {
             spindle_start_s: machine.spindle_start_s.unwrap_or(0.0),
             steps_per_mm: machine.axes.map(|a| a.steps_per_mm),
         })
+    }
+}
+
+/// The rate of every rapid, mm/min, where something other than the axes'
+/// rates limits it: the profile's `rapid-rate`, and LinuxCNC's path limit
+/// (`max-velocity`, as `[TRAJ] MAX_LINEAR_VELOCITY` caps a rapid), the
+/// lesser.
+fn rapids_cap(machine: &Machine) -> Option<f64> {
+    match (machine.rapid_rate, machine.max_velocity) {
+        (Some(r), Some(v)) => Some(r.min(v)),
+        (r, v) => r.or(v),
     }
 }
 

@@ -608,6 +608,8 @@ mod tests {
             max_rate: [80.0, 80.0, 20.0],
             max_accel: accel,
             rapid_rate: None,
+            max_path_rate: f64::INFINITY,
+            max_path_accel: f64::INFINITY,
             junction_deviation: 0.01,
             path_tolerance: 0.0,
             arc_tolerance: 0.002,

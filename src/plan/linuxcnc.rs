@@ -1,7 +1,7 @@
 //! LinuxCNC's trajectory planner as `ger stats` models it (learnt from
 //! `src/emc/tp/` of LinuxCNC: `tc.c`, `blendmath.c`). Each move is one
 //! segment: a line at its feed within each axis's velocity and
-//! acceleration; an arc whole, each of its plane's axes and (a helix)
+//! acceleration and the path's (`[TRAJ]`); an arc whole, each of its plane's axes and (a helix)
 //! its normal axis held to its limits over its share of the path, and
 //! held to the speed at which its normal acceleration stays within
 //! `BLEND_ACC_RATIO_NORMAL` of that acceleration, its tangential
@@ -53,7 +53,14 @@ pub(super) fn block(
 ) -> Option<Block> {
     let block = match m.kind {
         MoveKind::Arc(_) => arc_block(m, (along, length), limits),
-        MoveKind::Rapid | MoveKind::Feed => sized_block(m, sub(m.end, m.start), length, limits),
+        MoveKind::Rapid | MoveKind::Feed => {
+            let line = sized_block(m, sub(m.end, m.start), length, limits);
+            line.map(|b| Block {
+                nominal: b.nominal.min(limits.max_path_rate),
+                accel: b.accel.min(limits.max_path_accel),
+                ..b
+            })
+        }
     };
     block.map(|b| Block { source: index, ..b })
 }
@@ -69,8 +76,8 @@ fn arc_block(m: &Move, (along, length): (&Along, f64), limits: &Limits) -> Optio
     }
     let (p, q, n) = a.plane.axes();
     let shares = helix_shares(length, m.end[n] - m.start[n]);
-    let a_max = over_shares(limits.max_accel, (p, q, n), shares);
-    let v_axes = over_shares(limits.max_rate, (p, q, n), shares);
+    let a_max = over_shares(limits.max_accel, (p, q, n), shares).min(limits.max_path_accel);
+    let v_axes = over_shares(limits.max_rate, (p, q, n), shares).min(limits.max_path_rate);
     let v_cutoff = (acc_ratio_normal() * a_max * radius).sqrt();
     let feed = (m.state.feed_rate() / 60.0).min(v_axes);
     let (nominal, ratio) = match feed * feed / radius.max(1e-12) > acc_ratio_normal() * a_max {
@@ -169,6 +176,8 @@ fn blend_speed(a: &Block, b: &Block, cos: f64, tolerance: f64, limits: &Limits) 
     let d_tol = cos * h;
     let d_lengths = BLEND_DIST_FRACTION * a.length.min(b.length);
     let radius = sin / cos * d_tol.min(d_lengths);
-    let a_max = along(limits.max_accel, a.unit_out).min(along(limits.max_accel, b.unit_in));
+    let a_max = along(limits.max_accel, a.unit_out)
+        .min(along(limits.max_accel, b.unit_in))
+        .min(limits.max_path_accel);
     (acc_ratio_normal() * a_max * radius).sqrt()
 }
