@@ -16,9 +16,14 @@ use crate::source::{FileId, Sources};
 use crate::syntax::Language;
 use serde::Deserialize;
 use std::path::{Path, PathBuf};
+use toml::Spanned;
 
 /// The project file's name.
 pub const FILE_NAME: &str = "ger.toml";
+
+/// The most decimals the output takes (`CompileOptions::validate`'s bound:
+/// a nanometre, emit's grid within an i64).
+const MOST_DECIMALS: usize = 9;
 
 /// At most this many folders are looked through upward.
 const MOST_FOLDERS: usize = 64;
@@ -46,8 +51,11 @@ pub struct CompileTable {
     #[serde(alias = "tool_units")]
     pub tool_units: Option<UnitsKey>,
     pub arcs: Option<ArcsKey>,
-    pub tolerance: Option<f64>,
-    pub decimals: Option<usize>,
+    /// Spanned: a wrong value is an error at its line ([`checked`]).
+    ///
+    /// [`checked`]: CompileTable::checked
+    pub tolerance: Option<Spanned<f64>>,
+    pub decimals: Option<Spanned<usize>>,
     pub cycles: Option<CyclesKey>,
     pub comp: Option<CompKey>,
     #[serde(alias = "comp_entry")]
@@ -123,6 +131,19 @@ pub fn read(
     let parsed: ProjectFile = toml::from_str(sources.text(file))
         .map_err(|e| ProjectError::Invalid(vec![toml_diagnostic(sources, file, &e)]))?;
     let folder = path.parent().unwrap_or(Path::new("."));
+    let locator = sources.locator(file);
+    let mut wrong = parsed.compile.wrong_values(&locator);
+    let machine = match parsed.machine.map(|table| table.checked(&locator)) {
+        Some(Err(more)) => {
+            wrong.extend(more);
+            None
+        }
+        Some(Ok(machine)) => Some(machine),
+        None => None,
+    };
+    if !wrong.is_empty() {
+        return Err(ProjectError::Invalid(wrong));
+    }
     let mut compile = parsed.compile;
     let within = |p: &PathBuf| folder.join(p);
     compile.tool_table = compile.tool_table.as_ref().map(within);
@@ -132,14 +153,6 @@ pub fn read(
     compile.subroutines = compile
         .subroutines
         .map(|dirs| dirs.iter().map(within).collect());
-    let machine = match parsed.machine {
-        Some(table) => Some(
-            table
-                .checked(&sources.locator(file))
-                .map_err(ProjectError::Invalid)?,
-        ),
-        None => None,
-    };
     Ok(Project {
         path: path.to_path_buf(),
         compile,
@@ -192,6 +205,31 @@ fn toml_diagnostic(sources: &Sources, file: FileId, error: &toml::de::Error) -> 
 }
 
 impl CompileTable {
+    /// Each value no compile can run with, an error at its line (the
+    /// limits `CompileOptions::validate` holds the command line's flags
+    /// to, there reported by the flags' names).
+    fn wrong_values(&self, at: &crate::source::Locator) -> Vec<Diagnostic> {
+        let mut wrong = Vec::new();
+        let mut refuse = |span: std::ops::Range<usize>, message: &str| {
+            let span = at.span(span.start, span.end);
+            let message = format!("{FILE_NAME}: {message}");
+            wrong.push(crate::diagnostic::error(message, span, "here"));
+        };
+        if let Some(t) = self.tolerance.as_ref() {
+            if !(t.get_ref().is_finite() && *t.get_ref() > 0.0) {
+                refuse(t.span(), "`tolerance` must be a positive number");
+            }
+        }
+        if let Some(d) = self
+            .decimals
+            .as_ref()
+            .filter(|d| *d.get_ref() > MOST_DECIMALS)
+        {
+            refuse(d.span(), "`decimals` must be at most 9");
+        }
+        wrong
+    }
+
     /// Put the file's options into `options` and `search`, except those
     /// `given` says the command line set (`given("target")`, by the long
     /// name): a flag on the command line wins over the file.
@@ -261,11 +299,11 @@ impl CompileTable {
                 ArcsKey::FitR => ArcFormat::FitR,
             };
         }
-        if let Some(v) = self.tolerance.filter(|_| take("tolerance")) {
-            options.emit.tolerance = Some(v);
+        if let Some(v) = self.tolerance.as_ref().filter(|_| take("tolerance")) {
+            options.emit.tolerance = Some(*v.get_ref());
         }
-        if let Some(v) = self.decimals.filter(|_| take("decimals")) {
-            options.emit.decimals = Some(v);
+        if let Some(v) = self.decimals.as_ref().filter(|_| take("decimals")) {
+            options.emit.decimals = Some(*v.get_ref());
         }
         if let Some(v) = self.numbers.filter(|_| take("numbers")) {
             options.emit.numbering = match v {
@@ -337,6 +375,10 @@ mod tests {
             ("[compile]\ntarget = \"grbl\"\ntargets = \"fanuc\"\n", 3),
             ("[compile]\n\narcs = \"spline\"\n", 3),
             ("[compile]\ndecimals = -2\n", 2),
+            ("[compile]\ntarget = \"grbl\"\ndecimals = 12\n", 3),
+            ("[compile]\n\ntolerance = -1\n", 3),
+            ("[compile]\ntolerance = 0.0\n", 2),
+            ("[compile]\ntolerance = nan\n", 2),
             (
                 "[machine]\ncontroller = \"grbl\"\nunits = \"mm\"\nrapid-rate = 0\n",
                 4,
