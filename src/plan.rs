@@ -1140,6 +1140,13 @@ mod tests {
         for m in &mut p.moves[1..] {
             m.state.flood = true;
         }
+        p.events.push(crate::toolpath::Event {
+            kind: EventKind::Sync {
+                spindle_start: false,
+            },
+            after_move: 1,
+            span: crate::source::Span::new(0, 2, 0, 0),
+        });
         for limits in [limits(), linuxcnc()] {
             let t = plan(&p, Some(&limits)).time_s.unwrap();
             assert!((t - 0.7).abs() < 1e-12, "{:?}: {t}", limits.controller);
