@@ -978,6 +978,54 @@ fn moves_past_the_machine_travel_are_errors_where_the_offset_is_known() {
     let _ = std::fs::remove_dir_all(&dir);
 }
 
+/// A travel of X and Y only (−300 … 0 mm each), in `ger.toml` of `dir`.
+fn travel_xy(dir: &Path) {
+    std::fs::write(
+        dir.join("ger.toml"),
+        "[machine]\ncontroller = \"grbl\"\nunits = \"mm\"\n\
+         [machine.x]\nmin = -300\nmax = 0\n[machine.y]\nmin = -300\nmax = 0\n\
+         [machine.z]\nmin = -100\nmax = 0\n",
+    )
+    .unwrap();
+}
+
+/// An arc's bulge counts when only its plane's axes are known: a laser's
+/// program that never sets Z. Its circle about (100, 0) spans X 0 … 200,
+/// Y −100 … 100; with G54 at X−150 Y−150 it passes X's maximum by 250 and
+/// both ends of Y by 50.
+#[test]
+fn an_arcs_bulge_is_checked_without_a_z() {
+    let dir = scratch("travel_no_z");
+    travel_xy(&dir);
+    let laser = "G21 G90 G17\nG0 X0 Y0\nM4 S1000\nG2 X0 Y0 I100 J0 F1000\nM5\nM30\n";
+    std::fs::write(dir.join("laser.nc"), laser).unwrap();
+    let r = ger(&["check", "laser.nc"], &dir);
+    assert_success(&r);
+    let warned = String::from_utf8_lossy(&r.stderr);
+    assert!(
+        warned.contains("X -300.000 … -200.000, Y -200.000 … -100.000 mm"),
+        "{warned}"
+    );
+    let known = "G21 G90 G17\nG10 L2 P1 X-150 Y-150 Z-50\nG54\nG0 X0 Y0\n\
+                 G2 X0 Y0 I200 J0 F100\nM30\n";
+    std::fs::write(dir.join("known.nc"), known).unwrap();
+    let r = ger(&["check", "known.nc"], &dir);
+    assert_eq!(r.status.code(), Some(1));
+    let stderr = String::from_utf8_lossy(&r.stderr);
+    assert!(
+        stderr.contains("error: X leaves the machine's travel by 250.000 mm"),
+        "{stderr}"
+    );
+    assert_eq!(
+        stderr
+            .matches("error: Y leaves the machine's travel by 50.000 mm")
+            .count(),
+        2,
+        "{stderr}"
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
 /// Every list in `--help` is complete (issue 48): the stages, targets and
 /// standard wizards the help names are the library's registries.
 #[test]

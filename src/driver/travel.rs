@@ -77,11 +77,11 @@ impl TravelCheck {
                     self.position[axis.index()] = Some(v);
                 }
                 self.at(self.position, stmt.span);
-                if let (Some(arc), [Some(x), Some(y), Some(z)]) = (&m.arc, start) {
+                if let Some(arc) = &m.arc {
                     if let ArcGeometry::Center(c) = arc.geometry {
                         let clockwise = m.motion == crate::ir::Motion::ArcCw;
-                        for p in self.bulge([x, y, z], c, clockwise, arc.turns) {
-                            self.at(p.map(Some), stmt.span);
+                        for p in self.bulge(start, c, clockwise, arc.turns) {
+                            self.at(p, stmt.span);
                         }
                     }
                 }
@@ -134,36 +134,36 @@ impl TravelCheck {
         }
     }
 
-    /// The points where an arc from `start` about `start + center` is
-    /// furthest along an axis of its plane, within its sweep.
+    /// The points where an arc from `start` about `start + center` to
+    /// the position is furthest along an axis of its plane, within its
+    /// sweep. It needs only its plane's two axes known at both ends (a
+    /// laser's program may never set Z); an axis not known stays out of
+    /// the points, as it does for a line.
     fn bulge(
         &self,
-        start: [f64; 3],
+        start: [Option<f64>; 3],
         center: [Option<f64>; 3],
         clockwise: bool,
         turns: u32,
-    ) -> Vec<[f64; 3]> {
+    ) -> Vec<[Option<f64>; 3]> {
         let (p, q, _) = self.plane.axes();
-        let mut c = start;
-        for i in 0..3 {
-            c[i] += center[i].unwrap_or(0.0);
-        }
-        let Some(end) = self.position.iter().copied().collect::<Option<Vec<f64>>>() else {
+        let end = self.position;
+        let (Some(sp), Some(sq), Some(ep), Some(eq)) = (start[p], start[q], end[p], end[q]) else {
             return Vec::new();
         };
-        let end = [end[0], end[1], end[2]];
-        let sweep = geometry::sweep(start, end, c, self.plane, clockwise, turns);
-        let r0 = (start[p] - c[p]).hypot(start[q] - c[q]);
-        let r1 = (end[p] - c[p]).hypot(end[q] - c[q]);
-        let a0 = (start[q] - c[q]).atan2(start[p] - c[p]);
+        let (cp, cq) = (sp + center[p].unwrap_or(0.0), sq + center[q].unwrap_or(0.0));
+        let a0 = (sq - cq).atan2(sp - cp);
+        let sweep = geometry::sweep_between(a0, (eq - cq).atan2(ep - cp), clockwise, turns);
+        let r0 = (sp - cp).hypot(sq - cq);
+        let r1 = (ep - cp).hypot(eq - cq);
         // At the radius it has there: a spiral's goes from the start's to
         // the end's as it turns.
         let mut points = Vec::new();
         geometry::axis_shares(a0, sweep, |t, [u, v]| {
             let r = r0 + (r1 - r0) * t;
             let mut point = start;
-            point[p] = c[p] + r * u;
-            point[q] = c[q] + r * v;
+            point[p] = Some(cp + r * u);
+            point[q] = Some(cq + r * v);
             points.push(point);
         });
         points
