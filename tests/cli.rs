@@ -1026,6 +1026,38 @@ fn an_arcs_bulge_is_checked_without_a_z() {
     let _ = std::fs::remove_dir_all(&dir);
 }
 
+/// G28/G30 go to their intermediate point first, a move like any other:
+/// with G54's Z at −50, `G28 Z80` passes Z's maximum (0) by 30 mm, and so
+/// does `G91 G28 Z80` from Z0. The home itself is the machine's.
+#[test]
+fn a_homes_intermediate_point_is_checked_against_the_travel() {
+    let dir = scratch("travel_home");
+    travel_xy(&dir);
+    let start = "G21 G90 G17\nG10 L2 P1 X-150 Y-150 Z-50\nG54\nG0 X0 Y0 Z0\n";
+    for (name, home) in [
+        ("g28", "G28 Z80"),
+        ("g91", "G91 G28 Z80\nG90"),
+        ("g30", "G30 Z80"),
+    ] {
+        let program = format!("{start}{home}\nM30\n");
+        std::fs::write(dir.join(format!("{name}.nc")), program).unwrap();
+        let r = ger(&["check", &format!("{name}.nc")], &dir);
+        assert_eq!(r.status.code(), Some(1), "{name}");
+        let stderr = String::from_utf8_lossy(&r.stderr);
+        assert!(
+            stderr.contains("error: Z leaves the machine's travel by 30.000 mm")
+                && stderr.contains("5 │ G"),
+            "{stderr}"
+        );
+    }
+    let inside = format!("{start}G28 Z20\nM30\n");
+    std::fs::write(dir.join("inside.nc"), inside).unwrap();
+    let r = ger(&["check", "inside.nc"], &dir);
+    let stderr = String::from_utf8_lossy(&r.stderr);
+    assert!(!stderr.contains("travel"), "{stderr}");
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
 /// Every list in `--help` is complete (issue 48): the stages, targets and
 /// standard wizards the help names are the library's registries.
 #[test]

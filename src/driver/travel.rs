@@ -5,14 +5,15 @@
 //! an error at its line naming the axis and by how much; where it is not
 //! (G54's origin is the machine's, set at the machine), one warning says
 //! where that origin must lie for the program to fit. Arcs count with
-//! their bulge, not only their ends.
+//! their bulge, not only their ends; G28/G30 with their intermediate
+//! point.
 //!
 //! Architecture Invariant: reads lowered IR statements (absolute, one
 //! unit, G54's frame) and the travel; prints nothing, touches no file.
 
 use crate::diagnostic::{error, warning, Diagnostic};
 use crate::geometry;
-use crate::ir::{ArcGeometry, Axis, Op, Plane, Stmt, Units};
+use crate::ir::{ArcGeometry, Axes, Axis, Op, Plane, Stmt, Units};
 use crate::source::Span;
 
 /// Each of X, Y, Z's travel in machine coordinates, mm: `(min, max)`.
@@ -99,6 +100,9 @@ impl TravelCheck {
                     self.check(axis.index(), v * k, stmt.span);
                 }
             }
+            Op::Home {
+                via, incremental, ..
+            } => self.via(via, *incremental, stmt.span),
             Op::Units(u) => self.to_mm = u.factor(Units::Mm),
             Op::Plane(p) => self.plane = *p,
             Op::SetWorkOffset { index, origin } => {
@@ -124,6 +128,22 @@ impl TravelCheck {
                 *p = None;
             }
         }
+    }
+
+    /// G28/G30's intermediate point, where the machine goes first (grbl
+    /// and LinuxCNC, in the program's frame): checked as a move's end, on
+    /// the axes it names. The home itself is the machine's own, and after
+    /// it those axes are unknown (`unknown_after`).
+    fn via(&mut self, via: &Axes, incremental: bool, span: Span) {
+        let mut point = [None; 3];
+        for (axis, v) in via.iter().filter(|(a, _)| a.index() < 3) {
+            let i = axis.index();
+            point[i] = match incremental {
+                true => self.position[i].map(|p| p + v),
+                false => Some(v),
+            };
+        }
+        self.at(point, span);
     }
 
     /// The table of work offset `index` (0: the active one).
