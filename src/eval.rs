@@ -302,6 +302,9 @@ impl<'a> Evaluator<'a> {
             ir::Op::Spline(_) if self.modal.feed.is_none() => {
                 return Err(EvalError::new(EvalErrorKind::FeedBeforeRate, span).into());
             }
+            ir::Op::Spline(_) if self.modal.at_zero_feed() => {
+                return Err(EvalError::new(EvalErrorKind::ZeroFeed, span).into());
+            }
             // A G33's speed is the spindle's: it needs no F (and takes none).
             ir::Op::Move(ir::Move { lead: Some(_), .. }) => {}
             ir::Op::Move(m) if m.motion != ir::Motion::Rapid && self.modal.feed.is_none() => {
@@ -311,6 +314,9 @@ impl<'a> Evaluator<'a> {
                     EvalErrorKind::FeedBeforeRate
                 };
                 return Err(EvalError::new(kind, span).into());
+            }
+            ir::Op::Move(m) if m.motion != ir::Motion::Rapid && self.modal.at_zero_feed() => {
+                return Err(EvalError::new(EvalErrorKind::ZeroFeed, span).into());
             }
             ir::Op::Move(m) if m.motion != ir::Motion::Rapid && self.modal.inverse_time => {
                 // rs274: each G1/G2/G3 under G93 has its own F.

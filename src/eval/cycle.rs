@@ -280,6 +280,9 @@ impl Evaluator<'_> {
             let kind = CycleBlockErrorKind::InverseTime;
             return Err(CycleBlockError::new(kind, at_code).into());
         }
+        if self.modal.at_zero_feed() {
+            return Err(CycleBlockError::new(CycleBlockErrorKind::ZeroFeed, at_code).into());
+        }
         Ok(())
     }
 
@@ -510,6 +513,8 @@ pub enum CycleBlockErrorKind {
         axis: char,
     },
     NoFeed,
+    /// A cycle after F0 (rs274: "Cannot feed with zero feed rate").
+    ZeroFeed,
     /// A cycle under G93.
     InverseTime,
     TooManyPecks,
@@ -593,6 +598,13 @@ impl Wording for CycleBlockErrorKind {
                 "no F word has been given yet",
             )
             .with_help("set the feed on this line or before it: `G81 X10 Z-3 R1 F100`"),
+            CycleBlockErrorKind::ZeroFeed => error(
+                "a canned cycle at a zero feed rate",
+                at,
+                "the feed rate is 0 here",
+            )
+            .with_note("its feeds would never end: rs274 refuses it (\"Cannot feed with zero feed rate\")")
+            .with_help("set a feed above 0 on this line or before it: `G81 X10 Z-3 R1 F100`"),
             CycleBlockErrorKind::InverseTime => error(
                 "a canned cycle under G93",
                 at,

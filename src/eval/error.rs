@@ -14,6 +14,8 @@ pub enum EvalErrorKind {
     /// The caller stopped the run (`EvalOptions::cancel`).
     Cancelled,
     FeedBeforeRate,
+    /// A feed move after F0, outside G93: rs274 and grbl refuse it.
+    ZeroFeed,
     /// A feed move after G94 ended G93, before any F.
     FeedAfterInverseTime,
     /// A feed move under G93 without an F on its line.
@@ -97,6 +99,15 @@ impl Wording for EvalErrorKind {
                 "no F word has been given yet",
             )
             .with_help("set the feed on this line or before it: `G1 X10 F300`"),
+            EvalErrorKind::ZeroFeed => error(
+                "a feed move at a zero feed rate",
+                at,
+                "the feed rate is 0 here",
+            )
+            .with_note(
+                "it would never end: rs274 and grbl (error 22, undefined feed rate) refuse it",
+            )
+            .with_help("set a feed above 0 on this line or before it: `G1 X10 F300`"),
             EvalErrorKind::FeedAfterInverseTime => error(
                 "a feed move after G94 before a feed rate",
                 at,

@@ -319,6 +319,14 @@ pub(super) enum Synced {
     ThreadCycle,
 }
 
+impl Modal {
+    /// F0 outside G93: a feed move would never end (under G93 each move's
+    /// F is its own, the inverse of its time).
+    pub(super) fn at_zero_feed(&self) -> bool {
+        self.feed == Some(0.0) && !self.inverse_time
+    }
+}
+
 impl Default for Modal {
     /// The state at power-up, as rs274 starts.
     fn default() -> Self {
