@@ -1058,6 +1058,32 @@ fn a_homes_intermediate_point_is_checked_against_the_travel() {
     let _ = std::fs::remove_dir_all(&dir);
 }
 
+/// An F before the program's first G20/G21 is in the machine's units
+/// (LinuxCNC sets F before G20/G21 of its line). grbl converts a block's F
+/// by that block's G20/G21: the F goes on a line of its own before the
+/// G20, where every controller reads it in the units before it.
+#[test]
+fn a_feed_before_the_first_units_has_a_line_of_its_own() {
+    let dir = scratch("feed_before_units");
+    std::fs::write(dir.join("p.nc"), "G20 G90 G1 X1 F60\nM30\n").unwrap();
+    for target in ["grbl", "linuxcnc", "fanuc", "generic"] {
+        let r = ger(&["compile", "--target", target, "p.nc"], &dir);
+        assert_success(&r);
+        let text = String::from_utf8(r.stdout).unwrap();
+        let lines: Vec<Vec<&str>> = text
+            .lines()
+            .map(|line| line.split(' ').filter(|w| !w.starts_with('N')).collect())
+            .collect();
+        let feed = lines.iter().position(|l| l == &["F60."]);
+        let units = lines.iter().position(|l| l == &["G20"]);
+        assert!(
+            feed.is_some() && feed.map(|f| f + 1) == units,
+            "{target}:\n{text}"
+        );
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
 /// Every list in `--help` is complete (issue 48): the stages, targets and
 /// standard wizards the help names are the library's registries.
 #[test]

@@ -126,10 +126,16 @@ impl ProgramPrinter {
                 // A unit switch written in the output (the program's first
                 // G20/G21, after moves or an F in the machine's units): an F
                 // waiting for a move was given before it, in the units before
-                // it, so it is written on the switch's line, before it.
+                // it, so it is written on a line of its own before it: grbl
+                // converts a line's F by that line's G20/G21, LinuxCNC reads
+                // the two lines as it read the one.
                 Op::Units(_) if self.pending_feed.is_some() => {
+                    if let Some(q) = self.new_feed() {
+                        self.p.begin_stmt(stmt);
+                        self.p.word_q(b'F', q);
+                        self.p.end();
+                    }
                     self.p.begin_stmt(stmt);
-                    self.feed_word();
                     self.p.op(&stmt.op);
                     self.p.end();
                     continue;
@@ -452,13 +458,19 @@ impl ProgramPrinter {
 
     /// Write the pending feed on a cutting move's line, if it changed.
     fn feed_word(&mut self) {
-        if let Some(f) = self.pending_feed.take() {
-            let q = self.p.scaled(f);
-            if self.printed_feed != Some(q) {
-                self.p.word_q(b'F', q);
-                self.printed_feed = Some(q);
-            }
+        if let Some(q) = self.new_feed() {
+            self.p.word_q(b'F', q);
         }
+    }
+
+    /// The waiting feed, taken, on the output grid, if it differs from the
+    /// last one written (it is then the last one written).
+    fn new_feed(&mut self) -> Option<i64> {
+        let q = self.p.scaled(self.pending_feed.take()?);
+        (self.printed_feed != Some(q)).then(|| {
+            self.printed_feed = Some(q);
+            q
+        })
     }
 
     /// The centre to print, on the output grid. Rounding start, end and

@@ -422,7 +422,7 @@ impl LowerError {
                 span,
                 "in the machine's units, which ger does not know",
             )
-            .with_note("LinuxCNC sets F before G20/G21 of the same line: ger writes this F before the G20/G21 too, so it stays in the machine's units")
+            .with_note("LinuxCNC sets F before G20/G21 of the same line: ger writes this F on a line of its own before the G20/G21, so it stays in the machine's units on every target")
             .with_help("put G20/G21 on a line before the first F, or pass --units"),
             NoProgramEnd => warning(
                 "the program has no end (M2 or M30)",
