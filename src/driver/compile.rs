@@ -498,8 +498,10 @@ pub(super) fn file_to<'a>(
     let mut clock = Clock::new();
     let (from, language) = (options.flavour(name, scan.clue), options.language(name));
     let eval_options = options.eval_options(from, language);
+    let printed = !matches!(out, Output::Path(_) | Output::Moves(_));
     let backend = Backend::new(SourceFacts::Known(scan), file, options, out);
-    let lines = LineReader::new(reader, (file, language), scan);
+    let mut lines = LineReader::new(reader, (file, language), scan);
+    lines.printed = printed;
     // G-code is read as plain until a part is found not to be.
     let mut parts = Parts::new(match language == Language::Gcode {
         true => PartSource::Reader(lines),

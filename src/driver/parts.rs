@@ -213,6 +213,9 @@ pub(super) struct LineReader<'a> {
     lines_before: usize,
     /// A [`FileScan::partial`] scan each part is checked against.
     pub(super) check: Option<FileScan>,
+    /// Whether a part's decimals are checked against it too: they only
+    /// decide how the output is printed (not for a tool path's moves).
+    pub(super) printed: bool,
     /// Whether the program is a tape, and closed ([`Tape`]); the decoded
     /// text and lines given out so far, to place what follows its end.
     tape: Tape,
@@ -237,6 +240,7 @@ impl<'a> LineReader<'a> {
             base: 0,
             lines_before: 0,
             check: scan.partial.then_some(scan),
+            printed: true,
             tape: match language {
                 Language::Gcode => Tape::Unknown,
                 Language::Egc => Tape::NotATape,
@@ -326,7 +330,7 @@ impl<'a> LineReader<'a> {
         }
         let text = source::decode_lines(bytes);
         match self.check {
-            Some(scan) if !scan.prints_as(input_decimals(&text)) => unforeseen(),
+            Some(scan) if self.printed && !scan.prints_as(input_decimals(&text)) => unforeseen(),
             _ => Ok(Some(text)),
         }
     }
