@@ -63,12 +63,8 @@ pub(super) fn pieces(
     let Some((sweep, r0, r1)) = along.arc_shape() else {
         let line = match stepped {
             true => {
-                let start = match lines.last_end {
-                    Some((end, on)) if end == m.start => on,
-                    _ => on_steps(m.start, &lines.steps),
-                };
-                let end = on_steps(m.end, &lines.steps);
-                lines.last_end = Some((m.end, end));
+                let start = lines.start_of(m);
+                let end = lines.end_of(m);
                 line_block(m, start, end, limits)
             }
             // Its ends as written: its length is known.
@@ -81,7 +77,7 @@ pub(super) fn pieces(
     };
     let n = arc_segments(r0, sweep, limits.arc_tolerance);
     if stepped {
-        return stepped_arc(m, (sweep, r0, r1), index, n, (limits, &lines.steps), out);
+        return stepped_arc(m, (sweep, r0, r1), index, n, (limits, lines), out);
     }
     let point = |k: usize| along.at(k as f64 / n as f64);
     if n < 4 {
@@ -126,7 +122,7 @@ pub(super) fn pieces(
 }
 
 /// The machine's steps (for lines and stepped arcs), and the end of the
-/// last line as written and on its steps (the next line's start is most
+/// last move as written and on its steps (the next move's start is most
 /// often the same point, rounded once).
 pub(super) struct LineSteps {
     steps: Steps,
@@ -139,6 +135,24 @@ impl LineSteps {
             steps: Steps::of(limits.steps_per_mm),
             last_end: None,
         }
+    }
+
+    /// The start of `m` on its steps: the last end's, where it is that
+    /// point.
+    #[inline(always)]
+    fn start_of(&self, m: &Move) -> Point {
+        match self.last_end {
+            Some((end, on)) if end == m.start => on,
+            _ => on_steps(m.start, &self.steps),
+        }
+    }
+
+    /// The end of `m` on its steps, kept for the next move's start.
+    #[inline(always)]
+    fn end_of(&mut self, m: &Move) -> Point {
+        let on = on_steps(m.end, &self.steps);
+        self.last_end = Some((m.end, on));
+        on
     }
 }
 
@@ -296,14 +310,14 @@ fn stepped_arc(
     shape: (f64, f64, f64),
     index: usize,
     n: usize,
-    on: (&Limits, &Steps),
+    (limits, lines): (&Limits, &mut LineSteps),
     out: &mut impl Take,
 ) {
-    if let Some(run) = bounded_run(m, n, shape, on.0) {
-        stepped_ends(m, shape.0, n, run, index, on, out);
+    if let Some(run) = bounded_run(m, n, shape, limits) {
+        stepped_ends(m, shape.0, n, run, index, (limits, lines), out);
         return;
     }
-    walked_arc(m, shape.0, index, n, on, out);
+    walked_arc(m, shape.0, index, n, (limits, &lines.steps), out);
 }
 
 /// Arc `m`'s stepped chords, seen one by one: the middle ones a run if
@@ -457,13 +471,14 @@ fn stepped_ends(
     n: usize,
     run: Cruise,
     index: usize,
-    (limits, steps): (&Limits, &Steps),
+    (limits, lines): (&Limits, &mut LineSteps),
     out: &mut impl Take,
 ) -> Option<()> {
     let h = run.ends;
     let mut arc = McArc::new(m, n, sweep);
     let block = |from: Point, to: Point| chord_block(m, index, from, to, limits);
-    let mut from = on_steps(m.start, steps);
+    let steps = &lines.steps;
+    let mut from = lines.start_of(m);
     let mut raw = m.start;
     for _ in 0..h {
         raw = arc.next()?;
@@ -499,6 +514,8 @@ fn stepped_ends(
         out_chord(block(from, to), out);
         from = to;
     }
+    // The last chord end is the arc's end: the next move starts there.
+    lines.last_end = Some((m.end, from));
     Some(())
 }
 
