@@ -540,6 +540,22 @@ mod tests {
         }
     }
 
+    /// An arc in XY from `start` to `end` about `center` at `feed`
+    /// mm/min, tool 1.
+    pub(super) fn arc_move(
+        (start, end, center): (Point, Point, Point),
+        clockwise: bool,
+        feed: f64,
+    ) -> Move {
+        let kind = MoveKind::Arc(crate::toolpath::ArcPath {
+            center,
+            plane: crate::ir::Plane::XY,
+            clockwise,
+            turns: 1,
+        });
+        feed_move(kind, start, end, feed)
+    }
+
     /// Feed moves through `points` at `feed` mm/min.
     pub(super) fn path(points: &[[f64; 3]], feed: f64) -> ToolPath {
         let moves = points
@@ -706,15 +722,8 @@ mod tests {
     fn arcs_are_cut_into_grbls_chords() {
         // r = 10, tolerance 0.002: grbl's mc_arc makes floor(π·10 /
         // √(0.002 · 19.998)) = 157 segments of a full circle.
-        let m = Move {
-            kind: MoveKind::Arc(crate::toolpath::ArcPath {
-                center: [0.0; 3],
-                plane: crate::ir::Plane::XY,
-                clockwise: false,
-                turns: 1,
-            }),
-            ..path(&[[10.0, 0.0, 0.0], [10.0, 0.0, 0.0]], 600.0).moves[0]
-        };
+        let r10 = [10.0, 0.0, 0.0];
+        let m = arc_move((r10, r10, [0.0; 3]), false, 600.0);
         let (sweep, radius, _) = m.along().arc_shape().unwrap();
         assert_eq!(chords::arc_segments(radius, sweep, 0.002), 157);
     }
@@ -875,37 +884,19 @@ mod tests {
             max_path_accel: 100.0,
             ..linuxcnc()
         };
+        let time = |m: Move| {
+            let path = ToolPath {
+                moves: vec![m],
+                ..ToolPath::default()
+            };
+            plan(&path, Some(&limits)).time_s.unwrap()
+        };
         for kind in [MoveKind::Rapid, MoveKind::Feed] {
-            let rapid = feed_move(kind, [0.0; 3], [300.0, 0.0, 0.0], 6000.0);
-            let moves = vec![rapid];
-            let t = plan(
-                &ToolPath {
-                    moves,
-                    ..ToolPath::default()
-                },
-                Some(&limits),
-            );
-            let t = t.time_s.unwrap();
+            let t = time(feed_move(kind, [0.0; 3], [300.0, 0.0, 0.0], 6000.0));
             assert!((t - 15.2).abs() < 1e-9, "{kind:?}: {t}");
         }
-        let circle = Move {
-            kind: MoveKind::Arc(crate::toolpath::ArcPath {
-                center: [0.0; 3],
-                plane: crate::ir::Plane::XY,
-                clockwise: false,
-                turns: 1,
-            }),
-            ..path(&[[10.0, 0.0, 0.0], [10.0, 0.0, 0.0]], 6000.0).moves[0]
-        };
-        let moves = vec![circle];
-        let t = plan(
-            &ToolPath {
-                moves,
-                ..ToolPath::default()
-            },
-            Some(&limits),
-        );
-        let t = t.time_s.unwrap();
+        let r10 = [10.0, 0.0, 0.0];
+        let t = time(arc_move((r10, r10, [0.0; 3]), false, 6000.0));
         let tangential = 100.0 * (1.0 - 0.4_f64.powi(2)).sqrt();
         let expected = 20.0 * std::f64::consts::PI / 20.0 + 20.0 / tangential;
         assert!((t - expected).abs() < 1e-9, "{t} vs {expected}");
@@ -947,15 +938,7 @@ mod tests {
         // that passes no axis direction between its ends (its box is its
         // ends'), then one clockwise from (25, 5) about (25, 0) to (25, -5)
         // that passes +X at (30, 0): X 0 … 30, Y -10 … 10.
-        let arc = |start: Point, end: Point, center: Point, clockwise: bool| {
-            let kind = MoveKind::Arc(crate::toolpath::ArcPath {
-                center,
-                plane: crate::ir::Plane::XY,
-                clockwise,
-                turns: 1,
-            });
-            feed_move(kind, start, end, 600.0)
-        };
+        let arc = |start, end, center, clockwise| arc_move((start, end, center), clockwise, 600.0);
         let moves = vec![
             arc([0.0; 3], [0.0; 3], [10.0, 0.0, 0.0], true),
             feed_move(MoveKind::Feed, [0.0; 3], [20.0, 0.0, 0.0], 600.0),
