@@ -845,6 +845,34 @@ fn machine_import_reads_a_grbl_dump() {
     let _ = std::fs::remove_dir_all(&dir);
 }
 
+/// `cycles = "keep"` or `comp = "keep"` in ger.toml with a target that
+/// cannot keep them is an error at its line of the file; a target on the
+/// command line that can, or a flag that overrides the key, makes it fine.
+#[test]
+fn kept_cycles_or_comp_without_a_target_that_keeps_them_is_wrong_at_its_line() {
+    let dir = scratch("kept");
+    std::fs::write(dir.join("p.nc"), "G21 G90\nG0 X0 Y0\nM30\n").unwrap();
+    for (table, key) in [
+        (
+            "target = \"grbl\"\ncycles = \"keep\"\n",
+            "3 │ cycles = \"keep\"",
+        ),
+        ("comp = \"keep\"\n", "2 │ comp = \"keep\""),
+    ] {
+        std::fs::write(dir.join("ger.toml"), format!("[compile]\n{table}")).unwrap();
+        let r = ger(&["compile", "p.nc"], &dir);
+        assert_eq!(r.status.code(), Some(2), "{table}");
+        let stderr = String::from_utf8_lossy(&r.stderr);
+        assert!(
+            stderr.contains("ger.toml:") && stderr.contains(key),
+            "{stderr}"
+        );
+        assert_success(&ger(&["compile", "p.nc", "--target", "fanuc"], &dir));
+    }
+    assert_success(&ger(&["compile", "p.nc", "--comp", "resolve"], &dir));
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
 /// `ger stats`: without a machine, length / feed only (no planned time);
 /// with ger.toml's `[machine]`, the planned time, longer than length /
 /// feed on a slow machine; `--json` one object with the documented keys.

@@ -32,6 +32,8 @@ const MOST_FOLDERS: usize = 64;
 #[derive(Clone, Debug, Default)]
 pub struct Project {
     pub path: PathBuf,
+    /// The file in the sources it was read into (for its diagnostics).
+    pub file: FileId,
     pub compile: CompileTable,
     pub machine: Option<super::machine::Machine>,
 }
@@ -56,8 +58,10 @@ pub struct CompileTable {
     /// [`checked`]: CompileTable::checked
     pub tolerance: Option<Spanned<f64>>,
     pub decimals: Option<Spanned<usize>>,
-    pub cycles: Option<CyclesKey>,
-    pub comp: Option<CompKey>,
+    /// Spanned: kept with a target that cannot keep them, an error at
+    /// their line ([`configure`]).
+    pub cycles: Option<Spanned<CyclesKey>>,
+    pub comp: Option<Spanned<CompKey>>,
     #[serde(alias = "comp_entry")]
     pub comp_entry: Option<CompEntryKey>,
     pub numbers: Option<NumbersKey>,
@@ -155,6 +159,7 @@ pub fn read(
         .map(|dirs| dirs.iter().map(within).collect());
     Ok(Project {
         path: path.to_path_buf(),
+        file,
         compile,
         machine,
     })
@@ -178,6 +183,13 @@ pub fn configure(
     match read(fs, &mut sources, &path) {
         Ok(project) => {
             project.compile.apply(options, search, given);
+            let kept = project.compile.kept_without(options, given);
+            if let Some((span, message)) = kept {
+                let span = sources.locator(project.file).span(span.start, span.end);
+                let wrong =
+                    crate::diagnostic::error(format!("{FILE_NAME}: {message}"), span, "here");
+                return Err((sources, ProjectError::Invalid(vec![wrong])));
+            }
             if let Some(machine) = &project.machine {
                 let travel = machine.axes.map(|a| a.travel);
                 options.travel = travel.iter().any(Option::is_some).then_some(travel);
@@ -228,6 +240,29 @@ impl CompileTable {
             refuse(d.span(), "`decimals` must be at most 9");
         }
         wrong
+    }
+
+    /// The file's `cycles = "keep"` or `comp = "keep"` (not overridden on
+    /// the command line) where the target `options` ends with cannot keep
+    /// them: where it is, and why.
+    fn kept_without(
+        &self,
+        options: &CompileOptions,
+        given: &dyn Fn(&str) -> bool,
+    ) -> Option<(std::ops::Range<usize>, &'static str)> {
+        let keeps = matches!(options.emit.target, Target::Fanuc | Target::LinuxCnc);
+        let cycles = self
+            .cycles
+            .as_ref()
+            .filter(|c| *c.get_ref() == CyclesKey::Keep);
+        let comp = self.comp.as_ref().filter(|c| *c.get_ref() == CompKey::Keep);
+        if let Some(c) = cycles.filter(|_| !keeps && !given("cycles")) {
+            let why = "`cycles = \"keep\"` needs a controller that runs canned cycles: target fanuc or linuxcnc";
+            return Some((c.span(), why));
+        }
+        let c = comp.filter(|_| !keeps && !given("comp"))?;
+        let why = "`comp = \"keep\"` needs a controller that compensates: target fanuc or linuxcnc";
+        Some((c.span(), why))
     }
 
     /// Put the file's options into `options` and `search`, except those
@@ -316,11 +351,11 @@ impl CompileTable {
         if let Some(v) = self.comments.filter(|_| take("comments")) {
             options.eval.keep_comments = v == CommentsKey::Keep;
         }
-        if let Some(v) = self.cycles.filter(|_| take("cycles")) {
-            options.lower.keep_cycles = v == CyclesKey::Keep;
+        if let Some(v) = self.cycles.as_ref().filter(|_| take("cycles")) {
+            options.lower.keep_cycles = *v.get_ref() == CyclesKey::Keep;
         }
-        if let Some(v) = self.comp.filter(|_| take("comp")) {
-            options.lower.keep_comp = v == CompKey::Keep;
+        if let Some(v) = self.comp.as_ref().filter(|_| take("comp")) {
+            options.lower.keep_comp = *v.get_ref() == CompKey::Keep;
         }
         if let Some(v) = self.comp_entry.filter(|_| take("comp-entry")) {
             options.lower.comp_entry_lookahead = v == CompEntryKey::Lookahead;
