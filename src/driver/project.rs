@@ -7,7 +7,7 @@
 
 use super::discovery::Search;
 use super::fs::FileSystem;
-use super::options::CompileOptions;
+use super::options::{CompileOptions, OptionError};
 use crate::diagnostic::Diagnostic;
 use crate::emit::{ArcFormat, Numbering, Target};
 use crate::eval::Flavour;
@@ -243,26 +243,27 @@ impl CompileTable {
     }
 
     /// The file's `cycles = "keep"` or `comp = "keep"` (not overridden on
-    /// the command line) where the target `options` ends with cannot keep
-    /// them: where it is, and why.
+    /// the command line) where the options it ends in are refused for it
+    /// ([`CompileOptions::validate`]): where it is, and why.
     fn kept_without(
         &self,
         options: &CompileOptions,
         given: &dyn Fn(&str) -> bool,
     ) -> Option<(std::ops::Range<usize>, &'static str)> {
-        let keeps = matches!(options.emit.target, Target::Fanuc | Target::LinuxCnc);
-        let cycles = self
-            .cycles
-            .as_ref()
-            .filter(|c| *c.get_ref() == CyclesKey::Keep);
-        let comp = self.comp.as_ref().filter(|c| *c.get_ref() == CompKey::Keep);
-        if let Some(c) = cycles.filter(|_| !keeps && !given("cycles")) {
-            let why = "`cycles = \"keep\"` needs a controller that runs canned cycles: target fanuc or linuxcnc";
-            return Some((c.span(), why));
-        }
-        let c = comp.filter(|_| !keeps && !given("comp"))?;
-        let why = "`comp = \"keep\"` needs a controller that compensates: target fanuc or linuxcnc";
-        Some((c.span(), why))
+        let (span, key, why) = match options.validate() {
+            Err(OptionError::CyclesKeptWithout) => (
+                self.cycles.as_ref().map(Spanned::span),
+                "cycles",
+                "`cycles = \"keep\"` needs a controller that runs canned cycles: target fanuc or linuxcnc",
+            ),
+            Err(OptionError::CompKeptWithout) => (
+                self.comp.as_ref().map(Spanned::span),
+                "comp",
+                "`comp = \"keep\"` needs a controller that compensates: target fanuc or linuxcnc",
+            ),
+            _ => return None,
+        };
+        Some((span.filter(|_| !given(key))?, why))
     }
 
     /// Put the file's options into `options` and `search`, except those
