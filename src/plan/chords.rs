@@ -188,11 +188,10 @@ fn chord_block(m: &Move, index: usize, from: Point, to: Point, limits: &Limits) 
 pub(super) fn arc_segments(radius: f64, sweep: f64, tolerance: f64) -> usize {
     let chord_angle = 2.0 * (tolerance * (2.0 * radius - tolerance)).max(0.0).sqrt();
     let segments = match chord_angle > 0.0 {
-        true => ((0.5 * sweep * radius) / (0.5 * chord_angle))
-            .floor()
-            .max(1.0),
+        true => ((0.5 * sweep * radius) / (0.5 * chord_angle)).max(1.0),
         false => 1.0,
     };
+    // Cut toward zero: `floor` (it is at least 1) without libm's call.
     (segments as usize).clamp(1, 1 << 20)
 }
 

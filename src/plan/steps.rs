@@ -21,15 +21,21 @@ const ARC_CORRECTION: u32 = 12;
 /// step: a point goes on its steps by multiplications only.
 #[derive(Clone, Copy, Debug)]
 pub(super) struct Steps {
-    per_mm: [Option<f64>; 3],
+    per_mm: [f64; 3],
     mm: [f64; 3],
+    known: [bool; 3],
+    /// Every axis's known (as `ger machine import` writes them): a point
+    /// goes on its steps without a test per axis.
+    all: bool,
 }
 
 impl Steps {
     pub(super) fn of(per_mm: [Option<f64>; 3]) -> Steps {
         Steps {
-            per_mm,
+            per_mm: per_mm.map(|n| n.unwrap_or(0.0)),
             mm: per_mm.map(|n| n.map_or(0.0, |n| 1.0 / n)),
+            known: per_mm.map(|n| n.is_some()),
+            all: per_mm.iter().all(Option::is_some),
         }
     }
 }
@@ -40,17 +46,17 @@ impl Steps {
 /// division).
 #[inline(always)]
 pub(super) fn on_steps(p: Point, steps: &Steps) -> Point {
-    let mut q = p;
-    for ((x, per_mm), mm) in q.iter_mut().zip(steps.per_mm).zip(steps.mm) {
-        if let Some(n) = per_mm {
-            // `round` without libm's call: half a step added away from
-            // zero, then cut toward it (machine positions stay far below
-            // i64's range, `ir::MAX_POSITION`).
-            let v = *x * n;
-            *x = (v + 0.5_f64.copysign(v)) as i64 as f64 * mm;
-        }
+    // `round` without libm's call: half a step added away from zero, then
+    // cut toward it (machine positions stay far below i64's range,
+    // `ir::MAX_POSITION`).
+    let on = |i: usize| {
+        let v = p[i] * steps.per_mm[i];
+        (v + 0.5_f64.copysign(v)) as i64 as f64 * steps.mm[i]
+    };
+    match steps.all {
+        true => [on(0), on(1), on(2)],
+        false => std::array::from_fn(|i| if steps.known[i] { on(i) } else { p[i] }),
     }
-    q
 }
 
 /// The ends of arc `m`'s `n` chords after its start, as grbl's `mc_arc`
