@@ -187,12 +187,20 @@ impl Iterator for McArc {
             return Some(self.end);
         }
         self.turn();
-        let (p, q, l) = self.axes;
-        let mut point = self.end;
-        point[p] = f64::from(self.center[0] + self.radius[0]);
-        point[q] = f64::from(self.center[1] + self.radius[1]);
-        point[l] = f64::from(self.linear);
-        Some(point)
+        let (p, q, _) = self.axes;
+        let (a, b) = (
+            f64::from(self.center[0] + self.radius[0]),
+            f64::from(self.center[1] + self.radius[1]),
+        );
+        let c = f64::from(self.linear);
+        // Made whole, not written an axis at a time by index: the point
+        // stays in registers (read back whole after three stores, it waited
+        // for them).
+        Some(std::array::from_fn(|i| match i {
+            _ if i == p => a,
+            _ if i == q => b,
+            _ => c,
+        }))
     }
 }
 
