@@ -379,6 +379,19 @@ impl Plane {
             Plane::YZ => (1, 2, 0),
         }
     }
+
+    /// The point at `a` and `b` along the plane's two axes (in
+    /// [`Plane::axes`]' order) and `c` along its normal, made whole (in
+    /// registers: written an axis at a time by index and read back whole,
+    /// a point waits for its stores).
+    #[inline(always)]
+    pub fn place(self, a: f64, b: f64, c: f64) -> [f64; 3] {
+        match self {
+            Plane::XY => [a, b, c],
+            Plane::ZX => [b, c, a],
+            Plane::YZ => [c, a, b],
+        }
+    }
 }
 
 /// Path control (G61, G61.1, G64): how the controller joins one move to

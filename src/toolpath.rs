@@ -235,11 +235,11 @@ impl Along {
             let (u, v) = (from[p] - a.arc.center[p], from[q] - a.arc.center[q]);
             let scale = (a.radius + (a.end_radius - a.radius) * t(k)) / radius;
             let s = s * back;
-            let mut out = [0.0; 3];
-            out[p] = a.arc.center[p] + scale * (u * c - v * s);
-            out[q] = a.arc.center[q] + scale * (u * s + v * c);
-            out[l] = self.start[l] + (self.end[l] - self.start[l]) * t(k);
-            out
+            a.arc.plane.place(
+                a.arc.center[p] + scale * (u * c - v * s),
+                a.arc.center[q] + scale * (u * s + v * c),
+                self.start[l] + (self.end[l] - self.start[l]) * t(k),
+            )
         };
         let (start, end) = (self.start, self.end);
         [
@@ -262,13 +262,14 @@ impl Along {
         let Some(a) = &self.arc else {
             return;
         };
-        let (p, q, _) = a.arc.plane.axes();
+        let (p, q, l) = a.arc.plane.axes();
         geometry::axis_shares(a.angle, a.sweep, |t, [u, v]| {
             let r = a.radius + (a.end_radius - a.radius) * t;
-            let mut out = self.start;
-            out[p] = a.arc.center[p] + r * u;
-            out[q] = a.arc.center[q] + r * v;
-            each(out);
+            each(a.arc.plane.place(
+                a.arc.center[p] + r * u,
+                a.arc.center[q] + r * v,
+                self.start[l],
+            ));
         });
     }
 
@@ -279,11 +280,11 @@ impl Along {
         let (p, q, n) = a.arc.plane.axes();
         let r = a.radius + (a.end_radius - a.radius) * t;
         let angle = a.angle + a.sweep * t;
-        let mut out = [0.0; 3];
-        out[p] = a.arc.center[p] + r * angle.cos();
-        out[q] = a.arc.center[q] + r * angle.sin();
-        out[n] = self.start[n] + (self.end[n] - self.start[n]) * t;
-        out
+        a.arc.plane.place(
+            a.arc.center[p] + r * angle.cos(),
+            a.arc.center[q] + r * angle.sin(),
+            self.start[n] + (self.end[n] - self.start[n]) * t,
+        )
     }
 }
 

@@ -11,6 +11,7 @@
 //! Architecture Invariant: arithmetic on points only; knows neither
 //! blocks nor the planner.
 
+use crate::ir::Plane;
 use crate::toolpath::{Move, MoveKind, Point};
 
 /// grbl's `N_ARC_CORRECTION` (config.h): chords rotated by the
@@ -62,9 +63,9 @@ pub(super) fn on_steps(p: Point, steps: &Steps) -> Point {
 /// The ends of arc `m`'s `n` chords after its start, as grbl's `mc_arc`
 /// computes them (the last is the arc's end); a straight move's end.
 pub(super) struct McArc {
-    /// The plane's axes and the normal (grbl's `axis_0`, `axis_1`,
+    /// The plane (its axes and normal: grbl's `axis_0`, `axis_1`,
     /// `axis_linear`).
-    axes: (usize, usize, usize),
+    plane: Plane,
     center: [f32; 2],
     /// From the start to the centre (grbl's `offset`).
     offset: [f32; 2],
@@ -85,10 +86,11 @@ pub(super) struct McArc {
 impl McArc {
     /// `m` cut into `n` chords; `sweep` is its [`Move::sweep`].
     pub(super) fn new(m: &Move, n: usize, sweep: f64) -> McArc {
-        let (p, q, l) = match m.kind {
-            MoveKind::Arc(a) => a.plane.axes(),
-            MoveKind::Rapid | MoveKind::Feed => (0, 1, 2),
+        let plane = match m.kind {
+            MoveKind::Arc(a) => a.plane,
+            MoveKind::Rapid | MoveKind::Feed => Plane::XY,
         };
+        let (p, q, l) = plane.axes();
         let (center, clockwise) = match m.kind {
             MoveKind::Arc(a) => (a.center, a.clockwise),
             MoveKind::Rapid | MoveKind::Feed => (m.start, false),
@@ -105,7 +107,7 @@ impl McArc {
         let sin_t = (f64::from(theta) * 0.166_666_67 * (f64::from(cos_t) + 4.0)) as f32;
         let linear = m.start[l] as f32;
         McArc {
-            axes: (p, q, l),
+            plane,
             center: [m.start[p] as f32 + offset[0], m.start[q] as f32 + offset[1]],
             offset,
             radius: [-offset[0], -offset[1]],
@@ -187,27 +189,17 @@ impl Iterator for McArc {
             return Some(self.end);
         }
         self.turn();
-        let (p, q, _) = self.axes;
-        let (a, b) = (
+        Some(self.plane.place(
             f64::from(self.center[0] + self.radius[0]),
             f64::from(self.center[1] + self.radius[1]),
-        );
-        let c = f64::from(self.linear);
-        // Made whole, not written an axis at a time by index: the point
-        // stays in registers (read back whole after three stores, it waited
-        // for them).
-        Some(std::array::from_fn(|i| match i {
-            _ if i == p => a,
-            _ if i == q => b,
-            _ => c,
-        }))
+            f64::from(self.linear),
+        ))
     }
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::ir::Plane;
     use crate::toolpath::{ArcPath, State};
 
     fn circle(r: f64, clockwise: bool) -> Move {
