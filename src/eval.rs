@@ -47,6 +47,10 @@ use std::rc::Rc;
 use std::sync::atomic::Ordering;
 use value::{ExprError, Slot, Value, Vars};
 
+/// The first batch's statements (`batch_now`): the back end's thread
+/// starts after about as many moves as its own share of a batch takes.
+const FIRST_BATCH: usize = 64;
+
 /// Stage 0: evaluate a parsed program into IR, which goes to `sink` as it
 /// is made. Returns the diagnostics; after an error nothing more is sent.
 pub fn eval_program<'a>(
@@ -180,6 +184,7 @@ impl<'a> Evaluator<'a> {
             ),
             names: Rc::new(names),
             out: Vec::with_capacity(options.batch.clamp(1, 1 << 16)),
+            batch_now: options.batch.clamp(1, FIRST_BATCH),
             setup: setup::SetupBuilder::with_tools(&options.tools, options.tool_units),
             modal: Modal::default(),
             this_line: LineState::default(),
@@ -354,8 +359,9 @@ impl<'a> Evaluator<'a> {
     #[inline]
     fn kept(&mut self) {
         self.run.count_made();
-        if self.out.len() >= self.options.batch {
+        if self.out.len() >= self.batch_now {
             self.send();
+            self.batch_now = (2 * self.batch_now).max(1).min(self.options.batch);
         }
     }
 
