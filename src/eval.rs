@@ -360,9 +360,15 @@ impl<'a> Evaluator<'a> {
     fn kept(&mut self) {
         self.run.count_made();
         if self.out.len() >= self.batch_now {
-            self.send();
-            self.batch_now = (2 * self.batch_now).max(1).min(self.options.batch);
+            self.send_full();
         }
+    }
+
+    /// A full batch sent; the next twice as large, up to the options'.
+    #[inline(never)]
+    fn send_full(&mut self) {
+        self.send();
+        self.batch_now = (2 * self.batch_now).min(self.options.batch.max(1));
     }
 
     /// A statement of its own (not from a G-code line): a limit reached
