@@ -47,10 +47,6 @@ use std::rc::Rc;
 use std::sync::atomic::Ordering;
 use value::{ExprError, Slot, Value, Vars};
 
-/// The first batch's statements (`batch_now`): the back end's thread
-/// starts after about as many moves as its own share of a batch takes.
-const FIRST_BATCH: usize = 64;
-
 /// Stage 0: evaluate a parsed program into IR, which goes to `sink` as it
 /// is made. Returns the diagnostics; after an error nothing more is sent.
 pub fn eval_program<'a>(
@@ -184,7 +180,7 @@ impl<'a> Evaluator<'a> {
             ),
             names: Rc::new(names),
             out: Vec::with_capacity(options.batch.clamp(1, 1 << 16)),
-            batch_now: options.batch.clamp(1, FIRST_BATCH),
+            batch_now: options.first_batch.clamp(1, options.batch.max(1)),
             setup: setup::SetupBuilder::with_tools(&options.tools, options.tool_units),
             modal: Modal::default(),
             this_line: LineState::default(),
@@ -368,7 +364,10 @@ impl<'a> Evaluator<'a> {
     #[inline(never)]
     fn send_full(&mut self) {
         self.send();
-        self.batch_now = (2 * self.batch_now).min(self.options.batch.max(1));
+        self.batch_now = self
+            .batch_now
+            .saturating_mul(2)
+            .min(self.options.batch.max(1));
     }
 
     /// A statement of its own (not from a G-code line): a limit reached

@@ -28,6 +28,8 @@ fn options(from: Option<ger::eval::Flavour>, stage: Option<Stage>, batch: usize)
     CompileOptions {
         eval: EvalOptions {
             batch,
+            // Every batch that size (the default's first are smaller).
+            first_batch: batch,
             // Runaway-loop cases: the same error, sooner.
             max_iterations: 100_000,
             ..EvalOptions::default()
@@ -51,11 +53,15 @@ fn engine(sources: &mut Sources) -> WizardEngine {
 
 /// Text and rendered diagnostics of one compile.
 fn run(path: &Path, text: &str, stage: Option<Stage>, batch: usize) -> String {
+    run_with(path, text, &options(None, stage, batch))
+}
+
+/// [`run`] with `options`.
+fn run_with(path: &Path, text: &str, options: &CompileOptions) -> String {
     let mut sources = Sources::new();
     let file = sources.add(path.to_string_lossy(), text.to_string());
     let mut engine = engine(&mut sources);
-    let options = options(None, stage, batch);
-    let compiled = compile(&sources, file, &options, Some(&mut engine));
+    let compiled = compile(&sources, file, options, Some(&mut engine));
     format!(
         "{}\n--- diagnostics ---\n{}",
         compiled.output.as_deref().unwrap_or("<no output>"),
@@ -142,6 +148,10 @@ fn a_long_program_streams_like_a_short_one() {
     for batch in [1, 1000, EvalOptions::default().batch] {
         assert!(run(path, &text, None, batch) == whole, "batch {batch}");
     }
+    // The default's: 64 statements first, doubling to 1,024.
+    let default = EvalOptions::default();
+    assert!(default.first_batch < default.batch);
+    assert!(run_with(path, &text, &CompileOptions::default()) == whole);
     // An arc that cannot be made, after 9,000 statements: reported the same.
     let broken = text.replace("G0 Z5\nM30", "G2 X0 Y0 R0.001\nM30");
     let whole = run(path, &broken, None, usize::MAX);

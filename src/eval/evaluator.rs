@@ -57,9 +57,8 @@ pub(super) struct Evaluator<'a> {
     pub(super) vars: Vars,
     /// Statements not yet sent to the sink.
     pub(super) out: Vec<ir::Stmt>,
-    /// How many make a batch now: a few at first, doubling up to the
-    /// options' (the back end starts on the first while the evaluator,
-    /// its caches cold, makes the next).
+    /// How many make a batch now: the options' first, doubling up to
+    /// their batch.
     pub(super) batch_now: usize,
     pub(super) setup: SetupBuilder,
     /// What holds for the line being run only.

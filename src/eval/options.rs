@@ -21,6 +21,10 @@ pub struct EvalOptions {
     /// depend on it (`tests/streaming.rs` checks); it trades cache for
     /// call overhead.
     pub batch: usize,
+    /// Statements in the first batch, each next twice as many up to
+    /// `batch`: the back end's thread starts on a few while the
+    /// evaluator, its caches cold, makes the next.
+    pub first_batch: usize,
     /// `--units`: the units of a program that states none.
     pub units: Option<ir::Units>,
     /// `--from`: whose meaning holds where controllers disagree. The
@@ -113,6 +117,7 @@ impl Default for EvalOptions {
             max_statements: 5_000_000,
             max_call_depth: 64,
             batch: 1024,
+            first_batch: 64,
             units: None,
             from: Flavour::Generic,
             chosen: Chosen::Flag,
