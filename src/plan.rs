@@ -814,15 +814,8 @@ mod tests {
         // 866.03 mm/s², so v = √(866.03 · 10) = 93.060 mm/s, and the
         // tangential acceleration is half of 1000. From rest to rest:
         // up and down 2 · v / 500 s over v² / 500 mm, the rest at v.
-        let arc = Move {
-            kind: MoveKind::Arc(crate::toolpath::ArcPath {
-                center: [0.0; 3],
-                plane: crate::ir::Plane::XY,
-                clockwise: false,
-                turns: 1,
-            }),
-            ..path(&[[10.0, 0.0, 0.0], [10.0, 0.0, 0.0]], 6000.0).moves[0]
-        };
+        let r10 = [10.0, 0.0, 0.0];
+        let arc = arc_move((r10, r10, [0.0; 3]), false, 6000.0);
         let circle = ToolPath {
             moves: vec![arc],
             ..ToolPath::default()
@@ -844,15 +837,8 @@ mod tests {
         // a · √(1 − (v² / r / a)²). From rest to rest: 50 s, as Z alone.
         let mut limits = linuxcnc();
         (limits.max_rate[2], limits.max_accel[2]) = (1.0, 100.0);
-        let helix = Move {
-            kind: MoveKind::Arc(crate::toolpath::ArcPath {
-                center: [0.0; 3],
-                plane: crate::ir::Plane::XY,
-                clockwise: true,
-                turns: 1,
-            }),
-            ..path(&[[10.0, 0.0, 0.0], [10.0, 0.0, -50.0]], 3000.0).moves[0]
-        };
+        let (start, end) = ([10.0, 0.0, 0.0], [10.0, 0.0, -50.0]);
+        let helix = arc_move((start, end, [0.0; 3]), true, 3000.0);
         let moves = vec![helix];
         let t = plan(
             &ToolPath {
