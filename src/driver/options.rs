@@ -132,12 +132,22 @@ pub enum OptionError {
     CompKeptWithout,
 }
 
+/// The most decimals the output takes (a nanometre: emit's grid stays
+/// within an i64).
+pub const MOST_DECIMALS: usize = 9;
+
+/// Whether a `--tolerance` (or `ger.toml`'s `tolerance`) is one a compile
+/// can run with: a positive number.
+pub fn usable_tolerance(tolerance: f64) -> bool {
+    tolerance.is_finite() && tolerance > 0.0
+}
+
 impl CompileOptions {
     /// Whether a compile can run with these options.
     pub fn validate(&self) -> Result<(), OptionError> {
         let emit = &self.emit;
-        if emit.tolerance.is_some_and(|t| !t.is_finite() || t <= 0.0)
-            || emit.decimals.is_some_and(|d| d > 9)
+        if emit.tolerance.is_some_and(|t| !usable_tolerance(t))
+            || emit.decimals.is_some_and(|d| d > MOST_DECIMALS)
         {
             return Err(OptionError::ToleranceOrDecimals);
         }

@@ -7,7 +7,7 @@
 
 use super::discovery::Search;
 use super::fs::FileSystem;
-use super::options::{CompileOptions, OptionError};
+use super::options::{usable_tolerance, CompileOptions, OptionError, MOST_DECIMALS};
 use crate::diagnostic::Diagnostic;
 use crate::emit::{ArcFormat, Numbering, Target};
 use crate::eval::Flavour;
@@ -20,10 +20,6 @@ use toml::Spanned;
 
 /// The project file's name.
 pub const FILE_NAME: &str = "ger.toml";
-
-/// The most decimals the output takes (`CompileOptions::validate`'s bound:
-/// a nanometre, emit's grid within an i64).
-const MOST_DECIMALS: usize = 9;
 
 /// At most this many folders are looked through upward.
 const MOST_FOLDERS: usize = 64;
@@ -228,7 +224,7 @@ impl CompileTable {
             wrong.push(crate::diagnostic::error(message, span, "here"));
         };
         if let Some(t) = self.tolerance.as_ref() {
-            if !(t.get_ref().is_finite() && *t.get_ref() > 0.0) {
+            if !usable_tolerance(*t.get_ref()) {
                 refuse(t.span(), "`tolerance` must be a positive number");
             }
         }
@@ -237,7 +233,10 @@ impl CompileTable {
             .as_ref()
             .filter(|d| *d.get_ref() > MOST_DECIMALS)
         {
-            refuse(d.span(), "`decimals` must be at most 9");
+            refuse(
+                d.span(),
+                &format!("`decimals` must be at most {MOST_DECIMALS}"),
+            );
         }
         wrong
     }
