@@ -2,9 +2,10 @@
 //! removed. Feeds are converted when they are given, so a feed set before a
 //! unit switch keeps its machine value, as on LinuxCNC; a feed given before
 //! the program's first G20/G21 is in the machine's units, and that G20/G21
-//! stays in the output after it (the printer writes the F on a line before it). Tool and offset
-//! tables are already in the output units (§3). Under G16 the angle word is
-//! left alone: it is in degrees; so are A, B and C.
+//! stays in the output after it (the printer writes the F on a line
+//! before it). Tool and offset tables are already in the output units
+//! (§3). Under G16 the angle word is left alone: it is in degrees; so
+//! are A, B and C.
 //!
 //! A program that never states its units is in the machine's: nothing is
 //! converted. If it states them only after its first move, the first G20 or

@@ -1,11 +1,11 @@
 //! LinuxCNC's trajectory planner as `ger stats` models it (learnt from
 //! `src/emc/tp/` of LinuxCNC: `tc.c`, `blendmath.c`). Each move is one
 //! segment: a line at its feed within each axis's velocity and
-//! acceleration and the path's (`[TRAJ]`); an arc whole, each of its plane's axes and (a helix)
-//! its normal axis held to its limits over its share of the path, and
-//! held to the speed at which its normal acceleration stays within
-//! `BLEND_ACC_RATIO_NORMAL` of that acceleration, its tangential
-//! acceleration the rest. Where one segment
+//! acceleration and the path's (`[TRAJ]`); an arc whole, each of its
+//! plane's axes and (a helix) its normal axis held to its limits over
+//! its share of the path, and held to the speed at which its normal
+//! acceleration stays within `BLEND_ACC_RATIO_NORMAL` of that
+//! acceleration, its tangential acceleration the rest. Where one segment
 //! meets the next: under G61.1 a stop; under G61 a stop unless they are
 //! tangent; under G64 the speed of the circular blend LinuxCNC puts in
 //! the corner, as large as the tolerance (P, else the profile's, else a
