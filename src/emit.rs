@@ -19,6 +19,10 @@ pub use program::ProgramPrinter;
 pub use stage::StagePrinter;
 pub use target::{Target, Unrunnable, Why};
 
+/// The most decimals the output takes: a nanometre, and the output's grid
+/// stays within an i64.
+pub const MOST_DECIMALS: usize = 9;
+
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
 pub enum Numbering {
     /// N = the source line that produced the output line.

@@ -3,7 +3,7 @@
 //! ([`CompileOptions::validate`]), so no caller can run a compile the
 //! command line would refuse. Knows nothing of files or of the stages' code.
 
-use crate::emit::{EmitOptions, Target};
+use crate::emit::{EmitOptions, Target, MOST_DECIMALS};
 use crate::eval::{self, Chosen, EvalOptions};
 use crate::lower;
 use crate::source::FileId;
@@ -131,10 +131,6 @@ pub enum OptionError {
     #[error("--comp keep needs a controller that compensates: --target fanuc or linuxcnc")]
     CompKeptWithout,
 }
-
-/// The most decimals the output takes (a nanometre: emit's grid stays
-/// within an i64).
-pub const MOST_DECIMALS: usize = 9;
 
 /// Whether a `--tolerance` (or `ger.toml`'s `tolerance`) is one a compile
 /// can run with: a positive number.

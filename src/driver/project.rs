@@ -7,9 +7,9 @@
 
 use super::discovery::Search;
 use super::fs::FileSystem;
-use super::options::{usable_tolerance, CompileOptions, OptionError, MOST_DECIMALS};
+use super::options::{usable_tolerance, CompileOptions, OptionError};
 use crate::diagnostic::Diagnostic;
-use crate::emit::{ArcFormat, Numbering, Target};
+use crate::emit::{ArcFormat, Numbering, Target, MOST_DECIMALS};
 use crate::eval::Flavour;
 use crate::ir::Units;
 use crate::source::{FileId, Sources};

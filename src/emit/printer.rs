@@ -71,14 +71,13 @@ impl Printer {
         main_file: usize,
         capacity: usize,
     ) -> Printer {
-        // Nine decimals at most: a nanometre, and the grid fits an i64. In
-        // unknown units, enough for inches.
+        // In unknown units, enough for inches.
         let decimals = decimals
             .unwrap_or(match units {
                 Some(Units::Mm) => 3,
                 Some(Units::Inch) | None => 4,
             })
-            .min(9);
+            .min(super::MOST_DECIMALS);
         Printer {
             out: Vec::with_capacity(capacity.min(1 << 20)),
             line_start: 0,
