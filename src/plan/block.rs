@@ -161,6 +161,11 @@ pub(super) struct Block {
     pub(super) accel: f64,
     /// The machine is stopped before it (a sync, or the start).
     pub(super) stopped_before: bool,
+    /// An arc's chord whose corner with the chord before it, of the same
+    /// move, is proved to allow both their nominal speeds (`chords.rs`'s
+    /// runs): the planner takes that corner at the lesser of them without
+    /// working it out.
+    pub(super) smooth_before: bool,
     /// G61, G61.1, G64 (tolerances in mm) while it runs.
     pub(super) control: PathControl,
     /// The move it is part of.
@@ -233,6 +238,7 @@ pub(super) fn sized_block(m: &Move, d: [f64; 3], length: f64, limits: &Limits) -
         nominal: nominal.max(1e-9),
         accel: along(limits.max_accel, d) * length,
         stopped_before: false,
+        smooth_before: false,
         control: m.state.path_control,
         source: 0,
     })

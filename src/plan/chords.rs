@@ -15,7 +15,10 @@
 //! forward pass reaches v² by chord h from any entry; so chords h ..
 //! n − h − 1 enter and leave at v: each takes L_k / v, whatever the
 //! buffer holds, and the blocks before them see the limit v² at chord h.
-//! The first and last h chords are planned one by one, as is every chord
+//! The first and last h chords are planned one by one, each corner
+//! between two of them taken at v² without being worked out (the same
+//! bound: `min(corner, v², v²)` is v²; only the first chord's corner,
+//! with the move before, is), as is every chord
 //! of an arc that does not qualify (a buffer too short for the feed: the
 //! look-ahead then limits the speed, chord by chord). Where the machine's
 //! steps are known the chords are `mc_arc`'s own on whole steps
@@ -39,12 +42,12 @@ use crate::toolpath::{Along, Move, MoveKind, Point};
 pub(super) enum Piece {
     Block(Block),
     /// `chords` chords entered and left at the nominal speed: `run` has
-    /// their total length, the nominal speed, and the least acceleration;
-    /// `last` is the last of them (the next chord's corner is from it).
+    /// their total length, the nominal speed, and the least acceleration.
+    /// The chords after it are `smooth_before` (no corner is worked out
+    /// from it).
     Cruise {
         run: Block,
         chords: usize,
-        last: Block,
     },
 }
 
@@ -107,18 +110,41 @@ pub(super) fn pieces(
     else {
         return (0..n).for_each(|k| out_chord(block(k), out));
     };
-    (0..h).for_each(|k| out_chord(block(k), out));
-    // Chords of some length (`cruise` checked the shortest).
-    if let Some(last) = block(n - h - 1) {
-        let run = Block { length, ..last };
-        let accel = least(m, limits.max_accel);
+    // Chords of some length (`cruise` checked the shortest), every corner
+    // between them proved to allow the feed.
+    out_chord(block(0), out);
+    (1..h).for_each(|k| out_chord(smooth(block(k)), out));
+    if let Some(template) = end_chords[2] {
         out.take(Piece::Cruise {
-            run: Block { accel, ..run },
+            run: run_block(m, template, length, limits),
             chords: n - 2 * h,
-            last,
         });
     }
-    (n - h..n).for_each(|k| out_chord(block(k), out));
+    (n - h..n).for_each(|k| out_chord(smooth(block(k)), out));
+}
+
+/// `chord` marked as after a corner proved to allow the feed (a run's
+/// end chords but an arc's first).
+#[inline(always)]
+fn smooth(chord: Option<Block>) -> Option<Block> {
+    chord.map(|b| Block {
+        smooth_before: true,
+        ..b
+    })
+}
+
+/// The block of a run of `length` from one of arc `m`'s chords
+/// (`template`: its nominal speed, the feed, is every chord's): the
+/// least acceleration of the arc's axes, its corner after the chord
+/// before it proved.
+#[inline(always)]
+fn run_block(m: &Move, template: Block, length: f64, limits: &Limits) -> Block {
+    Block {
+        length,
+        accel: least(m, limits.max_accel),
+        smooth_before: true,
+        ..template
+    }
 }
 
 /// The machine's steps (for lines and stepped arcs), and the end of the
@@ -343,25 +369,24 @@ fn walked_arc(
             .for_each(|b| out.take(Piece::Block(b)));
         return;
     };
-    run.first
-        .into_iter()
-        .filter_map(&mut block)
-        .for_each(|b| out.take(Piece::Block(b)));
+    // Every chord has steps and every corner allows the feed
+    // (`stepped_run`): a corner worked out only into the first.
+    for (k, chord) in run.first.into_iter().enumerate() {
+        let b = block(chord).map(|b| Block {
+            smooth_before: k > 0,
+            ..b
+        });
+        out_chord(b, out);
+    }
     if let Some(last) = block(run.last_middle) {
         out.take(Piece::Cruise {
-            run: Block {
-                length: run.middle,
-                accel: least(m, limits.max_accel),
-                ..last
-            },
+            run: run_block(m, last, run.middle, limits),
             chords: run.chords,
-            last,
         });
     }
     run.last
         .into_iter()
-        .filter_map(&mut block)
-        .for_each(|b| out.take(Piece::Block(b)));
+        .for_each(|chord| out_chord(smooth(block(chord)), out));
 }
 
 /// A stepped arc's middle chords as a run without seeing them, where
@@ -479,10 +504,13 @@ fn stepped_ends(
     let steps = &lines.steps;
     let mut from = lines.start_of(m);
     let mut raw = m.start;
-    for _ in 0..h {
+    // Every corner between two chords allows the feed (`bounded_run`): a
+    // corner worked out only into the first.
+    for k in 0..h {
         raw = arc.next()?;
         let to = on_steps(raw, steps);
-        out_chord(block(from, to), out);
+        let chord = block(from, to);
+        out_chord(if k > 0 { smooth(chord) } else { chord }, out);
         from = to;
     }
     // The steps' displacement of the run's ends along its end chords:
@@ -497,20 +525,18 @@ fn stepped_ends(
     };
     let raw_end = arc.next()?;
     let mut from = on_steps(raw_end, steps);
-    let last = block(on_steps(raw_before, steps), from)?;
-    let last_end = dot(direction(raw_before, raw_end), off(from, raw_end));
+    // The run's last chord as `mc_arc` has it, before its steps: its
+    // direction, and the run's nominal speed.
+    let raw_last = block(raw_before, raw_end)?;
+    let last_end = dot(raw_last.unit_out, off(from, raw_end));
+    let length = run.length + last_end - first_end;
     out.take(Piece::Cruise {
-        run: Block {
-            length: run.length + last_end - first_end,
-            accel: least(m, limits.max_accel),
-            ..last
-        },
+        run: run_block(m, raw_last, length, limits),
         chords: n - 2 * h,
-        last,
     });
     for _ in n - h..n {
         let to = on_steps(arc.next()?, steps);
-        out_chord(block(from, to), out);
+        out_chord(smooth(block(from, to)), out);
         from = to;
     }
     // The last chord end is the arc's end: the next move starts there.

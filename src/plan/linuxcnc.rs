@@ -95,6 +95,7 @@ fn arc_block(m: &Move, (along, length): (&Along, f64), limits: &Limits) -> Optio
         nominal: nominal.max(1e-9),
         accel: (a_max * ratio).max(1e-9),
         stopped_before: false,
+        smooth_before: false,
         control: m.state.path_control,
         source: 0,
     })
