@@ -126,6 +126,12 @@ pub enum LowerErrorKind {
         index: u8,
         since: Option<Span>,
     },
+    /// Warning: a system whose values a `G10 L2` gave (machine
+    /// coordinates) written in G54's terms, G54 taken to be at machine
+    /// zero.
+    WorkOffsetFromMachineZero {
+        index: u8,
+    },
     /// G10 L20 at an unknown point on the active system, which is written
     /// in G54's terms, and whose other values the machine does not have.
     WorkOffsetHereFolded {
@@ -257,6 +263,7 @@ impl LowerError {
                 | LowerErrorKind::FeedInMachineUnits
                 | LowerErrorKind::ArcRadiusShort { .. }
                 | LowerErrorKind::WorkOffsetSetByMachine { .. }
+                | LowerErrorKind::WorkOffsetFromMachineZero { .. }
                 | LowerErrorKind::Comp(CompError::StillOn { .. })
         )
     }
@@ -417,6 +424,16 @@ impl LowerError {
                 "the machine sets this offset",
             )
             .with_note("coordinates after it are in that offset, as the machine sets it"),
+            WorkOffsetFromMachineZero { index } => warning(
+                format!(
+                    "{}'s G10 L2 values are folded into the coordinates as if the machine's G54 were at machine zero",
+                    work_offset_name(*index)
+                ),
+                span,
+                "G10 L2 gives machine coordinates; ger does not know where the machine's G54 is",
+            )
+            .with_note("the output moves as the program does only where the machine's G54 is at machine zero (as in a fresh LinuxCNC parameter file)")
+            .with_help("set G54 with G10 L2 P1 before the program selects a system (as CAM posts do): it then goes to the machine, and every system is measured from it"),
             FeedInMachineUnits => warning(
                 "this feed comes before the program states its units",
                 span,

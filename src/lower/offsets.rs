@@ -23,6 +23,9 @@
 //! a system ger knows can then no longer be written in its terms, and is
 //! selected as it is only where the machine was given its values. A
 //! `G10 L20` passed through gets the point with the shifts ger folds.
+//! `G10 L2` values are machine coordinates: `machine` takes G54 at
+//! machine zero until the program sets it there, and a system folded on
+//! that assumption is reported once (`folds_from_machine_zero`).
 //!
 //! A `G92` at a point ger does not know (`G92 X0 Y0 Z0` before any move:
 //! the origin is wherever the tool stands) goes to the machine, with the
@@ -97,6 +100,12 @@ struct OffsetsPass {
     position: Position,
     /// Work offsets already reported as unknown.
     warned: u16,
+    /// Systems (bit 1..=9) some of whose X, Y, Z a `G10 L2` gave: machine
+    /// coordinates, measured from machine zero, which `machine` takes as
+    /// G54's origin until the program sets G54 on the machine.
+    from_l2: u16,
+    /// Those reported as folded on that assumption.
+    warned_l2: u16,
 }
 
 impl OffsetsPass {
@@ -135,6 +144,8 @@ impl OffsetsPass {
             centers: Distance::Incremental,
             position: [None; 9],
             warned: 0,
+            from_l2: 0,
+            warned_l2: 0,
         }
     }
 
@@ -162,6 +173,24 @@ impl OffsetsPass {
     fn machine_has(&self, index: u8) -> bool {
         let i = index as usize;
         self.known(index) && self.machine[i][..3] == self.systems[i][..3]
+    }
+
+    /// System `index` is written in G54's terms from here: where a `G10
+    /// L2` gave its values (machine coordinates) and the program never set
+    /// G54 on the machine, that takes the machine's G54 to be at machine
+    /// zero (as in a fresh LinuxCNC parameter file), which ger cannot
+    /// know: said once per system.
+    fn folds_from_machine_zero(&mut self, index: u8, span: Span, out: &mut Out<'_>) {
+        let bit = 1 << index;
+        if self.machine_g54_since.is_some() || self.from_l2 & bit == 0 || self.warned_l2 & bit != 0
+        {
+            return;
+        }
+        self.warned_l2 |= bit;
+        out.report(LowerError::new(
+            LowerErrorKind::WorkOffsetFromMachineZero { index },
+            span,
+        ));
     }
 
     /// What is added to a G90 coordinate of `axis`.
@@ -463,6 +492,7 @@ impl OffsetsPass {
                 ));
                 return false;
             }
+            self.folds_from_machine_zero(index, stmt.span, out);
             self.active = index;
             self.enter_g54(stmt, out);
             return false;
@@ -492,6 +522,9 @@ impl OffsetsPass {
         let index = self.system(index);
         for (axis, v) in origin.iter() {
             self.systems[index as usize][axis.index()] = Some(v);
+            if axis.index() < 3 {
+                self.from_l2 |= 1 << index;
+            }
         }
         let folds = self.frame != Frame::Initial
             && self.known(index)
@@ -509,6 +542,9 @@ impl OffsetsPass {
         }
         if self.frame == Frame::Passed(index) {
             self.enter_g54(stmt, out);
+        }
+        if index == self.active {
+            self.folds_from_machine_zero(index, stmt.span, out);
         }
         false
     }
@@ -579,6 +615,10 @@ impl OffsetsPass {
                 // The point measured from G54's origin, as `systems` are.
                 self.systems[index as usize][i] = Some(p + g54 - v - self.others(i));
             }
+        }
+        // Measured from where the tool is, not from machine zero.
+        if Axis::ALL[..3].iter().all(|&a| at.has(a)) {
+            self.from_l2 &= !(1 << index);
         }
         false
     }
