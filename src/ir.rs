@@ -712,6 +712,12 @@ pub enum Op {
     /// turns each such F into a feed per minute (the move's length times
     /// F, as LinuxCNC does) and drops these.
     InverseTime(bool),
+    /// Under G93, the least feed (output units a minute) a feed move gets
+    /// from its F: LinuxCNC raises a move's rate to 0.1 of the program's
+    /// units a minute at least. Made by the units pass where G93 begins
+    /// and where the units change under it (it alone knows the program's
+    /// units); the absolute pass takes it and drops it.
+    InverseTimeFloor(f64),
     Plane(Plane),
     /// G54..G59.3 as 1..=9.
     SelectWorkOffset(u8),
@@ -812,6 +818,7 @@ impl Op {
             | Op::Distance(_)
             | Op::ArcCenters(_)
             | Op::InverseTime(_)
+            | Op::InverseTimeFloor(_)
             | Op::Plane(_)
             | Op::LocalOffset(_)
             | Op::SetPosition(_)

@@ -501,6 +501,7 @@ impl Builder {
             | Op::Distance(_)
             | Op::ArcCenters(_)
             | Op::InverseTime(_)
+            | Op::InverseTimeFloor(_)
             | Op::LocalOffset(_)
             | Op::ToolLength { .. }
             | Op::CancelToolLength

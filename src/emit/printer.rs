@@ -285,8 +285,9 @@ impl Printer {
 
     /// A statement on its own line, as written.
     pub fn stmt(&mut self, stmt: &ir::Stmt) {
-        if let Op::ReadPosition(_) = stmt.op {
-            // Not a code: what the source's controller does at a tool change.
+        if let Op::ReadPosition(_) | Op::InverseTimeFloor(_) = stmt.op {
+            // Not a code: what the source's controller does at a tool
+            // change; the least feed under G93 its controller gives.
             return;
         }
         if let (Op::SetToolData(_), Target::Grbl) = (&stmt.op, self.target) {
@@ -418,7 +419,7 @@ impl Printer {
             Op::Comp { side, radius } => self.comp_words(*side, *radius),
             Op::CompOff => self.code("G40"),
             Op::PathControl(pc) => self.path_control_words(*pc),
-            Op::ReadPosition(_) => {}
+            Op::ReadPosition(_) | Op::InverseTimeFloor(_) => {}
             Op::Comment(text) => self.comment(text),
             Op::Passthrough(Passthrough::MCode { number, words }) => {
                 self.int_word(b'M', *number);

@@ -149,7 +149,7 @@ impl ProgramPrinter {
                 // stop: write every axis of the next move again.
                 Op::ChangeTool | Op::Stop(_) => self.printed = [None; 9],
                 // Nothing to write, and the output's tool has not moved.
-                Op::ReadPosition(_) => continue,
+                Op::ReadPosition(_) | Op::InverseTimeFloor(_) => continue,
                 Op::PathControl(pc) if self.p.target.loses(pc) => {
                     let lost = self.path_control_lost.get_or_insert((stmt.span, 0));
                     lost.1 += 1;

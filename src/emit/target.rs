@@ -548,6 +548,7 @@ mod tests {
             (comp(CompRadius::Diameter(6.0)), "gl"),
             (Op::CompOff, "gblf"),
             (Op::ReadPosition(ir::Plane::XY), "gblf"),
+            (Op::InverseTimeFloor(0.1), "gblf"),
             (Op::Comment("x".into()), "gblf"),
             (m(62), "glf"),
             (m(56), "gbf"),
@@ -582,6 +583,7 @@ mod tests {
             | Op::Distance(_)
             | Op::ArcCenters(_)
             | Op::InverseTime(_)
+            | Op::InverseTimeFloor(_)
             | Op::Plane(_)
             | Op::SelectWorkOffset(_)
             | Op::SetWorkOffset { .. }

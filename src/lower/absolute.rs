@@ -58,6 +58,8 @@ struct AbsolutePass {
     /// G93, and the F (per minute of the move's time) of the next feed move.
     inverse_time: bool,
     inverse_feed: f64,
+    /// Under G93, the least feed a move gets (`Op::InverseTimeFloor`).
+    inverse_floor: f64,
     /// An M2/M30 went by, and the span of the last statement.
     ended: bool,
     last: Option<Span>,
@@ -81,6 +83,7 @@ impl AbsolutePass {
             centers: Distance::Incremental,
             inverse_time: false,
             inverse_feed: 0.0,
+            inverse_floor: 0.1,
             ended: false,
             last: None,
         }
@@ -204,12 +207,9 @@ impl AbsolutePass {
             let axis = (0..9).find(|&i| start[i].is_none()).unwrap_or(0);
             return Err(self.at.unknown(axis, "a move under G93 (its length)", span));
         };
-        // rs274's rate for a move of no length.
-        Ok(Some(if length == 0.0 {
-            0.1
-        } else {
-            length * self.inverse_feed
-        }))
+        // rs274's rate: at least 0.1 of the program's units a minute (a
+        // move of no length, an F of 0, a crawl).
+        Ok(Some((length * self.inverse_feed).max(self.inverse_floor)))
     }
 
     /// G28/G30's intermediate point to absolute coordinates. Zero steps
@@ -422,6 +422,10 @@ impl Pass for AbsolutePass {
             }
             Op::InverseTime(on) => {
                 self.inverse_time = *on;
+                return false;
+            }
+            Op::InverseTimeFloor(floor) => {
+                self.inverse_floor = *floor;
                 return false;
             }
             // The evaluator saw to an F on each feed move's line.

@@ -283,6 +283,7 @@ impl CompPass {
             | Op::Distance(_)
             | Op::ArcCenters(_)
             | Op::InverseTime(_)
+            | Op::InverseTimeFloor(_)
             | Op::LocalOffset(_)
             | Op::Polar(_)
             | Op::DiameterMode(_)

@@ -377,6 +377,7 @@ fn between(op: &Op) -> Option<&'static str> {
         | Op::Distance(_)
         | Op::ArcCenters(_)
         | Op::InverseTime(_)
+        | Op::InverseTimeFloor(_)
         | Op::SelectWorkOffset(_)
         | Op::SetWorkOffset { .. }
         | Op::SetWorkOffsetHere { .. }

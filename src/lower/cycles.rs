@@ -516,6 +516,7 @@ impl Pass for CyclesPass {
             | Op::Distance(_)
             | Op::ArcCenters(_)
             | Op::InverseTime(_)
+            | Op::InverseTimeFloor(_)
             | Op::Plane(_)
             | Op::SelectWorkOffset(_)
             | Op::SetWorkOffset { .. }

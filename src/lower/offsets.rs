@@ -321,7 +321,7 @@ impl Pass for OffsetsPass {
                 self.centers = *d;
                 true
             }
-            Op::InverseTime(_) => true,
+            Op::InverseTime(_) | Op::InverseTimeFloor(_) => true,
             Op::Cycle(c) => {
                 self.place_cycle(c);
                 true

@@ -142,6 +142,7 @@ impl Pass for PolarPass {
             | Op::Distance(_)
             | Op::ArcCenters(_)
             | Op::InverseTime(_)
+            | Op::InverseTimeFloor(_)
             | Op::DiameterMode(_)
             | Op::ReturnLevel(_)
             | Op::CycleOff

@@ -51,6 +51,13 @@ impl UnitsPass {
         }
     }
 
+    /// LinuxCNC's least feed under G93, 0.1 of the program's units a
+    /// minute, in the output's (at `stmt`, where G93 begins or the units
+    /// change under it).
+    fn inverse_floor(&self, stmt: &Stmt) -> Stmt {
+        stmt.with_op(Op::InverseTimeFloor(0.1 * self.factor()))
+    }
+
     /// The factor from the program's units to the output's.
     fn factor(&self) -> f64 {
         match (self.current, self.output) {
@@ -105,6 +112,9 @@ impl Pass for UnitsPass {
                 // The first statement of units stays, and fixes them.
                 let first = self.output.is_none();
                 self.output.get_or_insert(*u);
+                if self.inverse_time {
+                    out.push(self.inverse_floor(stmt));
+                }
                 return first;
             }
             Op::Polar(on) => self.polar = *on,
@@ -142,7 +152,12 @@ impl Pass for UnitsPass {
                 .iter_mut()
                 .chain(data.length.iter_mut())
                 .for_each(scale),
-            Op::InverseTime(on) => self.inverse_time = *on,
+            Op::InverseTime(on) => {
+                self.inverse_time = *on;
+                if *on {
+                    out.push(self.inverse_floor(stmt));
+                }
+            }
             Op::Feed(_) if self.inverse_time => {}
             Op::Feed(f) => {
                 if self.current.is_none() {
@@ -187,6 +202,8 @@ impl Pass for UnitsPass {
             | Op::CompOff
             | Op::PathControl(_)
             | Op::Comment(_)
+            // (Made here, from G93 and the units.)
+            | Op::InverseTimeFloor(_)
             | Op::Passthrough(_) => {}
         }
         true
