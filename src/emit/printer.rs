@@ -35,6 +35,9 @@ pub(super) struct Printer {
     /// The line just written, while the next statements of its source
     /// line may still join it.
     open: Option<OpenLine>,
+    /// G93 printed and in force (a stage before `absolute`): an F is the
+    /// inverse of a time, not a length, and keeps all its digits.
+    inverse_time: bool,
 }
 
 /// A line of codes that run before the motion of their block: the rest
@@ -95,6 +98,7 @@ impl Printer {
             selected_tool: None,
             joins: false,
             open: None,
+            inverse_time: false,
         }
     }
 
@@ -346,6 +350,8 @@ impl Printer {
                 via,
                 incremental,
             } => self.home_words(*home, via, *incremental),
+            // `F0.0001` under G93 is a move of 10,000 minutes, not `F0.`.
+            Op::Feed(f) if self.inverse_time => self.word_decimals(b'F', *f, super::MOST_DECIMALS),
             Op::Feed(f) => self.word(b'F', *f),
             Op::Speed(s) => self.word(b'S', *s),
             Op::SpindleMode(ir::SpindleMode::Rpm) => self.code("G97"),
@@ -387,8 +393,10 @@ impl Printer {
             Op::Distance(ir::Distance::Incremental) => self.code("G91"),
             Op::ArcCenters(ir::Distance::Absolute) => self.code("G90.1"),
             Op::ArcCenters(ir::Distance::Incremental) => self.code("G91.1"),
-            Op::InverseTime(true) => self.code("G93"),
-            Op::InverseTime(false) => self.code("G94"),
+            Op::InverseTime(on) => {
+                self.inverse_time = *on;
+                self.code(if *on { "G93" } else { "G94" })
+            }
             Op::Plane(plane) => {
                 self.plane = *plane;
                 self.code(match plane {
