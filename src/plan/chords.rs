@@ -112,8 +112,7 @@ pub(super) fn pieces(
     };
     // Chords of some length (`cruise` checked the shortest), every corner
     // between them proved to allow the feed.
-    out_chord(block(0), out);
-    (1..h).for_each(|k| out_chord(smooth(block(k)), out));
+    (0..h).for_each(|k| out_chord(start_chord(k, block(k)), out));
     if let Some(template) = end_chords[2] {
         out.take(Piece::Cruise {
             run: run_block(m, template, length, limits),
@@ -131,6 +130,16 @@ fn smooth(chord: Option<Block>) -> Option<Block> {
         smooth_before: true,
         ..b
     })
+}
+
+/// A run's `k`th chord before its middle: after the first (whose corner
+/// is with the move before), [`smooth`].
+#[inline(always)]
+fn start_chord(k: usize, chord: Option<Block>) -> Option<Block> {
+    match k {
+        0 => chord,
+        _ => smooth(chord),
+    }
 }
 
 /// The block of a run of `length` from one of arc `m`'s chords
@@ -372,11 +381,7 @@ fn walked_arc(
     // Every chord has steps and every corner allows the feed
     // (`stepped_run`): a corner worked out only into the first.
     for (k, chord) in run.first.into_iter().enumerate() {
-        let b = block(chord).map(|b| Block {
-            smooth_before: k > 0,
-            ..b
-        });
-        out_chord(b, out);
+        out_chord(start_chord(k, block(chord)), out);
     }
     if let Some(last) = block(run.last_middle) {
         out.take(Piece::Cruise {
@@ -509,8 +514,7 @@ fn stepped_ends(
     for k in 0..h {
         raw = arc.next()?;
         let to = on_steps(raw, steps);
-        let chord = block(from, to);
-        out_chord(if k > 0 { smooth(chord) } else { chord }, out);
+        out_chord(start_chord(k, block(from, to)), out);
         from = to;
     }
     // The steps' displacement of the run's ends along its end chords:
