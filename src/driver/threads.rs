@@ -4,6 +4,7 @@
 use super::backend::Backend;
 use crate::ir;
 use crate::lower::{self, Pipeline};
+use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 use std::sync::{mpsc, Mutex, PoisonError};
 use std::time::{Duration, Instant};
 
@@ -11,7 +12,7 @@ use std::time::{Duration, Instant};
 /// `backend` on a thread of its own, so lowering and printing one batch
 /// overlap making the next; `backend` is given back when both are done.
 /// Memory stays bounded: at most [`BATCHES_IN_FLIGHT`] batches wait between
-/// the two. The order of everything is the one thread's order. Where no
+/// the two ([`Throttle`]). The order of everything is the one thread's order. Where no
 /// thread can be started, both run on this one.
 pub(super) fn on_two_threads<'s, R>(
     mut backend: Backend<'s>,
@@ -22,12 +23,15 @@ pub(super) fn on_two_threads<'s, R>(
     backend.ahead = ahead;
     let backend = Mutex::new(backend);
     let slot = &backend;
+    let throttle = &Throttle::new();
     let result = std::thread::scope(|scope| {
-        let (to_back, from_front) = mpsc::sync_channel(BATCHES_IN_FLIGHT);
+        // The start and every batch the throttle lets through: never full.
+        let (to_back, from_front) = mpsc::sync_channel(BATCHES_IN_FLIGHT + 1);
         let (to_front, spare) = mpsc::sync_channel(BATCHES_IN_FLIGHT + 1);
         let back = std::thread::Builder::new()
             .name("ger back end".into())
             .spawn_scoped(scope, move || {
+                let _gone = throttle.gone_on_drop();
                 let mut apart = Apart::new();
                 let mut backend = slot.lock().unwrap_or_else(PoisonError::into_inner);
                 for handed in from_front {
@@ -38,6 +42,7 @@ pub(super) fn on_two_threads<'s, R>(
                             ir::Sink::batch(&mut *backend, &mut batch);
                             // Full: the front allocates another.
                             let _ = to_front.try_send(batch);
+                            throttle.lowered();
                         }
                     }
                 }
@@ -49,6 +54,7 @@ pub(super) fn on_two_threads<'s, R>(
             return front(&mut *backend);
         };
         let mut handoff = Handoff {
+            throttle,
             to_back,
             spare,
             ahead,
@@ -82,6 +88,81 @@ pub(super) fn on_two_threads<'s, R>(
 /// 1–2 ms longer (ARCHITECTURE, "The ninth stop"; two and four measured
 /// again in the tenth: no faster).
 const BATCHES_IN_FLIGHT: usize = 8;
+
+/// Where the evaluator, held up by [`BATCHES_IN_FLIGHT`] batches not yet
+/// lowered, goes on: when the back end has lowered half of them. Woken
+/// as each one is lowered, it made one batch and waited again, a hundred
+/// times in a `ger stats` of the 200k program on grbl with its steps
+/// (the back end the slower thread): each wait and wake some microseconds
+/// of both threads' time; with half, ten times (docs/performance.md,
+/// "The evaluator held back by halves").
+const RESUME_AT: usize = BATCHES_IN_FLIGHT / 2;
+
+/// The batches handed to the back end and not yet lowered, and the
+/// evaluator, parked while there are [`BATCHES_IN_FLIGHT`] of them until
+/// there are [`RESUME_AT`].
+struct Throttle {
+    in_flight: AtomicUsize,
+    /// The evaluator is parked, or about to be.
+    waiting: AtomicBool,
+    /// The back end's thread has ended (a panic too): nothing will lower
+    /// the batches left.
+    gone: AtomicBool,
+    evaluator: std::thread::Thread,
+}
+
+impl Throttle {
+    /// Made on the evaluator's thread.
+    fn new() -> Throttle {
+        Throttle {
+            in_flight: AtomicUsize::new(0),
+            waiting: AtomicBool::new(false),
+            gone: AtomicBool::new(false),
+            evaluator: std::thread::current(),
+        }
+    }
+
+    /// On the evaluator's thread, before it hands a batch on: wait while
+    /// [`BATCHES_IN_FLIGHT`] are, until [`RESUME_AT`] are.
+    fn admit(&self) {
+        // Sequentially consistent throughout: the evaluator writes
+        // `waiting` and reads `in_flight`, the back end the other way round,
+        // so at least one of them sees the other's write (it does not park,
+        // or it is woken).
+        if self.in_flight.load(Ordering::SeqCst) >= BATCHES_IN_FLIGHT {
+            self.waiting.store(true, Ordering::SeqCst);
+            while self.in_flight.load(Ordering::SeqCst) > RESUME_AT
+                && !self.gone.load(Ordering::SeqCst)
+            {
+                // A wake-up for nothing (`park` allows them) waits again.
+                std::thread::park();
+            }
+            self.waiting.store(false, Ordering::SeqCst);
+        }
+        self.in_flight.fetch_add(1, Ordering::SeqCst);
+    }
+
+    /// On the back end's thread: a batch lowered.
+    fn lowered(&self) {
+        let left = self.in_flight.fetch_sub(1, Ordering::SeqCst) - 1;
+        if left <= RESUME_AT && self.waiting.load(Ordering::SeqCst) {
+            self.evaluator.unpark();
+        }
+    }
+
+    /// A guard that, dropped as the back end's thread ends (or unwinds),
+    /// lets the evaluator go on for good.
+    fn gone_on_drop(&self) -> impl Drop + '_ {
+        struct Gone<'t>(&'t Throttle);
+        impl Drop for Gone<'_> {
+            fn drop(&mut self) {
+                self.0.gone.store(true, Ordering::SeqCst);
+                self.0.evaluator.unpark();
+            }
+        }
+        Gone(self)
+    }
+}
 
 /// The back end's thread kept off the processor the evaluator's thread
 /// was last seen on (Linux, where more than one is allowed). Left to
@@ -155,7 +236,8 @@ enum Handed {
 
 /// The evaluator's end of [`on_two_threads`]: it runs the first `ahead`
 /// passes on each batch and hands what comes out on.
-struct Handoff {
+struct Handoff<'t> {
+    throttle: &'t Throttle,
     to_back: mpsc::SyncSender<Handed>,
     /// Emptied batches coming back, to be filled again.
     pub(super) spare: mpsc::Receiver<Vec<ir::Stmt>>,
@@ -166,28 +248,34 @@ struct Handoff {
     pub(super) lower_time: Duration,
 }
 
-impl Handoff {
+impl Handoff<'_> {
     /// The end of the program: the passes flush what they hold back.
     /// Returns them (for their diagnostics) and the time they took.
     pub(super) fn finish(mut self) -> (Option<Pipeline>, Duration) {
         if let Some(lowering) = &mut self.lowering {
             let (t0, mut handing) = (Instant::now(), Duration::ZERO);
-            let (to_back, spare) = (&self.to_back, &self.spare);
-            lowering.finish(&mut |lowered| handing += hand_on(to_back, spare, lowered));
+            let handing_on = (self.throttle, &self.to_back, &self.spare);
+            lowering.finish(&mut |lowered| handing += hand_on(handing_on, lowered));
             self.lower_time += t0.elapsed().saturating_sub(handing);
         }
         (self.lowering, self.lower_time)
     }
 }
 
+/// What a batch is handed on through: the throttle, the channel to the
+/// back end, the emptied batches coming back.
+type HandingOn<'h> = (
+    &'h Throttle,
+    &'h mpsc::SyncSender<Handed>,
+    &'h mpsc::Receiver<Vec<ir::Stmt>>,
+);
+
 /// Send `stmts` to the back end, and leave an empty batch in their place;
 /// the time it took (waiting while the back end is behind).
-fn hand_on(
-    to_back: &mpsc::SyncSender<Handed>,
-    spare: &mpsc::Receiver<Vec<ir::Stmt>>,
-    stmts: &mut Vec<ir::Stmt>,
-) -> Duration {
+fn hand_on((throttle, to_back, spare): HandingOn, stmts: &mut Vec<ir::Stmt>) -> Duration {
     let t0 = Instant::now();
+    // After the wait, if any: batches lowered meanwhile have come back.
+    throttle.admit();
     let empty = spare
         .try_recv()
         .unwrap_or_else(|_| Vec::with_capacity(stmts.capacity()));
@@ -196,7 +284,7 @@ fn hand_on(
     t0.elapsed()
 }
 
-impl ir::Sink for Handoff {
+impl ir::Sink for Handoff<'_> {
     fn start(&mut self, start: &ir::Start) {
         if self.ahead > 0 {
             let context = lower::Context {
@@ -211,17 +299,17 @@ impl ir::Sink for Handoff {
     /// Lower the batch through the passes ahead (if any) and send what
     /// comes out to the back end, leaving an empty batch in its place.
     fn batch(&mut self, batch: &mut Vec<ir::Stmt>) {
-        let (to_back, spare) = (&self.to_back, &self.spare);
+        let handing_on = (self.throttle, &self.to_back, &self.spare);
         match &mut self.lowering {
             Some(lowering) => {
                 let (t0, mut handing) = (Instant::now(), Duration::ZERO);
                 lowering.run(batch, &mut |lowered| {
-                    handing += hand_on(to_back, spare, lowered)
+                    handing += hand_on(handing_on, lowered)
                 });
                 self.lower_time += t0.elapsed().saturating_sub(handing);
             }
             None => {
-                hand_on(to_back, spare, batch);
+                hand_on(handing_on, batch);
             }
         }
     }
@@ -261,5 +349,59 @@ mod tests {
         })
         .join()
         .unwrap();
+    }
+
+    /// The evaluator hands on as many batches as may be in flight without
+    /// waiting; the next waits until the back end has lowered down to
+    /// `RESUME_AT`, not for the first one lowered, nor for more.
+    #[test]
+    fn the_evaluator_waits_for_half_the_batches_to_be_lowered() {
+        let throttle = Throttle::new();
+        let (lowered, went_on) = (AtomicUsize::new(0), AtomicBool::new(false));
+        for _ in 0..BATCHES_IN_FLIGHT {
+            throttle.admit();
+        }
+        std::thread::scope(|scope| {
+            scope.spawn(|| {
+                for n in 1..=BATCHES_IN_FLIGHT {
+                    std::thread::sleep(Duration::from_millis(2));
+                    lowered.store(n, Ordering::SeqCst);
+                    throttle.lowered();
+                    if n == BATCHES_IN_FLIGHT - RESUME_AT {
+                        // No more until the evaluator has gone on.
+                        while !went_on.load(Ordering::SeqCst) {
+                            std::thread::sleep(Duration::from_millis(1));
+                        }
+                    }
+                }
+            });
+            throttle.admit();
+            went_on.store(true, Ordering::SeqCst);
+            assert_eq!(
+                lowered.load(Ordering::SeqCst),
+                BATCHES_IN_FLIGHT - RESUME_AT
+            );
+        });
+        assert_eq!(throttle.in_flight.load(Ordering::SeqCst), 1);
+    }
+
+    /// A back end that ends (or panics) with batches not lowered lets the
+    /// evaluator go on: it never waits for good.
+    #[test]
+    fn a_back_end_gone_lets_the_evaluator_go_on() {
+        let throttle = Throttle::new();
+        for _ in 0..BATCHES_IN_FLIGHT {
+            throttle.admit();
+        }
+        std::thread::scope(|scope| {
+            let back = scope.spawn(|| {
+                let _gone = throttle.gone_on_drop();
+                std::thread::sleep(Duration::from_millis(5));
+                panic!("the back end fails");
+            });
+            throttle.admit();
+            assert!(throttle.gone.load(Ordering::SeqCst));
+            assert!(back.join().is_err());
+        });
     }
 }
