@@ -12,8 +12,8 @@ use std::time::{Duration, Instant};
 /// `backend` on a thread of its own, so lowering and printing one batch
 /// overlap making the next; `backend` is given back when both are done.
 /// Memory stays bounded: at most [`BATCHES_IN_FLIGHT`] batches wait between
-/// the two ([`Throttle`]). The order of everything is the one thread's order. Where no
-/// thread can be started, both run on this one.
+/// the two ([`Throttle`]). The order of everything is the one thread's
+/// order. Where no thread can be started, both run on this one.
 pub(super) fn on_two_threads<'s, R>(
     mut backend: Backend<'s>,
     front: impl FnOnce(&mut dyn ir::Sink) -> R,
