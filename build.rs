@@ -17,10 +17,10 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
 
     let shared_real = Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared/real");
     println!("cargo::rustc-check-cfg=cfg(shared_real)");
-    println!("cargo:rerun-if-changed={}", shared_real.display());
     if shared_real.is_dir() {
         println!("cargo:rustc-cfg=shared_real");
     }
+    watch(&shared_real);
 
     // The page tests drive a headless Chromium; without one they are
     // reported ignored by name (CI installs it).
@@ -31,6 +31,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     if chromium.is_file() {
         println!("cargo:rustc-cfg=chromium");
     }
+    watch(&chromium);
 
     println!("cargo:rerun-if-changed=stdlib");
     let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("stdlib");
@@ -53,4 +54,20 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     list.push_str("];\n");
     std::fs::write(Path::new(&out).join("stdlib.rs"), list)?;
     Ok(())
+}
+
+/// Run again when `path` comes or goes. Cargo takes a watched path that
+/// does not exist as changed at every build, which rebuilt the crate each
+/// time in a clone without `../shared`; so an absent path is watched
+/// through its folder where that exists (its time changes as the path
+/// appears), and not at all where neither does (after adding it, `touch
+/// build.rs`).
+fn watch(path: &Path) {
+    let watched = match path.exists() {
+        true => Some(path),
+        false => path.parent().filter(|folder| folder.is_dir()),
+    };
+    if let Some(watched) = watched {
+        println!("cargo:rerun-if-changed={}", watched.display());
+    }
 }
