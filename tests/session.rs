@@ -295,6 +295,75 @@ fn a_tool_path_fed_from_the_file_in_parts_is_the_whole_programs() {
     std::fs::remove_dir_all(&dir).unwrap();
 }
 
+/// A sink slower than the compile (as grbl's planner with steps is): it
+/// records each move's end and line and each event's place, and sleeps
+/// now and then, so that the evaluator fills the batches in flight and
+/// waits for the back end (`threads.rs`'s throttle).
+#[derive(Default)]
+struct SlowSink {
+    moves: Vec<([f64; 3], u32)>,
+    events: Vec<usize>,
+}
+
+impl ger::toolpath::PathSink for SlowSink {
+    fn feed_move(&mut self, m: &ger::toolpath::Move) {
+        if self.moves.len() % 64 == 0 {
+            std::thread::sleep(std::time::Duration::from_micros(200));
+        }
+        self.moves.push((m.end, m.span.line));
+    }
+    fn feed_event(&mut self, e: &ger::toolpath::Event) {
+        self.events.push(e.after_move);
+    }
+    fn restart(&mut self) {
+        *self = SlowSink::default();
+    }
+    fn heavy(&self) -> bool {
+        true
+    }
+}
+
+#[test]
+fn a_sink_slower_than_the_compile_gets_every_move_in_order() {
+    // 40,000 moves (about 40 batches) with a dwell every 1,000: the
+    // evaluator runs ahead, waits for the back end, goes on; every move and
+    // event reaches the sink once, in the program's order, as in the whole
+    // path.
+    let dir = std::env::temp_dir().join(format!("ger-session-slow-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let mut text = String::from("G21 G90\nG0 X0 Y0 Z5\nG1 Z-1 F600\n");
+    for i in 0..40_000 {
+        text.push_str(&format!("G1 X{} Y{}\n", i % 397, i % 101));
+        if i % 1000 == 999 {
+            text.push_str("G4 P0.1\n");
+        }
+    }
+    text.push_str("M30\n");
+    let path = dir.join("long.nc");
+    std::fs::write(&path, &text).unwrap();
+    let s = session(&Disk, Search::default());
+    let mut sink = SlowSink::default();
+    let Ok(finished) = s.feed_tool_path(Program::Path(&path), &mut sink) else {
+        panic!("not loaded");
+    };
+    assert!(finished.report.compiled());
+    let Ok(mut job) = s.load(Program::Path(&path)) else {
+        panic!("not loaded");
+    };
+    let whole = job.tool_path().0.unwrap();
+    let expected: Vec<([f64; 3], u32)> = whole.moves.iter().map(|m| (m.end, m.span.line)).collect();
+    assert_eq!(sink.moves.len(), 40_002);
+    assert!(
+        sink.moves == expected,
+        "the moves differ from the whole path's"
+    );
+    let events: Vec<usize> = whole.events.iter().map(|e| e.after_move).collect();
+    // The 40 dwells and the program's end.
+    assert_eq!(events.len(), 41);
+    assert_eq!(sink.events, events);
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
 /// Each move's kind and end, and each tool's cutter as the picture draws it.
 type MovesAndCutters = (
     Vec<(MoveKind, [f64; 3])>,
