@@ -307,7 +307,7 @@ struct SlowSink {
 
 impl ger::toolpath::PathSink for SlowSink {
     fn feed_move(&mut self, m: &ger::toolpath::Move) {
-        if self.moves.len() % 64 == 0 {
+        if self.moves.len().is_multiple_of(64) {
             std::thread::sleep(std::time::Duration::from_micros(200));
         }
         self.moves.push((m.end, m.span.line));
