@@ -56,7 +56,9 @@ fuzz_target!(|bytes: &[u8]| {
             }
         }
     }
-    let Ok(text) = decode(program.to_vec()) else { return };
+    let Ok(text) = decode(program.to_vec()) else {
+        return;
+    };
     let mut sources = Sources::new();
     let file = sources.add("fuzz.nc", text);
     // Small limits keep each run short; the limits themselves are tested.
