@@ -6,7 +6,7 @@
 //! panic, hang or run out of memory; it plans or reports.
 #![no_main]
 
-use ger::driver::fs::{FileSystem, Memory};
+use ger::driver::fs::Memory;
 use ger::driver::machine::{import, ImportFormat};
 use ger::driver::{feed_tool_path, project, CompileOptions};
 use ger::eval::EvalOptions;
@@ -14,6 +14,7 @@ use ger::plan::{Limits, Tally};
 use ger::source::{decode, Sources};
 use libfuzzer_sys::fuzz_target;
 use std::path::Path;
+use std::sync::OnceLock;
 
 /// A grbl with its steps per mm, and a LinuxCNC: what a file without a
 /// usable `[machine]` is planned on.
@@ -28,10 +29,24 @@ const MACHINES: [&str; 2] = [
      [machine.z]\nmax-velocity = 50\nmax-acceleration = 5\n",
 ];
 
-fn limits_of(fs: &dyn FileSystem) -> Option<Limits> {
+/// The planner's limits of the `[machine]` of a `ger.toml` holding `text`.
+fn limits_of(text: &[u8]) -> Option<Limits> {
+    let mut fs = Memory::new();
+    fs.insert("/p/ger.toml", text.to_vec());
     let mut sources = Sources::new();
-    let project = project::read(fs, &mut sources, Path::new("/p/ger.toml")).ok()?;
+    let project = project::read(&fs, &mut sources, Path::new("/p/ger.toml")).ok()?;
     Limits::of(&project.machine?).ok()
+}
+
+/// [`MACHINES`]' limits, read once for every run.
+fn built_in() -> &'static [Limits] {
+    static LIMITS: OnceLock<Vec<Limits>> = OnceLock::new();
+    LIMITS.get_or_init(|| {
+        MACHINES
+            .iter()
+            .filter_map(|text| limits_of(text.as_bytes()))
+            .collect()
+    })
 }
 
 fuzz_target!(|bytes: &[u8]| {
@@ -39,15 +54,10 @@ fuzz_target!(|bytes: &[u8]| {
         Some(at) => (&bytes[..at], &bytes[at + 1..]),
         None => (&[][..], bytes),
     };
-    let mut fs = Memory::new();
-    fs.insert("/p/ger.toml", toml.to_vec());
-    let fuzzed = limits_of(&fs);
-    let machines = MACHINES.iter().filter_map(|text| {
-        let mut fs = Memory::new();
-        fs.insert("/p/ger.toml", text.as_bytes().to_vec());
-        limits_of(&fs)
-    });
-    let all: Vec<Limits> = fuzzed.into_iter().chain(machines).collect();
+    let all: Vec<Limits> = limits_of(toml)
+        .into_iter()
+        .chain(built_in().iter().cloned())
+        .collect();
     assert!(all.len() >= 2, "the built-in machines plan");
     for text in [toml, program] {
         if let Ok(text) = std::str::from_utf8(text) {
